@@ -1,0 +1,230 @@
+"""Compiled rotor-stator contact law on plain floats (SI).
+
+Parameters are packed in a float64 array ``cp`` (see :data:`CP_FIELDS`) so that the kernels take
+one argument for the whole law. Units: displacements m, velocities m/s, forces N.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = ["CP_FIELDS", "pack_contact", "contact_force", "contact_force_jac", "solve_contact"]
+
+CP_FIELDS = (
+    "active",  # 1.0 when a contact law is present
+    "law",  # 0 Hertz/Hunt-Crossley, 1 linear spring-dashpot
+    "stiffness",  # N/m^1.5 or N/m
+    "damping",  # s/m (Hunt-Crossley b_h) or N s/m
+    "clearance",  # m
+    "friction",  # mu
+    "sign",  # 0 physical, 1 seed
+    "surface_speed",  # R Omega, m/s
+    "v_reg",  # m/s
+    "force_scale",  # N, for tolerances
+)
+
+
+def pack_contact(
+    active, law, stiffness, damping, clearance, friction, sign, surface_speed, v_reg
+) -> np.ndarray:
+    """Pack the contact parameters into the array the kernels take (SI units)."""
+    if law == 0:
+        scale = stiffness * clearance**1.5 if active else 1.0
+    else:
+        scale = stiffness * clearance if active else 1.0
+    return np.array(
+        [
+            float(active),
+            float(law),
+            stiffness,
+            damping,
+            clearance,
+            friction,
+            float(sign),
+            surface_speed,
+            v_reg,
+            max(scale, 1e-300),
+        ]
+    )
+
+
+@njit(cache=True, inline="always")
+def contact_force(py, pz, uy, uz, cp):
+    """Contact force on the rotor.
+
+    Parameters
+    ----------
+    py, pz : float
+        Shaft-centre displacement at the contact station (m).
+    uy, uz : float
+        Its velocity (m/s).
+    cp : ndarray
+        Packed parameters (:data:`CP_FIELDS`).
+
+    Returns
+    -------
+    fy, fz : float
+        Force components on the rotor (N).
+    fn : float
+        Normal force magnitude (N), >= 0.
+    ft : float
+        Friction force along the tangent ``t = i n`` (N); negative opposes the spin direction.
+    """
+    if cp[0] == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    d = math.sqrt(py * py + pz * pz)
+    g = cp[4]
+    if d <= g:
+        return 0.0, 0.0, 0.0, 0.0
+    ny = py / d
+    nz = pz / d
+    eps = d - g
+    epsd = ny * uy + nz * uz
+    k = cp[2]
+    c = cp[3]
+    if cp[1] == 0.0:
+        fn = k * eps * math.sqrt(eps) * (1.0 + c * epsd)
+    else:
+        fn = k * eps + c * epsd
+    if fn <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    mu = cp[5]
+    if cp[6] == 0.0:
+        vs = cp[7] - nz * uy + ny * uz
+        sig = vs / math.sqrt(vs * vs + cp[8] * cp[8])
+    else:
+        sig = -1.0
+    fy = -fn * (ny - mu * sig * nz)
+    fz = -fn * (nz + mu * sig * ny)
+    return fy, fz, fn, -mu * sig * fn
+
+
+@njit(cache=True)
+def contact_force_jac(py, pz, uy, uz, cp, jac):
+    """Contact force and its Jacobian.
+
+    ``jac`` (2 x 4, filled in place) holds ``d(fy, fz) / d(py, pz, uy, uz)``; the derivative of
+    the smoothed friction sign is neglected (a quasi-Newton Jacobian). Returns ``(fy, fz)``.
+    """
+    for i in range(2):
+        for j in range(4):
+            jac[i, j] = 0.0
+    if cp[0] == 0.0:
+        return 0.0, 0.0
+    d = math.sqrt(py * py + pz * pz)
+    g = cp[4]
+    if d <= g:
+        return 0.0, 0.0
+    ny = py / d
+    nz = pz / d
+    eps = d - g
+    epsd = ny * uy + nz * uz
+    k = cp[2]
+    c = cp[3]
+    # d(epsd)/dp = (u - epsd n) / d
+    dey = (uy - epsd * ny) / d
+    dez = (uz - epsd * nz) / d
+    if cp[1] == 0.0:
+        se = math.sqrt(eps)
+        s = eps * se
+        fn = k * s * (1.0 + c * epsd)
+        a = 1.5 * k * se * (1.0 + c * epsd)
+        b = k * s * c
+        dfn_py = a * ny + b * dey
+        dfn_pz = a * nz + b * dez
+        dfn_uy = b * ny
+        dfn_uz = b * nz
+    else:
+        fn = k * eps + c * epsd
+        dfn_py = k * ny + c * dey
+        dfn_pz = k * nz + c * dez
+        dfn_uy = c * ny
+        dfn_uz = c * nz
+    if fn <= 0.0:
+        return 0.0, 0.0
+    mu = cp[5]
+    if cp[6] == 0.0:
+        vs = cp[7] - nz * uy + ny * uz
+        sig = vs / math.sqrt(vs * vs + cp[8] * cp[8])
+    else:
+        sig = -1.0
+    ms = mu * sig
+    wy = ny - ms * nz
+    wz = nz + ms * ny
+    # dn/dp = (I - n n^T)/d ; dw/dp = (I + ms J)(I - n n^T)/d, J = [[0,-1],[1,0]]
+    p11 = (1.0 - ny * ny) / d
+    p12 = -ny * nz / d
+    p22 = (1.0 - nz * nz) / d
+    w11 = p11 - ms * p12
+    w12 = p12 - ms * p22
+    w21 = p12 + ms * p11
+    w22 = p22 + ms * p12
+    jac[0, 0] = -(wy * dfn_py + fn * w11)
+    jac[0, 1] = -(wy * dfn_pz + fn * w12)
+    jac[1, 0] = -(wz * dfn_py + fn * w21)
+    jac[1, 1] = -(wz * dfn_pz + fn * w22)
+    jac[0, 2] = -wy * dfn_uy
+    jac[0, 3] = -wy * dfn_uz
+    jac[1, 2] = -wz * dfn_uy
+    jac[1, 3] = -wz * dfn_uz
+    return -fn * wy, -fn * wz
+
+
+@njit(cache=True)
+def solve_contact(pd, ud, sd, sv, f0, cp, jac):
+    """Solve ``F = f(pd + sd F, ud + sv F)`` for the complex contact force ``F = Fy + i Fz``.
+
+    ``pd``, ``ud`` are the contact-point displacement (m) and velocity (m/s) the step would give
+    with ``F = 0``; ``sd`` (m/N), ``sv`` (m/(s N)) their complex sensitivities to ``F``. Newton's
+    method on the two real unknowns with step halving. Returns ``(F, iterations)``;
+    ``iterations < 0`` flags a failure to converge.
+    """
+    if cp[0] == 0.0:
+        return 0j, 0
+    # The force-free step staying inside the clearance means F = 0 is the solution: a non-zero
+    # force pushes the centre further inwards (sd is close to a positive compliance).
+    if abs(pd) <= cp[4]:
+        return 0j, 0
+    tol = 1e-13 * cp[9]
+    F = f0
+    if F == 0j:
+        fy, fz, fn, ft = contact_force(pd.real, pd.imag, ud.real, ud.imag, cp)
+        F = complex(fy, fz)
+    rnorm_prev = 1e300
+    last = 0j
+    for it in range(1, 60):
+        p = pd + sd * F
+        u = ud + sv * F
+        fy, fz = contact_force_jac(p.real, p.imag, u.real, u.imag, cp, jac)
+        ry = F.real - fy
+        rz = F.imag - fz
+        rnorm = math.sqrt(ry * ry + rz * rz)
+        if rnorm <= tol + 1e-13 * math.sqrt(fy * fy + fz * fz):
+            return F, it
+        if rnorm > rnorm_prev and it > 1:
+            # halve the last Newton step
+            F = F + 0.5 * last
+            rnorm_prev = 1e300
+            last = 0.5 * last
+            continue
+        # JR = I - (Jp Sd + Ju Sv), with complex multiplication as 2x2 real matrices
+        a11 = 1.0 - (
+            jac[0, 0] * sd.real + jac[0, 1] * sd.imag + jac[0, 2] * sv.real + jac[0, 3] * sv.imag
+        )
+        a12 = -(
+            -jac[0, 0] * sd.imag + jac[0, 1] * sd.real - jac[0, 2] * sv.imag + jac[0, 3] * sv.real
+        )
+        a21 = -(
+            jac[1, 0] * sd.real + jac[1, 1] * sd.imag + jac[1, 2] * sv.real + jac[1, 3] * sv.imag
+        )
+        a22 = 1.0 - (
+            -jac[1, 0] * sd.imag + jac[1, 1] * sd.real - jac[1, 2] * sv.imag + jac[1, 3] * sv.real
+        )
+        det = a11 * a22 - a12 * a21
+        dy = (a22 * ry - a12 * rz) / det
+        dz = (-a21 * ry + a11 * rz) / det
+        last = complex(dy, dz)
+        F = F - last
+        rnorm_prev = rnorm
+    return F, -1

@@ -1,0 +1,477 @@
+"""Compiled time loops for the modal rotor with contact (plain arrays, SI units).
+
+The rotor is diagonalised once (in :mod:`rubrotor.simulate`): with ``y`` the complex eigen-
+coordinates of the first-order modal system, ``y' = lam * y + beta_c F_c + beta_u F_u + beta_l F_l``.
+
+``expo_fixed`` and ``expo_adaptive`` integrate the shifted coordinates ``y~ = y - y_p(t)``, where
+``y_p`` is the exact steady response to unbalance and constant load, with the exact propagator::
+
+    y~_{k+1} = e^{lam h} y~_k + (h phi1 - h phi2) beta_c F_k + h phi2 beta_c F_{k+1}
+
+(the contact force held linear over the step, solved implicitly for ``F_{k+1}``): exact for the
+linear rotor, second order in the contact force, and unconditionally stable for the stiff linear
+part. ``abm_fixed`` is the seed's 4th-order Adams-Bashforth-Moulton PECE on the unshifted ``y``.
+
+Saved channels per sample (``out[channel, sample]``), per output station ``s`` (station 0 is the
+contact station): ``6s + 0..5`` = v, w (m), v', w' (m/s), v'', w'' (m/s^2); then after ``6 S``:
+normal force (N), friction force along the tangent (N), force components F_y, F_z on the rotor (N).
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from rubrotor.core.contact import contact_force, solve_contact
+
+__all__ = ["expo_fixed", "expo_adaptive", "abm_fixed", "STATUS", "n_channels"]
+
+STATUS = {0: "complete", 1: "diverged", 2: "contact solve failed", 3: "event buffer full"}
+
+
+def n_channels(n_stations: int) -> int:
+    """Number of saved channels for ``n_stations`` output stations."""
+    return 6 * n_stations + 4
+
+
+@njit(cache=True)
+def _write_sample(
+    out, idx, y, z, F, cp, rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c
+):
+    nst = rows_d.shape[0]
+    ns = y.shape[0]
+    for s in range(nst):
+        P = part_u[s] * z + part_l[s]
+        V = vel_z[s] * z
+        A = acc_z[s] * z + acc_c[s] + acc_fc[s] * F
+        for j in range(ns):
+            yj = y[j]
+            P += rows_d[s, j] * yj
+            V += rows_v[s, j] * yj
+            A += rows_a[s, j] * yj
+        b = 6 * s
+        out[b, idx] = P.real
+        out[b + 1, idx] = P.imag
+        out[b + 2, idx] = V.real
+        out[b + 3, idx] = V.imag
+        out[b + 4, idx] = A.real
+        out[b + 5, idx] = A.imag
+    fy, fz, fn, ft = contact_force(out[0, idx], out[1, idx], out[2, idx], out[3, idx], cp)
+    b = 6 * nst
+    out[b, idx] = fn
+    out[b + 1, idx] = ft
+    out[b + 2, idx] = fy
+    out[b + 3, idx] = fz
+
+
+@njit(cache=True)
+def _powers(y, z, F, omega, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, fl, cvc, vel_c_z, qv):
+    """Instantaneous powers (W): unbalance, constant load, contact force, modal damping."""
+    ns = y.shape[0]
+    vu = vel_u_z * z
+    vl = 0j
+    vc = vel_c_z * z
+    for j in range(ns):
+        vu += vel_u_row[j] * y[j]
+        vl += vel_l_row[j] * y[j]
+        vc += cvc[j] * y[j]
+    fu = fu0 * z
+    p_u = fu.real * vu.real + fu.imag * vu.imag
+    p_l = fl.real * vl.real + fl.imag * vl.imag
+    p_c = F.real * vc.real + F.imag * vc.imag
+    nq = wv.shape[0]
+    for i in range(nq):
+        acc = wz[i] * z
+        for j in range(ns):
+            acc += wv[i, j] * y[j]
+        qv[i] = acc
+    p_d = 0.0
+    for i in range(nq):
+        for k in range(nq):
+            c = cmat[i, k]
+            if c != 0.0:
+                p_d += c * (qv[i].real * qv[k].real + qv[i].imag * qv[k].imag)
+    return p_u, p_l, p_c, p_d
+
+
+@njit(cache=True)
+def _friction_power(y, z, F, cp, cdc, cvc, part_c, vel_c_z, part_l_c):
+    P = part_c * z + part_l_c
+    V = vel_c_z * z
+    for j in range(y.shape[0]):
+        P += cdc[j] * y[j]
+        V += cvc[j] * y[j]
+    fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    if fn == 0.0:
+        return 0.0
+    d = abs(P)
+    ty = -P.imag / d
+    tz = P.real / d
+    return ft * (ty * V.real + tz * V.imag)
+
+
+@njit(cache=True)
+def expo_fixed(
+    y, cstate, istate, n_samples, save_every, out, out_offset,
+    E, G0, G1, sd, sv, cdc, cvc, cp,
+    rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+    omega, h, max_disp,
+    energy, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, fl, work,
+    events,
+):  # fmt: skip
+    """Fixed-step exponential integrator over ``n_samples`` saved samples.
+
+    State in/out: ``y`` (complex eigen-coordinates, shifted), ``cstate = [F, z]`` (contact force
+    N, unbalance phasor ``exp(i Omega t)``), ``istate = [step, n_events, status]``. Writes samples
+    ``out[:, out_offset : out_offset + n]``; returns the number written. ``work`` accumulates
+    (J) the work of unbalance, load, contact force, modal damping (dissipated) and friction when
+    ``energy`` is true. ``events`` collects contact onset (+t) and separation (-t) times (s).
+    """
+    ns = y.shape[0]
+    yh = np.empty(ns, np.complex128)
+    jac = np.zeros((2, 4))
+    qv = np.zeros(wv.shape[0], np.complex128)
+    F = cstate[0]
+    z = cstate[1]
+    step = istate[0]
+    part_c = part_u[0]
+    part_lc = part_l[0]
+    vel_cz = vel_z[0]
+    maxd2 = max_disp * max_disp
+    written = 0
+    pw0 = (0.0, 0.0, 0.0, 0.0)
+    pf0 = 0.0
+    if energy:
+        pw0 = _powers(
+            y, z, F, omega, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, fl, cvc, vel_cz, qv
+        )
+        pf0 = _friction_power(y, z, F, cp, cdc, cvc, part_c, vel_cz, part_lc)
+    for s_i in range(n_samples):
+        for _ in range(save_every):
+            step += 1
+            if step % 1024 == 0:
+                zn = complex(math.cos(omega * h * step), math.sin(omega * h * step))
+            else:
+                zn = z * complex(math.cos(omega * h), math.sin(omega * h))
+            pd = part_c * zn + part_lc
+            ud = vel_cz * zn
+            if F != 0j:
+                for j in range(ns):
+                    v = E[j] * y[j] + G0[j] * F
+                    yh[j] = v
+                    pd += cdc[j] * v
+                    ud += cvc[j] * v
+            else:
+                for j in range(ns):
+                    v = E[j] * y[j]
+                    yh[j] = v
+                    pd += cdc[j] * v
+                    ud += cvc[j] * v
+            Fn, it = solve_contact(pd, ud, sd, sv, F, cp, jac)
+            if it < 0:
+                istate[2] = 2
+                break
+            if Fn != 0j:
+                for j in range(ns):
+                    y[j] = yh[j] + G1[j] * Fn
+            else:
+                for j in range(ns):
+                    y[j] = yh[j]
+            p = pd + sd * Fn
+            if (Fn != 0j) != (F != 0j):
+                ne = istate[1]
+                if ne < events.shape[0]:
+                    # interpolate the crossing of |P| = g linearly within the step
+                    t1 = step * h
+                    events[ne] = t1 if Fn != 0j else -t1
+                    istate[1] = ne + 1
+            F = Fn
+            z = zn
+            if energy:
+                pw1 = _powers(
+                    y,
+                    z,
+                    F,
+                    omega,
+                    wv,
+                    wz,
+                    cmat,
+                    vel_u_row,
+                    vel_u_z,
+                    fu0,
+                    vel_l_row,
+                    fl,
+                    cvc,
+                    vel_cz,
+                    qv,
+                )
+                pf1 = _friction_power(y, z, F, cp, cdc, cvc, part_c, vel_cz, part_lc)
+                work[0] += 0.5 * h * (pw0[0] + pw1[0])
+                work[1] += 0.5 * h * (pw0[1] + pw1[1])
+                work[2] += 0.5 * h * (pw0[2] + pw1[2])
+                work[3] += 0.5 * h * (pw0[3] + pw1[3])
+                work[4] += 0.5 * h * (pf0 + pf1)
+                pw0 = pw1
+                pf0 = pf1
+            d2 = p.real * p.real + p.imag * p.imag
+            if not (d2 <= maxd2):
+                istate[2] = 1
+                break
+        if istate[2] != 0:
+            break
+        _write_sample(
+            out,
+            out_offset + s_i,
+            y,
+            z,
+            F,
+            cp,
+            rows_d,
+            rows_v,
+            rows_a,
+            acc_fc,
+            part_u,
+            part_l,
+            vel_z,
+            acc_z,
+            acc_c,
+        )
+        written += 1
+    cstate[0] = F
+    cstate[1] = z
+    istate[0] = step
+    return written
+
+
+@njit(cache=True)
+def expo_adaptive(
+    y, cstate, istate, n_samples, out, out_offset,
+    E, G0, G1, sd, sv, errc, rot, cdc, cvc, cp,
+    rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+    omega, H, max_disp, rtol, atol,
+    events, stats,
+):  # fmt: skip
+    """Error-controlled exponential integrator with dyadic steps ``H / 2^level``.
+
+    Saves one sample every ``H`` (s). Level arrays ``E, G0, G1`` have shape (levels, ns) and
+    ``sd, sv, errc, rot`` shape (levels,). A step is rejected and halved when the local error
+    estimate ``errc * |F_{k+1} - F_k|`` (m, the difference between first- and zero-order holds of
+    the contact force) exceeds ``atol + rtol |P|``, or when it changes the contact state above the
+    finest level (so every contact onset and separation is resolved to ``H / 2^(levels-1)``).
+    ``istate = [sample, n_events, status, level]``; ``stats = [accepted, rejected, newton its]``.
+    """
+    ns = y.shape[0]
+    nlev = E.shape[0]
+    J = nlev - 1
+    full = 1 << J
+    yh = np.empty(ns, np.complex128)
+    ynew = np.empty(ns, np.complex128)
+    jac = np.zeros((2, 4))
+    F = cstate[0]
+    z = cstate[1]
+    part_c = part_u[0]
+    part_lc = part_l[0]
+    vel_cz = vel_z[0]
+    maxd2 = max_disp * max_disp
+    lev = istate[3]
+    written = 0
+    for s_i in range(n_samples):
+        sample = istate[0]
+        t_start = sample * H
+        pos = 0
+        while pos < full:
+            units = 1 << (J - lev)
+            while pos % units != 0 or pos + units > full:
+                lev += 1
+                units = 1 << (J - lev)
+            zn = z * rot[lev]
+            pd = part_c * zn + part_lc
+            ud = vel_cz * zn
+            for j in range(ns):
+                v = E[lev, j] * y[j] + G0[lev, j] * F
+                yh[j] = v
+                pd += cdc[j] * v
+                ud += cvc[j] * v
+            Fn, it = solve_contact(pd, ud, sd[lev], sv[lev], F, cp, jac)
+            stats[2] += max(it, 0)
+            changed = (Fn != 0j) != (F != 0j)
+            p = pd + sd[lev] * Fn
+            err = errc[lev] * abs(Fn - F) / (atol + rtol * abs(p))
+            if lev < J and (it < 0 or err > 1.0 or changed):
+                lev += 1
+                stats[1] += 1
+                continue
+            if it < 0:
+                istate[2] = 2
+                break
+            for j in range(ns):
+                ynew[j] = yh[j] + G1[lev, j] * Fn
+            for j in range(ns):
+                y[j] = ynew[j]
+            stats[0] += 1
+            pos += units
+            if changed:
+                ne = istate[1]
+                if ne < events.shape[0]:
+                    tt = t_start + pos * (H / full)
+                    events[ne] = tt if Fn != 0j else -tt
+                    istate[1] = ne + 1
+            F = Fn
+            z = zn
+            d2 = p.real * p.real + p.imag * p.imag
+            if not (d2 <= maxd2):
+                istate[2] = 1
+                break
+            if err < 0.05 and not changed and lev > 0 and pos % (2 * units) == 0:
+                lev -= 1
+        if istate[2] != 0:
+            break
+        sample += 1
+        istate[0] = sample
+        tt = sample * H
+        z = complex(math.cos(omega * tt), math.sin(omega * tt))
+        _write_sample(
+            out,
+            out_offset + s_i,
+            y,
+            z,
+            F,
+            cp,
+            rows_d,
+            rows_v,
+            rows_a,
+            acc_fc,
+            part_u,
+            part_l,
+            vel_z,
+            acc_z,
+            acc_c,
+        )
+        written += 1
+    cstate[0] = F
+    cstate[1] = z
+    istate[3] = lev
+    return written
+
+
+@njit(cache=True)
+def _rhs(t, y, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, dy):
+    P = 0j
+    V = 0j
+    for j in range(y.shape[0]):
+        P += cdc[j] * y[j]
+        V += cvc[j] * y[j]
+    fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    F = complex(fy, fz)
+    fu = fu0 * complex(math.cos(omega * t), math.sin(omega * t))
+    for j in range(y.shape[0]):
+        dy[j] = lam[j] * y[j] + beta_c[j] * F + beta_u[j] * fu + beta_l[j] * fl
+    return F
+
+
+@njit(cache=True)
+def abm_fixed(
+    y, hist, istate, n_samples, save_every, out, out_offset,
+    lam, beta_c, beta_u, beta_l, fu0, fl, cdc, cvc, cp,
+    rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+    omega, h, max_disp, events,
+):  # fmt: skip
+    """Seed scheme: fixed-step 4th-order Adams-Bashforth-Moulton PECE, RK4 start.
+
+    ``y`` are the unshifted complex eigen-coordinates; ``hist`` (4, ns) keeps the last four
+    derivatives (newest first); ``istate = [step, n_events, status]``.
+    """
+    ns = y.shape[0]
+    k1 = np.empty(ns, np.complex128)
+    k2 = np.empty(ns, np.complex128)
+    k3 = np.empty(ns, np.complex128)
+    k4 = np.empty(ns, np.complex128)
+    yt = np.empty(ns, np.complex128)
+    fp = np.empty(ns, np.complex128)
+    maxd2 = max_disp * max_disp
+    written = 0
+    step = istate[0]
+    F = 0j
+    for s_i in range(n_samples):
+        for _ in range(save_every):
+            t = step * h
+            if step < 3:
+                _rhs(t, y, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k1)
+                for j in range(ns):
+                    hist[3 - step, j] = k1[j]
+                    yt[j] = y[j] + 0.5 * h * k1[j]
+                _rhs(t + 0.5 * h, yt, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k2)
+                for j in range(ns):
+                    yt[j] = y[j] + 0.5 * h * k2[j]
+                _rhs(t + 0.5 * h, yt, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k3)
+                for j in range(ns):
+                    yt[j] = y[j] + h * k3[j]
+                _rhs(t + h, yt, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k4)
+                for j in range(ns):
+                    y[j] = y[j] + h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
+                if step == 2:
+                    _rhs(t + h, y, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k1)
+                    for j in range(ns):
+                        hist[0, j] = k1[j]
+            else:
+                # hist[0] = f_n, hist[1] = f_{n-1}, ...
+                for j in range(ns):
+                    yt[j] = y[j] + h / 24.0 * (
+                        55.0 * hist[0, j] - 59.0 * hist[1, j] + 37.0 * hist[2, j] - 9.0 * hist[3, j]
+                    )
+                _rhs(t + h, yt, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, fp)
+                for j in range(ns):
+                    y[j] = y[j] + h / 24.0 * (
+                        9.0 * fp[j] + 19.0 * hist[0, j] - 5.0 * hist[1, j] + hist[2, j]
+                    )
+                for j in range(ns):
+                    hist[3, j] = hist[2, j]
+                    hist[2, j] = hist[1, j]
+                    hist[1, j] = hist[0, j]
+                Fn = _rhs(t + h, y, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k1)
+                for j in range(ns):
+                    hist[0, j] = k1[j]
+                if (Fn != 0j) != (F != 0j):
+                    ne = istate[1]
+                    if ne < events.shape[0]:
+                        events[ne] = (t + h) if Fn != 0j else -(t + h)
+                        istate[1] = ne + 1
+                F = Fn
+            step += 1
+            P = 0j
+            for j in range(ns):
+                P += cdc[j] * y[j]
+            d2 = P.real * P.real + P.imag * P.imag
+            if not (d2 <= maxd2):
+                istate[2] = 1
+                break
+        if istate[2] != 0:
+            break
+        z = complex(math.cos(omega * step * h), math.sin(omega * step * h))
+        # contact force consistent with the saved state
+        P = 0j
+        V = 0j
+        for j in range(ns):
+            P += cdc[j] * y[j]
+            V += cvc[j] * y[j]
+        fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+        _write_sample(
+            out,
+            out_offset + s_i,
+            y,
+            z,
+            complex(fy, fz),
+            cp,
+            rows_d,
+            rows_v,
+            rows_a,
+            acc_fc,
+            part_u,
+            part_l,
+            vel_z,
+            acc_z,
+            acc_c,
+        )
+        written += 1
+    istate[0] = step
+    return written

@@ -1,0 +1,598 @@
+"""Time simulation of the rotor under unbalance with rotor-stator contact.
+
+:func:`simulate_system` is the array-level entry point (shaft, speed, forces, integrator); it
+assembles and diagonalises the modal system, runs a compiled kernel from :mod:`rubrotor.core`
+in chunks (progress and Ctrl-C are handled between chunks, never per step) and returns a
+:class:`SimulationResult`. :func:`rubrotor.results.to_dataset` turns that into an xarray Dataset.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg
+
+from rubrotor.core.contact import pack_contact
+from rubrotor.core.integrate import STATUS, abm_fixed, expo_adaptive, expo_fixed, n_channels
+from rubrotor.errors import InputError
+from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance
+from rubrotor.integrator import Integrator
+from rubrotor.model import Shaft, modal_matrices
+
+__all__ = ["ModalSystem", "SimulationResult", "assemble", "simulate_system", "phi_functions"]
+
+ADAPTIVE_LEVELS = 21
+EVENT_BUFFER = 200_000
+
+
+def phi_functions(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``phi1(z) = (e^z - 1)/z`` and ``phi2(z) = (e^z - 1 - z)/z^2``, accurate for small ``|z|``.
+
+    Parameters
+    ----------
+    z : ndarray, complex
+        Arguments (dimensionless).
+
+    Returns
+    -------
+    phi1, phi2 : ndarray, complex
+
+    Examples
+    --------
+    >>> p1, p2 = phi_functions(np.array([1e-12 + 0j, 1.0 + 0j]))
+    >>> np.allclose(p1, [1.0, np.e - 1]), np.allclose(p2, [0.5, np.e - 2])
+    (True, True)
+    """
+    z = np.asarray(z, dtype=complex)
+    small = np.abs(z) < 0.25
+    p1 = np.empty_like(z)
+    p2 = np.empty_like(z)
+    zs = z[small]
+    # Taylor series: phi_k(z) = sum_j z^j / (j + k)!
+    t1 = np.zeros_like(zs)
+    t2 = np.zeros_like(zs)
+    term = np.ones_like(zs)
+    for j in range(0, 20):
+        t1 = t1 + term / math.factorial(j + 1)
+        t2 = t2 + term / math.factorial(j + 2)
+        term = term * zs
+    p1[small] = t1
+    p2[small] = t2
+    zl = z[~small]
+    ez = np.exp(zl)
+    p1[~small] = (ez - 1) / zl
+    p2[~small] = (ez - 1 - zl) / zl**2
+    return p1, p2
+
+
+def _damping_matrix(M: np.ndarray, K: np.ndarray, zeta: float) -> np.ndarray:
+    """``C = M Phi diag(2 zeta omega) Phi^T M`` from the non-rotating modes of ``(K, M)``."""
+    if zeta == 0.0:
+        return np.zeros_like(M)
+    w2, phi = scipy.linalg.eigh(K, M)
+    return M @ phi @ np.diag(2 * zeta * np.sqrt(w2)) @ phi.T @ M
+
+
+@dataclass
+class ModalSystem:
+    """The rotor in diagonal (eigen) coordinates of its first-order modal system.
+
+    Physical state ``x = [q_1; q_1'; q_2; q_2'; ...]`` (complex, ``q_n = [P_n, Psi_n]`` or
+    ``[P_n]``) is ``x = V y``; ``y' = lam y + beta(a) F`` for a point force ``F`` (N) at ``a``.
+    """
+
+    shaft: Shaft
+    speed: float
+    lam: np.ndarray
+    V: np.ndarray
+    Vinv: np.ndarray
+    M: np.ndarray
+    K: np.ndarray
+    C: np.ndarray
+    q_index: np.ndarray  # indices of q in x
+    qd_index: np.ndarray  # indices of q' in x
+    defl_index: np.ndarray  # index in x of the deflection P_n of each mode
+    wavenumbers: np.ndarray
+    cond: float = field(default=1.0)
+
+    def force_input(self, position: float) -> np.ndarray:
+        """``beta`` (eigen-coordinates per N) of a point force at ``position`` (m)."""
+        b = np.zeros(self.V.shape[0], complex)
+        mdiag = np.diag(self.M)
+        for n_i, xi in enumerate(self.defl_index):
+            vel = self.qd_index[np.searchsorted(self.q_index, xi)]
+            b[vel] = (
+                math.sin(self.wavenumbers[n_i] * position)
+                / mdiag[np.searchsorted(self.q_index, xi)]
+            )
+        return self.Vinv @ b
+
+    def displacement_row(self, position: float) -> np.ndarray:
+        """Row mapping ``y`` to the complex deflection ``v + i w`` (m) at ``position`` (m)."""
+        r = np.zeros(self.V.shape[0], complex)
+        for n_i, xi in enumerate(self.defl_index):
+            r[xi] = math.sin(self.wavenumbers[n_i] * position)
+        return r @ self.V
+
+    def velocity_row(self, position: float) -> np.ndarray:
+        """Row mapping ``y`` to the complex velocity (m/s) at ``position`` (m)."""
+        r = np.zeros(self.V.shape[0], complex)
+        for n_i, xi in enumerate(self.defl_index):
+            vel = self.qd_index[np.searchsorted(self.q_index, xi)]
+            r[vel] = math.sin(self.wavenumbers[n_i] * position)
+        return r @ self.V
+
+    def energy(self, y: np.ndarray) -> float:
+        """Kinetic plus strain energy (J) of the physical state ``V y``."""
+        x = self.V @ y
+        q = x[self.q_index]
+        qd = x[self.qd_index]
+        return 0.5 * float(np.real(qd.conj() @ self.M @ qd) + np.real(q.conj() @ self.K @ q))
+
+
+def assemble(shaft: Shaft, speed: float, damping: ModalDamping | None = None) -> ModalSystem:
+    """Assemble and diagonalise the first-order modal system at spin ``speed`` (rad/s).
+
+    Parameters
+    ----------
+    shaft : Shaft
+        The rotor.
+    speed : float
+        Spin speed ``Omega`` (rad/s).
+    damping : ModalDamping, optional
+        Modal damping ratios; none by default.
+
+    Returns
+    -------
+    ModalSystem
+    """
+    damping = damping or ModalDamping()
+    blocks_a, blocks_m, blocks_k, blocks_c = [], [], [], []
+    q_idx, qd_idx, defl = [], [], []
+    off = 0
+    for n in range(1, shaft.modes + 1):
+        mm = modal_matrices(shaft, n)
+        m = mm.size
+        c = _damping_matrix(mm.M, mm.K, damping.ratio(n))
+        minv = np.linalg.inv(mm.M)
+        a = np.zeros((2 * m, 2 * m), complex)
+        a[:m, m:] = np.eye(m)
+        a[m:, :m] = -minv @ mm.K
+        a[m:, m:] = -minv @ (c + speed * mm.G)
+        blocks_a.append(a)
+        blocks_m.append(mm.M)
+        blocks_k.append(mm.K)
+        blocks_c.append(c)
+        q_idx.extend(range(off, off + m))
+        qd_idx.extend(range(off + m, off + 2 * m))
+        defl.append(off)
+        off += 2 * m
+    lam_list, v_blocks, vinv_blocks = [], [], []
+    cond = 1.0
+    for a in blocks_a:
+        lam, v = scipy.linalg.eig(a)
+        v = v / np.linalg.norm(v, axis=0)
+        cond = max(cond, np.linalg.cond(v))
+        lam_list.append(lam)
+        v_blocks.append(v)
+        vinv_blocks.append(np.linalg.inv(v))
+    if cond > 1e10:
+        raise InputError(
+            "speed", speed, "a speed where the modal system is diagonalisable (move it slightly)"
+        )
+    q_index = np.array(q_idx)
+    order = np.argsort(q_index)
+    return ModalSystem(
+        shaft=shaft,
+        speed=speed,
+        lam=np.concatenate(lam_list),
+        V=scipy.linalg.block_diag(*v_blocks),
+        Vinv=scipy.linalg.block_diag(*vinv_blocks),
+        M=scipy.linalg.block_diag(*blocks_m),
+        K=scipy.linalg.block_diag(*blocks_k),
+        C=scipy.linalg.block_diag(*blocks_c),
+        q_index=q_index[order],
+        qd_index=np.array(qd_idx)[order],
+        defl_index=np.array(defl),
+        wavenumbers=np.array([shaft.wavenumber(n) for n in range(1, shaft.modes + 1)]),
+        cond=cond,
+    )
+
+
+@dataclass
+class SimulationResult:
+    """Raw simulation output (SI units); see :func:`rubrotor.results.to_dataset`.
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times (s).
+    stations : ndarray
+        Axial positions (m) of the output stations; station 0 is the contact station (midspan
+        without contact), the others are probes.
+    channels : ndarray, shape (6 S + 4, T)
+        Per station v, w (m), v', w' (m/s), v'', w'' (m/s^2); then normal force (N), friction
+        force along the tangent (N), F_y, F_z (N).
+    status : str
+        ``"complete"`` or ``"partial"``.
+    message : str
+        Why a partial run stopped.
+    stats : dict
+        Integrator statistics.
+    events : ndarray
+        Contact onset (+t) and separation (-t) times (s).
+    work : dict
+        Work (J) of each force over the run when energy tracking was on.
+    """
+
+    time: np.ndarray
+    stations: np.ndarray
+    channels: np.ndarray
+    status: str
+    message: str
+    stats: dict
+    events: np.ndarray
+    work: dict
+    speed: float
+    unbalance_force: complex
+    unbalance_position: float
+
+
+def _check_station(name: str, x: float, length: float) -> float:
+    if not (0 < x < length):
+        raise InputError(name, x, f"an axial position in (0, {length:g}) m")
+    return float(x)
+
+
+def simulate_system(
+    shaft: Shaft,
+    speed: float,
+    integrator: Integrator,
+    unbalance: Unbalance | None = None,
+    contact: Contact | None = None,
+    load: RadialLoad | None = None,
+    damping: ModalDamping | None = None,
+    *,
+    track_energy: bool = False,
+    progress: bool | None = None,
+    chunk_samples: int = 1 << 15,
+) -> SimulationResult:
+    """Simulate the rotor from rest.
+
+    Parameters
+    ----------
+    shaft : Shaft
+        The rotor.
+    speed : float
+        Constant spin speed ``Omega`` (rad/s), > 0.
+    integrator : Integrator
+        Method, steps, length of the run and what to save.
+    unbalance : Unbalance, optional
+        Rotating unbalance; none by default.
+    contact : Contact, optional
+        Stator contact; none by default (free rotor).
+    load : RadialLoad, optional
+        Constant radial load; none by default.
+    damping : ModalDamping, optional
+        Modal damping ratios; 0 by default (as in the seed).
+    track_energy : bool
+        Accumulate the work of every force (exponential fixed-step only), for energy checks.
+    progress : bool, optional
+        Print progress to stderr on runs longer than a few seconds (default: when stderr is a
+        terminal).
+    chunk_samples : int
+        Samples computed per compiled call.
+
+    Returns
+    -------
+    SimulationResult
+    """
+    if (
+        isinstance(speed, bool)
+        or not isinstance(speed, int | float)
+        or not (speed > 0 and math.isfinite(speed))
+    ):
+        raise InputError("speed", speed, "a finite spin speed > 0 (rad/s)")
+    speed = float(speed)
+    L = shaft.length
+    unbalance = unbalance or Unbalance(0.0)
+    a_u = _check_station(
+        "unbalance.position", unbalance.position if unbalance.position is not None else L / 2, L
+    )
+    a_c = L / 2
+    if contact is not None:
+        a_c = _check_station(
+            "contact.position", contact.position if contact.position is not None else L / 2, L
+        )
+    a_l = L / 2
+    if load is not None and load.position is not None:
+        a_l = _check_station("load.position", load.position, L)
+    probes = [_check_station("simulation.probes", p, L) for p in integrator.probes]
+    stations = np.array([a_c, *probes])
+
+    sysm = assemble(shaft, speed, damping)
+    lam = sysm.lam
+    ns = lam.size
+    beta_c = sysm.force_input(a_c)
+    beta_u = sysm.force_input(a_u)
+    beta_l = sysm.force_input(a_l)
+    fu0 = (
+        unbalance.magnitude
+        * speed**2
+        * complex(math.cos(unbalance.phase), math.sin(unbalance.phase))
+    )
+    fl = complex(load.force_y, load.force_z) if load is not None else 0j
+
+    rows_d = np.array([sysm.displacement_row(x) for x in stations])
+    rows_v = np.array([sysm.velocity_row(x) for x in stations])
+    rows_a = rows_v * lam[None, :]
+    acc_fc = rows_v @ beta_c
+    cdc = np.ascontiguousarray(rows_d[0])
+    cvc = np.ascontiguousarray(rows_v[0])
+
+    if contact is not None:
+        radius = contact.radius if contact.radius is not None else shaft.diameter / 2
+        cp = pack_contact(
+            1,
+            contact.law_code,
+            contact.stiffness,
+            contact.damping,
+            contact.clearance,
+            contact.friction,
+            contact.sign_code,
+            radius * speed,
+            contact.friction_regularization,
+        )
+        gap = contact.clearance
+    else:
+        cp = pack_contact(0, 0, 1.0, 0.0, 1.0, 0.0, 0, 0.0, 1.0)
+        gap = None
+    max_disp = integrator.max_displacement
+    if max_disp is None:
+        max_disp = 1000 * gap if gap is not None else 0.1 * L
+
+    t_total = integrator.total_time(speed)
+    method = integrator.method
+    h_fixed = integrator.step_seconds(speed)
+    events = np.zeros(EVENT_BUFFER)
+    stats: dict = {
+        "method": method,
+        "order": integrator.order,
+        "modes": shaft.modes,
+        "eig_cond": sysm.cond,
+    }
+    work = np.zeros(5)
+
+    if method == "exponential":
+        res = 1j * speed - lam
+        if np.min(np.abs(res) / np.abs(lam)) < 1e-9 and unbalance.magnitude > 0:
+            raise InputError(
+                "speed",
+                speed,
+                "a speed that is not exactly an undamped critical speed (add damping or move it)",
+            )
+        y_u = beta_u * fu0 / res
+        y_l = -beta_l * fl / lam
+        part_u = rows_d @ y_u
+        part_l = rows_d @ y_l
+        vel_z = 1j * speed * part_u
+        acc_z = -(speed**2) * part_u
+        y = -(y_u + y_l)  # start from rest: shifted coordinates cancel the particular solution
+    else:
+        part_u = np.zeros(len(stations), complex)
+        part_l = np.zeros(len(stations), complex)
+        vel_z = np.zeros(len(stations), complex)
+        acc_z = rows_v @ beta_u * fu0
+        y = np.zeros(ns, complex)
+    acc_c = rows_v @ beta_l * fl if method == "abm" else np.zeros(len(stations), complex)
+
+    if h_fixed is not None:
+        n_steps = int(round(t_total / h_fixed))
+        if n_steps < 1:
+            raise InputError(
+                "simulation.dtau", integrator.dtau or integrator.dt, "a step shorter than the run"
+            )
+        n_samples = n_steps // integrator.save_every
+        sample_dt = h_fixed * integrator.save_every
+    else:
+        H = integrator.output_spacing(speed)
+        n_samples = int(round(t_total / H))
+        sample_dt = H
+    if n_samples < 1:
+        raise InputError(
+            "simulation.revolutions", integrator.revolutions, "a run long enough for one sample"
+        )
+
+    out = np.empty((n_channels(len(stations)), n_samples + 1))
+    istate = np.zeros(4, np.int64)
+    cstate = np.array([0j, 1 + 0j])
+
+    def write0():
+        from rubrotor.core.integrate import _write_sample
+
+        _write_sample(
+            out,
+            0,
+            y,
+            1 + 0j,
+            0j,
+            cp,
+            rows_d,
+            rows_v,
+            rows_a,
+            acc_fc,
+            part_u,
+            part_l,
+            vel_z,
+            acc_z,
+            acc_c,
+        )
+
+    write0()
+
+    if method == "exponential" and h_fixed is not None:
+        h = h_fixed
+        E = np.exp(lam * h)
+        p1, p2 = phi_functions(lam * h)
+        G0 = (h * p1 - h * p2) * beta_c
+        G1 = h * p2 * beta_c
+        sd = complex(cdc @ G1)
+        sv = complex(cvc @ G1)
+        if track_energy:
+            wv = sysm.V[sysm.qd_index, :]
+            wz = wv @ (1j * speed * y_u)
+            cmat = sysm.C
+            vel_u_row = sysm.velocity_row(a_u)
+            vel_u_z = 1j * speed * complex(sysm.displacement_row(a_u) @ y_u)
+            vel_l_row = sysm.velocity_row(a_l)
+            e0 = sysm.energy(y + y_u + y_l)
+        else:
+            wv = np.zeros((0, ns), complex)
+            wz = np.zeros(0, complex)
+            cmat = np.zeros((0, 0))
+            vel_u_row = np.zeros(ns, complex)
+            vel_u_z = 0j
+            vel_l_row = np.zeros(ns, complex)
+
+        def run_chunk(offset, count):
+            return expo_fixed(
+                y, cstate, istate, count, integrator.save_every, out, offset,
+                E, G0, G1, sd, sv, cdc, cvc, cp,
+                rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+                speed, h, max_disp,
+                track_energy, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, fl, work,
+                events,
+            )  # fmt: skip
+
+        stats["step_s"] = h
+    elif method == "exponential":
+        if track_energy:
+            raise InputError("track_energy", True, "a fixed step (dtau or dt) for energy tracking")
+        levels = ADAPTIVE_LEVELS
+        hs = H / 2.0 ** np.arange(levels)
+        E = np.exp(np.outer(hs, lam))
+        p1, p2 = phi_functions(np.outer(hs, lam))
+        G0 = (hs[:, None] * (p1 - p2)) * beta_c[None, :]
+        G1 = (hs[:, None] * p2) * beta_c[None, :]
+        sd = np.ascontiguousarray(G1 @ cdc)
+        sv = np.ascontiguousarray(G1 @ cvc)
+        errc = np.abs(G0 @ cdc)
+        rot = np.exp(1j * speed * hs)
+        stat_arr = np.zeros(3, np.int64)
+        istate[3] = 0
+
+        def run_chunk(offset, count):
+            return expo_adaptive(
+                y, cstate, istate, count, out, offset,
+                E, G0, G1, sd, sv, errc, rot, cdc, cvc, cp,
+                rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+                speed, H, max_disp, integrator.rtol, integrator.atol,
+                events, stat_arr,
+            )  # fmt: skip
+
+        stats["output_spacing_s"] = H
+        stats["min_step_s"] = hs[-1]
+    else:
+        h = h_fixed
+        hist = np.zeros((4, ns), complex)
+
+        def run_chunk(offset, count):
+            return abm_fixed(
+                y, hist, istate, count, integrator.save_every, out, offset,
+                lam, beta_c, beta_u, beta_l, fu0, fl, cdc, cvc, cp,
+                rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+                speed, h, max_disp, events,
+            )  # fmt: skip
+
+        stats["step_s"] = h
+
+    show = sys.stderr.isatty() if progress is None else progress
+    t0 = _time.perf_counter()
+    done = 0
+    message = ""
+    interrupted = False
+    try:
+        while done < n_samples:
+            count = min(chunk_samples, n_samples - done)
+            wrote = run_chunk(1 + done, count)
+            done += wrote
+            if istate[2] != 0:
+                break
+            el = _time.perf_counter() - t0
+            if show and el > 2.0:
+                frac = done / n_samples
+                print(
+                    f"\rrubrotor: {100 * frac:5.1f} % ({done * sample_dt * speed / (2 * math.pi):.0f} rev)"
+                    f" {el:.0f} s, ~{el / max(frac, 1e-9) - el:.0f} s left",
+                    end="",
+                    file=sys.stderr,
+                )
+    except KeyboardInterrupt:
+        interrupted = True
+    if show and _time.perf_counter() - t0 > 2.0:
+        print(file=sys.stderr)
+    stats["wall_s"] = _time.perf_counter() - t0
+    n_out = 1 + done
+    status = "complete"
+    if istate[2] != 0 or interrupted:
+        status = "partial"
+        t_stop = done * sample_dt
+        if interrupted:
+            message = f"interrupted by the user after t = {t_stop:.6g} s"
+        elif istate[2] == 1:
+            message = (
+                f"diverged: contact-point displacement exceeded {max_disp:.3g} m "
+                f"at t = {t_stop + sample_dt:.6g} s; data up to t = {t_stop:.6g} s kept"
+            )
+        else:
+            message = f"{STATUS[int(istate[2])]} at t = {t_stop + sample_dt:.6g} s; data up to t = {t_stop:.6g} s kept"
+    if method == "exponential" and h_fixed is None:
+        stats.update(
+            accepted_steps=int(stat_arr[0]),
+            rejected_steps=int(stat_arr[1]),
+            newton_iterations=int(stat_arr[2]),
+        )
+    else:
+        stats["steps"] = int(istate[0])
+    n_ev = min(int(istate[1]), EVENT_BUFFER)
+    stats["contact_events"] = int(istate[1])
+    work_d: dict = {}
+    if track_energy and method == "exponential" and h_fixed is not None:
+        e1 = sysm.energy(y + y_u * cstate[1] + y_l)
+        p_end = out[0, n_out - 1] + 1j * out[1, n_out - 1]
+        u_c = 0.0
+        if contact is not None:
+            eps = abs(p_end) - contact.clearance
+            if eps > 0:
+                u_c = (
+                    0.4 * contact.stiffness * eps**2.5
+                    if contact.law == "hertz"
+                    else 0.5 * contact.stiffness * eps**2
+                )
+        work_d = {
+            "mechanical_energy_start_J": e0,
+            "mechanical_energy_end_J": e1,
+            "contact_potential_end_J": u_c,
+            "work_unbalance_J": work[0],
+            "work_load_J": work[1],
+            "work_contact_J": work[2],
+            "dissipated_modal_damping_J": work[3],
+            "work_friction_J": work[4],
+        }
+    return SimulationResult(
+        time=np.arange(n_out) * sample_dt,
+        stations=stations,
+        channels=out[:, :n_out],
+        status=status,
+        message=message,
+        stats=stats,
+        events=events[:n_ev].copy(),
+        work=work_d,
+        speed=speed,
+        unbalance_force=fu0,
+        unbalance_position=a_u,
+    )
