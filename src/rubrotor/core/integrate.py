@@ -65,11 +65,13 @@ def _write_sample(
 
 
 @njit(cache=True)
-def _powers(y, z, F, omega, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, fl, cvc, vel_c_z, qv):
+def _powers(
+    y, z, F, omega, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl, cvc, vel_c_z, qv
+):
     """Instantaneous powers (W): unbalance, constant load, contact force, modal damping."""
     ns = y.shape[0]
     vu = vel_u_z * z
-    vl = 0j
+    vl = vel_l_z * z
     vc = vel_c_z * z
     for j in range(ns):
         vu += vel_u_row[j] * y[j]
@@ -116,7 +118,7 @@ def expo_fixed(
     E, G0, G1, sd, sv, cdc, cvc, cp,
     rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
     omega, h, max_disp,
-    energy, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, fl, work,
+    energy, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl, work,
     events,
 ):  # fmt: skip
     """Fixed-step exponential integrator over ``n_samples`` saved samples.
@@ -143,7 +145,22 @@ def expo_fixed(
     pf0 = 0.0
     if energy:
         pw0 = _powers(
-            y, z, F, omega, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, fl, cvc, vel_cz, qv
+            y,
+            z,
+            F,
+            omega,
+            wv,
+            wz,
+            cmat,
+            vel_u_row,
+            vel_u_z,
+            fu0,
+            vel_l_row,
+            vel_l_z,
+            fl,
+            cvc,
+            vel_cz,
+            qv,
         )
         pf0 = _friction_power(y, z, F, cp, cdc, cvc, part_c, vel_cz, part_lc)
     for s_i in range(n_samples):
@@ -200,6 +217,7 @@ def expo_fixed(
                     vel_u_z,
                     fu0,
                     vel_l_row,
+                    vel_l_z,
                     fl,
                     cvc,
                     vel_cz,

@@ -444,11 +444,12 @@ def simulate_system(
         sv = complex(cvc @ G1)
         if track_energy:
             wv = sysm.V[sysm.qd_index, :]
-            wz = wv @ (1j * speed * y_u)
+            wz = wv @ y_u  # y_u is a full state: its q-dot rows are velocities
             cmat = sysm.C
             vel_u_row = sysm.velocity_row(a_u)
             vel_u_z = 1j * speed * complex(sysm.displacement_row(a_u) @ y_u)
             vel_l_row = sysm.velocity_row(a_l)
+            vel_l_z = complex(vel_l_row @ y_u)
             e0 = sysm.energy(y + y_u + y_l)
         else:
             wv = np.zeros((0, ns), complex)
@@ -457,6 +458,7 @@ def simulate_system(
             vel_u_row = np.zeros(ns, complex)
             vel_u_z = 0j
             vel_l_row = np.zeros(ns, complex)
+            vel_l_z = 0j
 
         def run_chunk(offset, count):
             return expo_fixed(
@@ -464,7 +466,7 @@ def simulate_system(
                 E, G0, G1, sd, sv, cdc, cvc, cp,
                 rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
                 speed, h, max_disp,
-                track_energy, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, fl, work,
+                track_energy, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl, work,
                 events,
             )  # fmt: skip
 
@@ -582,6 +584,8 @@ def simulate_system(
             "work_contact_J": work[2],
             "dissipated_modal_damping_J": work[3],
             "work_friction_J": work[4],
+            # elastic contact work is minus the potential change (zero at the start)
+            "dissipated_contact_damping_J": -(work[2] - work[4]) - u_c,
         }
     return SimulationResult(
         time=np.arange(n_out) * sample_dt,
@@ -596,3 +600,217 @@ def simulate_system(
         unbalance_force=fu0,
         unbalance_position=a_u,
     )
+
+
+_UNITS = {
+    "shaft.length": "m",
+    "shaft.diameter": "m",
+    "shaft.bore_diameter": "m",
+    "shaft.youngs_modulus": "Pa",
+    "shaft.shear_modulus": "Pa",
+    "shaft.poisson_ratio": "1",
+    "shaft.density": "kg/m^3",
+    "shaft.kappa": "1",
+    "unbalance.magnitude": "kg m",
+    "unbalance.position": "m",
+    "unbalance.phase": "rad",
+    "load.force_y": "N",
+    "load.force_z": "N",
+    "load.position": "m",
+    "contact.clearance": "m",
+    "contact.position": "m",
+    "contact.friction": "1",
+    "contact.radius": "m",
+    "contact.friction_regularization": "m/s",
+    "speed.rad_per_s": "rad/s",
+}
+
+
+def scenario_parameters(scenario) -> dict:
+    """Every parameter of a scenario as ``{"section.key": [value, unit]}`` (SI), for provenance.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The scenario.
+
+    Returns
+    -------
+    dict
+    """
+    import dataclasses
+
+    out: dict = {}
+    sh = scenario.shaft
+    for f in dataclasses.fields(sh):
+        if f.init:
+            out[f"shaft.{f.name}"] = [getattr(sh, f.name), _UNITS.get(f"shaft.{f.name}", "")]
+    out["shaft.shear_modulus"] = [sh.G, "Pa"]
+    out["shaft.poisson_ratio"] = [sh.nu, "1"]
+    out["shaft.kappa"] = [sh.kappa, "1"]
+    out["speed.rad_per_s"] = [scenario.speed, "rad/s"]
+    for sec in ("unbalance", "load", "contact", "damping", "simulation"):
+        obj = getattr(scenario, sec, None)
+        if obj is None:
+            continue
+        for f in dataclasses.fields(obj):
+            key = f"{sec}.{f.name}"
+            unit = _UNITS.get(key, "")
+            if sec == "contact" and f.name == "stiffness":
+                unit = "N/m^1.5" if obj.law == "hertz" else "N/m"
+            if sec == "contact" and f.name == "damping":
+                unit = "s/m" if obj.law == "hertz" else "N s/m"
+            out[key] = [getattr(obj, f.name), unit]
+    return out
+
+
+def simulate(
+    scenario,
+    *,
+    integrator: Integrator | None = None,
+    progress: bool | None = None,
+    track_energy: bool = False,
+):
+    """Simulate a scenario and return the results Dataset.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        Shaft, speed, unbalance, load, contact, damping and ``[simulation]`` settings.
+    integrator : Integrator, optional
+        Overrides the scenario's ``[simulation]`` section.
+    progress : bool, optional
+        Print progress on long runs (default: when stderr is a terminal).
+    track_energy : bool
+        Accumulate the work of every force (fixed-step exponential only).
+
+    Returns
+    -------
+    xarray.Dataset
+        See :func:`rubrotor.results.to_dataset`; ``attrs["status"]`` is ``"complete"`` or
+        ``"partial"`` (then ``attrs["status_message"]`` says why and where it stopped).
+    """
+    from rubrotor.results import to_dataset
+
+    integ = integrator or scenario.simulation
+    if integ is None:
+        raise InputError("simulation", None, "a [simulation] section (revolutions or duration)")
+    res = simulate_system(
+        scenario.shaft,
+        scenario.speed,
+        integ,
+        scenario.unbalance,
+        scenario.contact,
+        scenario.load,
+        scenario.damping,
+        track_energy=track_energy,
+        progress=progress,
+    )
+    params = scenario_parameters(scenario)
+    if integrator is not None:
+        import dataclasses
+
+        for f in dataclasses.fields(integrator):
+            params[f"simulation.{f.name}"] = [getattr(integrator, f.name), ""]
+    return to_dataset(res, params, getattr(scenario, "source", ""), getattr(scenario, "name", ""))
+
+
+def converge(
+    scenario,
+    *,
+    dtau: float | None = None,
+    halvings: int = 4,
+    max_modes: int | None = None,
+    revolutions: float | None = None,
+    method: str | None = None,
+) -> list[dict]:
+    """The seed's step and mode convergence procedure.
+
+    Runs the scenario with fixed steps ``dtau, dtau/2, ..., dtau/2^halvings`` (all saved at the
+    spacing ``dtau``) with the scenario's modes, then with ``1 .. max_modes`` modes at ``dtau``,
+    and reports the difference between successive runs: ``max |P_a - P_b|`` over the run (m) and
+    relative to ``max |P_b|``, where ``P = v + i w`` at the contact station.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The scenario; its ``[simulation]`` section gives the method and length unless overridden.
+    dtau : float, optional
+        Base step (rad of spin); default the scenario's ``dtau`` or 0.001 (the seed's value).
+    halvings : int
+        Number of step halvings (the seed used 4: down to ``dtau/16``).
+    max_modes : int, optional
+        Largest mode count compared; default the scenario's.
+    revolutions : float, optional
+        Length of each run (rev); default the scenario's.
+    method : {"exponential", "abm"}, optional
+        Integrator; default the scenario's.
+
+    Returns
+    -------
+    list of dict
+        One row per compared pair: ``{"study": "step"|"modes", "a": ..., "b": ..., "max_diff_m": ...,
+        "rel_diff": ..., "wall_s": ...}``.
+    """
+    import dataclasses
+
+    base = scenario.simulation or Integrator(revolutions=revolutions or 20)
+    dtau = dtau or base.dtau or 1e-3
+    revs = revolutions or base.revolutions or base.duration * scenario.speed / (2 * math.pi)
+    method = method or base.method
+    max_modes = max_modes or scenario.shaft.modes
+
+    def run(shaft, k):
+        integ = Integrator(revolutions=revs, method=method, dtau=dtau / 2**k, save_every=2**k)
+        t0 = _time.perf_counter()
+        r = simulate_system(
+            shaft,
+            scenario.speed,
+            integ,
+            scenario.unbalance,
+            scenario.contact,
+            scenario.load,
+            scenario.damping,
+            progress=False,
+        )
+        return r.channels[0] + 1j * r.channels[1], _time.perf_counter() - t0, r.status
+
+    rows = []
+    prev = None
+    for k in range(halvings + 1):
+        p, wall, status = run(scenario.shaft, k)
+        if prev is not None:
+            n = min(len(p), len(prev[0]))
+            diff = float(np.max(np.abs(p[:n] - prev[0][:n])))
+            rows.append(
+                {
+                    "study": "step",
+                    "a": f"dtau/{2 ** (k - 1)}",
+                    "b": f"dtau/{2**k}",
+                    "max_diff_m": diff,
+                    "rel_diff": diff / float(np.max(np.abs(p[:n]))),
+                    "wall_s": wall,
+                    "status": status,
+                }
+            )
+        prev = (p, wall)
+    prev = None
+    for m in range(1, max_modes + 1):
+        sh = dataclasses.replace(scenario.shaft, modes=m)
+        p, wall, status = run(sh, 0)
+        if prev is not None:
+            n = min(len(p), len(prev[0]))
+            diff = float(np.max(np.abs(p[:n] - prev[0][:n])))
+            rows.append(
+                {
+                    "study": "modes",
+                    "a": f"{m - 1} modes",
+                    "b": f"{m} modes",
+                    "max_diff_m": diff,
+                    "rel_diff": diff / float(np.max(np.abs(p[:n]))),
+                    "wall_s": wall,
+                    "status": status,
+                }
+            )
+        prev = (p, wall)
+    return rows
