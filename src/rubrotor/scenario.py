@@ -304,7 +304,9 @@ def _build_shaft(sec: dict) -> Shaft:
         d2 = 16 * (r * length) ** 2 - bore**2
         if d2 <= bore**2:
             raise _err(
-                "shaft.slenderness", sec["slenderness"], f"a value giving a diameter > bore {bore} m"
+                "shaft.slenderness",
+                sec["slenderness"],
+                f"a value giving a diameter > bore {bore} m",
             )
         kwargs["diameter"] = 4 * r * length if bore == 0 else math.sqrt(d2)
     kwargs["bore_diameter"] = bore
@@ -394,7 +396,9 @@ def _build_contact(sec: dict, shaft: Shaft, speed: float) -> Contact:
         stiffness = sec["stiffness"]
     else:
         k_nd = _positive("contact.stiffness_nd", sec["stiffness_nd"], "dimensionless")
-        stiffness = nd.contact_stiffness_si(k_nd) if law == "hertz" else nd.linear_stiffness_si(k_nd)
+        stiffness = (
+            nd.contact_stiffness_si(k_nd) if law == "hertz" else nd.linear_stiffness_si(k_nd)
+        )
     for key in ("impact_speed", "restitution_model"):
         if key in sec and "restitution" not in sec:
             raise _err(f"contact.{key}", sec[key], "to be given only with contact.restitution")
@@ -579,7 +583,9 @@ class Scenario:
                 continue
             if key not in SCHEMA[section]:
                 raise _err(
-                    dotted_key, value, f"one of the keys {', '.join(SCHEMA[section])} of [{section}]"
+                    dotted_key,
+                    value,
+                    f"one of the keys {', '.join(SCHEMA[section])} of [{section}]",
                 )
             sec = spec.setdefault(section, {})
             if value is None:
