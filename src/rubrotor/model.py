@@ -454,7 +454,7 @@ class Dimensionless:
         return bh * self.shaft.length * self.speed
 
     def unbalance_si(self, u_nd):
-        """Unbalance ``m e`` (kg m) of its dimensionless force amplitude ``m e Omega^2 L^2/(E I)``."""
+        """Unbalance ``m e`` (kg m) of its dimensionless force ``m e Omega^2 L^2/(E I)``."""
         return u_nd * self.force_scale / self.speed**2
 
     def unbalance_nd(self, me):

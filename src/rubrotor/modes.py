@@ -111,7 +111,7 @@ def _check_speed(speed) -> np.ndarray:
 
 
 def _poly_coefficients(shaft: Shaft, n: int, speed: np.ndarray) -> np.ndarray:
-    """Characteristic polynomial in ``w`` (rad/s), highest power first; shape ``(len(speed), deg+1)``."""
+    """Characteristic polynomial in ``w`` (rad/s), highest power first; shape ``(S, deg+1)``."""
     k = shaft.wavenumber(n)
     rho = shaft.density
     rho_a, rho_i = shaft.mass_per_length, rho * shaft.second_moment
