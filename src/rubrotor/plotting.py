@@ -128,7 +128,7 @@ def campbell_figure(shaft: Shaft, speeds, operating_speed: float | None = None) 
             ax.annotate(
                 f"{c.n}{_WHIRL_LETTER[c.whirl]}: {c.speed_rad_s:.0f} rad/s",
                 (c.speed_rad_s, y),
-                xytext=(-8, 10) if c.whirl == "backward" else (8, -14),
+                xytext=(-8, -14) if c.whirl == "backward" else (8, -14),
                 textcoords="offset points",
                 ha="right" if c.whirl == "backward" else "left",
                 fontsize=8,
