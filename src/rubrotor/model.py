@@ -379,7 +379,7 @@ class Dimensionless:
     >>> nd = Dimensionless(s, 11613.8)
     >>> f"{nd.contact_stiffness_si(1e3):.4g}"
     '8.61e+09'
-    >>> nd.clearance_si(3e-3)
+    >>> round(nd.clearance_si(3e-3), 15)
     0.0012
     """
 
