@@ -1,4 +1,4 @@
-"""External forces on the rotor: unbalance, a constant radial load, modal damping and the contact law.
+"""External forces on the rotor: unbalance, radial load, modal damping and the contact law.
 
 Every object here is a small frozen dataclass in SI units, validated on construction; the seed's
 dimensionless values are converted by :class:`rubrotor.model.Dimensionless` before they get here.

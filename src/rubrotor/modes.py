@@ -111,7 +111,7 @@ def _check_speed(speed) -> np.ndarray:
 
 
 def _poly_coefficients(shaft: Shaft, n: int, speed: np.ndarray) -> np.ndarray:
-    """Characteristic polynomial in ``w`` (rad/s), highest power first; shape ``(len(speed), deg+1)``."""
+    """Characteristic polynomial in ``w`` (rad/s), highest power first; shape ``(S, deg+1)``."""
     k = shaft.wavenumber(n)
     rho = shaft.density
     rho_a, rho_i = shaft.mass_per_length, rho * shaft.second_moment
@@ -173,8 +173,8 @@ def whirl_frequencies(shaft: Shaft, n: int, speed) -> np.ndarray:
     >>> s = Shaft(length=0.4, diameter=0.1, youngs_modulus=71e9, density=2660,
     ...           shear_modulus=26.2e9, shear_coefficient="seed")
     >>> w = whirl_frequencies(s, 1, 0.0)
-    >>> [round(abs(x) / (2 * 3.141592653589793), 1) for x in w]
-    [22381.5, 1193.2, 1193.2, 22381.5]
+    >>> [round(float(abs(x)) / (2 * 3.141592653589793), 1) for x in w]
+    [22381.4, 1193.2, 1193.2, 22381.4]
     """
     om = _check_speed(speed)
     coeffs = _poly_coefficients(shaft, n, om.ravel())

@@ -1,0 +1,8 @@
+"""``python -m rubrotor``: the command line (see :mod:`rubrotor.cli`)."""
+
+import sys
+
+from rubrotor.cli import main
+
+if __name__ == "__main__":
+    sys.exit(main())

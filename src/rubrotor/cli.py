@@ -1,0 +1,306 @@
+"""Command-line interface: ``rubrotor SUBCOMMAND SCENARIO [options]``.
+
+Each subcommand is a :class:`Command`: a name, a help line, a function adding its arguments to
+an :mod:`argparse` subparser and a function running it (``run(args) -> int``). To add one, write
+those two functions and append a :class:`Command` to :data:`COMMANDS`.
+
+Errors the user can cause (:class:`rubrotor.errors.RubrotorError`, including scenario errors)
+print ``rubrotor: error: <message>`` on stderr and give exit status 2, with no traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import tempfile
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from rubrotor.errors import InputError, RubrotorError
+from rubrotor.scenario import load_scenario
+
+__all__ = ["main", "Command", "COMMANDS", "parse_speeds"]
+
+TWO_PI = 2 * math.pi
+
+
+@dataclass(frozen=True)
+class Command:
+    """One subcommand.
+
+    Attributes
+    ----------
+    name : str
+        Subcommand name.
+    help : str
+        One-line description shown by ``rubrotor --help``.
+    add_arguments : callable
+        ``add_arguments(parser)`` adds the subcommand's arguments.
+    run : callable
+        ``run(args) -> int`` runs it and returns the exit status.
+    """
+
+    name: str
+    help: str
+    add_arguments: Callable[[argparse.ArgumentParser], None]
+    run: Callable[[argparse.Namespace], int]
+
+
+def _print_json(obj) -> None:
+    print(json.dumps(obj, indent=2))
+
+
+def _add_scenario(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("scenario", metavar="SCENARIO", help="scenario TOML file")
+
+
+def _table(headers: list[str], rows: list[list[str]]) -> str:
+    widths = [
+        max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(headers)
+    ]
+    lines = ["  ".join(h.rjust(w) for h, w in zip(headers, widths, strict=True))]
+    lines.append("  ".join("-" * w for w in widths))
+    lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows]
+    return "\n".join(lines)
+
+
+# ---- modes -------------------------------------------------------------------------------------
+def _modes_args(parser: argparse.ArgumentParser) -> None:
+    _add_scenario(parser)
+    parser.add_argument(
+        "--speed",
+        type=float,
+        metavar="RAD_PER_S",
+        help="spin speed (rad/s); default: the scenario's speed",
+    )
+    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+
+
+def _modes_run(args: argparse.Namespace) -> int:
+    from rubrotor.api import modes
+
+    scenario = load_scenario(args.scenario)
+    speed = scenario.speed if args.speed is None else args.speed
+    if not math.isfinite(speed) or speed < 0:
+        raise InputError("--speed", args.speed, "a finite spin speed >= 0 (rad/s)")
+    result = modes(scenario, speed)
+    if args.json:
+        _print_json(
+            {
+                "speed_rad_s": speed,
+                "modes": [
+                    {"n": m.n, "branch": m.branch, "whirl": m.whirl, "frequency_hz": m.frequency_hz}
+                    for m in result
+                ],
+            }
+        )
+        return 0
+    print(f"{scenario.name}: whirl frequencies at {speed:.6g} rad/s ({speed / TWO_PI:.6g} Hz)")
+    rows = [
+        [str(m.n), m.branch, m.whirl, f"{m.frequency_hz:.2f}", f"{m.frequency_rad_s:.2f}"]
+        for m in result
+    ]
+    print(_table(["n", "branch", "whirl", "frequency (Hz)", "frequency (rad/s)"], rows))
+    return 0
+
+
+# ---- critical ----------------------------------------------------------------------------------
+def _critical_args(parser: argparse.ArgumentParser) -> None:
+    _add_scenario(parser)
+    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+
+
+def _critical_run(args: argparse.Namespace) -> int:
+    from rubrotor.api import critical_speeds
+
+    scenario = load_scenario(args.scenario)
+    result = critical_speeds(scenario)
+    if args.json:
+        _print_json(
+            {
+                "critical_speeds": [
+                    {"n": c.n, "branch": c.branch, "whirl": c.whirl, "speed_rad_s": c.speed_rad_s}
+                    for c in result
+                ]
+            }
+        )
+        return 0
+    print(f"{scenario.name}: critical speeds (whirl frequency = spin)")
+    rows = [
+        [
+            str(c.n),
+            c.branch,
+            c.whirl,
+            f"{c.speed_rad_s:.2f}",
+            f"{c.speed_hz:.2f}",
+            f"{c.speed_hz * 60:.0f}",
+        ]
+        for c in result
+    ]
+    print(_table(["n", "branch", "whirl", "speed (rad/s)", "speed (Hz)", "speed (rpm)"], rows))
+    return 0
+
+
+# ---- campbell ----------------------------------------------------------------------------------
+def parse_speeds(text: str) -> np.ndarray:
+    """Parse ``START:STOP:COUNT`` into ``COUNT`` evenly spaced spin speeds (rad/s).
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"0:60000:200"``: ``0 <= START < STOP`` (rad/s), integer ``COUNT >= 2``.
+
+    Returns
+    -------
+    ndarray, shape (COUNT,)
+        Speeds (rad/s).
+
+    Examples
+    --------
+    >>> parse_speeds("0:100:3")
+    array([  0.,  50., 100.])
+    """
+    allowed = "START:STOP:COUNT with 0 <= START < STOP (rad/s) and an integer COUNT >= 2"
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise InputError("--speeds", text, allowed)
+    try:
+        start, stop = float(parts[0]), float(parts[1])
+        count = int(parts[2])
+    except ValueError:
+        raise InputError("--speeds", text, allowed) from None
+    if not (math.isfinite(start) and math.isfinite(stop)) or not 0 <= start < stop:
+        raise InputError("--speeds", text, allowed)
+    if not 2 <= count <= 1_000_000:
+        raise InputError("--speeds", text, allowed.replace(">= 2", "in 2..1000000"))
+    return np.linspace(start, stop, count)
+
+
+def _campbell_args(parser: argparse.ArgumentParser) -> None:
+    _add_scenario(parser)
+    parser.add_argument(
+        "--speeds",
+        required=True,
+        metavar="START:STOP:COUNT",
+        help="spin speeds (rad/s), e.g. 0:60000:200",
+    )
+    parser.add_argument("--out", required=True, metavar="FILE.png", help="figure file to write")
+    parser.add_argument(
+        "--json", action="store_true", help="also print the diagram data as JSON on stdout"
+    )
+
+
+def _save_atomic(fig, out: Path) -> None:
+    """Write the figure to a temporary file next to ``out``, then rename it over ``out``."""
+    directory = out.parent if str(out.parent) else Path(".")
+    if not directory.is_dir():
+        raise InputError("--out", str(out), "a file in an existing directory")
+    fmt = out.suffix.lstrip(".").lower() or "png"
+    fd, tmp = tempfile.mkstemp(dir=directory, prefix=f".{out.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fig.savefig(fh, format=fmt, dpi=150)
+        umask = os.umask(0o022)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the usual permissions
+        os.replace(tmp, out)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _campbell_run(args: argparse.Namespace) -> int:
+    from rubrotor.modes import campbell
+    from rubrotor.plotting import campbell_figure
+
+    speeds = parse_speeds(args.speeds)
+    out = Path(args.out)
+    fmt = out.suffix.lstrip(".").lower()
+    if fmt not in ("png", "pdf", "svg"):
+        raise InputError("--out", args.out, "a file name ending in .png, .pdf or .svg")
+    scenario = load_scenario(args.scenario)
+    fig = campbell_figure(scenario.shaft, speeds, operating_speed=scenario.speed)
+    _save_atomic(fig, out)
+    if args.json:
+        data = campbell(scenario.shaft, speeds)
+        curves = []
+        for i, n in enumerate(data["n"]):
+            for j, (branch, whirl) in enumerate(data["labels"]):
+                curves.append(
+                    {
+                        "n": int(n),
+                        "branch": branch,
+                        "whirl": whirl,
+                        "frequency_hz": data["frequency_hz"][:, i, j].tolist(),
+                    }
+                )
+        _print_json(
+            {
+                "speed_rad_s": data["speed_rad_s"].tolist(),
+                "operating_speed_rad_s": scenario.speed,
+                "modes": curves,
+                "figure": str(out),
+            }
+        )
+    else:
+        print(f"wrote {out}")
+    return 0
+
+
+COMMANDS: list[Command] = [
+    Command("modes", "whirl frequencies of every mode at one spin speed", _modes_args, _modes_run),
+    Command("critical", "forward and backward critical speeds", _critical_args, _critical_run),
+    Command(
+        "campbell", "Campbell diagram (figure, optionally JSON)", _campbell_args, _campbell_run
+    ),
+]
+"""The subcommands, in the order ``--help`` lists them."""
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="rubrotor",
+        description="Rotor-stator rub in a continuous Timoshenko rotor.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for cmd in COMMANDS:
+        p = sub.add_parser(cmd.name, help=cmd.help, description=cmd.help)
+        cmd.add_arguments(p)
+        p.set_defaults(_run=cmd.run)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments without the program name; default ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        Exit status: 0 on success, 2 on a usage or input error (message on stderr).
+    """
+    parser = _parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse already printed its message
+        return int(exc.code or 0)
+    try:
+        return args._run(args)
+    except RubrotorError as exc:
+        print(f"rubrotor: error: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # e.g. output piped into `head`
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1

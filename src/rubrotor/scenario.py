@@ -1,0 +1,774 @@
+"""Scenario files: one TOML file describes one rotor, its speed, forces, contact and integrator.
+
+A scenario is the same set of objects as the Python API (:class:`rubrotor.model.Shaft`,
+:class:`rubrotor.forces.Unbalance`, :class:`~rubrotor.forces.RadialLoad`,
+:class:`~rubrotor.forces.Contact`, :class:`~rubrotor.forces.ModalDamping`,
+:class:`rubrotor.integrator.Integrator`) plus the spin speed, read from a file and validated key
+by key. Every unknown, missing, mistyped or non-physical key raises :class:`ScenarioError` naming
+the key (``"shaft.length"``), the value and what is allowed.
+
+Schema (SI units unless the key ends in ``_nd``; ``_nd`` keys are the seed's dimensionless form,
+converted exactly with :class:`rubrotor.model.Dimensionless`)::
+
+    [meta]        name, description                                    (optional)
+    [shaft]       length (m); diameter (m) | slenderness r = r0/L; bore_diameter (m, default 0);
+                  youngs_modulus (Pa); density (kg/m^3);
+                  shear_modulus (Pa) | poisson_ratio | shear_parameter delta = E/(kappa G);
+                  shear_coefficient ("cowper" | "hutchinson" | "seed" | number);
+                  theory; gyroscopic; modes
+    [speed]       exactly one of rad_per_s, rpm, hz, critical_multiple (of the first forward
+                  bending critical speed), dimensionless (seed c = Omega L^2 sqrt(rho A/(E I)))
+    [unbalance]   magnitude (kg m) | magnitude_nd (m e Omega^2 L^2/(E I));
+                  position (m) | position_nd (a/L); phase_deg (deg)             (optional)
+    [load]        force_y, force_z (N); position | position_nd                 (optional)
+    [contact]     law; position | position_nd; clearance (m) | clearance_nd (g/L);
+                  stiffness | stiffness_nd; damping | damping_nd | restitution (with
+                  impact_speed, restitution_model); friction; friction_sign; radius;
+                  friction_regularization                                      (optional)
+    [damping]     ratio (a number or a list per mode)                          (optional)
+    [simulation]  the fields of :class:`rubrotor.integrator.Integrator`         (optional)
+
+Positions default to midspan and are stored resolved, in m. Keys that need the speed
+(``magnitude_nd``, ``damping_nd``) are converted with the resolved speed.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from rubrotor.errors import InputError, ScenarioError
+from rubrotor.forces import (
+    CONTACT_LAWS,
+    FRICTION_SIGNS,
+    RESTITUTION_MODELS,
+    Contact,
+    ModalDamping,
+    RadialLoad,
+    Unbalance,
+    restitution_damping,
+)
+from rubrotor.integrator import Integrator
+from rubrotor.model import SHEAR_COEFFICIENTS, THEORIES, Dimensionless, Shaft
+from rubrotor.modes import first_forward_critical
+
+__all__ = [
+    "Scenario",
+    "load_scenario",
+    "scenario_from_dict",
+    "scenario_to_dict",
+    "SCHEMA",
+    "ALTERNATIVES",
+]
+
+# ---- schema ------------------------------------------------------------------------------------
+# value kinds: "number" (int or float, finite, not bool), "int", "bool", "str", "number|str",
+# "number|list" (a number or a non-empty list of numbers), "list" (list of numbers)
+_NUM = "number"
+
+SCHEMA: dict[str, dict[str, str]] = {
+    "meta": {"name": "str", "description": "str"},
+    "shaft": {
+        "length": _NUM,
+        "diameter": _NUM,
+        "slenderness": _NUM,
+        "bore_diameter": _NUM,
+        "youngs_modulus": _NUM,
+        "shear_modulus": _NUM,
+        "poisson_ratio": _NUM,
+        "shear_parameter": _NUM,
+        "density": _NUM,
+        "shear_coefficient": "number|str",
+        "theory": "str",
+        "gyroscopic": "bool",
+        "modes": "int",
+    },
+    "speed": {
+        "rad_per_s": _NUM,
+        "rpm": _NUM,
+        "hz": _NUM,
+        "critical_multiple": _NUM,
+        "dimensionless": _NUM,
+    },
+    "unbalance": {
+        "magnitude": _NUM,
+        "magnitude_nd": _NUM,
+        "position": _NUM,
+        "position_nd": _NUM,
+        "phase_deg": _NUM,
+    },
+    "load": {"force_y": _NUM, "force_z": _NUM, "position": _NUM, "position_nd": _NUM},
+    "contact": {
+        "law": "str",
+        "position": _NUM,
+        "position_nd": _NUM,
+        "clearance": _NUM,
+        "clearance_nd": _NUM,
+        "stiffness": _NUM,
+        "stiffness_nd": _NUM,
+        "damping": _NUM,
+        "damping_nd": _NUM,
+        "restitution": _NUM,
+        "impact_speed": _NUM,
+        "restitution_model": "str",
+        "friction": _NUM,
+        "friction_sign": "str",
+        "radius": _NUM,
+        "friction_regularization": _NUM,
+    },
+    "damping": {"ratio": "number|list"},
+    "simulation": {
+        "revolutions": _NUM,
+        "duration": _NUM,
+        "method": "str",
+        "dtau": _NUM,
+        "dt": _NUM,
+        "rtol": _NUM,
+        "atol": _NUM,
+        "output_dtau": _NUM,
+        "sample_rate": _NUM,
+        "save_every": "int",
+        "probes": "list",
+        "max_displacement": _NUM,
+    },
+}
+"""Allowed sections, their keys and the kind of value each key takes."""
+
+ALTERNATIVES: dict[str, list[tuple[tuple[str, ...], bool]]] = {
+    "shaft": [
+        (("diameter", "slenderness"), True),
+        (("shear_modulus", "poisson_ratio", "shear_parameter"), True),
+    ],
+    "speed": [(("rad_per_s", "rpm", "hz", "critical_multiple", "dimensionless"), True)],
+    "unbalance": [(("magnitude", "magnitude_nd"), True), (("position", "position_nd"), False)],
+    "load": [(("position", "position_nd"), False)],
+    "contact": [
+        (("position", "position_nd"), False),
+        (("clearance", "clearance_nd"), True),
+        (("stiffness", "stiffness_nd"), True),
+        (("damping", "damping_nd", "restitution"), False),
+    ],
+    "simulation": [
+        (("revolutions", "duration"), True),
+        (("dtau", "dt"), False),
+        (("output_dtau", "sample_rate"), False),
+    ],
+}
+"""Per section: groups of alternative keys and whether one of the group is required."""
+
+_REQUIRED = {"shaft": ("length", "youngs_modulus", "density")}
+_REQUIRED_SECTIONS = ("shaft", "speed")
+
+
+def _err(field_name: str, value, allowed: str) -> ScenarioError:
+    return ScenarioError(field_name, value, allowed)
+
+
+def _check_kind(name: str, value, kind: str):
+    """Validate the TOML type of one value; return it (lists as tuples of floats)."""
+
+    def is_num(v):
+        return not isinstance(v, bool) and isinstance(v, int | float | np.integer | np.floating)
+
+    def finite(v):
+        if not math.isfinite(float(v)):
+            raise _err(name, v, "a finite number (not nan or inf)")
+        return v
+
+    if kind == _NUM:
+        if not is_num(value):
+            raise _err(name, value, "a number")
+        return finite(value)
+    if kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int | np.integer):
+            raise _err(name, value, "an integer")
+        return int(value)
+    if kind == "bool":
+        if not isinstance(value, bool):
+            raise _err(name, value, "true or false")
+        return value
+    if kind == "str":
+        if not isinstance(value, str):
+            raise _err(name, value, "a string")
+        return value
+    if kind == "number|str":
+        if isinstance(value, str):
+            return value
+        if not is_num(value):
+            raise _err(name, value, "a number or a string")
+        return finite(value)
+    if kind in ("number|list", "list"):
+        if kind == "number|list" and is_num(value):
+            return finite(value)
+        if not isinstance(value, list | tuple) or (kind == "number|list" and not value):
+            what = "a number or a non-empty list of numbers" if kind != "list" else "a list"
+            raise _err(name, value, f"{what}")
+        for v in value:
+            if not is_num(v):
+                raise _err(name, value, "a list of numbers")
+            finite(v)
+        return list(value)
+    raise AssertionError(kind)  # pragma: no cover
+
+
+def _normalise(mapping: Mapping) -> dict:
+    """Check sections, keys, kinds and alternatives; return a plain nested dict copy."""
+    if not isinstance(mapping, Mapping):
+        raise _err("scenario", mapping, "a mapping of sections")
+    out: dict = {}
+    for section, body in mapping.items():
+        if section not in SCHEMA:
+            raise _err(str(section), "...", "one of the sections " + ", ".join(SCHEMA))
+        if not isinstance(body, Mapping):
+            raise _err(section, body, "a table of keys")
+        allowed = SCHEMA[section]
+        sec = {}
+        for key, value in body.items():
+            name = f"{section}.{key}"
+            if key not in allowed:
+                raise _err(name, value, f"one of the keys {', '.join(allowed)} of [{section}]")
+            sec[key] = _check_kind(name, value, allowed[key])
+        out[section] = sec
+    for section in _REQUIRED_SECTIONS:
+        if section not in out:
+            raise _err(section, None, f"a [{section}] section")
+    for section, keys in _REQUIRED.items():
+        for key in keys:
+            if key not in out.get(section, {}):
+                raise _err(f"{section}.{key}", None, "a value (this key is required)")
+    for section, groups in ALTERNATIVES.items():
+        if section not in out:
+            continue
+        for group, required in groups:
+            given = [k for k in group if k in out[section]]
+            names = " / ".join(f"{section}.{k}" for k in group)
+            if len(given) > 1:
+                raise _err(
+                    names,
+                    tuple(out[section][k] for k in given),
+                    f"only one of {', '.join(group)}",
+                )
+            if required and not given:
+                raise _err(names, None, f"exactly one of {', '.join(group)} (one is required)")
+    return out
+
+
+def _position(sec: dict, section: str, length: float) -> float:
+    """Resolve ``position`` / ``position_nd`` (default midspan) to m, checked in (0, L)."""
+    if "position" in sec:
+        name, value, pos = f"{section}.position", sec["position"], float(sec["position"])
+    elif "position_nd" in sec:
+        name, value = f"{section}.position_nd", sec["position_nd"]
+        pos = float(value) * length
+    else:
+        return length / 2
+    if not 0 < pos < length:
+        rng = f"(0, {length:g}) m" if name.endswith("position") else "(0, 1)"
+        raise _err(name, value, f"a station inside the shaft, in {rng}")
+    return pos
+
+
+def _choice(name: str, value: str, options) -> str:
+    if value not in options:
+        raise _err(name, value, " or ".join(f'"{o}"' for o in options))
+    return value
+
+
+def _positive(name: str, value, unit: str, allow_zero: bool = False) -> float:
+    v = float(value)
+    if v < 0 or (v == 0 and not allow_zero):
+        raise _err(name, value, f"a number {'>=' if allow_zero else '>'} 0 ({unit})")
+    return v
+
+
+def _build_shaft(sec: dict) -> Shaft:
+    kwargs = {
+        k: sec[k]
+        for k in ("length", "youngs_modulus", "density", "theory", "gyroscopic", "modes")
+        if k in sec
+    }
+    length = _positive("shaft.length", sec["length"], "m")
+    bore = _positive("shaft.bore_diameter", sec.get("bore_diameter", 0.0), "m", allow_zero=True)
+    if "diameter" in sec:
+        kwargs["diameter"] = sec["diameter"]
+    else:
+        r = _positive("shaft.slenderness", sec["slenderness"], "dimensionless")
+        # r0^2 = I/A = (D^2 + d^2)/16  ->  D = sqrt(16 r^2 L^2 - d^2)  (D = 4 r L when solid)
+        d2 = 16 * (r * length) ** 2 - bore**2
+        if d2 <= bore**2:
+            raise _err(
+                "shaft.slenderness",
+                sec["slenderness"],
+                f"a value giving a diameter > bore {bore} m",
+            )
+        kwargs["diameter"] = 4 * r * length if bore == 0 else math.sqrt(d2)
+    kwargs["bore_diameter"] = bore
+    coef = sec.get("shear_coefficient", "cowper")
+    if isinstance(coef, str):
+        _choice("shaft.shear_coefficient", coef, SHEAR_COEFFICIENTS)
+    kwargs["shear_coefficient"] = coef
+    if "theory" in sec:
+        _choice("shaft.theory", sec["theory"], THEORIES)
+    if "modes" in sec and not 1 <= sec["modes"] <= 200:
+        raise _err("shaft.modes", sec["modes"], "an integer in 1..200")
+    if "shear_modulus" in sec:
+        kwargs["shear_modulus"] = sec["shear_modulus"]
+    elif "poisson_ratio" in sec:
+        nu = sec["poisson_ratio"]
+        if not -1 < nu < 0.5:
+            raise _err("shaft.poisson_ratio", nu, "a number in (-1, 0.5)")
+        kwargs["poisson_ratio"] = nu
+    else:
+        delta = _positive("shaft.shear_parameter", sec["shear_parameter"], "dimensionless")
+        if isinstance(coef, str) and coef != "seed":
+            raise _err(
+                "shaft.shear_coefficient",
+                coef,
+                '"seed" or a number when shaft.shear_parameter is given '
+                "(Cowper's and Hutchinson's kappa depend on G)",
+            )
+        kappa = 10.0 / 9.0 if coef == "seed" else _positive("shaft.shear_coefficient", coef, "")
+        e = _positive("shaft.youngs_modulus", sec["youngs_modulus"], "Pa")
+        kwargs["shear_modulus"] = e / (kappa * delta)
+    return Shaft(**kwargs)
+
+
+def _resolve_speed(sec: dict, shaft: Shaft) -> tuple[float, tuple]:
+    ((key, value),) = sec.items()
+    name = f"speed.{key}"
+    unit = {"rad_per_s": "rad/s", "rpm": "rev/min", "hz": "rev/s"}.get(key, "dimensionless")
+    v = _positive(name, value, unit, allow_zero=True)
+    if key == "rad_per_s":
+        om = v
+    elif key == "rpm":
+        om = v * 2 * math.pi / 60
+    elif key == "hz":
+        om = v * 2 * math.pi
+    elif key == "critical_multiple":
+        om = v * first_forward_critical(shaft)
+    else:
+        om = Dimensionless.speed_from_parameter(shaft, v)
+    return om, (key, value)
+
+
+def _need_speed(name: str, value, speed: float):
+    if speed <= 0:
+        raise _err(name, value, "a speed > 0 to convert it (it scales with the spin speed)")
+
+
+def _build_unbalance(sec: dict, shaft: Shaft, speed: float) -> Unbalance:
+    if "magnitude" in sec:
+        me = sec["magnitude"]
+    else:
+        _need_speed("unbalance.magnitude_nd", sec["magnitude_nd"], speed)
+        _positive("unbalance.magnitude_nd", sec["magnitude_nd"], "dimensionless", True)
+        me = Dimensionless(shaft, speed).unbalance_si(float(sec["magnitude_nd"]))
+    return Unbalance(
+        magnitude=me,
+        position=_position(sec, "unbalance", shaft.length),
+        phase=math.radians(sec.get("phase_deg", 0.0)),
+    )
+
+
+def _build_load(sec: dict, shaft: Shaft) -> RadialLoad:
+    return RadialLoad(
+        force_y=sec.get("force_y", 0.0),
+        force_z=sec.get("force_z", 0.0),
+        position=_position(sec, "load", shaft.length),
+    )
+
+
+def _build_contact(sec: dict, shaft: Shaft, speed: float) -> Contact:
+    law = _choice("contact.law", sec.get("law", "hertz"), CONTACT_LAWS)
+    nd = Dimensionless(shaft, speed)
+    if "clearance" in sec:
+        clearance = sec["clearance"]
+    else:
+        clearance = nd.clearance_si(_positive("contact.clearance_nd", sec["clearance_nd"], ""))
+    if "stiffness" in sec:
+        stiffness = sec["stiffness"]
+    else:
+        k_nd = _positive("contact.stiffness_nd", sec["stiffness_nd"], "dimensionless")
+        stiffness = (
+            nd.contact_stiffness_si(k_nd) if law == "hertz" else nd.linear_stiffness_si(k_nd)
+        )
+    for key in ("impact_speed", "restitution_model"):
+        if key in sec and "restitution" not in sec:
+            raise _err(f"contact.{key}", sec[key], "to be given only with contact.restitution")
+    if "damping" in sec:
+        damping = sec["damping"]
+    elif "damping_nd" in sec:
+        if law != "hertz":
+            raise _err(
+                "contact.damping_nd", sec["damping_nd"], 'contact.damping (N s/m) for law "linear"'
+            )
+        _need_speed("contact.damping_nd", sec["damping_nd"], speed)
+        damping = nd.contact_damping_si(
+            _positive("contact.damping_nd", sec["damping_nd"], "dimensionless", True)
+        )
+    elif "restitution" in sec:
+        if law != "hertz":
+            raise _err(
+                "contact.restitution", sec["restitution"], 'contact.damping for law "linear"'
+            )
+        if "impact_speed" not in sec:
+            raise _err("contact.impact_speed", None, "a value (m/s) with contact.restitution")
+        model = _choice(
+            "contact.restitution_model",
+            sec.get("restitution_model", "hunt-crossley"),
+            RESTITUTION_MODELS,
+        )
+        damping = restitution_damping(sec["restitution"], sec["impact_speed"], model)
+    else:
+        damping = 0.0
+    kwargs = {}
+    if "friction_regularization" in sec:
+        kwargs["friction_regularization"] = sec["friction_regularization"]
+    return Contact(
+        clearance=clearance,
+        stiffness=stiffness,
+        damping=damping,
+        friction=sec.get("friction", 0.0),
+        position=_position(sec, "contact", shaft.length),
+        law=law,
+        friction_sign=_choice(
+            "contact.friction_sign", sec.get("friction_sign", "physical"), FRICTION_SIGNS
+        ),
+        radius=sec.get("radius"),
+        **kwargs,
+    )
+
+
+def _build_simulation(sec: dict, shaft: Shaft, speed: float) -> Integrator:
+    kwargs = dict(sec)
+    if "probes" in kwargs:
+        for p in kwargs["probes"]:
+            if not 0 < p < shaft.length:
+                raise _err(
+                    "simulation.probes", p, f"stations inside the shaft, in (0, {shaft.length:g}) m"
+                )
+        kwargs["probes"] = tuple(kwargs["probes"])
+    for key in ("revolutions", "dtau", "output_dtau"):
+        if key in sec:
+            _need_speed(f"simulation.{key}", sec[key], speed)
+    return Integrator(**kwargs)
+
+
+def _build(spec: dict) -> dict:
+    """Build every object of a normalised spec; InputErrors become ScenarioErrors."""
+    try:
+        shaft = _build_shaft(spec["shaft"])
+        speed, speed_spec = _resolve_speed(spec["speed"], shaft)
+        sec = spec.get("unbalance")
+        unbalance = None if sec is None else _build_unbalance(sec, shaft, speed)
+        sec = spec.get("load")
+        load = None if sec is None else _build_load(sec, shaft)
+        sec = spec.get("contact")
+        contact = None if sec is None else _build_contact(sec, shaft, speed)
+        sec = spec.get("damping")
+        damping = ModalDamping() if sec is None else ModalDamping(_ratios(sec))
+        sec = spec.get("simulation")
+        simulation = None if sec is None else _build_simulation(sec, shaft, speed)
+    except ScenarioError:
+        raise
+    except InputError as exc:
+        raise ScenarioError(exc.field, exc.value, exc.allowed) from None
+    meta = spec.get("meta", {})
+    return dict(
+        name=meta.get("name", ""),
+        shaft=shaft,
+        speed=speed,
+        speed_spec=speed_spec,
+        unbalance=unbalance,
+        load=load,
+        contact=contact,
+        damping=damping,
+        simulation=simulation,
+    )
+
+
+def _ratios(sec: dict):
+    if "ratio" not in sec:
+        raise _err("damping.ratio", None, "a value (a number or a list per mode)")
+    r = sec["ratio"]
+    return tuple(r) if isinstance(r, list) else r
+
+
+# ---- the Scenario ------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Scenario:
+    """A validated scenario: rotor, resolved spin speed, forces, contact and integrator.
+
+    Build it with :func:`load_scenario` or :func:`scenario_from_dict`; its dict form
+    (:func:`scenario_to_dict`) is what was given, so ``with_changes`` keeps the input form
+    (e.g. a dimensionless clearance stays dimensionless when the speed changes).
+
+    Attributes
+    ----------
+    name : str
+        ``meta.name`` (or the file stem, for files without one).
+    shaft : Shaft
+        The rotor.
+    speed : float
+        Spin speed ``Omega`` (rad/s), resolved from ``speed_spec``.
+    speed_spec : tuple
+        ``(key, value)`` of the ``[speed]`` section as given, e.g. ``("critical_multiple", 1.5)``.
+    unbalance : Unbalance or None
+        Position resolved to m.
+    load : RadialLoad or None
+        Position resolved to m.
+    contact : Contact or None
+        All values in SI, position resolved to m.
+    damping : ModalDamping
+        Modal damping ratios (zero when the section is absent).
+    simulation : Integrator or None
+        Integrator settings.
+    source : str
+        TOML text the scenario was read from (provenance); not compared by ``==``.
+    """
+
+    name: str
+    shaft: Shaft
+    speed: float
+    speed_spec: tuple
+    unbalance: Unbalance | None = None
+    load: RadialLoad | None = None
+    contact: Contact | None = None
+    damping: ModalDamping = field(default_factory=ModalDamping)
+    simulation: Integrator | None = None
+    source: str = field(default="", compare=False, repr=False)
+    _spec: dict | None = field(default=None, compare=False, repr=False)
+
+    def with_changes(self, **dotted) -> Scenario:
+        """A new validated scenario with some keys changed.
+
+        Parameters
+        ----------
+        **dotted
+            ``"section.key": value`` pairs (pass them as ``**{"contact.clearance": 1e-3}``).
+            Setting one key of a group of alternatives removes the others
+            (``"speed.critical_multiple"`` replaces ``speed.rad_per_s``); a value of ``None``
+            removes the key; ``"section": None`` removes a whole optional section.
+
+        Returns
+        -------
+        Scenario
+            Re-validated from the edited dict form; ``source`` is empty (the text no longer
+            describes it).
+
+        Examples
+        --------
+        >>> s = scenario_from_dict({"shaft": {"length": 0.4, "diameter": 0.1,
+        ...     "youngs_modulus": 71e9, "density": 2660, "shear_modulus": 26.2e9},
+        ...     "speed": {"rad_per_s": 1000.0}})
+        >>> s.with_changes(**{"speed.hz": 10.0}).speed_spec
+        ('hz', 10.0)
+        """
+        spec = scenario_to_dict(self)
+        for dotted_key, value in dotted.items():
+            section, _, key = dotted_key.partition(".")
+            if section not in SCHEMA:
+                raise _err(dotted_key, value, "a key 'section.key' of " + ", ".join(SCHEMA))
+            if not key:
+                if value is not None:
+                    raise _err(dotted_key, value, "None (to remove the section) or 'section.key'")
+                spec.pop(section, None)
+                continue
+            if key not in SCHEMA[section]:
+                raise _err(
+                    dotted_key,
+                    value,
+                    f"one of the keys {', '.join(SCHEMA[section])} of [{section}]",
+                )
+            sec = spec.setdefault(section, {})
+            if value is None:
+                sec.pop(key, None)
+                continue
+            for group, _required in ALTERNATIVES.get(section, []):
+                if key in group:
+                    for other in group:
+                        if other != key:
+                            sec.pop(other, None)
+            sec[key] = value
+        return scenario_from_dict(spec)
+
+    def dimensionless(self) -> dict:
+        """The seed's dimensionless groups of this scenario (seed eqs. 3-5, 10-16).
+
+        Returns
+        -------
+        dict of str to float
+            ``"r"`` slenderness ``r0/L``; ``"delta"`` shear parameter ``E/(kappa G)``; ``"c"``
+            speed parameter ``Omega L^2 sqrt(rho A/(E I))``; ``"modes"``. With a contact:
+            ``"a_contact"`` ``a/L``, ``"g"`` clearance ``g/L``, ``"mu"`` friction, and
+            ``"k_h"`` ``k_h L^3.5/(E I)`` and ``"b_h"`` ``b_h L Omega`` (Hertz) or
+            ``"k_linear"`` ``k L^3/(E I)`` (linear). With an unbalance: ``"a_unbalance"``
+            and ``"unbalance_force"`` ``m e Omega^2 L^2/(E I)``. With a load: ``"a_load"``,
+            ``"load_y"``, ``"load_z"`` ``F L^2/(E I)``. With a step: ``"dtau"`` ``Omega dt``.
+        """
+        s = self.shaft
+        nd = Dimensionless(s, self.speed)
+        out = {
+            "r": s.slenderness,
+            "delta": s.shear_parameter,
+            "c": nd.speed_parameter,
+            "modes": s.modes,
+        }
+        if self.contact is not None:
+            c = self.contact
+            out["a_contact"] = nd.length_nd(c.position)
+            out["g"] = nd.clearance_nd(c.clearance)
+            out["mu"] = c.friction
+            if c.law == "hertz":
+                out["k_h"] = nd.contact_stiffness_nd(c.stiffness)
+                out["b_h"] = nd.contact_damping_nd(c.damping)
+            else:
+                out["k_linear"] = nd.linear_stiffness_nd(c.stiffness)
+        if self.unbalance is not None:
+            out["a_unbalance"] = nd.length_nd(self.unbalance.position)
+            out["unbalance_force"] = nd.unbalance_nd(self.unbalance.magnitude)
+        if self.load is not None:
+            out["a_load"] = nd.length_nd(self.load.position)
+            out["load_y"] = nd.force_nd(self.load.force_y)
+            out["load_z"] = nd.force_nd(self.load.force_z)
+        if self.simulation is not None and self.speed > 0:
+            step = self.simulation.step_seconds(self.speed)
+            if step is not None:
+                out["dtau"] = nd.tau(step)
+        return out
+
+
+def scenario_from_dict(mapping: Mapping, source_text: str = "") -> Scenario:
+    """Validate a scenario given as a nested mapping (the parsed TOML) and build it.
+
+    Parameters
+    ----------
+    mapping : Mapping
+        ``{"shaft": {...}, "speed": {...}, ...}`` following the schema of this module.
+    source_text : str
+        The text it came from, kept as ``Scenario.source`` for provenance.
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ScenarioError
+        Naming the offending key, its value and what is allowed.
+    """
+    spec = _normalise(mapping)
+    return Scenario(**_build(spec), source=source_text, _spec=spec)
+
+
+def scenario_to_dict(scenario: Scenario, resolved: bool = False) -> dict:
+    """The dict form of a scenario, such that ``scenario_from_dict`` rebuilds it.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario.
+    resolved : bool
+        False (default): the keys as given (SI or dimensionless, exact round trip).
+        True: every value resolved to SI (``rad_per_s``, ``clearance``, ``damping`` ...), equal
+        after a round trip up to rounding.
+
+    Returns
+    -------
+    dict
+        A fresh nested dict (safe to edit).
+    """
+    if not resolved and scenario._spec is not None:
+        return copy.deepcopy(scenario._spec)
+    return _resolved_dict(scenario)
+
+
+def _resolved_dict(sc: Scenario) -> dict:
+    s = sc.shaft
+    shaft = {
+        "length": s.length,
+        "diameter": s.diameter,
+        "bore_diameter": s.bore_diameter,
+        "youngs_modulus": s.youngs_modulus,
+        "density": s.density,
+        "shear_coefficient": s.shear_coefficient,
+        "theory": s.theory,
+        "gyroscopic": s.gyroscopic,
+        "modes": s.modes,
+    }
+    if s.shear_modulus is not None:
+        shaft["shear_modulus"] = s.shear_modulus
+    else:
+        shaft["poisson_ratio"] = s.poisson_ratio
+    out: dict = {"shaft": shaft, "speed": {"rad_per_s": sc.speed}}
+    if sc.name:
+        out["meta"] = {"name": sc.name}
+    if sc.unbalance is not None:
+        u = sc.unbalance
+        out["unbalance"] = {
+            "magnitude": u.magnitude,
+            "position": u.position,
+            "phase_deg": math.degrees(u.phase),
+        }
+    if sc.load is not None:
+        ld = sc.load
+        out["load"] = {"force_y": ld.force_y, "force_z": ld.force_z, "position": ld.position}
+    if sc.contact is not None:
+        c = dataclasses.asdict(sc.contact)
+        out["contact"] = {k: v for k, v in c.items() if v is not None}
+    out["damping"] = {"ratio": list(sc.damping.ratios)}
+    if sc.simulation is not None:
+        sim = dataclasses.asdict(sc.simulation)
+        sim["probes"] = list(sim["probes"])
+        out["simulation"] = {k: v for k, v in sim.items() if v is not None}
+    return out
+
+
+def load_scenario(path) -> Scenario:
+    """Read and validate a scenario TOML file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file. ``meta.name`` defaults to the file stem.
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ScenarioError
+        The file cannot be read, is not valid TOML (the parser's message and the file name), or
+        a key is invalid (the message starts with the file name and names the key).
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        err = _err("scenario file", str(p), "a readable UTF-8 TOML file")
+        err.args = (f"{p}: cannot read scenario file: {exc.strerror or exc}",)
+        raise err from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        err = _err("scenario file", str(p), "valid TOML")
+        err.args = (f"{p}: invalid TOML: {exc}",)
+        raise err from None
+    try:
+        scenario = scenario_from_dict(data, source_text=text)
+    except ScenarioError as exc:
+        exc.args = (f"{p}: {exc.args[0]}",)
+        raise
+    if not scenario.name:
+        spec = scenario_to_dict(scenario)
+        spec.setdefault("meta", {})["name"] = p.stem
+        scenario = dataclasses.replace(scenario, name=p.stem, _spec=spec)
+    return scenario
