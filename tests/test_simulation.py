@@ -10,7 +10,7 @@ from rubrotor.errors import InputError
 from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance
 from rubrotor.integrator import Integrator
 from rubrotor.model import Dimensionless, Shaft
-from rubrotor.modes import first_forward_critical
+from rubrotor.modal import first_forward_critical
 from rubrotor.simulation import simulate_system
 
 SEED = Shaft(

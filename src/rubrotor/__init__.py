@@ -1,3 +1,46 @@
-"""rubrotor: rotor-stator rub in a continuous Timoshenko rotor."""
+"""rubrotor: rotor-stator rub in a continuous Timoshenko rotor.
+
+The public surface, each name defined once in its own module:
+
+* model: :class:`Shaft`, :class:`Dimensionless`; forces: :class:`Unbalance`, :class:`Contact`,
+  :class:`RadialLoad`, :class:`ModalDamping`; integration settings: :class:`Integrator`;
+  scenarios: :func:`load_scenario`, :class:`Scenario`;
+* modal analysis: :func:`modes`, :func:`critical_speeds`, :func:`campbell`;
+* simulation: :func:`simulate` (returns an ``xarray.Dataset``), :func:`converge`;
+* results files: :func:`save_dataset`, :func:`load_dataset`.
+"""
 
 __version__ = "0.1.0"
+
+from rubrotor.api import critical_speeds, modes  # noqa: E402
+from rubrotor.errors import InputError, RubrotorError, ScenarioError  # noqa: E402
+from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance  # noqa: E402
+from rubrotor.integrator import Integrator  # noqa: E402
+from rubrotor.modal import campbell  # noqa: E402
+from rubrotor.model import Dimensionless, Shaft  # noqa: E402
+from rubrotor.results import load_dataset, save_dataset  # noqa: E402
+from rubrotor.scenario import Scenario, load_scenario  # noqa: E402
+from rubrotor.simulation import converge, simulate  # noqa: E402
+
+__all__ = [
+    "__version__",
+    "Contact",
+    "Dimensionless",
+    "InputError",
+    "Integrator",
+    "ModalDamping",
+    "RadialLoad",
+    "RubrotorError",
+    "Scenario",
+    "ScenarioError",
+    "Shaft",
+    "Unbalance",
+    "campbell",
+    "converge",
+    "critical_speeds",
+    "load_dataset",
+    "load_scenario",
+    "modes",
+    "save_dataset",
+    "simulate",
+]

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 from rubrotor.errors import InputError
 from rubrotor.model import Shaft
-from rubrotor.modes import CriticalSpeed, Mode, natural_frequencies
-from rubrotor.modes import critical_speeds as _critical_speeds
+from rubrotor.modal import CriticalSpeed, Mode, natural_frequencies
+from rubrotor.modal import critical_speeds as _critical_speeds
 from rubrotor.scenario import Scenario
 
 __all__ = ["modes", "critical_speeds"]

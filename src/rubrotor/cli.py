@@ -217,7 +217,7 @@ def _save_atomic(fig, out: Path) -> None:
 
 
 def _campbell_run(args: argparse.Namespace) -> int:
-    from rubrotor.modes import campbell
+    from rubrotor.modal import campbell
     from rubrotor.plotting import campbell_figure
 
     speeds = parse_speeds(args.speeds)

@@ -13,7 +13,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from rubrotor.model import Shaft
-from rubrotor.modes import campbell, critical_speeds
+from rubrotor.modal import campbell, critical_speeds
 
 __all__ = ["campbell_figure"]
 

@@ -57,7 +57,7 @@ from rubrotor.forces import (
 )
 from rubrotor.integrator import Integrator
 from rubrotor.model import SHEAR_COEFFICIENTS, THEORIES, Dimensionless, Shaft
-from rubrotor.modes import first_forward_critical
+from rubrotor.modal import first_forward_critical
 
 __all__ = [
     "Scenario",
