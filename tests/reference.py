@@ -19,7 +19,7 @@ from rubrotor.model import Shaft, modal_matrices
 
 def physical_system(shaft: Shaft, speed: float, zeta: float = 0.0):
     """First-order complex system x' = A x + B(a) F with x = [q_1, q_1', q_2, q_2', ...]."""
-    blocks, defl, masses = [], [], []
+    blocks, defl = [], []
     off = 0
     for n in range(1, shaft.modes + 1):
         mm = modal_matrices(shaft, n)

@@ -15,7 +15,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rubrotor.model import Shaft
 from rubrotor.modal import (
     critical_speeds,
     critical_speeds_numeric,
@@ -24,6 +23,7 @@ from rubrotor.modal import (
     whirl_frequencies,
     whirl_frequencies_eig,
 )
+from rubrotor.model import Shaft
 
 TWO_PI = 2 * math.pi
 

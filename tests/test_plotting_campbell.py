@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from rubrotor.model import Shaft
 from rubrotor.modal import critical_speeds
+from rubrotor.model import Shaft
 from rubrotor.plotting import campbell_figure
 
 SPEEDS = np.linspace(0, 60000, 60)

@@ -9,8 +9,8 @@ from reference import exact_unbalance_response, solve_ivp_reference
 from rubrotor.errors import InputError
 from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance
 from rubrotor.integrator import Integrator
-from rubrotor.model import Dimensionless, Shaft
 from rubrotor.modal import first_forward_critical
+from rubrotor.model import Dimensionless, Shaft
 from rubrotor.simulation import simulate_system
 
 SEED = Shaft(

@@ -5,9 +5,9 @@
 from __future__ import annotations
 
 from rubrotor.errors import InputError
-from rubrotor.model import Shaft
 from rubrotor.modal import CriticalSpeed, Mode, natural_frequencies
 from rubrotor.modal import critical_speeds as _critical_speeds
+from rubrotor.model import Shaft
 from rubrotor.scenario import Scenario
 
 __all__ = ["modes", "critical_speeds"]

@@ -12,8 +12,8 @@ import math
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from rubrotor.model import Shaft
 from rubrotor.modal import campbell, critical_speeds
+from rubrotor.model import Shaft
 
 __all__ = ["campbell_figure"]
 

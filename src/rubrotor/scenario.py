@@ -56,8 +56,8 @@ from rubrotor.forces import (
     restitution_damping,
 )
 from rubrotor.integrator import Integrator
-from rubrotor.model import SHEAR_COEFFICIENTS, THEORIES, Dimensionless, Shaft
 from rubrotor.modal import first_forward_critical
+from rubrotor.model import SHEAR_COEFFICIENTS, THEORIES, Dimensionless, Shaft
 
 __all__ = [
     "Scenario",
