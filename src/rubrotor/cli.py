@@ -15,7 +15,6 @@ import json
 import math
 import os
 import sys
-import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -197,23 +196,14 @@ def _campbell_args(parser: argparse.ArgumentParser) -> None:
 
 
 def _save_atomic(fig, out: Path) -> None:
-    """Write the figure to a temporary file next to ``out``, then rename it over ``out``."""
+    """Write the figure atomically (see :func:`rubrotor.results.atomic_write`)."""
+    from rubrotor.results import atomic_write
+
     directory = out.parent if str(out.parent) else Path(".")
     if not directory.is_dir():
         raise InputError("--out", str(out), "a file in an existing directory")
     fmt = out.suffix.lstrip(".").lower() or "png"
-    fd, tmp = tempfile.mkstemp(dir=directory, prefix=f".{out.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fig.savefig(fh, format=fmt, dpi=150)
-        umask = os.umask(0o022)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the usual permissions
-        os.replace(tmp, out)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    atomic_write(out, lambda tmp: fig.savefig(tmp, format=fmt, dpi=150))
 
 
 def _campbell_run(args: argparse.Namespace) -> int:
@@ -254,11 +244,133 @@ def _campbell_run(args: argparse.Namespace) -> int:
     return 0
 
 
+# ---- run ---------------------------------------------------------------------------------------
+def _run_args(parser: argparse.ArgumentParser) -> None:
+    _add_scenario(parser)
+    parser.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    parser.add_argument(
+        "--revolutions", type=float, help="override the scenario's simulated revolutions"
+    )
+    parser.add_argument(
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="show progress on long runs (default: when stderr is a terminal)",
+    )
+
+
+def run_summary(ds) -> dict:
+    """Short JSON-able summary of a results Dataset (SI units in the key names)."""
+    p = np.hypot(ds["v"].values, ds["w"].values)
+    fn = ds["normal_force"].values
+    stats = json.loads(ds.attrs["integrator_stats"])
+    return {
+        "scenario": ds.attrs.get("scenario_name", ""),
+        "status": ds.attrs["status"],
+        "status_message": ds.attrs["status_message"],
+        "speed_rad_s": float(ds.attrs["speed_rad_s"]),
+        "duration_s": float(ds["time"].values[-1]),
+        "samples": int(ds.sizes["time"]),
+        "max_displacement_m": float(p.max()),
+        "max_normal_force_N": float(fn.max()),
+        "contact_fraction": float(np.mean(fn > 0)),
+        "contact_events": int(stats.get("contact_events", 0)),
+        "wall_time_s": float(stats.get("wall_s", float("nan"))),
+    }
+
+
+def _run_run(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from rubrotor.results import atomic_write, save_dataset
+    from rubrotor.simulation import simulate
+
+    scenario = load_scenario(args.scenario)
+    integ = scenario.simulation
+    if integ is None:
+        raise InputError("simulation", None, "a [simulation] section in the scenario")
+    if args.revolutions is not None:
+        integ = dataclasses.replace(integ, revolutions=args.revolutions, duration=None)
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", args.out, "a directory")
+    ds = simulate(scenario, integrator=integ, progress=args.progress)
+    save_dataset(ds, out / "results.nc")
+    summary = run_summary(ds)
+    atomic_write(
+        out / "summary.json", lambda tmp: Path(tmp).write_text(json.dumps(summary, indent=2))
+    )
+    print(json.dumps(summary, indent=2))
+    if ds.attrs["status"] != "complete":
+        print(f"rubrotor: warning: {ds.attrs['status_message']}", file=sys.stderr)
+        return 1
+    return 0
+
+
+# ---- converge ----------------------------------------------------------------------------------
+def _converge_args(parser: argparse.ArgumentParser) -> None:
+    _add_scenario(parser)
+    parser.add_argument(
+        "--dtau", type=float, help="base step (rad of spin); default the scenario's or 0.001"
+    )
+    parser.add_argument(
+        "--halvings", type=int, default=4, help="step halvings (default 4: dtau/16)"
+    )
+    parser.add_argument("--max-modes", type=int, help="largest mode count (default the scenario's)")
+    parser.add_argument("--revolutions", type=float, help="length of each run (rev)")
+    parser.add_argument("--method", choices=["exponential", "abm"], help="integrator")
+    parser.add_argument("--json", action="store_true", help="print the table as JSON")
+
+
+def _converge_run(args: argparse.Namespace) -> int:
+    from rubrotor.simulation import converge
+
+    scenario = load_scenario(args.scenario)
+    if args.halvings < 0 or args.halvings > 8:
+        raise InputError("--halvings", args.halvings, "an integer in 0..8")
+    if args.max_modes is not None and args.max_modes < 1:
+        raise InputError("--max-modes", args.max_modes, "an integer >= 1")
+    if args.dtau is not None and not (args.dtau > 0 and math.isfinite(args.dtau)):
+        raise InputError("--dtau", args.dtau, "a step > 0 (rad of spin)")
+    rows = converge(
+        scenario,
+        dtau=args.dtau,
+        halvings=args.halvings,
+        max_modes=args.max_modes,
+        revolutions=args.revolutions,
+        method=args.method,
+    )
+    if args.json:
+        _print_json({"rows": rows})
+        return 0
+    print(
+        _table(
+            ["study", "from", "to", "max |dP| (m)", "relative", "wall (s)"],
+            [
+                [
+                    r["study"],
+                    r["a"],
+                    r["b"],
+                    f"{r['max_diff_m']:.3e}",
+                    f"{r['rel_diff']:.3e}",
+                    f"{r['wall_s']:.3f}",
+                ]
+                for r in rows
+            ],
+        )
+    )
+    return 0
+
+
 COMMANDS: list[Command] = [
     Command("modes", "whirl frequencies of every mode at one spin speed", _modes_args, _modes_run),
     Command("critical", "forward and backward critical speeds", _critical_args, _critical_run),
     Command(
         "campbell", "Campbell diagram (figure, optionally JSON)", _campbell_args, _campbell_run
+    ),
+    Command("run", "simulate a scenario: DIR/results.nc and a JSON summary", _run_args, _run_run),
+    Command(
+        "converge", "the seed's step and mode convergence table", _converge_args, _converge_run
     ),
 ]
 """The subcommands, in the order ``--help`` lists them."""
