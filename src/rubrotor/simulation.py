@@ -409,7 +409,7 @@ def simulate_system(
 
     out = np.empty((n_channels(len(stations)), n_samples + 1))
     istate = np.zeros(4, np.int64)
-    cstate = np.array([0j, 1 + 0j])
+    cstate = np.array([0j, 1 + 0j, 0j])
 
     def write0():
         from rubrotor.core.integrate import _write_sample

@@ -105,17 +105,18 @@ def contact_force_jac(py, pz, uy, uz, cp, jac):
     """Contact force and its Jacobian.
 
     ``jac`` (2 x 4, filled in place) holds ``d(fy, fz) / d(py, pz, uy, uz)``; the derivative of
-    the smoothed friction sign is neglected (a quasi-Newton Jacobian). Returns ``(fy, fz)``.
+    the smoothed friction sign is neglected (a quasi-Newton Jacobian). Returns
+    ``(fy, fz, fn, ft)`` as :func:`contact_force`.
     """
     for i in range(2):
         for j in range(4):
             jac[i, j] = 0.0
     if cp[0] == 0.0:
-        return 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0
     d = math.sqrt(py * py + pz * pz)
     g = cp[4]
     if d <= g:
-        return 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0
     ny = py / d
     nz = pz / d
     eps = d - g
@@ -142,7 +143,7 @@ def contact_force_jac(py, pz, uy, uz, cp, jac):
         dfn_uy = c * ny
         dfn_uz = c * nz
     if fn <= 0.0:
-        return 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0
     mu = cp[5]
     if cp[6] == 0.0:
         vs = cp[7] - nz * uy + ny * uz
@@ -168,7 +169,7 @@ def contact_force_jac(py, pz, uy, uz, cp, jac):
     jac[0, 3] = -wy * dfn_uz
     jac[1, 2] = -wz * dfn_uy
     jac[1, 3] = -wz * dfn_uz
-    return -fn * wy, -fn * wz
+    return -fn * wy, -fn * wz, fn, -ms * fn
 
 
 @njit(cache=True)
@@ -176,16 +177,26 @@ def solve_contact(pd, ud, sd, sv, f0, cp, jac):
     """Solve ``F = f(pd + sd F, ud + sv F)`` for the complex contact force ``F = Fy + i Fz``.
 
     ``pd``, ``ud`` are the contact-point displacement (m) and velocity (m/s) the step would give
-    with ``F = 0``; ``sd`` (m/N), ``sv`` (m/(s N)) their complex sensitivities to ``F``. Newton's
-    method on the two real unknowns with step halving. Returns ``(F, iterations)``;
-    ``iterations < 0`` flags a failure to converge.
+    with ``F = 0``; ``sd`` (m/N), ``sv`` (m/(s N)) their complex sensitivities to ``F``; ``f0`` a
+    starting guess (N). Newton's method on the two real unknowns, with step halving when the
+    residual grows; it stops when the Newton step is below ``1e-13`` of the force (quadratic
+    convergence leaves an error of the order of the step squared).
+
+    Returns
+    -------
+    F : complex
+        Contact force (N).
+    iterations : int
+        Newton iterations; negative when it did not converge.
+    fn, ft : float
+        Normal and friction force (N) at the last evaluation.
     """
     if cp[0] == 0.0:
-        return 0j, 0
+        return 0j, 0, 0.0, 0.0
     # The force-free step staying inside the clearance means F = 0 is the solution: a non-zero
     # force pushes the centre further inwards (sd is close to a positive compliance).
     if abs(pd) <= cp[4]:
-        return 0j, 0
+        return 0j, 0, 0.0, 0.0
     tol = 1e-13 * cp[9]
     F = f0
     if F == 0j:
@@ -193,21 +204,23 @@ def solve_contact(pd, ud, sd, sv, f0, cp, jac):
         F = complex(fy, fz)
     rnorm_prev = 1e300
     last = 0j
+    fn = 0.0
+    ft = 0.0
     for it in range(1, 60):
         p = pd + sd * F
         u = ud + sv * F
-        fy, fz = contact_force_jac(p.real, p.imag, u.real, u.imag, cp, jac)
+        fy, fz, fn, ft = contact_force_jac(p.real, p.imag, u.real, u.imag, cp, jac)
         ry = F.real - fy
         rz = F.imag - fz
         rnorm = math.sqrt(ry * ry + rz * rz)
-        if rnorm <= tol + 1e-13 * math.sqrt(fy * fy + fz * fz):
-            return F, it
         if rnorm > rnorm_prev and it > 1:
             # halve the last Newton step
-            F = F + 0.5 * last
-            rnorm_prev = 1e300
             last = 0.5 * last
+            F = F + last
+            rnorm_prev = 1e300
             continue
+        if rnorm <= tol:
+            return F, it, fn, ft
         # JR = I - (Jp Sd + Ju Sv), with complex multiplication as 2x2 real matrices
         a11 = 1.0 - (
             jac[0, 0] * sd.real + jac[0, 1] * sd.imag + jac[0, 2] * sv.real + jac[0, 3] * sv.imag
@@ -227,4 +240,6 @@ def solve_contact(pd, ud, sd, sv, f0, cp, jac):
         last = complex(dy, dz)
         F = F - last
         rnorm_prev = rnorm
-    return F, -1
+        if math.sqrt(dy * dy + dz * dz) <= 1e-13 * abs(F) + tol:
+            return F, it, fn, ft
+    return F, -1, fn, ft

@@ -24,6 +24,10 @@ from numba import njit
 
 from rubrotor.core.contact import contact_force, solve_contact
 
+SAFE_FASTMATH = {"contract", "reassoc", "arcp", "nsz"}
+"""LLVM fast-math flags that allow vectorisation but keep NaN and infinity semantics, so the
+divergence checks ``not (d2 <= limit)`` still see a NaN."""
+
 __all__ = ["expo_fixed", "expo_adaptive", "abm_fixed", "STATUS", "n_channels"]
 
 STATUS = {0: "complete", 1: "diverged", 2: "contact solve failed", 3: "event buffer full"}
@@ -113,6 +117,62 @@ def _friction_power(y, z, F, cp, cdc, cvc, part_c, vel_c_z, part_l_c):
 
 
 @njit(cache=True)
+def _write_fast(
+    out,
+    idx,
+    y,
+    z,
+    F,
+    fn,
+    ft,
+    P,
+    V,
+    rows_d,
+    rows_v,
+    rows_a,
+    acc_fc,
+    part_u,
+    part_l,
+    vel_z,
+    acc_z,
+    acc_c,
+):
+    """Write a sample reusing the contact-station P (m) and V (m/s) the step already computed."""
+    ns = y.shape[0]
+    A = acc_z[0] * z + acc_c[0] + acc_fc[0] * F
+    for j in range(ns):
+        A += rows_a[0, j] * y[j]
+    out[0, idx] = P.real
+    out[1, idx] = P.imag
+    out[2, idx] = V.real
+    out[3, idx] = V.imag
+    out[4, idx] = A.real
+    out[5, idx] = A.imag
+    nst = rows_d.shape[0]
+    for s in range(1, nst):
+        Ps = part_u[s] * z + part_l[s]
+        Vs = vel_z[s] * z
+        As = acc_z[s] * z + acc_c[s] + acc_fc[s] * F
+        for j in range(ns):
+            yj = y[j]
+            Ps += rows_d[s, j] * yj
+            Vs += rows_v[s, j] * yj
+            As += rows_a[s, j] * yj
+        b = 6 * s
+        out[b, idx] = Ps.real
+        out[b + 1, idx] = Ps.imag
+        out[b + 2, idx] = Vs.real
+        out[b + 3, idx] = Vs.imag
+        out[b + 4, idx] = As.real
+        out[b + 5, idx] = As.imag
+    b = 6 * nst
+    out[b, idx] = fn
+    out[b + 1, idx] = ft
+    out[b + 2, idx] = F.real
+    out[b + 3, idx] = F.imag
+
+
+@njit(cache=True, fastmath=SAFE_FASTMATH)
 def expo_fixed(
     y, cstate, istate, n_samples, save_every, out, out_offset,
     E, G0, G1, sd, sv, cdc, cvc, cp,
@@ -123,24 +183,41 @@ def expo_fixed(
 ):  # fmt: skip
     """Fixed-step exponential integrator over ``n_samples`` saved samples.
 
-    State in/out: ``y`` (complex eigen-coordinates, shifted), ``cstate = [F, z]`` (contact force
-    N, unbalance phasor ``exp(i Omega t)``), ``istate = [step, n_events, status]``. Writes samples
-    ``out[:, out_offset : out_offset + n]``; returns the number written. ``work`` accumulates
-    (J) the work of unbalance, load, contact force, modal damping (dissipated) and friction when
-    ``energy`` is true. ``events`` collects contact onset (+t) and separation (-t) times (s).
+    State in/out: ``y`` (complex eigen-coordinates, shifted), ``cstate = [F, z, F_prev]``
+    (contact force N, unbalance phasor ``exp(i Omega t)``, previous force N),
+    ``istate = [step, n_events, status]``. Writes samples ``out[:, out_offset : out_offset + n]``;
+    returns the number written. ``work`` accumulates (J) the work of unbalance, load, contact
+    force, modal damping (dissipated) and friction when ``energy`` is true. ``events`` collects
+    contact onset (+t) and separation (-t) times (s), located by linear interpolation of
+    ``|P| - g`` within the step.
     """
     ns = y.shape[0]
-    yh = np.empty(ns, np.complex128)
     jac = np.zeros((2, 4))
     qv = np.zeros(wv.shape[0], np.complex128)
+    # propagate-and-project vectors: pd = sum(cdE * y) + cdG0 * F, same for the velocity
+    cdE = cdc * E
+    cvE = cvc * E
+    cdG0 = 0j
+    cvG0 = 0j
+    for j in range(ns):
+        cdG0 += cdc[j] * G0[j]
+        cvG0 += cvc[j] * G0[j]
     F = cstate[0]
     z = cstate[1]
+    Fp = cstate[2]
     step = istate[0]
     part_c = part_u[0]
     part_lc = part_l[0]
     vel_cz = vel_z[0]
+    g = cp[4]
     maxd2 = max_disp * max_disp
+    rot = complex(math.cos(omega * h), math.sin(omega * h))
     written = 0
+    P = 0j
+    V = 0j
+    fn_c = 0.0
+    ft_c = 0.0
+    d_prev = 0.0
     pw0 = (0.0, 0.0, 0.0, 0.0)
     pf0 = 0.0
     if energy:
@@ -169,39 +246,45 @@ def expo_fixed(
             if step % 1024 == 0:
                 zn = complex(math.cos(omega * h * step), math.sin(omega * h * step))
             else:
-                zn = z * complex(math.cos(omega * h), math.sin(omega * h))
+                zn = z * rot
             pd = part_c * zn + part_lc
             ud = vel_cz * zn
+            for j in range(ns):
+                yj = y[j]
+                pd += cdE[j] * yj
+                ud += cvE[j] * yj
             if F != 0j:
-                for j in range(ns):
-                    v = E[j] * y[j] + G0[j] * F
-                    yh[j] = v
-                    pd += cdc[j] * v
-                    ud += cvc[j] * v
-            else:
-                for j in range(ns):
-                    v = E[j] * y[j]
-                    yh[j] = v
-                    pd += cdc[j] * v
-                    ud += cvc[j] * v
-            Fn, it = solve_contact(pd, ud, sd, sv, F, cp, jac)
+                pd += cdG0 * F
+                ud += cvG0 * F
+            # Newton start: linear extrapolation of the force history
+            F0 = F
+            if F != 0j and Fp != 0j:
+                F0 = 2.0 * F - Fp
+            Fn, it, fn_c, ft_c = solve_contact(pd, ud, sd, sv, F0, cp, jac)
             if it < 0:
                 istate[2] = 2
                 break
-            if Fn != 0j:
+            if F != 0j or Fn != 0j:
                 for j in range(ns):
-                    y[j] = yh[j] + G1[j] * Fn
+                    y[j] = E[j] * y[j] + G0[j] * F + G1[j] * Fn
             else:
                 for j in range(ns):
-                    y[j] = yh[j]
-            p = pd + sd * Fn
-            if (Fn != 0j) != (F != 0j):
+                    y[j] = E[j] * y[j]
+            P = pd + sd * Fn
+            V = ud + sv * Fn
+            d2 = P.real * P.real + P.imag * P.imag
+            d = math.sqrt(d2)
+            if (Fn != 0j) != (F != 0j) and cp[0] != 0.0:
                 ne = istate[1]
                 if ne < events.shape[0]:
-                    # interpolate the crossing of |P| = g linearly within the step
-                    t1 = step * h
-                    events[ne] = t1 if Fn != 0j else -t1
+                    den = d - d_prev
+                    frac = (g - d_prev) / den if den != 0.0 else 1.0
+                    frac = min(max(frac, 0.0), 1.0)
+                    te = (step - 1 + frac) * h
+                    events[ne] = te if Fn != 0j else -te
                     istate[1] = ne + 1
+            d_prev = d
+            Fp = F
             F = Fn
             z = zn
             if energy:
@@ -231,19 +314,21 @@ def expo_fixed(
                 work[4] += 0.5 * h * (pf0 + pf1)
                 pw0 = pw1
                 pf0 = pf1
-            d2 = p.real * p.real + p.imag * p.imag
             if not (d2 <= maxd2):
                 istate[2] = 1
                 break
         if istate[2] != 0:
             break
-        _write_sample(
+        _write_fast(
             out,
             out_offset + s_i,
             y,
             z,
             F,
-            cp,
+            fn_c,
+            ft_c,
+            P,
+            V,
             rows_d,
             rows_v,
             rows_a,
@@ -257,6 +342,7 @@ def expo_fixed(
         written += 1
     cstate[0] = F
     cstate[1] = z
+    cstate[2] = Fp
     istate[0] = step
     return written
 
@@ -310,7 +396,7 @@ def expo_adaptive(
                 yh[j] = v
                 pd += cdc[j] * v
                 ud += cvc[j] * v
-            Fn, it = solve_contact(pd, ud, sd[lev], sv[lev], F, cp, jac)
+            Fn, it, fn_c, ft_c = solve_contact(pd, ud, sd[lev], sv[lev], F, cp, jac)
             stats[2] += max(it, 0)
             changed = (Fn != 0j) != (F != 0j)
             p = pd + sd[lev] * Fn
