@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from reference import exact_unbalance_response, solve_ivp_reference
+from rubrotor.reference import exact_unbalance_response, solve_ivp_reference
 
 from rubrotor.errors import InputError
 from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance

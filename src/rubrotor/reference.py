@@ -1,4 +1,4 @@
-"""Independent references for the simulation tests.
+"""Independent references for tests and benchmarks (SciPy only; slow by design).
 
 Nothing here uses the diagonalised system or the compiled kernels of rubrotor: the modal matrices
 come from :func:`rubrotor.model.modal_matrices` (the physics under test), the contact law is
@@ -103,26 +103,13 @@ def contact_force_reference(P, V, *, law, k, c, g, mu, surface_speed, v_reg, see
     return -fn * n - mu * sig * fn * t
 
 
-def solve_ivp_reference(
-    shaft,
-    speed,
-    times,
-    *,
-    me=0.0,
-    a_u=None,
-    load=0j,
-    a_l=None,
-    contact=None,
-    a_c=None,
-    zeta=0.0,
-    rtol=1e-11,
-    atol=1e-16,
-    method="DOP853",
-):
-    """Reference response with SciPy solve_ivp on the complex physical system.
+def reference_rhs(shaft, speed, *, me=0.0, a_u=None, load=0j, a_l=None, contact=None, a_c=None,
+                  zeta=0.0):
+    """Right-hand side of the physical modal system with unbalance, load and contact.
 
-    ``contact`` is a dict of :func:`contact_force_reference` keyword arguments. Returns the complex
-    deflection (m) at the contact station (midspan by default) at ``times`` (s).
+    Returns ``(rhs, rd, rv, n)``: ``rhs(t, x)`` for the complex state ``x`` (length ``n``), and
+    the rows giving the complex deflection (m) and velocity (m/s) at the contact station.
+    ``contact`` is a dict of :func:`contact_force_reference` keyword arguments.
     """
     L = shaft.length
     a_u = L / 2 if a_u is None else a_u
@@ -139,14 +126,28 @@ def solve_ivp_reference(
             f = f + bc * contact_force_reference(rd @ x, rv @ x, **contact)
         return f
 
+    return rhs, rd, rv, A.shape[0]
+
+
+def solve_ivp_reference(shaft, speed, times, *, rtol=1e-11, atol=1e-16, method="DOP853",
+                        **forces):
+    """Reference response with SciPy ``solve_ivp`` on the physical system.
+
+    The complex state is integrated as its real and imaginary parts (so every SciPy method,
+    implicit ones included, can be used). ``forces`` are the keyword arguments of
+    :func:`reference_rhs`. Returns the complex deflection (m) at the contact station at
+    ``times`` (s).
+    """
+    rhs, rd, _rv, n = reference_rhs(shaft, speed, **forces)
+
+    def real_rhs(t, xr):
+        f = rhs(t, xr[:n] + 1j * xr[n:])
+        return np.concatenate([f.real, f.imag])
+
     sol = scipy.integrate.solve_ivp(
-        rhs,
-        (0, times[-1]),
-        np.zeros(A.shape[0], complex),
-        method=method,
-        t_eval=times,
-        rtol=rtol,
-        atol=atol,
+        real_rhs, (0, times[-1]), np.zeros(2 * n), method=method, t_eval=times,
+        rtol=rtol, atol=atol,
     )
-    assert sol.success, sol.message
-    return rd @ sol.y
+    if not sol.success:
+        raise RuntimeError(sol.message)
+    return rd @ (sol.y[:n] + 1j * sol.y[n:])
