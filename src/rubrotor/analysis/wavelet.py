@@ -332,9 +332,10 @@ class _Plan:
     def gains(self, j: int, k: np.ndarray) -> np.ndarray:
         """Filter value at integer bins ``k`` (float64), truncated and Nyquist-halved."""
         arg = self.scales[j] * (2.0 * np.pi / self.m) * k.astype(np.float64) - self.omega0
-        g = np.where(np.abs(arg) <= self.h, self.gain[j] * np.exp(-0.5 * arg * arg), 0.0)
-        if self.m % 2 == 0:
-            g = np.where(k == self.m // 2, 0.5 * g, g)
+        g = self.gain[j] * np.exp(-0.5 * arg * arg)
+        g[np.abs(arg) > self.h] = 0.0
+        if self.m % 2 == 0 and k.size and k[-1] == self.m // 2:
+            g[k == self.m // 2] *= 0.5
         return g
 
     def local_ok(self, j: int) -> bool:
@@ -401,20 +402,21 @@ class _Plan:
         """sum over the padded circle of |W|^2 (Parseval), float64."""
         k_lo, k_hi = self.band(j)
         m = self.m
+        top = self.n - 1 if self.padding == "symmetric" else m // 2
+        p0, p1 = max(k_lo, 0), min(k_hi, top) + 1
+        n0 = max(k_lo, -top)
+        kp = np.arange(p0, p1)
+        kn = np.arange(n0, 0)
+        spec = self.spec
         if self.padding == "symmetric":
-            n = self.n
-            top = min(max(k_hi, -k_lo), n - 1)
-            k = np.arange(0, top + 1)
-            c2 = np.square(self.spec[: top + 1].astype(np.float64))
-            gp = self.gains(j, k)
-            gm = self.gains(j, -k)
-            e = c2[0] * gp[0] ** 2 + np.dot(c2[1:], gp[1:] ** 2 + gm[1:] ** 2)
-            return float(e) / m
-        kp = np.arange(max(k_lo, 0), k_hi + 1)
-        e = np.dot(np.abs(self.spec[kp]) ** 2, self.gains(j, kp) ** 2)
-        if k_lo < 0:
-            kn = np.arange(k_lo, 0)
-            e += np.dot(np.abs(self.spec[-kn]) ** 2, self.gains(j, kn) ** 2)
+            sp = np.square(spec[p0:p1])
+            sn = np.square(spec[1:-n0 + 1][::-1]) if n0 < 0 else spec[:0]
+        else:
+            sp = spec[p0:p1].real ** 2 + spec[p0:p1].imag ** 2
+            sn = np.abs(spec[1:-n0 + 1][::-1]) ** 2 if n0 < 0 else np.zeros(0)
+        e = np.dot(sp, self.gains(j, kp) ** 2)
+        if kn.size:
+            e += np.dot(sn, self.gains(j, kn) ** 2)
         return float(e) / m
 
     def extended(self, idx: np.ndarray) -> np.ndarray:
