@@ -1,0 +1,124 @@
+"""Results Dataset, netCDF round trip, and the run / converge commands."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import rubrotor
+from rubrotor.cli import main
+from rubrotor.integrator import Integrator
+
+CASE1 = Path(rubrotor.__file__).parent / "scenarios" / "seed_case1.toml"
+
+
+@pytest.fixture(scope="module")
+def case1():
+    return rubrotor.load_scenario(CASE1)
+
+
+@pytest.fixture(scope="module")
+def short_run(case1):
+    integ = Integrator(revolutions=12, dtau=1e-3, save_every=4, probes=(0.1, 0.3))
+    return rubrotor.simulate(case1, integrator=integ, progress=False)
+
+
+def test_dataset_layout_units_and_provenance(short_run, case1):
+    ds = short_run
+    assert ds.attrs["status"] == "complete"
+    for name, unit in [("v", "m"), ("w", "m"), ("v_dot", "m/s"), ("w_ddot", "m/s^2"),
+                       ("normal_force", "N"), ("friction_force", "N"), ("unbalance_force_y", "N")]:
+        assert ds[name].attrs["units"] == unit
+    assert ds["time"].attrs["units"] == "s"
+    assert ds["tau"].values[-1] == pytest.approx(case1.speed * ds["time"].values[-1])
+    assert ds["probe_v"].dims == ("probe", "time")
+    np.testing.assert_allclose(ds["probe"].values, [0.1, 0.3])
+    # symmetric shaft, midspan force: probes at 0.1 and 0.3 m see the same deflection
+    np.testing.assert_allclose(ds["probe_v"][0], ds["probe_v"][1], atol=1e-12 * float(abs(ds["v"]).max()))
+    params = json.loads(ds.attrs["parameters"])
+    assert params["contact.clearance"][1] == "m"
+    assert params["contact.clearance"][0] == pytest.approx(1.2e-3)
+    assert "[contact]" in ds.attrs["scenario"]
+    stats = json.loads(ds.attrs["integrator_stats"])
+    assert stats["method"] == "exponential" and stats["steps"] > 0
+    # in_contact flag is consistent with the force and with the clearance
+    touching = ds["in_contact"].values == 1
+    assert touching.any()
+    d = np.hypot(ds["v"].values, ds["w"].values)
+    assert np.all(d[touching] > case1.contact.clearance)
+    assert np.all(ds["normal_force"].values[~touching] == 0)
+    # events alternate onset / separation
+    kinds = ds["event_kind"].values
+    assert kinds[0] == 1 and np.all(kinds[1:] != kinds[:-1])
+
+
+def test_unbalance_force_is_m_e_omega_squared(short_run, case1):
+    f = np.hypot(short_run["unbalance_force_y"], short_run["unbalance_force_z"])
+    np.testing.assert_allclose(f, case1.unbalance.magnitude * case1.speed**2, rtol=1e-12)
+
+
+def test_netcdf_round_trip_is_identical(short_run, tmp_path):
+    path = rubrotor.save_dataset(short_run, tmp_path / "r.nc")
+    back = rubrotor.load_dataset(path)
+    xr.testing.assert_identical(short_run, back)
+    assert not list(tmp_path.glob(".*.tmp"))  # atomic write leaves no temporary behind
+
+
+def test_load_dataset_errors(tmp_path):
+    with pytest.raises(rubrotor.InputError, match="results"):
+        rubrotor.load_dataset(tmp_path / "missing.nc")
+    bad = tmp_path / "bad.nc"
+    bad.write_text("not netcdf")
+    with pytest.raises(rubrotor.InputError, match="readable"):
+        rubrotor.load_dataset(bad)
+
+
+def test_cli_run_writes_results_and_summary(tmp_path, capsys):
+    code = main(["run", str(CASE1), "--out", str(tmp_path / "out"), "--revolutions", "5", "--no-progress"])
+    assert code == 0
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    ds = rubrotor.load_dataset(tmp_path / "out" / "results.nc")
+    assert summary["status"] == "complete"
+    assert summary["samples"] == ds.sizes["time"]
+    assert summary["max_normal_force_N"] == pytest.approx(float(ds["normal_force"].max()))
+    # the run is a whole number of steps: within one step (d tau = 0.001) of 5 revolutions
+    assert abs(ds["tau"].values[-1] - 5 * 2 * math.pi) <= 1e-3
+    assert json.loads(capsys.readouterr().out)["scenario"] == "seed_case1"
+
+
+def test_cli_run_partial_run_exits_1_and_keeps_data(tmp_path, capsys):
+    text = CASE1.read_text().replace("dtau = 0.001", "dtau = 0.001\nmax_displacement = 1e-4")
+    scen = tmp_path / "s.toml"
+    scen.write_text(text)
+    code = main(["run", str(scen), "--out", str(tmp_path / "o"), "--no-progress"])
+    assert code == 1
+    ds = rubrotor.load_dataset(tmp_path / "o" / "results.nc")
+    assert ds.attrs["status"] == "partial"
+    assert "diverged" in ds.attrs["status_message"]
+    assert ds.sizes["time"] > 10
+    assert "diverged" in capsys.readouterr().err
+
+
+def test_cli_run_bad_scenario_exit_2(tmp_path, capsys):
+    scen = tmp_path / "s.toml"
+    scen.write_text(CASE1.read_text().replace("friction = 0.02", "friction = -0.02"))
+    assert main(["run", str(scen), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "contact.friction" in err and "Traceback" not in err
+
+
+def test_cli_converge_table(capsys):
+    code = main(["converge", str(CASE1), "--revolutions", "3", "--halvings", "2", "--json"])
+    assert code == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    steps = [r for r in rows if r["study"] == "step"]
+    modes = [r for r in rows if r["study"] == "modes"]
+    assert len(steps) == 2 and len(modes) == 2
+    # second order: halving the step divides the difference by about 4
+    assert steps[0]["max_diff_m"] / steps[1]["max_diff_m"] == pytest.approx(4, rel=0.3)
+    # mode 2 is never excited by midspan forces: 1 -> 2 modes changes nothing
+    assert modes[0]["rel_diff"] < 1e-10
+    assert modes[1]["rel_diff"] > 1e-6
