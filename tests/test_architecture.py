@@ -30,4 +30,7 @@ def test_core_imports_only_numpy_numba_and_core():
 def test_import_linter_contract_is_kept():
     from importlinter import cli
 
-    assert cli.lint_imports(config_filename=str(Path(rubrotor.__file__).parents[2] / "pyproject.toml")) == 0
+    assert (
+        cli.lint_imports(config_filename=str(Path(rubrotor.__file__).parents[2] / "pyproject.toml"))
+        == 0
+    )

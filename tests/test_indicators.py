@@ -12,8 +12,11 @@ MODES = [("1F", 180.0, "forward"), ("1B", 150.0, "backward"), ("2F", 420.0, "for
 
 
 def test_subharmonic_ratio():
-    v = np.cos(2 * np.pi * SPIN * T) + 0.35 * np.cos(np.pi * SPIN * T + 0.2) \
+    v = (
+        np.cos(2 * np.pi * SPIN * T)
+        + 0.35 * np.cos(np.pi * SPIN * T + 0.2)
         + 0.05 * np.cos(2 * np.pi * 2 * SPIN * T)
+    )
     ind = rub_indicators(v, FS, SPIN)
     assert ind.harmonic_ratio[0.5] == pytest.approx(0.35, abs=1e-5)
     assert ind.harmonic_ratio[2.0] == pytest.approx(0.05, abs=1e-5)
@@ -35,8 +38,11 @@ def test_forward_orbit_has_no_backward_share():
 
 
 def test_band_energy_by_whirl_and_baseline_ratio():
-    base = 1e-4 * np.exp(2j * np.pi * SPIN * T) + 1e-6 * np.exp(-2j * np.pi * 150.0 * T) \
+    base = (
+        1e-4 * np.exp(2j * np.pi * SPIN * T)
+        + 1e-6 * np.exp(-2j * np.pi * 150.0 * T)
         + 1e-6 * np.exp(2j * np.pi * 180.0 * T)
+    )
     rub = base + 3e-6 * np.exp(-2j * np.pi * 150.0 * T)
     ind = rub_indicators(rub.real, FS, SPIN, MODES, w=rub.imag, baseline=(base.real, base.imag))
     assert ind.band_energy["1B"] == pytest.approx(16e-12, rel=1e-9)
@@ -62,10 +68,14 @@ def test_one_sided_band_energy_of_real_tone():
         (lambda: rub_indicators(np.ones(100), FS, SPIN, [("a", 1.0, "sideways")]), "modes"),
         (lambda: rub_indicators(np.ones(100), FS, SPIN, [("a", 1e4, "forward")]), "modes"),
         (lambda: backward_whirl_share(np.ones(4), [1.0, np.nan, 1.0, 1.0], FS), "w"),
-        (lambda: rub_indicators(np.ones(100), FS, SPIN, band_halfwidth_hz=-1.0),
-         "band_halfwidth_hz"),
-        (lambda: rub_indicators(np.ones(100), FS, SPIN, baseline=(np.ones(100), np.ones(100))),
-         "baseline"),
+        (
+            lambda: rub_indicators(np.ones(100), FS, SPIN, band_halfwidth_hz=-1.0),
+            "band_halfwidth_hz",
+        ),
+        (
+            lambda: rub_indicators(np.ones(100), FS, SPIN, baseline=(np.ones(100), np.ones(100))),
+            "baseline",
+        ),
     ],
 )
 def test_bad_input_names_the_field(call, field):

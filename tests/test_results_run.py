@@ -29,15 +29,24 @@ def short_run(case1):
 def test_dataset_layout_units_and_provenance(short_run, case1):
     ds = short_run
     assert ds.attrs["status"] == "complete"
-    for name, unit in [("v", "m"), ("w", "m"), ("v_dot", "m/s"), ("w_ddot", "m/s^2"),
-                       ("normal_force", "N"), ("friction_force", "N"), ("unbalance_force_y", "N")]:
+    for name, unit in [
+        ("v", "m"),
+        ("w", "m"),
+        ("v_dot", "m/s"),
+        ("w_ddot", "m/s^2"),
+        ("normal_force", "N"),
+        ("friction_force", "N"),
+        ("unbalance_force_y", "N"),
+    ]:
         assert ds[name].attrs["units"] == unit
     assert ds["time"].attrs["units"] == "s"
     assert ds["tau"].values[-1] == pytest.approx(case1.speed * ds["time"].values[-1])
     assert ds["probe_v"].dims == ("probe", "time")
     np.testing.assert_allclose(ds["probe"].values, [0.1, 0.3])
     # symmetric shaft, midspan force: probes at 0.1 and 0.3 m see the same deflection
-    np.testing.assert_allclose(ds["probe_v"][0], ds["probe_v"][1], atol=1e-12 * float(abs(ds["v"]).max()))
+    np.testing.assert_allclose(
+        ds["probe_v"][0], ds["probe_v"][1], atol=1e-12 * float(abs(ds["v"]).max())
+    )
     params = json.loads(ds.attrs["parameters"])
     assert params["contact.clearance"][1] == "m"
     assert params["contact.clearance"][0] == pytest.approx(1.2e-3)
@@ -77,7 +86,9 @@ def test_load_dataset_errors(tmp_path):
 
 
 def test_cli_run_writes_results_and_summary(tmp_path, capsys):
-    code = main(["run", str(CASE1), "--out", str(tmp_path / "out"), "--revolutions", "5", "--no-progress"])
+    code = main(
+        ["run", str(CASE1), "--out", str(tmp_path / "out"), "--revolutions", "5", "--no-progress"]
+    )
     assert code == 0
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     ds = rubrotor.load_dataset(tmp_path / "out" / "results.nc")

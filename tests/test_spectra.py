@@ -45,8 +45,11 @@ def test_unidirectional_vibration_splits_evenly():
 def test_order_spectrum_off_bin():
     fs, n, spin = 1000.0, 12345, 23.7  # orders fall between bins
     t = np.arange(n) / fs
-    x = 1.0 * np.cos(2 * np.pi * spin * t) + 0.3 * np.cos(np.pi * spin * t + 0.4) \
+    x = (
+        1.0 * np.cos(2 * np.pi * spin * t)
+        + 0.3 * np.cos(np.pi * spin * t + 0.4)
         + 0.1 * np.cos(2 * np.pi * 3 * spin * t)
+    )
     spec = order_spectrum(x, fs, spin)
     amps = dict(zip(np.round(spec.frequencies, 6), spec.amplitudes, strict=True))
     assert amps[1.0] == pytest.approx(1.0, abs=1e-4)

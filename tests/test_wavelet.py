@@ -53,16 +53,17 @@ def test_l2_normalization_and_its_frequency_bias():
     w1 = np.abs(cwt(x, fs, freqs, normalization="l1", dtype=np.complex128).coefficients[:, 3000])
     w2 = np.abs(cwt(x, fs, freqs, normalization="l2", dtype=np.complex128).coefficients[:, 3000])
     s = scale_from_frequency(freqs, fs)
-    assert np.allclose(w2, w1 * np.sqrt(s) * np.pi ** 0.25 / np.sqrt(2.0), rtol=1e-12)
+    assert np.allclose(w2, w1 * np.sqrt(s) * np.pi**0.25 / np.sqrt(2.0), rtol=1e-12)
     assert freqs[np.argmax(w1)] == pytest.approx(f1, abs=0.01)
-    expected = f1 * 2 * OMEGA0 / (OMEGA0 + np.sqrt(OMEGA0 ** 2 + 2))
+    expected = f1 * 2 * OMEGA0 / (OMEGA0 + np.sqrt(OMEGA0**2 + 2))
     assert freqs[np.argmax(w2)] == pytest.approx(expected, abs=0.01)
 
 
 def _morlet_l1(tau_samples, s):
     """(1/s) * conj(psi(-tau/s)) evaluated so that W[m] = sum_n x[n] kernel(m - n)."""
-    return (2.0 / (s * np.sqrt(2 * np.pi))) * np.exp(1j * OMEGA0 * tau_samples / s
-                                                     - 0.5 * (tau_samples / s) ** 2)
+    return (2.0 / (s * np.sqrt(2 * np.pi))) * np.exp(
+        1j * OMEGA0 * tau_samples / s - 0.5 * (tau_samples / s) ** 2
+    )
 
 
 @pytest.mark.parametrize("padding", ["symmetric", "periodic", "zero"])
@@ -87,17 +88,17 @@ def test_gaussian_tone_closed_form():
     # with P = sig^2 + s^2, Q = +-sig^2 w1 + s w0, R = sig^2 w1^2 + w0^2, d = m - n0.
     fs, n, n0, amp, sig, w1 = 1.0, 4096, 2048.3, 1.3, 12.0, 2 * np.pi * 0.05
     k = np.arange(n)
-    x = amp * np.exp(-((k - n0) ** 2) / (2 * sig ** 2)) * np.cos(w1 * (k - n0))
+    x = amp * np.exp(-((k - n0) ** 2) / (2 * sig**2)) * np.cos(w1 * (k - n0))
     freqs = log_frequencies(0.02, 0.15, 15)
     res = cwt(x, fs, freqs, dtype=np.complex128)
     d = k - n0
     worst = 0.0
     for j, s in enumerate(res.metadata["scales"]):
-        p = sig ** 2 + s ** 2
+        p = sig**2 + s**2
         exact = np.zeros(n, dtype=complex)
         for sign in (1.0, -1.0):
-            q = sign * sig ** 2 * w1 + s * OMEGA0
-            r = sig ** 2 * w1 ** 2 + OMEGA0 ** 2
+            q = sign * sig**2 * w1 + s * OMEGA0
+            r = sig**2 * w1**2 + OMEGA0**2
             exact += amp * sig / np.sqrt(p) * np.exp((q + 1j * d) ** 2 / (2 * p) - r / 2)
         err = np.max(np.abs(res.coefficients[j] - exact))
         assert np.max(np.abs(exact)) > 1e-3 * amp  # every row carries signal
@@ -140,7 +141,7 @@ def _explicit(x, fs, freqs, padding, inner, normalization="l1"):
     out = []
     for j, c in enumerate(res.coi):
         if inner:
-            out.append(np.sum(p[j, c:n - c]) if 2 * c < n else 0.0)
+            out.append(np.sum(p[j, c : n - c]) if 2 * c < n else 0.0)
         else:
             out.append(np.sum(p[j]))
     return np.sqrt(np.array(out) / fs)
@@ -155,8 +156,7 @@ def test_parseval_scalogram_equals_explicit_matrix(padding, normalization):
     x = 0.7 + rng.standard_normal(n) + 2.0 * np.sin(2 * np.pi * 60.0 * t)
     freqs = log_frequencies(0.3, 480.0, 60)  # includes scales longer than the record
     for inner in (False, True):
-        fast = scalogram(x, fs, freqs, inner=inner, padding=padding,
-                         normalization=normalization)
+        fast = scalogram(x, fs, freqs, inner=inner, padding=padding, normalization=normalization)
         ref = _explicit(x, fs, freqs, padding, inner, normalization)
         nz = ref > 0
         assert np.all(fast[~nz] == 0.0)
@@ -188,8 +188,8 @@ def test_binned_map_matches_matrix(statistic):
     res = cwt_binned(x, fs, freqs, nb, statistic=statistic, dtype=np.complex128)
     assert res.values.shape == (9, nb)
     for i in range(nb):
-        seg = full[:, res.bin_edges[i]:res.bin_edges[i + 1]]
-        ref = seg.max(axis=1) if statistic == "max" else np.sqrt(np.mean(seg ** 2, axis=1))
+        seg = full[:, res.bin_edges[i] : res.bin_edges[i + 1]]
+        ref = seg.max(axis=1) if statistic == "max" else np.sqrt(np.mean(seg**2, axis=1))
         assert np.allclose(res.values[:, i], ref, rtol=1e-12)
     assert res.times[0] == pytest.approx(0.5 * (res.bin_edges[1] - 1) / fs)
 

@@ -103,8 +103,9 @@ def contact_force_reference(P, V, *, law, k, c, g, mu, surface_speed, v_reg, see
     return -fn * n - mu * sig * fn * t
 
 
-def reference_rhs(shaft, speed, *, me=0.0, a_u=None, load=0j, a_l=None, contact=None, a_c=None,
-                  zeta=0.0):
+def reference_rhs(
+    shaft, speed, *, me=0.0, a_u=None, load=0j, a_l=None, contact=None, a_c=None, zeta=0.0
+):
     """Right-hand side of the physical modal system with unbalance, load and contact.
 
     Returns ``(rhs, rd, rv, n)``: ``rhs(t, x)`` for the complex state ``x`` (length ``n``), and
@@ -129,8 +130,7 @@ def reference_rhs(shaft, speed, *, me=0.0, a_u=None, load=0j, a_l=None, contact=
     return rhs, rd, rv, A.shape[0]
 
 
-def solve_ivp_reference(shaft, speed, times, *, rtol=1e-11, atol=1e-16, method="DOP853",
-                        **forces):
+def solve_ivp_reference(shaft, speed, times, *, rtol=1e-11, atol=1e-16, method="DOP853", **forces):
     """Reference response with SciPy ``solve_ivp`` on the physical system.
 
     The complex state is integrated as its real and imaginary parts (so every SciPy method,
@@ -145,8 +145,13 @@ def solve_ivp_reference(shaft, speed, times, *, rtol=1e-11, atol=1e-16, method="
         return np.concatenate([f.real, f.imag])
 
     sol = scipy.integrate.solve_ivp(
-        real_rhs, (0, times[-1]), np.zeros(2 * n), method=method, t_eval=times,
-        rtol=rtol, atol=atol,
+        real_rhs,
+        (0, times[-1]),
+        np.zeros(2 * n),
+        method=method,
+        t_eval=times,
+        rtol=rtol,
+        atol=atol,
     )
     if not sol.success:
         raise RuntimeError(sol.message)

@@ -66,7 +66,8 @@ def to_dataset(
     xarray.Dataset
         Coordinates ``time`` (s) and ``tau = Omega t`` (rad); variables at the contact station
         (midspan without contact) ``v, w`` (m), ``v_dot, w_dot`` (m/s), ``v_ddot, w_ddot``
-        (m/s^2), ``normal_force``, ``friction_force``, ``force_y``, ``force_z``,
+        (m/s^2), ``normal_force``, ``friction_force`` (along the tangent ``i n``, ``n = P/|P|``:
+        the force on the rotor is ``-(F_n + i F_t) n``),
         ``unbalance_force_y``, ``unbalance_force_z`` (N), ``in_contact`` (0/1); probes on a
         ``probe`` dimension (axial position, m) as ``probe_v`` etc.; contact events as
         ``event_time`` (s) and ``event_kind`` (+1 onset, -1 separation). Attributes hold the
@@ -99,16 +100,6 @@ def to_dataset(
             "units": "N",
             "long_name": "friction force along the tangent i*n (positive = spin direction)",
         },
-    )
-    data["force_y"] = (
-        "time",
-        ch[b + 2],
-        {"units": "N", "long_name": "contact force on the rotor, y"},
-    )
-    data["force_z"] = (
-        "time",
-        ch[b + 3],
-        {"units": "N", "long_name": "contact force on the rotor, z"},
     )
     data["in_contact"] = (
         "time",

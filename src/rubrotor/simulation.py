@@ -69,6 +69,18 @@ def phi_functions(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return p1, p2
 
 
+def _block_diag(blocks: list[np.ndarray]) -> np.ndarray:
+    """Block-diagonal matrix of square blocks (cheaper than scipy's for a few small blocks)."""
+    n = sum(b.shape[0] for b in blocks)
+    out = np.zeros((n, n), dtype=np.result_type(*blocks))
+    o = 0
+    for b in blocks:
+        k = b.shape[0]
+        out[o : o + k, o : o + k] = b
+        o += k
+    return out
+
+
 def _damping_matrix(M: np.ndarray, K: np.ndarray, zeta: float) -> np.ndarray:
     """``C = M Phi diag(2 zeta omega) Phi^T M`` from the non-rotating modes of ``(K, M)``."""
     if zeta == 0.0:
@@ -171,16 +183,23 @@ def assemble(shaft: Shaft, speed: float, damping: ModalDamping | None = None) ->
         qd_idx.extend(range(off + m, off + 2 * m))
         defl.append(off)
         off += 2 * m
-    lam_list, v_blocks, vinv_blocks = [], [], []
+    ns = sum(a.shape[0] for a in blocks_a)
+    lam = np.empty(ns, complex)
+    V = np.zeros((ns, ns), complex)
+    Vinv = np.zeros((ns, ns), complex)
     cond = 1.0
+    o = 0
     for a in blocks_a:
-        lam, v = scipy.linalg.eig(a)
+        k = a.shape[0]
+        lam_b, v = np.linalg.eig(a)
         v = v / np.linalg.norm(v, axis=0)
-        cond = max(cond, np.linalg.cond(v))
-        lam_list.append(lam)
-        v_blocks.append(v)
-        vinv_blocks.append(np.linalg.inv(v))
-    if cond > 1e10:
+        vinv = np.linalg.inv(v)
+        cond = max(cond, np.abs(v).sum(axis=0).max() * np.abs(vinv).sum(axis=0).max())  # 1-norm
+        lam[o : o + k] = lam_b
+        V[o : o + k, o : o + k] = v
+        Vinv[o : o + k, o : o + k] = vinv
+        o += k
+    if cond > 1e12:
         raise InputError(
             "speed", speed, "a speed where the modal system is diagonalisable (move it slightly)"
         )
@@ -189,12 +208,12 @@ def assemble(shaft: Shaft, speed: float, damping: ModalDamping | None = None) ->
     return ModalSystem(
         shaft=shaft,
         speed=speed,
-        lam=np.concatenate(lam_list),
-        V=scipy.linalg.block_diag(*v_blocks),
-        Vinv=scipy.linalg.block_diag(*vinv_blocks),
-        M=scipy.linalg.block_diag(*blocks_m),
-        K=scipy.linalg.block_diag(*blocks_k),
-        C=scipy.linalg.block_diag(*blocks_c),
+        lam=lam,
+        V=V,
+        Vinv=Vinv,
+        M=_block_diag(blocks_m),
+        K=_block_diag(blocks_k),
+        C=_block_diag(blocks_c),
         q_index=q_index[order],
         qd_index=np.array(qd_idx)[order],
         defl_index=np.array(defl),
@@ -214,9 +233,9 @@ class SimulationResult:
     stations : ndarray
         Axial positions (m) of the output stations; station 0 is the contact station (midspan
         without contact), the others are probes.
-    channels : ndarray, shape (6 S + 4, T)
+    channels : ndarray, shape (6 S + 2, T)
         Per station v, w (m), v', w' (m/s), v'', w'' (m/s^2); then normal force (N), friction
-        force along the tangent (N), F_y, F_z (N).
+        force along the tangent (N).
     status : str
         ``"complete"`` or ``"partial"``.
     message : str
@@ -408,7 +427,7 @@ def simulate_system(
         )
 
     out = np.empty((n_channels(len(stations)), n_samples + 1))
-    istate = np.zeros(4, np.int64)
+    istate = np.zeros(5, np.int64)
     cstate = np.array([0j, 1 + 0j, 0j])
 
     def write0():
@@ -484,13 +503,17 @@ def simulate_system(
         sv = np.ascontiguousarray(G1 @ cvc)
         errc = np.abs(G0 @ cdc)
         rot = np.exp(1j * speed * hs)
+        cdE = np.ascontiguousarray(E * cdc[None, :])
+        cvE = np.ascontiguousarray(E * cvc[None, :])
+        cdG0 = np.ascontiguousarray(G0 @ cdc)
+        cvG0 = np.ascontiguousarray(G0 @ cvc)
         stat_arr = np.zeros(3, np.int64)
         istate[3] = 0
 
         def run_chunk(offset, count):
             return expo_adaptive(
                 y, cstate, istate, count, out, offset,
-                E, G0, G1, sd, sv, errc, rot, cdc, cvc, cp,
+                E, G0, G1, cdE, cvE, cdG0, cvG0, sd, sv, errc, rot, cdc, cvc, cp,
                 rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
                 speed, H, max_disp, integrator.rtol, integrator.atol,
                 events, stat_arr,

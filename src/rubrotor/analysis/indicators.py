@@ -61,7 +61,7 @@ class RubIndicators:
 def _periodogram_full(z: np.ndarray, fs: float):
     n = z.size
     w = get_window("hann", n, fftbins=True)
-    p = np.abs(sfft.fft(z * w)) ** 2 / (n * np.sum(w ** 2))
+    p = np.abs(sfft.fft(z * w)) ** 2 / (n * np.sum(w**2))
     return sfft.fftfreq(n, 1.0 / fs), p
 
 
@@ -89,18 +89,20 @@ def _check_modes(modes) -> list[tuple[str, float, str]]:
             label, freq, whirl = entry
             freq = float(freq)
         except (TypeError, ValueError):
-            raise InputError("modes", entry,
-                             "(label, frequency_hz, whirl) with whirl 'forward' or 'backward'"
-                             ) from None
+            raise InputError(
+                "modes", entry, "(label, frequency_hz, whirl) with whirl 'forward' or 'backward'"
+            ) from None
         if whirl not in ("forward", "backward") or not np.isfinite(freq) or freq <= 0:
-            raise InputError("modes", entry,
-                             "(label, frequency_hz > 0, whirl in {'forward', 'backward'})")
+            raise InputError(
+                "modes", entry, "(label, frequency_hz > 0, whirl in {'forward', 'backward'})"
+            )
         out.append((str(label), freq, whirl))
     return out
 
 
-def band_energies(v, fs: float, modes: Sequence, *, w=None,
-                  band_halfwidth_hz: float | None = None) -> dict:
+def band_energies(
+    v, fs: float, modes: Sequence, *, w=None, band_halfwidth_hz: float | None = None
+) -> dict:
     """Mean-square content around each natural frequency.
 
     Parameters
@@ -258,15 +260,21 @@ def rub_indicators(
         else:
             v_ref, w_ref = baseline, None
         if (w is None) != (w_ref is None):
-            raise InputError("baseline", "signal of another kind",
-                             "(v_ref, w_ref) when w is given, v_ref alone otherwise")
+            raise InputError(
+                "baseline",
+                "signal of another kind",
+                "(v_ref, w_ref) when w is given, v_ref alone otherwise",
+            )
         ref = band_energies(v_ref, fs, modes, w=w_ref, band_halfwidth_hz=band_halfwidth_hz)
         ratio = {k: (bands[k] / ref[k] if ref[k] > 0 else np.inf) for k in bands}
     ords = SUB_ORDERS + (1.0,) + SUPER_ORDERS
     spec = order_spectrum(v, fs, spin, orders=ords)
     one_x = spec.amplitudes[ords.index(1.0)]
-    harm = {o: (float(a / one_x) if one_x > 0 else np.inf)
-            for o, a in zip(ords, spec.amplitudes, strict=True) if o != 1.0}
+    harm = {
+        o: (float(a / one_x) if one_x > 0 else np.inf)
+        for o, a in zip(ords, spec.amplitudes, strict=True)
+        if o != 1.0
+    }
     share = backward_whirl_share(v, w, fs) if w is not None else None
     lo, hi = scalogram_range_hz if scalogram_range_hz is not None else (spin / 4, 0.45 * fs)
     freqs = log_frequencies(lo, hi, n_frequencies)
@@ -275,7 +283,10 @@ def rub_indicators(
     idx = idx - 1
     idx = idx[np.argsort(inner[idx])[::-1]][:n_peaks]
     peaks = freqs[idx]
-    details = {"band_halfwidth_hz": _halfwidth(band_halfwidth_hz, fs, v.size),
-               "window": "hann", "scalogram_range_hz": (lo, hi),
-               "energy_unit": "unit**2 (mean square)"}
+    details = {
+        "band_halfwidth_hz": _halfwidth(band_halfwidth_hz, fs, v.size),
+        "window": "hann",
+        "scalogram_range_hz": (lo, hi),
+        "energy_unit": "unit**2 (mean square)",
+    }
     return RubIndicators(bands, ratio, harm, share, peaks, details)

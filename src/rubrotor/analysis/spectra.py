@@ -59,8 +59,9 @@ def _check_signal(signal, field: str) -> np.ndarray:
     except (TypeError, ValueError):
         raise InputError(field, signal, "a 1-D array of finite real numbers") from None
     if x.ndim != 1 or x.size < 2:
-        raise InputError(field, f"array of shape {x.shape}",
-                         "a 1-D array of at least 2 finite real samples")
+        raise InputError(
+            field, f"array of shape {x.shape}", "a 1-D array of at least 2 finite real samples"
+        )
     if not np.all(np.isfinite(x)):
         raise InputError(field, "array with NaN or inf", "a 1-D array of finite real numbers")
     return x
@@ -70,8 +71,11 @@ def _window(window, n: int) -> np.ndarray:
     try:
         return np.asarray(get_window(window, n, fftbins=True), dtype=np.float64)
     except (ValueError, TypeError):
-        raise InputError("window", window, "a window name known to scipy.signal.get_window, "
-                         "e.g. 'hann', 'boxcar', 'flattop'") from None
+        raise InputError(
+            "window",
+            window,
+            "a window name known to scipy.signal.get_window, e.g. 'hann', 'boxcar', 'flattop'",
+        ) from None
 
 
 def amplitude_spectrum(signal, fs: float, *, window="hann") -> Spectrum:
@@ -160,8 +164,9 @@ def full_spectrum(v, w, fs: float, *, window="hann") -> Spectrum:
     return Spectrum(sfft.fftshift(sfft.fftfreq(n, 1.0 / fs)), amp)
 
 
-def order_spectrum(signal, fs: float, spin_hz: float, *, orders=DEFAULT_ORDERS,
-                   window="hann") -> Spectrum:
+def order_spectrum(
+    signal, fs: float, spin_hz: float, *, orders=DEFAULT_ORDERS, window="hann"
+) -> Spectrum:
     """Amplitudes at multiples (orders) of the spin frequency.
 
     Each amplitude is the windowed discrete-time Fourier transform evaluated exactly at
@@ -199,10 +204,16 @@ def order_spectrum(signal, fs: float, spin_hz: float, *, orders=DEFAULT_ORDERS,
     if not np.isfinite(spin) or spin <= 0:
         raise InputError("spin_hz", spin_hz, "a finite spin frequency > 0 (Hz)")
     ords = np.atleast_1d(np.asarray(orders, dtype=np.float64))
-    if ords.ndim != 1 or ords.size == 0 or not np.all(np.isfinite(ords)) or np.any(ords <= 0) \
-            or np.any(ords * spin >= fs / 2):
-        raise InputError("orders", orders,
-                         f"positive orders with order * spin_hz < fs/2 = {fs / 2:g} Hz")
+    if (
+        ords.ndim != 1
+        or ords.size == 0
+        or not np.all(np.isfinite(ords))
+        or np.any(ords <= 0)
+        or np.any(ords * spin >= fs / 2)
+    ):
+        raise InputError(
+            "orders", orders, f"positive orders with order * spin_hz < fs/2 = {fs / 2:g} Hz"
+        )
     n = x.size
     win = _window(window, n)
     xw = x * win

@@ -170,8 +170,9 @@ def _check_signal(signal, field: str = "signal") -> np.ndarray:
     except (TypeError, ValueError):
         raise InputError(field, signal, "a 1-D array of finite real numbers") from None
     if x.ndim != 1 or x.size < 2:
-        raise InputError(field, f"array of shape {x.shape}",
-                         "a 1-D array of at least 2 finite real samples")
+        raise InputError(
+            field, f"array of shape {x.shape}", "a 1-D array of at least 2 finite real samples"
+        )
     if not np.all(np.isfinite(x)):
         raise InputError(field, "array with NaN or inf", "a 1-D array of finite real numbers")
     return x
@@ -185,8 +186,11 @@ def _check_frequencies(frequencies, fs: float) -> np.ndarray:
     if f.ndim != 1 or f.size == 0:
         raise InputError("frequencies", frequencies, "a non-empty 1-D array of frequencies (Hz)")
     if not np.all(np.isfinite(f)) or np.any(f <= 0.0) or np.any(f >= fs / 2.0):
-        raise InputError("frequencies", frequencies,
-                         f"finite frequencies in the open interval (0, fs/2) = (0, {fs / 2:g}) Hz")
+        raise InputError(
+            "frequencies",
+            frequencies,
+            f"finite frequencies in the open interval (0, fs/2) = (0, {fs / 2:g}) Hz",
+        )
     return f
 
 
@@ -196,8 +200,9 @@ def _check_omega0(omega0) -> float:
     except (TypeError, ValueError):
         raise InputError("omega0", omega0, "a finite number >= 5 (rad)") from None
     if not math.isfinite(value) or value < 5.0:
-        raise InputError("omega0", omega0,
-                         "a finite number >= 5 (rad), so that the wavelet is analytic to 1e-21")
+        raise InputError(
+            "omega0", omega0, "a finite number >= 5 (rad), so that the wavelet is analytic to 1e-21"
+        )
     return value
 
 
@@ -306,7 +311,7 @@ class _Plan:
         if normalization == "l1":
             self.gain = np.full(self.scales.shape, 2.0)
         else:
-            self.gain = np.sqrt(2.0 * self.scales) * np.pi ** 0.25
+            self.gain = np.sqrt(2.0 * self.scales) * np.pi**0.25
         n = self.n
         xs = x.astype(self.rdt)
         if padding == "symmetric":
@@ -341,8 +346,10 @@ class _Plan:
     def local_ok(self, j: int) -> bool:
         """True when the time kernel is the sampled Gaussian Morlet to truncation precision."""
         s = self.scales[j]
-        return bool((self.omega0 + self.h) / s < np.pi * (1.0 - 1e-12)
-                    and 2 * self.half_support[j] + 1 < self.m)
+        return bool(
+            (self.omega0 + self.h) / s < np.pi * (1.0 - 1e-12)
+            and 2 * self.half_support[j] + 1 < self.m
+        )
 
     def kernel(self, j: int) -> np.ndarray:
         """Time kernel g[t], t = -L..L (complex128)."""
@@ -359,7 +366,7 @@ class _Plan:
         if batch is None:
             batch = max(1, min(indices.size, _BATCH_ELEMENTS // self.m))
         for start in range(0, indices.size, batch):
-            idx = indices[start:start + batch]
+            idx = indices[start : start + batch]
             yield idx, self._compute(idx)
 
     def _compute(self, idx: np.ndarray) -> np.ndarray:
@@ -410,10 +417,10 @@ class _Plan:
         spec = self.spec
         if self.padding == "symmetric":
             sp = np.square(spec[p0:p1])
-            sn = np.square(spec[1:-n0 + 1][::-1]) if n0 < 0 else spec[:0]
+            sn = np.square(spec[1 : -n0 + 1][::-1]) if n0 < 0 else spec[:0]
         else:
             sp = spec[p0:p1].real ** 2 + spec[p0:p1].imag ** 2
-            sn = np.abs(spec[1:-n0 + 1][::-1]) ** 2 if n0 < 0 else np.zeros(0)
+            sn = np.abs(spec[1 : -n0 + 1][::-1]) ** 2 if n0 < 0 else np.zeros(0)
         e = np.dot(sp, self.gains(j, kp) ** 2)
         if kn.size:
             e += np.dot(sn, self.gains(j, kn) ** 2)
@@ -443,14 +450,14 @@ class _Plan:
             w = np.convolve(seg, g, mode="valid")
         else:
             w = _fftconvolve_valid(seg, g)
-        return float(np.sum(w.real ** 2 + w.imag ** 2))
+        return float(np.sum(w.real**2 + w.imag**2))
 
 
 def _fftconvolve_valid(seg: np.ndarray, g: np.ndarray) -> np.ndarray:
     n = seg.size + g.size - 1
     nf = sfft.next_fast_len(n)
     out = sfft.ifft(sfft.fft(seg, nf) * sfft.fft(g, nf))
-    return out[g.size - 1: seg.size]
+    return out[g.size - 1 : seg.size]
 
 
 def _make_plan(signal, fs, frequencies, omega0, normalization, padding, real_dtype, workers):
@@ -590,11 +597,11 @@ def _energies(plan: _Plan, inner: bool) -> np.ndarray:
                 e -= plan.local_energy(j, 0, c) + plan.local_energy(j, n - c, n)
         energy[j] = max(e, 0.0)
     for idx, rows in plan.rows(full_rows, batch=max(1, (1 << 21) // plan.m)):
-        p = rows.real ** 2 + rows.imag ** 2
+        p = rows.real**2 + rows.imag**2
         for r, j in enumerate(idx):
             c = int(plan.coi[j])
             if inner:
-                energy[j] = float(np.sum(p[r, c: n - c])) if 2 * c < n else 0.0
+                energy[j] = float(np.sum(p[r, c : n - c])) if 2 * c < n else 0.0
             else:
                 energy[j] = float(np.sum(p[r]))
     return energy / plan.fs
@@ -647,8 +654,7 @@ def scalogram(
     >>> int(np.argmax(scalogram(x, fs, f, inner=True)))
     1
     """
-    plan = _make_plan(signal, fs, frequencies, omega0, normalization, padding, np.float64,
-                      workers)
+    plan = _make_plan(signal, fs, frequencies, omega0, normalization, padding, np.float64, workers)
     return np.sqrt(_energies(plan, bool(inner)))
 
 
@@ -726,7 +732,7 @@ def cwt_binned(
     values = np.empty((plan.freqs.size, n_bins))
     reduce: Callable = np.maximum.reduceat if statistic == "max" else np.add.reduceat
     for idx, rows in plan.rows(np.arange(plan.freqs.size)):
-        p = rows.real ** 2 + rows.imag ** 2
+        p = rows.real**2 + rows.imag**2
         red = reduce(p, edges[:-1], axis=1)
         if statistic == "rms":
             red = red / counts

@@ -14,7 +14,8 @@ part. ``abm_fixed`` is the seed's 4th-order Adams-Bashforth-Moulton PECE on the 
 
 Saved channels per sample (``out[channel, sample]``), per output station ``s`` (station 0 is the
 contact station): ``6s + 0..5`` = v, w (m), v', w' (m/s), v'', w'' (m/s^2); then after ``6 S``:
-normal force (N), friction force along the tangent (N), force components F_y, F_z on the rotor (N).
+normal force (N) and friction force along the tangent ``i n`` (N). The force components on the
+rotor follow as ``F = -(F_n + i F_t) n`` with ``n = P / |P|``.
 """
 
 import math
@@ -35,7 +36,7 @@ STATUS = {0: "complete", 1: "diverged", 2: "contact solve failed", 3: "event buf
 
 def n_channels(n_stations: int) -> int:
     """Number of saved channels for ``n_stations`` output stations."""
-    return 6 * n_stations + 4
+    return 6 * n_stations + 2
 
 
 @njit(cache=True)
@@ -64,8 +65,6 @@ def _write_sample(
     b = 6 * nst
     out[b, idx] = fn
     out[b + 1, idx] = ft
-    out[b + 2, idx] = fy
-    out[b + 3, idx] = fz
 
 
 @njit(cache=True)
@@ -168,8 +167,6 @@ def _write_fast(
     b = 6 * nst
     out[b, idx] = fn
     out[b + 1, idx] = ft
-    out[b + 2, idx] = F.real
-    out[b + 3, idx] = F.imag
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
@@ -347,38 +344,63 @@ def expo_fixed(
     return written
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=SAFE_FASTMATH)
 def expo_adaptive(
     y, cstate, istate, n_samples, out, out_offset,
-    E, G0, G1, sd, sv, errc, rot, cdc, cvc, cp,
+    E, G0, G1, cdE, cvE, cdG0, cvG0, sd, sv, errc, rot, cdc, cvc, cp,
     rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
     omega, H, max_disp, rtol, atol,
     events, stats,
 ):  # fmt: skip
     """Error-controlled exponential integrator with dyadic steps ``H / 2^level``.
 
-    Saves one sample every ``H`` (s). Level arrays ``E, G0, G1`` have shape (levels, ns) and
-    ``sd, sv, errc, rot`` shape (levels,). A step is rejected and halved when the local error
-    estimate ``errc * |F_{k+1} - F_k|`` (m, the difference between first- and zero-order holds of
-    the contact force) exceeds ``atol + rtol |P|``, or when it changes the contact state above the
-    finest level (so every contact onset and separation is resolved to ``H / 2^(levels-1)``).
-    ``istate = [sample, n_events, status, level]``; ``stats = [accepted, rejected, newton its]``.
+    Saves one sample every ``H`` (s). Level arrays ``E, G0, G1, cdE, cvE`` have shape
+    (levels, ns) and ``cdG0, cvG0, sd, sv, errc, rot`` shape (levels,); ``cdE = cd * E`` etc. are
+    the propagate-and-project vectors of the contact station.
+
+    Local error control. While the rotor stays in contact over consecutive steps, the error of
+    holding the force linear over a step is estimated from the second difference of the force,
+    ``F'' ~ 2 (s_k - s_{k-1}) / (h_k + h_{k-1})`` with ``s`` the force slopes: the velocity error is
+    ``|a_F| h^3 |F''| / 12`` and the displacement error ``|a_F| h^4 |F''| / 24`` (``a_F`` the
+    contact-station acceleration per N). At contact onsets and separations, where the force has
+    a kink and no history, the (larger) difference between first- and zero-order holds,
+    ``errc |F_{k+1} - F_k|``, is used instead, and every change of contact state is refined to
+    the finest level. A step is rejected and halved when
+    ``max(e_d, e_v / Omega) > atol + rtol max(|P|, g)``; it grows again (doubles) after steps
+    with an error below 1/20 of that.
+
+    ``cstate = [F, z, F_prev]``, ``istate = [sample, n_events, status, level, prev_level]``,
+    ``stats = [accepted, rejected, newton iterations]``.
     """
     ns = y.shape[0]
     nlev = E.shape[0]
     J = nlev - 1
     full = 1 << J
-    yh = np.empty(ns, np.complex128)
-    ynew = np.empty(ns, np.complex128)
     jac = np.zeros((2, 4))
     F = cstate[0]
     z = cstate[1]
+    Fp = cstate[2]
     part_c = part_u[0]
     part_lc = part_l[0]
     vel_cz = vel_z[0]
+    g = cp[4]
+    a_f = abs(acc_fc[0])
     maxd2 = max_disp * max_disp
     lev = istate[3]
+    lev_prev = istate[4]
     written = 0
+    P = 0j
+    V = 0j
+    fn_c = 0.0
+    ft_c = 0.0
+    if F != 0j:
+        fy, fz, fn_c, ft_c = contact_force(
+            out[0, out_offset - 1],
+            out[1, out_offset - 1],
+            out[2, out_offset - 1],
+            out[3, out_offset - 1],
+            cp,
+        )
     for s_i in range(n_samples):
         sample = istate[0]
         t_start = sample * H
@@ -388,19 +410,31 @@ def expo_adaptive(
             while pos % units != 0 or pos + units > full:
                 lev += 1
                 units = 1 << (J - lev)
+            h = H / (1 << lev)
             zn = z * rot[lev]
-            pd = part_c * zn + part_lc
-            ud = vel_cz * zn
+            pd = part_c * zn + part_lc + cdG0[lev] * F
+            ud = vel_cz * zn + cvG0[lev] * F
             for j in range(ns):
-                v = E[lev, j] * y[j] + G0[lev, j] * F
-                yh[j] = v
-                pd += cdc[j] * v
-                ud += cvc[j] * v
-            Fn, it, fn_c, ft_c = solve_contact(pd, ud, sd[lev], sv[lev], F, cp, jac)
+                yj = y[j]
+                pd += cdE[lev, j] * yj
+                ud += cvE[lev, j] * yj
+            F0 = F
+            if F != 0j and Fp != 0j:
+                hp = H / (1 << lev_prev)
+                F0 = F + (F - Fp) * (h / hp)
+            Fn, it, fnn, ftn = solve_contact(pd, ud, sd[lev], sv[lev], F0, cp, jac)
             stats[2] += max(it, 0)
             changed = (Fn != 0j) != (F != 0j)
-            p = pd + sd[lev] * Fn
-            err = errc[lev] * abs(Fn - F) / (atol + rtol * abs(p))
+            Pn = pd + sd[lev] * Fn
+            tol = atol + rtol * max(abs(Pn), g)
+            if Fn != 0j and F != 0j and Fp != 0j:
+                hp = H / (1 << lev_prev)
+                f2 = 2.0 * abs((Fn - F) / h - (F - Fp) / hp) / (h + hp)
+                e_v = a_f * h * h * h * f2 / 12.0
+                e_d = 0.5 * e_v * h
+                err = max(e_d, e_v / omega) / tol
+            else:
+                err = errc[lev] * abs(Fn - F) / tol
             if lev < J and (it < 0 or err > 1.0 or changed):
                 lev += 1
                 stats[1] += 1
@@ -408,10 +442,12 @@ def expo_adaptive(
             if it < 0:
                 istate[2] = 2
                 break
-            for j in range(ns):
-                ynew[j] = yh[j] + G1[lev, j] * Fn
-            for j in range(ns):
-                y[j] = ynew[j]
+            if F != 0j or Fn != 0j:
+                for j in range(ns):
+                    y[j] = E[lev, j] * y[j] + G0[lev, j] * F + G1[lev, j] * Fn
+            else:
+                for j in range(ns):
+                    y[j] = E[lev, j] * y[j]
             stats[0] += 1
             pos += units
             if changed:
@@ -420,9 +456,15 @@ def expo_adaptive(
                     tt = t_start + pos * (H / full)
                     events[ne] = tt if Fn != 0j else -tt
                     istate[1] = ne + 1
+            Fp = F
             F = Fn
             z = zn
-            d2 = p.real * p.real + p.imag * p.imag
+            P = Pn
+            V = ud + sv[lev] * Fn
+            fn_c = fnn
+            ft_c = ftn
+            lev_prev = lev
+            d2 = P.real * P.real + P.imag * P.imag
             if not (d2 <= maxd2):
                 istate[2] = 1
                 break
@@ -434,6 +476,7 @@ def expo_adaptive(
         istate[0] = sample
         tt = sample * H
         z = complex(math.cos(omega * tt), math.sin(omega * tt))
+        # P, V were computed with the recurrence phasor; recompute with the exact one
         _write_sample(
             out,
             out_offset + s_i,
@@ -454,7 +497,9 @@ def expo_adaptive(
         written += 1
     cstate[0] = F
     cstate[1] = z
+    cstate[2] = Fp
     istate[3] = lev
+    istate[4] = lev_prev
     return written
 
 
