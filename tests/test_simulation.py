@@ -1,16 +1,16 @@
-"""Simulation against independent references (see tests/reference.py for their provenance)."""
+"""Simulation against independent references (see rubrotor/reference.py for their provenance)."""
 
 import math
 
 import numpy as np
 import pytest
-from rubrotor.reference import exact_unbalance_response, solve_ivp_reference
 
 from rubrotor.errors import InputError
 from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance
 from rubrotor.integrator import Integrator
 from rubrotor.modal import first_forward_critical
 from rubrotor.model import Dimensionless, Shaft
+from rubrotor.reference import exact_unbalance_response, solve_ivp_reference
 from rubrotor.simulation import simulate_system
 
 SEED = Shaft(

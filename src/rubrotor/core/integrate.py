@@ -422,7 +422,7 @@ def expo_adaptive(
             if F != 0j and Fp != 0j:
                 hp = H / (1 << lev_prev)
                 F0 = F + (F - Fp) * (h / hp)
-            Fn, it, fnn, ftn = solve_contact(pd, ud, sd[lev], sv[lev], F0, cp, jac)
+            Fn, it, _fn, _ft = solve_contact(pd, ud, sd[lev], sv[lev], F0, cp, jac)
             stats[2] += max(it, 0)
             changed = (Fn != 0j) != (F != 0j)
             Pn = pd + sd[lev] * Fn
@@ -460,9 +460,6 @@ def expo_adaptive(
             F = Fn
             z = zn
             P = Pn
-            V = ud + sv[lev] * Fn
-            fn_c = fnn
-            ft_c = ftn
             lev_prev = lev
             d2 = P.real * P.real + P.imag * P.imag
             if not (d2 <= maxd2):
@@ -476,7 +473,7 @@ def expo_adaptive(
         istate[0] = sample
         tt = sample * H
         z = complex(math.cos(omega * tt), math.sin(omega * tt))
-        # P, V were computed with the recurrence phasor; recompute with the exact one
+        # the sample is recomputed from y with the exact phasor (not the recurrence one)
         _write_sample(
             out,
             out_offset + s_i,
