@@ -390,17 +390,6 @@ def expo_adaptive(
     lev_prev = istate[4]
     written = 0
     P = 0j
-    V = 0j
-    fn_c = 0.0
-    ft_c = 0.0
-    if F != 0j:
-        fy, fz, fn_c, ft_c = contact_force(
-            out[0, out_offset - 1],
-            out[1, out_offset - 1],
-            out[2, out_offset - 1],
-            out[3, out_offset - 1],
-            cp,
-        )
     for s_i in range(n_samples):
         sample = istate[0]
         t_start = sample * H
