@@ -32,7 +32,10 @@ class Integrator:
     method : {"exponential", "abm"}
         ``"exponential"`` (default): the linear rotor is propagated exactly (diagonalised modal
         propagator, unbalance and constant load integrated exactly); the contact force is held
-        linear over a step and solved implicitly (Newton on its 2 components), order 2.
+        linear over a step and solved implicitly (Newton on its 2 components): order 2 with a
+        fixed step. Adaptive runs hold it quadratic through the last three forces while the rotor
+        stays in contact at a constant step (order 3), with the step controlled by the
+        second-order error estimate (local extrapolation).
         ``"abm"``: the seed's fixed-step 4th-order Adams-Bashforth-Moulton predictor-corrector
         (PECE), started with classical Runge-Kutta, on the real first-order modal system.
     dtau : float, optional

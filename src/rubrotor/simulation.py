@@ -29,44 +29,48 @@ ADAPTIVE_LEVELS = 21
 EVENT_BUFFER = 200_000
 
 
-def phi_functions(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``phi1(z) = (e^z - 1)/z`` and ``phi2(z) = (e^z - 1 - z)/z^2``, accurate for small ``|z|``.
+def phi_functions(z: np.ndarray, third: bool = False):
+    """``phi1 = (e^z - 1)/z``, ``phi2 = (e^z - 1 - z)/z^2`` (and ``phi3 = (e^z - 1 - z - z^2/2)/z^3``).
+
+    Accurate for small ``|z|`` (Taylor series below 0.25, the recurrence
+    ``phi_{k+1} = (phi_k - 1/k!)/z`` above).
 
     Parameters
     ----------
     z : ndarray, complex
         Arguments (dimensionless).
+    third : bool
+        Also return ``phi3``.
 
     Returns
     -------
-    phi1, phi2 : ndarray, complex
+    phi1, phi2[, phi3] : ndarray, complex
 
     Examples
     --------
     >>> p1, p2 = phi_functions(np.array([1e-12 + 0j, 1.0 + 0j]))
-    >>> np.allclose(p1, [1.0, np.e - 1]), np.allclose(p2, [0.5, np.e - 2])
+    >>> bool(np.allclose(p1, [1.0, np.e - 1])), bool(np.allclose(p2, [0.5, np.e - 2]))
     (True, True)
     """
     z = np.asarray(z, dtype=complex)
     small = np.abs(z) < 0.25
-    p1 = np.empty_like(z)
-    p2 = np.empty_like(z)
+    out = [np.empty_like(z) for _ in range(3)]
     zs = z[small]
     # Taylor series: phi_k(z) = sum_j z^j / (j + k)!
-    t1 = np.zeros_like(zs)
-    t2 = np.zeros_like(zs)
     term = np.ones_like(zs)
+    acc = [np.zeros_like(zs) for _ in range(3)]
     for j in range(0, 20):
-        t1 = t1 + term / math.factorial(j + 1)
-        t2 = t2 + term / math.factorial(j + 2)
+        for k in range(3):
+            acc[k] = acc[k] + term / math.factorial(j + k + 1)
         term = term * zs
-    p1[small] = t1
-    p2[small] = t2
     zl = z[~small]
-    ez = np.exp(zl)
-    p1[~small] = (ez - 1) / zl
-    p2[~small] = (ez - 1 - zl) / zl**2
-    return p1, p2
+    big = [(np.exp(zl) - 1) / zl]
+    big.append((big[0] - 1) / zl)
+    big.append((big[1] - 0.5) / zl)
+    for k in range(3):
+        out[k][small] = acc[k]
+        out[k][~small] = big[k]
+    return (out[0], out[1], out[2]) if third else (out[0], out[1])
 
 
 def _block_diag(blocks: list[np.ndarray]) -> np.ndarray:
@@ -496,8 +500,16 @@ def simulate_system(
         levels = ADAPTIVE_LEVELS
         hs = H / 2.0 ** np.arange(levels)
         E = np.exp(np.outer(hs, lam))
-        p1, p2 = phi_functions(np.outer(hs, lam))
+        p1, p2, p3 = phi_functions(np.outer(hs, lam), third=True)
         G0 = (hs[:, None] * (p1 - p2)) * beta_c[None, :]
+        # quadratic hold through F_{k-1}, F_k, F_{k+1} at equal steps
+        Q1 = (hs[:, None] * (0.5 * p2 + p3)) * beta_c[None, :]
+        Q0 = (hs[:, None] * (p1 - 2 * p3)) * beta_c[None, :]
+        Qm = (hs[:, None] * (p3 - 0.5 * p2)) * beta_c[None, :]
+        sdq = np.ascontiguousarray(Q1 @ cdc)
+        svq = np.ascontiguousarray(Q1 @ cvc)
+        cdQ0, cvQ0 = Q0 @ cdc, Q0 @ cvc
+        cdQm, cvQm = Qm @ cdc, Qm @ cvc
         G1 = (hs[:, None] * p2) * beta_c[None, :]
         sd = np.ascontiguousarray(G1 @ cdc)
         sv = np.ascontiguousarray(G1 @ cvc)
@@ -514,6 +526,7 @@ def simulate_system(
             return expo_adaptive(
                 y, cstate, istate, count, out, offset,
                 E, G0, G1, cdE, cvE, cdG0, cvG0, sd, sv, errc, rot, cdc, cvc, cp,
+                Q0, Qm, Q1, cdQ0, cvQ0, cdQm, cvQm, sdq, svq,
                 rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
                 speed, H, max_disp, integrator.rtol, integrator.atol,
                 events, stat_arr,

@@ -348,6 +348,7 @@ def expo_fixed(
 def expo_adaptive(
     y, cstate, istate, n_samples, out, out_offset,
     E, G0, G1, cdE, cvE, cdG0, cvG0, sd, sv, errc, rot, cdc, cvc, cp,
+    Q0, Qm, Q1, cdQ0, cvQ0, cdQm, cvQm, sdq, svq,
     rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
     omega, H, max_disp, rtol, atol,
     events, stats,
@@ -368,6 +369,11 @@ def expo_adaptive(
     the finest level. A step is rejected and halved when
     ``max(e_d, e_v / Omega) > atol + rtol max(|P|, g)``; it grows again (doubles) after steps
     with an error below 1/20 of that.
+
+    Third order in contact phases: after two accepted steps in contact at the same level, the
+    force is held quadratic through ``F_{k-1}, F_k, F_{k+1}`` (coefficients ``Q0, Qm, Q1`` from
+    ``phi1..phi3``), while the step is still controlled by the second-order estimate above (local
+    extrapolation); a step that leaves contact falls back to the linear hold.
 
     ``cstate = [F, z, F_prev]``, ``istate = [sample, n_events, status, level, prev_level]``,
     ``stats = [accepted, rejected, newton iterations]``.
@@ -408,13 +414,25 @@ def expo_adaptive(
                 pd += cdE[lev, j] * yj
                 ud += cvE[lev, j] * yj
             F0 = F
+            am3 = F != 0j and Fp != 0j and lev == lev_prev
             if F != 0j and Fp != 0j:
                 hp = H / (1 << lev_prev)
                 F0 = F + (F - Fp) * (h / hp)
-            Fn, it, _fn, _ft = solve_contact(pd, ud, sd[lev], sv[lev], F0, cp, jac)
+            if am3:
+                # quadratic hold through F_{k-1}, F_k, F_{k+1} (equal steps): third order
+                pd = pd - cdG0[lev] * F + cdQ0[lev] * F + cdQm[lev] * Fp
+                ud = ud - cvG0[lev] * F + cvQ0[lev] * F + cvQm[lev] * Fp
+                Fn, it, _fn, _ft = solve_contact(pd, ud, sdq[lev], svq[lev], F0, cp, jac)
+                if it >= 0 and Fn == 0j:
+                    # left contact within the step: redo it with the linear hold
+                    pd = pd + cdG0[lev] * F - cdQ0[lev] * F - cdQm[lev] * Fp
+                    ud = ud + cvG0[lev] * F - cvQ0[lev] * F - cvQm[lev] * Fp
+                    am3 = False
+            if not am3:
+                Fn, it, _fn, _ft = solve_contact(pd, ud, sd[lev], sv[lev], F0, cp, jac)
             stats[2] += max(it, 0)
             changed = (Fn != 0j) != (F != 0j)
-            Pn = pd + sd[lev] * Fn
+            Pn = pd + (sdq[lev] if am3 else sd[lev]) * Fn
             tol = atol + rtol * max(abs(Pn), g)
             if Fn != 0j and F != 0j and Fp != 0j:
                 hp = H / (1 << lev_prev)
@@ -431,7 +449,10 @@ def expo_adaptive(
             if it < 0:
                 istate[2] = 2
                 break
-            if F != 0j or Fn != 0j:
+            if am3:
+                for j in range(ns):
+                    y[j] = E[lev, j] * y[j] + Q0[lev, j] * F + Qm[lev, j] * Fp + Q1[lev, j] * Fn
+            elif F != 0j or Fn != 0j:
                 for j in range(ns):
                     y[j] = E[lev, j] * y[j] + G0[lev, j] * F + G1[lev, j] * Fn
             else:
