@@ -351,7 +351,7 @@ def ross_campbell_seconds(rotor, speeds, repeats=3, n_modes=3, frequencies=None)
     """Wall time of ROSS's ``rotor.run_campbell(speeds)``.
 
     ``frequencies`` (number of modes ROSS tracks) defaults to the smallest count
-    that contains the first ``n_modes`` bending pairs (9 for the seed rotor).
+    that contains the first ``n_modes`` bending pairs (8 for the seed rotor up to 12000 rad/s).
     One warm-up call on 3 speeds is excluded; before every call the per-rotor
     ``run_modal`` cache is cleared so each repetition does the full work.
 
