@@ -36,8 +36,9 @@ def _maxrss_mib() -> float:
 def _signal(n: int) -> np.ndarray:
     rng = np.random.default_rng(0)
     t = np.arange(n)
-    return (rng.standard_normal(n) + np.cos(2 * np.pi * 0.01 * t)
-            + 0.5 * np.cos(2 * np.pi * 0.13 * t))
+    return (
+        rng.standard_normal(n) + np.cos(2 * np.pi * 0.01 * t) + 0.5 * np.cos(2 * np.pi * 0.13 * t)
+    )
 
 
 def _frequencies(n_scales: int) -> np.ndarray:
@@ -66,26 +67,33 @@ def run_case(case: str, log2n: int, n_scales: int, reps: int) -> dict:
 
         padding = case.split(":")[1] if ":" in case else "symmetric"
         if case.startswith("ours_cwt"):
+
             def job():
                 return np.abs(cwt(x, FS, freqs, padding=padding, workers=2).coefficients)
+
             def warm():
-                return (cwt(small, FS, freqs[freqs > 2e-3], padding=padding, workers=2))
+                return cwt(small, FS, freqs[freqs > 2e-3], padding=padding, workers=2)
         elif case == "ours_scalogram_parseval":
+
             def job():
-                return (scalogram(x, FS, freqs, workers=2),
-                        scalogram(x, FS, freqs, inner=True, workers=2))
+                return (
+                    scalogram(x, FS, freqs, workers=2),
+                    scalogram(x, FS, freqs, inner=True, workers=2),
+                )
+
             def warm():
-                return (scalogram(small, FS, freqs[freqs > 2e-3], workers=2))
+                return scalogram(small, FS, freqs[freqs > 2e-3], workers=2)
         elif case == "ours_scalogram_matrix":
+
             def job():
                 w = cwt(x, FS, freqs, dtype=np.complex128, workers=2)
                 p = np.abs(w.coefficients) ** 2
                 full = np.sqrt(p.sum(axis=1) / FS)
-                inner = np.sqrt(np.array([p[j, c:n - c].sum() for j, c in enumerate(w.coi)])
-                                / FS)
+                inner = np.sqrt(np.array([p[j, c : n - c].sum() for j, c in enumerate(w.coi)]) / FS)
                 return full, inner
+
             def warm():
-                return (cwt(small, FS, freqs[freqs > 2e-3], dtype=np.complex128))
+                return cwt(small, FS, freqs[freqs > 2e-3], dtype=np.complex128)
         else:
             raise ValueError(case)
     elif case == "pywt":
@@ -95,32 +103,66 @@ def run_case(case: str, log2n: int, n_scales: int, reps: int) -> dict:
 
         def job():
             return np.abs(pywt.cwt(x, scales, PYWT_NAME, method="fft")[0])
+
         def warm():
-            return (pywt.cwt(small, scales[:8], PYWT_NAME, method="fft"))
+            return pywt.cwt(small, scales[:8], PYWT_NAME, method="fft")
     elif case == "fcwt":
         import fcwt
 
         def job():
-            return np.abs(fcwt.cwt(x, 2000, float(freqs[0] * 2000), float(freqs[-1] * 2000),
-                                   n_scales, nthreads=2, scaling="log")[1])
+            return np.abs(
+                fcwt.cwt(
+                    x,
+                    2000,
+                    float(freqs[0] * 2000),
+                    float(freqs[-1] * 2000),
+                    n_scales,
+                    nthreads=2,
+                    scaling="log",
+                )[1]
+            )
+
         def warm():
-            return fcwt.cwt(small, 2000, float(freqs[0] * 2000), float(freqs[-1] * 2000), 8,
-                            nthreads=2, scaling="log")
+            return fcwt.cwt(
+                small,
+                2000,
+                float(freqs[0] * 2000),
+                float(freqs[-1] * 2000),
+                8,
+                nthreads=2,
+                scaling="log",
+            )
     else:
         raise ValueError(case)
     warm()
     times = _time(job, reps)
     result = job()
-    out_bytes = sum(np.asarray(r).nbytes for r in (result if isinstance(result, tuple)
-                                                    else (result,)))
-    return {"case": case, "median_s": statistics.median(times), "times": times,
-            "peak_increase_mib": _maxrss_mib() - base, "idle_mib": idle,
-            "output_mib": out_bytes / 2**20}
+    out_bytes = sum(
+        np.asarray(r).nbytes for r in (result if isinstance(result, tuple) else (result,))
+    )
+    return {
+        "case": case,
+        "median_s": statistics.median(times),
+        "times": times,
+        "peak_increase_mib": _maxrss_mib() - base,
+        "idle_mib": idle,
+        "output_mib": out_bytes / 2**20,
+    }
 
 
 def _subprocess(case, args, reps) -> dict | None:
-    cmd = [sys.executable, __file__, "--case", case, "--log2n", str(args.log2n),
-           "--scales", str(args.scales), "--reps", str(reps)]
+    cmd = [
+        sys.executable,
+        __file__,
+        "--case",
+        case,
+        "--log2n",
+        str(args.log2n),
+        "--scales",
+        str(args.scales),
+        "--reps",
+        str(reps),
+    ]
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         last = (proc.stderr.strip().splitlines() or ["?"])[-1]
@@ -130,9 +172,11 @@ def _subprocess(case, args, reps) -> dict | None:
 
 
 def _report(r: dict) -> None:
-    print(f"  {r['case']:<28s} median {r['median_s']:8.3f} s  "
-          f"(runs {', '.join(f'{t:.2f}' for t in r['times'])})  "
-          f"peak +{r['peak_increase_mib']:7.0f} MiB over idle, output {r['output_mib']:6.0f} MiB")
+    print(
+        f"  {r['case']:<28s} median {r['median_s']:8.3f} s  "
+        f"(runs {', '.join(f'{t:.2f}' for t in r['times'])})  "
+        f"peak +{r['peak_increase_mib']:7.0f} MiB over idle, output {r['output_mib']:6.0f} MiB"
+    )
 
 
 def fft_floor(log2n: int, n_scales: int) -> None:
@@ -140,17 +184,20 @@ def fft_floor(log2n: int, n_scales: int) -> None:
 
     n = 1 << log2n
     batch = 8
-    a = (np.random.default_rng(1).standard_normal((batch, n))
-         + 0j).astype(np.complex64)
+    a = (np.random.default_rng(1).standard_normal((batch, n)) + 0j).astype(np.complex64)
     sfft.ifft(a, axis=-1, workers=2)
     t = statistics.median(_time(lambda: sfft.ifft(a, axis=-1, workers=2), 5))
     flops = 5.0 * n * math.log2(n)
     rate = flops * batch / t / 1e9
-    print(f"FFT floor: 5 N log2 N = {flops / 1e6:.0f} MFLOP per length-2^{log2n} transform; "
-          f"scipy.fft.ifft complex64 (2 workers) runs at {rate:.1f} GFLOP/s here")
-    print(f"  -> {n_scales} inverse transforms need >= {n_scales * flops / rate / 1e9:.2f} s "
-          "(our symmetric mode does one DCT-III + one DST-III of length N per scale, "
-          "about one complex FFT of length N)")
+    print(
+        f"FFT floor: 5 N log2 N = {flops / 1e6:.0f} MFLOP per length-2^{log2n} transform; "
+        f"scipy.fft.ifft complex64 (2 workers) runs at {rate:.1f} GFLOP/s here"
+    )
+    print(
+        f"  -> {n_scales} inverse transforms need >= {n_scales * flops / rate / 1e9:.2f} s "
+        "(our symmetric mode does one DCT-III + one DST-III of length N per scale, "
+        "about one complex FFT of length N)"
+    )
 
 
 def pywt_deviation(log2n: int) -> None:
@@ -164,8 +211,10 @@ def pywt_deviation(log2n: int) -> None:
 
     n = 1 << min(log2n, 16)
     t = np.arange(n)
-    print(f"PyWavelets {pywt.__version__} '{PYWT_NAME}' vs our exact transform, unit tone at its "
-          "own scale, interior samples (our |W| = 1 to 1e-9):")
+    print(
+        f"PyWavelets {pywt.__version__} '{PYWT_NAME}' vs our exact transform, unit tone at its "
+        "own scale, interior samples (our |W| = 1 to 1e-9):"
+    )
     for f in (0.002, 0.02, 0.1, 0.25, 0.4):
         x = np.cos(2 * np.pi * f * t)
         ours = np.abs(cwt(x, FS, [f], dtype=np.complex128).coefficients[0])
@@ -175,12 +224,11 @@ def pywt_deviation(log2n: int) -> None:
                 coef = pywt.cwt(x, [scale], PYWT_NAME, method="fft")[0][0]
             else:
                 scale = pywt.frequency2scale(PYWT_NAME, f, precision=precision)
-                coef = pywt.cwt(x, [scale], PYWT_NAME, method="fft",
-                                precision=precision)[0][0]
+                coef = pywt.cwt(x, [scale], PYWT_NAME, method="fft", precision=precision)[0][0]
             # pywt normalizes by 1/sqrt(scale): a tone reads sqrt(scale)/2 in exact arithmetic
             margin = int(12 * scale)
-            ratio = np.abs(coef[margin:n - margin]) / (np.sqrt(scale) / 2)
-            ours_i = ours[margin:n - margin]
+            ratio = np.abs(coef[margin : n - margin]) / (np.sqrt(scale) / 2)
+            ours_i = ours[margin : n - margin]
             dev = np.max(np.abs(ratio / ours_i - 1.0))
             label = "default" if precision is None else f"precision={precision}"
             print(f"  f = {f:5.3f} fs ({label:>12s}): max |pywt row / exact - 1| = {dev:8.2e}")
@@ -198,13 +246,19 @@ def main() -> None:
         print(json.dumps(run_case(args.case, args.log2n, args.scales, args.reps)))
         return
     n = 1 << args.log2n
-    print(f"Signal: N = 2^{args.log2n} = {n} samples, {args.scales} log-spaced frequencies "
-          f"fs/2000 .. fs/4, omega0 = {OMEGA0}; 2 threads where offered")
+    print(
+        f"Signal: N = 2^{args.log2n} = {n} samples, {args.scales} log-spaced frequencies "
+        f"fs/2000 .. fs/4, omega0 = {OMEGA0}; 2 threads where offered"
+    )
     fft_floor(args.log2n, args.scales)
     print("\nFull |W| matrix (complex64 unless stated):")
     res = {}
-    for case, reps in (("ours_cwt:symmetric", args.reps), ("ours_cwt:periodic", args.reps),
-                       ("pywt", args.peer_reps), ("fcwt", args.reps)):
+    for case, reps in (
+        ("ours_cwt:symmetric", args.reps),
+        ("ours_cwt:periodic", args.reps),
+        ("pywt", args.peer_reps),
+        ("fcwt", args.reps),
+    ):
         r = _subprocess(case, args, reps)
         if r:
             _report(r)
@@ -222,8 +276,10 @@ def main() -> None:
             res[case] = r
     if "ours_scalogram_parseval" in res and "ours_scalogram_matrix" in res:
         a, b = res["ours_scalogram_parseval"], res["ours_scalogram_matrix"]
-        print(f"  ratio matrix/parseval: {b['median_s'] / a['median_s']:.1f}x faster, "
-              f"extra memory {a['peak_increase_mib']:.0f} MiB vs {b['peak_increase_mib']:.0f} MiB")
+        print(
+            f"  ratio matrix/parseval: {b['median_s'] / a['median_s']:.1f}x faster, "
+            f"extra memory {a['peak_increase_mib']:.0f} MiB vs {b['peak_increase_mib']:.0f} MiB"
+        )
     print()
     pywt_deviation(args.log2n)
 

@@ -7,9 +7,9 @@ Prints, for the seed shaft (benchmarks/ross_peer.py SEED_ROTOR):
   the ratio (goal: ours >= 100x faster).  Medians of repetitions, warm-up
   excluded.
 
-DRAFT: if ``rubrotor.modes`` cannot be imported yet, the closed-form quartic of
-ross_peer.quartic_reference_frequencies stands in for "ours" and every line says
-so.  The stand-in is a validation aid, not rubrotor.
+ROSS is a finite-element model: its frequencies carry a discretization error that falls as
+h^2. The script therefore also runs ROSS with twice the elements and prints the Richardson
+extrapolation (4 f_2n - f_n) / 3, which should meet the exact continuous model of rubrotor.
 
 Run from the repository root:  python benchmarks/bench_modes_vs_ross.py [--repeats N]
 """
@@ -34,49 +34,33 @@ N_MODES = 3
 
 
 def _ours():
-    """Return (label, natural_frequencies(speed) -> dict, campbell(speeds) -> obj)."""
-    try:
-        import rubrotor.modes as modes
-    except ImportError as exc:  # DRAFT stand-in, clearly labelled
-        label = f"STAND-IN quartic reference (import rubrotor.modes failed: {exc})"
-
-        def natural(speed):
-            return rp.quartic_reference_frequencies(
-                **rp.SEED_ROTOR, speed_rad_s=speed, n_modes=N_MODES
-            )
-
-        def campbell(speeds):
-            return [natural(s) for s in speeds]
-
-        return label, natural, campbell
-
-    # TODO(lead): adapt to the final rubrotor API (shaft constructor, return keys).
-    shaft = _our_shaft()
-
-    def natural(speed):
-        out = modes.natural_frequencies(shaft, speed)
-        return {
-            "forward_hz": np.asarray(out["forward_hz"])[:N_MODES],
-            "backward_hz": np.asarray(out["backward_hz"])[:N_MODES],
-        }
-
-    def campbell(speeds):
-        return modes.campbell(shaft, speeds)
-
-    return "rubrotor.modes", natural, campbell
-
-
-def _our_shaft():
-    from rubrotor.model import Shaft  # noqa: PLC0415  (assumed API, see TODO above)
+    """Return (label, natural_frequencies(speed) -> dict, campbell(speeds) -> obj) of rubrotor."""
+    from rubrotor.modal import campbell as our_campbell
+    from rubrotor.modal import natural_frequencies
+    from rubrotor.model import Shaft
 
     s = rp.SEED_ROTOR
-    return Shaft(
+    shaft = Shaft(
         length=s["length"],
         diameter=s["diameter"],
         youngs_modulus=s["youngs_modulus"],
         shear_modulus=s["shear_modulus"],
         density=s["density"],
+        shear_coefficient="cowper",
+        modes=N_MODES,
     )
+
+    def natural(speed):
+        modes = [m for m in natural_frequencies(shaft, speed) if m.branch == "bending"]
+        return {
+            "forward_hz": np.array([m.frequency_hz for m in modes if m.whirl == "forward"]),
+            "backward_hz": np.array([m.frequency_hz for m in modes if m.whirl == "backward"]),
+        }
+
+    def campbell(speeds):
+        return our_campbell(shaft, speeds)
+
+    return "rubrotor.modal (exact two-field modal Timoshenko, Cowper)", natural, campbell
 
 
 def _median_time(fn, repeats):
@@ -104,18 +88,33 @@ def main(argv=None) -> int:
     )
     rotor = rp.build_ross_shaft(**rp.SEED_ROTOR, n_elements=args.n_elements)
 
+    rotor2 = rp.build_ross_shaft(**rp.SEED_ROTOR, n_elements=2 * args.n_elements)
     worst = 0.0
-    print(f"\n{'speed':>7} {'n':>2} {'dir':>3} {'ours Hz':>12} {'ROSS Hz':>12} {'rel diff':>10}")
+    worst_x = 0.0
+    print(
+        f"\n{'speed':>7} {'n':>2} {'dir':>3} {'ours Hz':>12} {'ROSS Hz':>12} {'rel diff':>10}"
+        f" {'ROSS 2n':>12} {'rel diff':>10} {'Richardson':>10}"
+    )
     for speed in SPEEDS_CHECK:
         ours = natural(speed)
         ross = rp.ross_bending_frequencies(rotor, speed, n_modes=N_MODES)
+        ross2 = rp.ross_bending_frequencies(rotor2, speed, n_modes=N_MODES)
         for key, tag in (("forward_hz", "F"), ("backward_hz", "B")):
             for i in range(N_MODES):
-                a, b = float(ours[key][i]), float(ross[key][i])
+                a, b, b2 = float(ours[key][i]), float(ross[key][i]), float(ross2[key][i])
+                rich = (4 * b2 - b) / 3
                 rel = a / b - 1.0
                 worst = max(worst, abs(rel))
-                print(f"{speed:7.0f} {i + 1:2d} {tag:>3} {a:12.3f} {b:12.3f} {rel:10.2e}")
-    print(f"max |rel diff| = {worst:.2e}  (goal <= 1e-3: {'PASS' if worst <= 1e-3 else 'FAIL'})")
+                worst_x = max(worst_x, abs(a / rich - 1))
+                print(
+                    f"{speed:7.0f} {i + 1:2d} {tag:>3} {a:12.3f} {b:12.3f} {rel:10.2e}"
+                    f" {b2:12.3f} {a / b2 - 1:10.2e} {a / rich - 1:10.2e}"
+                )
+    print(
+        f"max |rel diff| vs ROSS {args.n_elements} elements = {worst:.2e}  "
+        f"(goal <= 1e-3: {'PASS' if worst <= 1e-3 else 'FAIL'})"
+    )
+    print(f"max |rel diff| vs ROSS Richardson-extrapolated to h -> 0 = {worst_x:.2e}")
 
     t_ours, ours_times = _median_time(lambda: campbell(CAMPBELL_SPEEDS), args.our_repeats)
     t_ross, _, info = rp.ross_campbell_seconds(rotor, CAMPBELL_SPEEDS, repeats=args.repeats)
@@ -127,8 +126,6 @@ def main(argv=None) -> int:
         f"({info['frequencies']} tracked modes) {np.round(info['times_s'], 2).tolist()}"
     )
     print(f"  ROSS / ours = {ratio:.0f}x  (goal >= 100x: {'PASS' if ratio >= 100 else 'FAIL'})")
-    if label != "rubrotor.modes":
-        print("NOTE: 'ours' above is the STAND-IN quartic reference, not rubrotor.")
     return 0
 
 
