@@ -264,3 +264,31 @@ def test_bad_input_names_the_field(make, field):
     with pytest.raises(InputError) as exc:
         make()
     assert field in str(exc.value)
+
+
+def test_adaptive_error_follows_tolerance(pressed_reference):
+    """Tightening rtol/atol 100x must cut the error against the reference at least 10x, and the
+    steps taken must grow sub-linearly (the third-order hold in contact)."""
+    _, ref = pressed_reference
+    errs, steps = [], []
+    for rtol in (1e-5, 1e-7):
+        # coarse output (0.2 rad) so that the steps are chosen by the error control
+        integ = Integrator(revolutions=10, output_dtau=0.2, rtol=rtol, atol=rtol * 1e-4)
+        r = simulate_system(SEED, OMEGA, integ, **PRESSED)
+        p = orbit(r)
+        errs.append(np.max(np.abs(p - ref[::20][: len(p)])) / np.max(np.abs(ref)))
+        steps.append(r.stats["accepted_steps"])
+    assert errs[1] < errs[0] / 10
+    assert steps[1] < 100 * steps[0] / 10
+
+
+def test_phi_functions_match_direct_quadrature():
+    from rubrotor.simulation import phi_functions
+
+    z = np.array([1e-6 + 1e-6j, 0.1j, -0.3 + 2j, 3.0 - 1j])
+    p1, p2, p3 = phi_functions(z, third=True)
+    s = np.linspace(0, 1, 20001)
+    for k, pk in ((1, p1), (2, p2), (3, p3)):
+        # phi_k(z) = int_0^1 e^{(1-s) z} s^{k-1} / (k-1)! ds
+        integrand = np.exp(np.outer(z, 1 - s)) * s ** (k - 1) / math.factorial(k - 1)
+        np.testing.assert_allclose(pk, np.trapezoid(integrand, s, axis=1), rtol=1e-7)
