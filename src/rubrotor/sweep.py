@@ -47,7 +47,8 @@ Regime labels, decided in this order by :func:`classify` (thresholds are its key
    set fills a curve, not an area).
 4. ``"chaotic"``: no period found and either a broadband spectrum (``line_fraction < 0.9``) or a
    Poincare set filling more than a curve (``poincare_dimension > 1.5``).
-5. ``"not classified"``: the run did not complete (diverged, or too short for the window).
+5. ``"not classified"``: the run did not complete (diverged), or the point could not be
+   simulated at all (e.g. a speed exactly at an undamped critical speed); ``status`` is 0.
 
 The labels 2-4 apply to any contacting motion that is not a steady full annular rub; a motion
 in contact all the time but with a varying ``|P|`` is classified by its Poincare points too.
@@ -540,13 +541,18 @@ def run_chunk(task: dict) -> dict:
     dict
         ``{"chunk": i, "metrics": [dict per point]}``.
     """
+    from rubrotor.errors import RubrotorError
     from rubrotor.scenario import scenario_from_dict
 
     base = scenario_from_dict(task["scenario"])
     metrics = []
     for values in task["points"]:
-        sc = _point_scenario(base, task["keys"], values)
-        metrics.append(simulate_point(sc, task["transient"], task["revolutions"], task["samples"]))
+        try:
+            sc = _point_scenario(base, task["keys"], values)
+            m = simulate_point(sc, task["transient"], task["revolutions"], task["samples"])
+        except RubrotorError:  # e.g. a speed exactly at an undamped critical: not classified
+            m = _empty_metrics(task["revolutions"] - task["transient"])
+        metrics.append(m)
     return {"chunk": task["chunk"], "metrics": metrics}
 
 
@@ -818,6 +824,8 @@ def sweep(
         "scenario": getattr(scenario, "source", ""),
         "Conventions": "CF-1.8",
     }
+    if scenario.contact is not None:
+        attrs["clearance_m"] = float(scenario.contact.clearance)
     ds = _template(keys, grid, revs - t_rev, attrs)
     ds.attrs["sweep_definition"] = json.dumps(definition, sort_keys=True)
     chunks = _chunks(shape, chunk_size)
