@@ -998,7 +998,7 @@ def _execute_dask(todo: list[dict], scheduler: str) -> Iterator[dict]:
             )
             for task in todo
         ]
-        for fut in as_completed(futures):
+        for fut in as_completed(futures, loop=client.loop):
             yield fut.result()
             fut.release()
     finally:
