@@ -784,8 +784,8 @@ def sweep(
         A zarr store (directory) written chunk by chunk; an existing store of the same sweep is
         resumed (only points not marked ``done`` are computed).
     chunk_size : int, optional
-        Points per chunk (along the last swept key); default about ``points / (4 workers)``,
-        between 1 and 32.
+        Points per chunk (along the last swept key); default about ``points / (8 workers)``,
+        between 1 and 32 (small chunks balance uneven points).
     progress : bool
         Print a progress line to stderr after every chunk.
 
@@ -809,7 +809,7 @@ def sweep(
         workers = os.cpu_count() or 1
     workers = _int_arg("workers", workers, 1)
     if chunk_size is None:
-        chunk_size = max(1, min(32, math.ceil(n_points / (4 * workers))))
+        chunk_size = max(1, min(32, math.ceil(n_points / (8 * workers))))
     chunk_size = _int_arg("chunk_size", chunk_size, 1)
     chunk_size = min(chunk_size, shape[-1])
     definition = _definition(scenario, keys, grid, t_rev, revs, n_rev)
