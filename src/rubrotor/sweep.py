@@ -1,0 +1,1016 @@
+"""Parameter sweeps: many simulations on a grid of scenario keys, reduced to rub metrics.
+
+:func:`sweep` runs the scenario at every point of a grid of scenario keys (any numeric key that
+:meth:`rubrotor.scenario.Scenario.with_changes` accepts, e.g. ``"speed.critical_multiple"`` or
+``"unbalance.magnitude"``), discards a transient and reduces each run to a few numbers and a
+regime label. Points run in parallel in local worker processes, or on a Dask distributed cluster
+(``scheduler="tcp://host:port"``). With a zarr ``store`` every finished chunk of points is
+written as soon as it arrives and marked in a ``done`` mask, so an interrupted sweep (Ctrl-C, a
+crash) leaves a valid store, and running the same sweep again computes only what is missing.
+
+Per point, over the kept window ``t in [T, R) * 2 pi / Omega`` (``T`` transient revolutions,
+``R`` total revolutions, ``K = R - T`` kept revolutions, ``N`` samples per revolution, the
+integrator's output spacing being ``2 pi / (N Omega)`` so that every ``N``-th sample falls
+exactly on ``t = k 2 pi / Omega``), with ``P = v + i w`` (m) the contact-station deflection:
+
+* ``poincare_v``, ``poincare_w`` (m): ``P(k 2 pi / Omega)`` for ``k = T .. R - 1``;
+* ``peak_normal_force``, ``rms_normal_force`` (N) (the RMS counts the time out of contact);
+* ``contact_fraction``: fraction of the kept samples with normal force > 0;
+* ``impacts_per_revolution``: contact onsets (``+t`` entries of the simulation's event list,
+  exact event times) in the kept window divided by ``K``;
+* ``frequency`` (multiples of spin, signed: negative = backward whirl) and
+  ``frequency_amplitude`` (m) of the 3 largest spectral peaks of ``P - mean(P)`` (periodic Hann
+  window, the DC bin excluded, peak positions refined by a parabola through the log-magnitudes
+  of the peak bin and its neighbours);
+* ``forward_share``: power at positive frequencies over the power at all non-zero frequencies
+  (``backward share = 1 - forward_share``);
+* ``line_fraction``: share of that power within +-2 bins of the 10 largest spectral peaks (1 for
+  a sum of a few tones, small for a broadband spectrum);
+* ``poincare_dimension``: correlation-dimension estimate of the Poincare points,
+  ``log(C(8 d) / C(2 d)) / log 4`` with ``C(r)`` the number of pairs closer than ``r`` and ``d``
+  the median nearest-neighbour distance: about 1 for points on a closed curve, about 2 for
+  points filling an area (NaN with fewer than 64 points);
+* ``amplitude_ripple``: ``(max |P| - min |P|) / max |P|`` over the kept window;
+* ``regime`` (code) and ``period``, see below; ``status`` 1 when the run completed.
+
+Regime labels, decided in this order by :func:`classify` (thresholds are its keyword arguments):
+
+0. ``"no contact"``: ``contact_fraction == 0`` (not one kept sample in contact).
+1. ``"full annular rub"``: ``contact_fraction >= 0.99`` and ``amplitude_ripple <= 0.05``
+   (in contact all the time with a nearly constant ``|P|``, whatever the whirl direction).
+2. ``"partial rub (period-k)"``: the smallest ``k`` in ``1 .. min(12, K // 2)`` such that the
+   Poincare points fall in ``k`` clusters: for each residue ``r`` the points ``r, r + k, ...``
+   are all within ``period_rtol * max |P|`` (``period_rtol = 1e-3``) of their mean. ``k`` is
+   stored in ``period`` (0 for every other label).
+3. ``"quasi-periodic"``: no period found, ``line_fraction >= 0.9`` (a line spectrum: the
+   incommensurate tones of a torus) and ``poincare_dimension <= 1.5`` (or NaN) (the Poincare
+   set fills a curve, not an area).
+4. ``"chaotic"``: no period found and either a broadband spectrum (``line_fraction < 0.9``) or a
+   Poincare set filling more than a curve (``poincare_dimension > 1.5``).
+5. ``"not classified"``: the run did not complete (diverged), or the point could not be
+   simulated at all (e.g. a speed exactly at an undamped critical speed); ``status`` is 0.
+
+The labels 2-4 apply to any contacting motion that is not a steady full annular rub; a motion
+in contact all the time but with a varying ``|P|`` is classified by its Poincare points too.
+No Lyapunov exponent is estimated.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import math
+import os
+import signal
+import threading
+import time
+from collections.abc import Iterator, Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from rubrotor.errors import InputError
+
+__all__ = [
+    "REGIMES",
+    "sweep",
+    "parse_vary",
+    "log_spaced",
+    "classify",
+    "point_metrics",
+    "regime_labels",
+    "open_sweep",
+]
+
+REGIMES = (
+    "no contact",
+    "partial rub",
+    "full annular rub",
+    "quasi-periodic",
+    "chaotic",
+    "not classified",
+)
+"""Regime names by code (code 1 is labelled ``"partial rub (period-k)"`` with its period)."""
+
+NO_CONTACT, PARTIAL, FULL, QUASI, CHAOTIC, UNCLASSIFIED = range(6)
+N_PEAKS = 3
+STORE_VERSION = 1
+
+_UNITS = {
+    "speed.rad_per_s": "rad/s",
+    "speed.rpm": "rev/min",
+    "speed.hz": "Hz",
+    "speed.critical_multiple": "x first forward critical",
+    "speed.dimensionless": "1",
+    "unbalance.magnitude": "kg m",
+    "unbalance.position": "m",
+    "unbalance.phase_deg": "deg",
+    "load.force_y": "N",
+    "load.force_z": "N",
+    "load.position": "m",
+    "contact.clearance": "m",
+    "contact.position": "m",
+    "contact.friction": "1",
+    "contact.radius": "m",
+    "contact.damping": "s/m",
+    "contact.friction_regularization": "m/s",
+    "damping.ratio": "1",
+    "shaft.length": "m",
+    "shaft.diameter": "m",
+    "shaft.youngs_modulus": "Pa",
+    "shaft.shear_modulus": "Pa",
+    "shaft.density": "kg/m^3",
+}
+
+
+# ---- grids -------------------------------------------------------------------------------------
+def log_spaced(start: float, stop: float, count: int) -> np.ndarray:
+    """``count`` values from ``start`` to ``stop`` (both > 0), evenly spaced in logarithm.
+
+    Examples
+    --------
+    >>> log_spaced(1e-4, 1e-2, 3)
+    array([0.0001, 0.001 , 0.01  ])
+    """
+    if not (start > 0 and stop > 0):
+        raise InputError("log range", (start, stop), "START and STOP > 0 for log spacing")
+    return np.geomspace(start, stop, int(count))
+
+
+def parse_vary(text: str, log: bool = False) -> tuple[str, np.ndarray]:
+    """Parse ``"KEY=START:STOP:COUNT"`` into the key and its values.
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"speed.critical_multiple=0.5:3:400"``; ``START != STOP`` finite, integer
+        ``COUNT >= 1`` (``COUNT = 1`` gives ``START``). A single value ``"KEY=VALUE"`` is also
+        accepted.
+    log : bool
+        Space the values evenly in logarithm (``START``, ``STOP`` > 0).
+
+    Returns
+    -------
+    key : str
+    values : ndarray, shape (COUNT,)
+
+    Examples
+    --------
+    >>> parse_vary("unbalance.magnitude=1e-3:3e-3:3")
+    ('unbalance.magnitude', array([0.001, 0.002, 0.003]))
+    """
+    key, sep, rng = text.partition("=")
+    key = key.strip()
+    if not sep or not key:
+        raise InputError(
+            "--vary", text, "KEY=START:STOP:COUNT, e.g. speed.critical_multiple=1:3:50"
+        )
+    allowed = f"{key}=START:STOP:COUNT with finite START, STOP and an integer COUNT >= 1"
+    parts = rng.split(":")
+    try:
+        if len(parts) == 1:
+            values = np.array([float(parts[0])])
+        elif len(parts) == 3:
+            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+            if count < 1 or count > 1_000_000:
+                raise ValueError
+            if log:
+                if not (start > 0 and stop > 0):
+                    raise InputError(key, rng, "START and STOP > 0 for --log " + key)
+                values = np.geomspace(start, stop, count)
+            else:
+                values = np.linspace(start, stop, count)
+        else:
+            raise ValueError
+    except ValueError:
+        raise InputError(key, rng, allowed) from None
+    if not np.all(np.isfinite(values)):
+        raise InputError(key, rng, allowed)
+    return key, values
+
+
+# ---- per-point reduction -----------------------------------------------------------------------
+def _periodic_hann(n: int) -> np.ndarray:
+    return 0.5 - 0.5 * np.cos(2 * np.pi * np.arange(n) / n)
+
+
+def _spectrum(p: np.ndarray, samples_per_rev: int, revs: int):
+    """Peaks, forward share and line fraction of the complex signal ``p`` (see module doc)."""
+    n = p.size
+    w = _periodic_hann(n)
+    X = np.fft.fft((p - p.mean()) * w)
+    mag = np.abs(X)
+    power = mag**2
+    power[0] = 0.0
+    total = power.sum()
+    freq = np.fft.fftfreq(n, d=1.0 / samples_per_rev)  # cycles per revolution
+    out_f = np.full(N_PEAKS, np.nan)
+    out_a = np.full(N_PEAKS, np.nan)
+    if total <= 0 or not np.isfinite(total):
+        return out_f, out_a, np.nan, np.nan
+    left = np.roll(mag, 1)
+    right = np.roll(mag, -1)
+    is_peak = (mag > left) & (mag >= right)
+    is_peak[0] = False
+    idx = np.flatnonzero(is_peak)
+    idx = idx[np.argsort(-mag[idx], kind="stable")]
+    lines = np.zeros(n, bool)
+    for i in idx[:10]:
+        lines[(i + np.arange(-2, 3)) % n] = True
+    lines[0] = False
+    line_fraction = float(power[lines].sum() / total)
+    gain = w.sum()
+    for j, i in enumerate(idx[:N_PEAKS]):
+        a, b, c = (np.log(max(mag[(i + d) % n], 1e-300)) for d in (-1, 0, 1))
+        den = a - 2 * b + c
+        delta = 0.5 * (a - c) / den if den < 0 else 0.0
+        delta = min(max(delta, -0.5), 0.5)
+        out_f[j] = freq[i] + delta / revs
+        out_a[j] = float(np.exp(b - 0.25 * (a - c) * delta)) / gain
+    forward = float(power[freq > 0].sum() / total)
+    return out_f, out_a, forward, line_fraction
+
+
+def poincare_dimension(z: np.ndarray, max_points: int = 1000) -> float:
+    """Correlation-dimension estimate of Poincare points ``z`` (complex), see the module doc.
+
+    ``D = log(C(8 d) / C(2 d)) / log 4`` where ``C(r)`` counts the pairs of points closer than
+    ``r`` and ``d`` is the median nearest-neighbour distance: about 1 for points on a curve,
+    about 2 for points filling an area. NaN with fewer than 64 points, coincident points or no
+    pair within ``2 d``. At most the first ``max_points`` points are used.
+    """
+    z = np.asarray(z, complex)[:max_points]
+    if z.size < 64:
+        return np.nan
+    dist = np.abs(z[:, None] - z[None, :])
+    np.fill_diagonal(dist, np.inf)
+    d = float(np.median(dist.min(axis=1)))
+    if not d > 0:
+        return np.nan
+    c1 = np.count_nonzero(dist < 2 * d)
+    c2 = np.count_nonzero(dist < 8 * d)
+    if c1 == 0:
+        return np.nan
+    return float(math.log(c2 / c1) / math.log(4.0))
+
+
+def find_period(z: np.ndarray, tol: float, max_period: int = 12) -> int:
+    """Smallest ``k`` such that the points ``z`` form ``k`` clusters of radius ``tol``; 0 if none.
+
+    Parameters
+    ----------
+    z : ndarray, complex
+        Poincare points in order (one per revolution).
+    tol : float
+        Largest distance of a point from the mean of its residue class ``j mod k`` (same unit
+        as ``z``).
+    max_period : int
+        Largest ``k`` tried; ``k <= len(z) // 2`` (every cluster seen at least twice).
+
+    Examples
+    --------
+    >>> find_period(np.array([1, -1, 1, -1, 1, -1], complex), 1e-9)
+    2
+    """
+    for k in range(1, min(max_period, z.size // 2) + 1):
+        ok = True
+        for r in range(k):
+            pts = z[r::k]
+            if np.max(np.abs(pts - pts.mean())) > tol:
+                ok = False
+                break
+        if ok:
+            return k
+    return 0
+
+
+def classify(
+    contact_fraction: float,
+    amplitude_ripple: float,
+    poincare: np.ndarray,
+    line_fraction: float,
+    dimension: float = np.nan,
+    *,
+    scale: float | None = None,
+    period_rtol: float = 1e-3,
+    max_period: int = 12,
+    full_contact: float = 0.99,
+    max_ripple: float = 0.05,
+    min_line_fraction: float = 0.9,
+    max_dimension: float = 1.5,
+) -> tuple[int, int]:
+    """Regime code and period of one point, by the rules of the module docstring.
+
+    Parameters
+    ----------
+    contact_fraction : float
+        Fraction of the kept time in contact (0..1).
+    amplitude_ripple : float
+        ``(max |P| - min |P|) / max |P|`` over the kept window.
+    poincare : ndarray, complex
+        Once-per-revolution samples of ``P = v + i w`` (m).
+    line_fraction : float
+        Share of the non-DC spectral power in the 10 largest lines (0..1).
+    dimension : float
+        Poincare set dimension estimate (:func:`poincare_dimension`); NaN to ignore.
+    scale : float, optional
+        Amplitude the period tolerance is relative to (m); default ``max |poincare|``.
+    period_rtol, max_period, full_contact, max_ripple, min_line_fraction, max_dimension
+        Thresholds, see the module docstring.
+
+    Returns
+    -------
+    code : int
+        Index into :data:`REGIMES`.
+    period : int
+        ``k`` for ``"partial rub (period-k)"``, else 0.
+
+    Examples
+    --------
+    >>> classify(0.0, 0.1, np.ones(10, complex), 1.0)
+    (0, 0)
+    >>> classify(0.3, 0.5, np.array([1, 2] * 10, complex), 1.0)
+    (1, 2)
+    """
+    z = np.asarray(poincare, complex)
+    if not np.isfinite(contact_fraction) or z.size == 0 or not np.all(np.isfinite(z)):
+        return UNCLASSIFIED, 0
+    if contact_fraction == 0:
+        return NO_CONTACT, 0
+    if contact_fraction >= full_contact and amplitude_ripple <= max_ripple:
+        return FULL, 0
+    s = float(np.max(np.abs(z))) if scale is None else scale
+    k = find_period(z, period_rtol * s, max_period)
+    if k:
+        return PARTIAL, k
+    curve = not (dimension > max_dimension)  # NaN counts as a curve
+    if line_fraction >= min_line_fraction and curve:
+        return QUASI, 0
+    return CHAOTIC, 0
+
+
+def regime_label(code: int, period: int = 0) -> str:
+    """Text label of a regime code (``"partial rub (period-2)"`` for code 1, period 2)."""
+    code = int(code)
+    if code == PARTIAL:
+        return f"partial rub (period-{int(period)})"
+    if 0 <= code < len(REGIMES):
+        return REGIMES[code]
+    return "not computed"
+
+
+def regime_labels(ds) -> np.ndarray:
+    """Text labels of a sweep Dataset's ``regime`` and ``period``, same shape (object array)."""
+    codes = np.asarray(ds["regime"].values)
+    periods = np.asarray(ds["period"].values)
+    out = np.empty(codes.shape, object)
+    for i in np.ndindex(codes.shape):
+        out[i] = regime_label(codes[i], periods[i]) if codes[i] >= 0 else "not computed"
+    return out
+
+
+def point_metrics(
+    time: np.ndarray,
+    p: np.ndarray,
+    normal_force: np.ndarray,
+    events: np.ndarray,
+    speed: float,
+    transient_revolutions: int,
+    revolutions: int,
+    samples_per_revolution: int,
+    complete: bool = True,
+) -> dict:
+    """Reduce one simulation to the sweep's metrics (see the module docstring).
+
+    Parameters
+    ----------
+    time : ndarray
+        Sample times (s), spaced ``2 pi / (N Omega)`` from 0.
+    p : ndarray, complex
+        ``v + i w`` at the contact station (m).
+    normal_force : ndarray
+        Normal contact force (N).
+    events : ndarray
+        Contact onsets ``+t`` and separations ``-t`` (s).
+    speed : float
+        Spin speed ``Omega`` (rad/s).
+    transient_revolutions, revolutions, samples_per_revolution : int
+        ``T``, ``R`` and ``N``.
+    complete : bool
+        Whether the run completed; otherwise every metric is NaN and the regime
+        ``"not classified"``.
+
+    Returns
+    -------
+    dict
+        Arrays and scalars keyed by the Dataset variable names.
+    """
+    n_rev = samples_per_revolution
+    k = revolutions - transient_revolutions
+    i0, i1 = transient_revolutions * n_rev, revolutions * n_rev
+    out = _empty_metrics(k)
+    if not complete or p.size < i1 + 1:
+        return out
+    pw = p[i0:i1]
+    fn = normal_force[i0:i1]
+    z = pw[::n_rev]
+    absp = np.abs(pw)
+    out["poincare_v"] = z.real.copy()
+    out["poincare_w"] = z.imag.copy()
+    out["peak_normal_force"] = float(fn.max())
+    out["rms_normal_force"] = float(np.sqrt(np.mean(fn**2)))
+    cf = float(np.mean(fn > 0))
+    out["contact_fraction"] = cf
+    t0 = transient_revolutions * 2 * np.pi / speed
+    t1 = revolutions * 2 * np.pi / speed
+    onsets = events[(events > 0) & (events >= t0) & (events < t1)]
+    out["impacts_per_revolution"] = onsets.size / k
+    out["max_displacement"] = float(absp.max())
+    ripple = float((absp.max() - absp.min()) / absp.max()) if absp.max() > 0 else 0.0
+    out["amplitude_ripple"] = ripple
+    f, a, fwd, lines = _spectrum(pw, n_rev, k)
+    out["frequency"] = f
+    out["frequency_amplitude"] = a
+    out["forward_share"] = fwd
+    out["line_fraction"] = lines
+    dim = poincare_dimension(z)
+    out["poincare_dimension"] = dim
+    code, period = classify(cf, ripple, z, lines, dim, scale=float(absp.max()))
+    out["regime"] = code
+    out["period"] = period
+    out["status"] = 1
+    return out
+
+
+_SCALARS = {
+    # name: (dtype, fill, units, long_name)
+    "peak_normal_force": ("f8", np.nan, "N", "peak normal contact force"),
+    "rms_normal_force": (
+        "f8",
+        np.nan,
+        "N",
+        "RMS normal contact force (time out of contact counts)",
+    ),
+    "contact_fraction": ("f8", np.nan, "1", "fraction of the time in contact"),
+    "impacts_per_revolution": ("f8", np.nan, "1", "contact onsets per revolution"),
+    "max_displacement": ("f8", np.nan, "m", "largest |v + i w| at the contact station"),
+    "amplitude_ripple": ("f8", np.nan, "1", "(max |P| - min |P|) / max |P|"),
+    "forward_share": ("f8", np.nan, "1", "share of non-DC spectral power in forward whirl"),
+    "line_fraction": ("f8", np.nan, "1", "share of non-DC spectral power in the 10 largest lines"),
+    "poincare_dimension": ("f8", np.nan, "1", "dimension estimate of the Poincare set"),
+    "regime": ("i1", UNCLASSIFIED, "1", "rub regime code"),
+    "period": ("i2", 0, "1", "period (revolutions) of a periodic partial rub, else 0"),
+    "status": ("i1", 0, "1", "1 when the simulation completed"),
+}
+
+
+def _empty_metrics(k: int) -> dict:
+    out = {name: (np.nan if spec[0] == "f8" else spec[1]) for name, spec in _SCALARS.items()}
+    out["poincare_v"] = np.full(k, np.nan)
+    out["poincare_w"] = np.full(k, np.nan)
+    out["frequency"] = np.full(N_PEAKS, np.nan)
+    out["frequency_amplitude"] = np.full(N_PEAKS, np.nan)
+    return out
+
+
+# ---- running points ----------------------------------------------------------------------------
+def _point_scenario(base, keys: Sequence[str], values: Sequence[float]):
+    from rubrotor.scenario import SCHEMA
+
+    changes = {}
+    for key, value in zip(keys, values, strict=True):
+        section, _, name = key.partition(".")
+        kind = SCHEMA.get(section, {}).get(name)
+        changes[key] = int(round(value)) if kind == "int" else float(value)
+    return base.with_changes(**changes)
+
+
+def simulate_point(
+    scenario, transient_revolutions: int, revolutions: int, samples_per_revolution: int
+) -> dict:
+    """Simulate one scenario with the adaptive integrator and reduce it with :func:`point_metrics`.
+
+    The scenario's ``[simulation]`` tolerances are kept (when adaptive); the length is
+    ``revolutions`` and the output spacing ``2 pi / samples_per_revolution`` (rad of spin).
+    """
+    from rubrotor.integrator import Integrator
+    from rubrotor.simulation import simulate_system
+
+    base = scenario.simulation
+    kw = {}
+    if base is not None and not base.fixed_step:
+        kw = dict(rtol=base.rtol, atol=base.atol, max_displacement=base.max_displacement)
+    integ = Integrator(
+        revolutions=revolutions, output_dtau=2 * math.pi / samples_per_revolution, **kw
+    )
+    r = simulate_system(
+        scenario.shaft,
+        scenario.speed,
+        integ,
+        scenario.unbalance,
+        scenario.contact,
+        scenario.load,
+        scenario.damping,
+        progress=False,
+    )
+    nst = len(r.stations)
+    return point_metrics(
+        r.time,
+        r.channels[0] + 1j * r.channels[1],
+        r.channels[6 * nst],
+        r.events,
+        r.speed,
+        transient_revolutions,
+        revolutions,
+        samples_per_revolution,
+        complete=r.status == "complete",
+    )
+
+
+def run_chunk(task: dict) -> dict:
+    """Compute one chunk of points (the unit of work sent to a worker process or Dask).
+
+    Parameters
+    ----------
+    task : dict
+        ``{"scenario": dict form, "keys": [...], "points": [[v1, v2, ...], ...], "chunk": i,
+        "transient": T, "revolutions": R, "samples": N}``.
+
+    Returns
+    -------
+    dict
+        ``{"chunk": i, "metrics": [dict per point]}``.
+    """
+    from rubrotor.errors import RubrotorError
+    from rubrotor.scenario import scenario_from_dict
+
+    base = scenario_from_dict(task["scenario"])
+    metrics = []
+    for values in task["points"]:
+        try:
+            sc = _point_scenario(base, task["keys"], values)
+            m = simulate_point(sc, task["transient"], task["revolutions"], task["samples"])
+        except RubrotorError:  # e.g. a speed exactly at an undamped critical: not classified
+            m = _empty_metrics(task["revolutions"] - task["transient"])
+        metrics.append(m)
+    return {"chunk": task["chunk"], "metrics": metrics}
+
+
+# ---- the grid and its Dataset ------------------------------------------------------------------
+def _chunks(shape: tuple[int, ...], chunk_size: int) -> list[tuple[tuple[int, ...], slice]]:
+    """Rectangular chunks: one index of every leading dimension x a slice of the last one."""
+    last = shape[-1]
+    out = []
+    for lead in np.ndindex(*shape[:-1]):
+        for start in range(0, last, chunk_size):
+            out.append((tuple(int(i) for i in lead), slice(start, min(start + chunk_size, last))))
+    return out
+
+
+def _region(dims, lead, sl) -> dict:
+    reg = {d: slice(i, i + 1) for d, i in zip(dims[:-1], lead, strict=True)}
+    reg[dims[-1]] = sl
+    return reg
+
+
+def _template(keys, grid, kept: int, attrs: dict):
+    import xarray as xr
+
+    shape = tuple(len(v) for v in grid)
+    dims = tuple(keys)
+    coords = {}
+    for key, values in zip(keys, grid, strict=True):
+        coords[key] = (
+            key,
+            np.asarray(values, float),
+            {"units": _UNITS.get(key, ""), "long_name": f"swept scenario key {key}"},
+        )
+    coords["revolution"] = (
+        "revolution",
+        np.arange(attrs["transient_revolutions"], attrs["transient_revolutions"] + kept),
+        {"units": "1", "long_name": "revolution index k of the Poincare sample t = k 2 pi / Omega"},
+    )
+    coords["peak"] = ("peak", np.arange(1, N_PEAKS + 1), {"long_name": "spectral peak rank"})
+    data = {}
+    for name, (dt, fill, units, long) in _SCALARS.items():
+        extra = {}
+        if name == "regime":
+            extra = {
+                "flag_values": list(range(len(REGIMES))),
+                "flag_meanings": " ".join(r.replace(" ", "_") for r in REGIMES),
+                "comment": "code 1 is 'partial rub (period-k)' with k in 'period'; "
+                "-1 = not computed yet",
+            }
+            fill = -1
+        data[name] = (
+            dims,
+            np.full(shape, fill, dtype=dt),
+            {"units": units, "long_name": long, **extra},
+        )
+    for name, long in (("poincare_v", "v"), ("poincare_w", "w")):
+        data[name] = (
+            (*dims, "revolution"),
+            np.full((*shape, kept), np.nan),
+            {
+                "units": "m",
+                "long_name": f"once-per-revolution sample of {long} at the contact station",
+            },
+        )
+    data["frequency"] = (
+        (*dims, "peak"),
+        np.full((*shape, N_PEAKS), np.nan),
+        {"units": "1", "long_name": "dominant whirl frequency / spin (negative = backward)"},
+    )
+    data["frequency_amplitude"] = (
+        (*dims, "peak"),
+        np.full((*shape, N_PEAKS), np.nan),
+        {"units": "m", "long_name": "amplitude of the dominant whirl component"},
+    )
+    data["done"] = (dims, np.zeros(shape, np.int8), {"units": "1", "long_name": "1 when computed"})
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def _fill(ds, lead, sl, metrics: list[dict]) -> None:
+    """Write the metrics of one chunk into the in-memory Dataset."""
+    for j, m in enumerate(metrics):
+        idx = (*lead, sl.start + j)
+        for name, value in m.items():
+            ds[name].values[idx] = value
+        ds["done"].values[idx] = 1
+
+
+def _chunk_dataset(ds, lead, sl):
+    dims = ds["done"].dims
+    return ds.isel(_region(dims, lead, sl))
+
+
+@contextlib.contextmanager
+def _deferred_interrupt() -> Iterator[None]:
+    """Hold SIGINT while a chunk is written, then raise KeyboardInterrupt if one came."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got = []
+    previous = signal.signal(signal.SIGINT, lambda *a: got.append(a))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if got:
+        raise KeyboardInterrupt
+
+
+# ---- the sweep ---------------------------------------------------------------------------------
+def _definition(scenario, keys, grid, transient, revolutions, samples) -> dict:
+    from rubrotor.scenario import scenario_to_dict
+
+    return {
+        "version": STORE_VERSION,
+        "scenario": scenario_to_dict(scenario, resolved=False),
+        "keys": list(keys),
+        "values": [np.asarray(v, float).tolist() for v in grid],
+        "transient_revolutions": transient,
+        "revolutions": revolutions,
+        "samples_per_revolution": samples,
+    }
+
+
+def _check_keys(scenario, vary: Mapping) -> tuple[list[str], list[np.ndarray]]:
+    from rubrotor.errors import RubrotorError
+    from rubrotor.scenario import SCHEMA
+
+    if not isinstance(vary, Mapping) or not vary:
+        raise InputError("vary", vary, "a mapping of at least one scenario key to its values")
+    keys, grid = [], []
+    for key, values in vary.items():
+        section, _, name = str(key).partition(".")
+        kind = SCHEMA.get(section, {}).get(name)
+        if kind not in ("number", "int", "number|list", "number|str"):
+            raise InputError(
+                key, "...", "a numeric scenario key 'section.key' (e.g. unbalance.magnitude)"
+            )
+        arr = np.atleast_1d(np.asarray(values, dtype=float))
+        if arr.ndim != 1 or arr.size == 0 or not np.all(np.isfinite(arr)):
+            raise InputError(key, values, "a non-empty 1-D sequence of finite numbers")
+        if np.unique(arr).size != arr.size:
+            raise InputError(key, values, "distinct values")
+        for v in (arr[0], arr[-1], arr.min(), arr.max()):
+            try:
+                _point_scenario(scenario, [key], [v])
+            except RubrotorError as exc:
+                raise InputError(key, float(v), getattr(exc, "allowed", str(exc))) from None
+        keys.append(str(key))
+        grid.append(arr)
+    if len(set(keys)) != len(keys):
+        raise InputError("vary", keys, "each key once")
+    return keys, grid
+
+
+def _open_or_create(store, template, definition: dict):
+    """Open an existing store of the same sweep or create it; return the ``done`` mask."""
+    import xarray as xr
+
+    path = Path(store)
+    text = json.dumps(definition, sort_keys=True)
+    if path.exists():
+        try:
+            old = xr.open_zarr(path, consolidated=False)
+            recorded = old.attrs.get("sweep_definition")
+            done = old["done"].values.astype(bool)
+            old.close()
+        except Exception as exc:  # noqa: BLE001 - any unreadable store is a user error here
+            raise InputError(
+                "store", str(path), f"a sweep store written by rubrotor ({exc})"
+            ) from None
+        if recorded != text:
+            diff = _first_difference(json.loads(recorded) if recorded else {}, definition)
+            raise InputError(
+                "store",
+                str(path),
+                f"a store of the same sweep to resume (it records a different {diff}); "
+                "use another --out or delete it",
+            )
+        return done
+    template.attrs["sweep_definition"] = text
+    template.to_zarr(path, mode="w-", consolidated=False)
+    return np.zeros(template["done"].shape, bool)
+
+
+def _first_difference(old: dict, new: dict) -> str:
+    for k in new:
+        if old.get(k) != new[k]:
+            if k == "scenario":
+                return "scenario"
+            return k
+    return "definition"
+
+
+def sweep(
+    scenario,
+    vary: Mapping[str, Sequence[float]],
+    *,
+    transient_revolutions: int = 100,
+    revolutions: int | None = None,
+    samples_per_revolution: int = 128,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    store: str | os.PathLike | None = None,
+    chunk_size: int | None = None,
+    progress: bool = False,
+):
+    """Simulate a scenario on a grid of scenario keys and reduce every point to rub metrics.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The base scenario; its ``[simulation]`` tolerances are used (adaptive integrator).
+    vary : mapping of str to array_like
+        Scenario keys (``"section.key"``) to their values; several keys make a grid (the first
+        key is the outermost dimension).
+    transient_revolutions : int
+        Revolutions discarded before the metrics are taken (>= 0).
+    revolutions : int, optional
+        Total simulated revolutions, transient included (> ``transient_revolutions + 1``);
+        default the scenario's ``simulation.revolutions`` or ``transient_revolutions + 200``.
+    samples_per_revolution : int
+        Output samples per revolution ``N`` (>= 8); every ``N``-th is a Poincare sample.
+    workers : int, optional
+        Local worker processes; default all cores (``os.cpu_count()``). 1 runs in this process.
+        Ignored with ``scheduler``.
+    scheduler : str, optional
+        Address of a Dask distributed scheduler (``"tcp://host:port"``); chunks are submitted
+        there and written here as they complete.
+    store : path-like, optional
+        A zarr store (directory) written chunk by chunk; an existing store of the same sweep is
+        resumed (only points not marked ``done`` are computed).
+    chunk_size : int, optional
+        Points per chunk (along the last swept key); default about ``points / (8 workers)``,
+        between 1 and 32 (small chunks balance uneven points).
+    progress : bool
+        Print a progress line to stderr after every chunk.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions: the swept keys, ``revolution`` (kept revolutions) and ``peak`` (3);
+        variables as listed in the module docstring, plus ``done``; attributes hold the sweep
+        definition (JSON) and the scenario text.
+    """
+    keys, grid = _check_keys(scenario, vary)
+    t_rev = _int_arg("transient_revolutions", transient_revolutions, 0)
+    if revolutions is None:
+        sim = scenario.simulation
+        revolutions = int(sim.revolutions) if sim is not None and sim.revolutions else t_rev + 200
+    revs = _int_arg("revolutions", revolutions, t_rev + 2)
+    n_rev = _int_arg("samples_per_revolution", samples_per_revolution, 8)
+    shape = tuple(a.size for a in grid)
+    n_points = int(np.prod(shape))
+    if workers is None:
+        workers = os.cpu_count() or 1
+    workers = _int_arg("workers", workers, 1)
+    if chunk_size is None:
+        chunk_size = max(1, min(32, math.ceil(n_points / (8 * workers))))
+    chunk_size = _int_arg("chunk_size", chunk_size, 1)
+    chunk_size = min(chunk_size, shape[-1])
+    definition = _definition(scenario, keys, grid, t_rev, revs, n_rev)
+    attrs = {
+        "title": f"rubrotor sweep {scenario.name}".strip(),
+        "scenario_name": scenario.name,
+        "swept_keys": " ".join(keys),
+        "transient_revolutions": t_rev,
+        "revolutions": revs,
+        "samples_per_revolution": n_rev,
+        "regime_rules": "see rubrotor.sweep module docstring",
+        "scenario": getattr(scenario, "source", ""),
+        "Conventions": "CF-1.8",
+    }
+    if scenario.contact is not None:
+        attrs["clearance_m"] = float(scenario.contact.clearance)
+    ds = _template(keys, grid, revs - t_rev, attrs)
+    ds.attrs["sweep_definition"] = json.dumps(definition, sort_keys=True)
+    chunks = _chunks(shape, chunk_size)
+    pool = None
+    if scheduler is None:
+        pool = _local_pool(workers, len(chunks))
+    try:
+        return _run(
+            ds, keys, grid, chunks, chunk_size, definition, store, pool, scheduler, progress
+        )
+    finally:
+        if pool is not None:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _run(ds, keys, grid, chunks, chunk_size, definition, store, pool, scheduler, progress):
+    shape = ds["done"].shape
+    t_rev = definition["transient_revolutions"]
+    revs = definition["revolutions"]
+    n_rev = definition["samples_per_revolution"]
+    if store is not None:
+        for name in list(ds.data_vars):
+            ds[name].encoding["chunks"] = (
+                (1,) * (len(shape) - 1) + (chunk_size,) + ds[name].shape[len(shape) :]
+            )
+        done = _open_or_create(store, ds.copy(), definition)
+        if done.any():
+            import xarray as xr
+
+            with xr.open_zarr(store, consolidated=False) as old:
+                ds = old.load()
+    else:
+        done = np.zeros(shape, bool)
+    dims = tuple(keys)
+    todo = []
+    for i, (lead, sl) in enumerate(chunks):
+        if not done[(*lead, sl)].all():
+            pts = [
+                [float(grid[d][j]) for d, j in enumerate((*lead, p))]
+                for p in range(sl.start, sl.stop)
+            ]
+            todo.append(
+                {
+                    "chunk": i,
+                    "scenario": definition["scenario"],
+                    "keys": keys,
+                    "points": pts,
+                    "transient": t_rev,
+                    "revolutions": revs,
+                    "samples": n_rev,
+                }
+            )
+
+    def write(result: dict) -> None:
+        lead, sl = chunks[result["chunk"]]
+        _fill(ds, lead, sl, result["metrics"])
+        if store is not None:
+            part = _chunk_dataset(ds, lead, sl)
+            region = _region(dims, lead, sl)
+            with _deferred_interrupt():
+                part.drop_vars(["done"]).drop_vars(list(part.coords)).to_zarr(
+                    store, region=region, consolidated=False
+                )
+                part[["done"]].drop_vars(list(part[["done"]].coords)).to_zarr(
+                    store, region=region, consolidated=False
+                )
+
+    t0 = time.perf_counter()
+    n_done = 0
+
+    def report():
+        if progress:
+            import sys
+
+            el = time.perf_counter() - t0
+            print(
+                f"\rrubrotor sweep: {n_done}/{len(todo)} chunks, {el:.0f} s",
+                end="",
+                file=sys.stderr,
+            )
+
+    for result in _execute(todo, pool, scheduler):
+        write(result)
+        n_done += 1
+        report()
+    if progress:
+        import sys
+
+        print(file=sys.stderr)
+    return ds
+
+
+def _int_arg(name: str, value, minimum: int) -> int:
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | np.integer | float)
+        or value != int(value)
+    ):
+        raise InputError(name, value, f"an integer >= {minimum}")
+    if int(value) < minimum:
+        raise InputError(name, value, f"an integer >= {minimum}")
+    return int(value)
+
+
+def _noop() -> int:
+    return os.getpid()
+
+
+def _local_pool(workers: int, n_tasks: int):
+    """A started process pool (``None`` for in-process runs).
+
+    The pool uses the platform's default start method (``fork`` on Linux with Python < 3.14)
+    and its workers are started here, before the zarr store starts its I/O thread, so no
+    thread is forked. Scripts using ``spawn``/``forkserver`` need the usual
+    ``if __name__ == "__main__":`` guard.
+    """
+    if workers == 1 or n_tasks <= 1:
+        return None
+    from concurrent.futures import ProcessPoolExecutor
+
+    n = min(workers, n_tasks)
+    pool = ProcessPoolExecutor(max_workers=n)
+    for f in [pool.submit(_noop) for _ in range(n)]:
+        f.result()
+    return pool
+
+
+def _execute(todo: list[dict], pool, scheduler: str | None) -> Iterator[dict]:
+    """Yield chunk results as they complete: in process, in a process pool or on Dask."""
+    if not todo:
+        return
+    if scheduler is not None:
+        yield from _execute_dask(todo, scheduler)
+        return
+    if pool is None:
+        for task in todo:
+            yield run_chunk(task)
+        return
+    from concurrent.futures import FIRST_COMPLETED, wait
+
+    pending = {pool.submit(run_chunk, task) for task in todo}
+    try:
+        while pending:
+            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in finished:
+                yield fut.result()
+    finally:
+        for fut in pending:
+            fut.cancel()
+
+
+def _execute_dask(todo: list[dict], scheduler: str) -> Iterator[dict]:
+    try:
+        from distributed import Client, as_completed
+    except ImportError:  # pragma: no cover - depends on the installation
+        raise InputError(
+            "scheduler", scheduler, "dask[distributed] installed (pip install rubrotor[sweep])"
+        ) from None
+    try:
+        client = Client(scheduler, timeout=20, set_as_default=False)
+    except OSError as exc:
+        raise InputError("scheduler", scheduler, f"a reachable Dask scheduler ({exc})") from None
+    try:
+        futures = [
+            client.submit(
+                run_chunk,
+                task,
+                key=f"rubrotor-sweep-{os.getpid()}-{time.time_ns()}-{task['chunk']}",
+                retries=2,
+            )
+            for task in todo
+        ]
+        for fut in as_completed(futures, loop=client.loop):
+            yield fut.result()
+            fut.release()
+    finally:
+        client.close()
+
+
+def open_sweep(path: str | os.PathLike):
+    """Open a sweep zarr store as an in-memory Dataset (grid form, with its ``done`` mask)."""
+    import xarray as xr
+
+    p = Path(path)
+    if not p.exists():
+        raise InputError("store", str(path), "an existing sweep store (zarr directory)")
+    with xr.open_zarr(p, consolidated=False) as ds:
+        return ds.load()
