@@ -638,3 +638,73 @@ COMMANDS += [
     Command("analyze", "rub indicators and CWT/spectrum figure of a results or signal file",
             _analyze_args, _analyze_run),
 ]
+
+
+def _scenarios_args(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+
+
+def shipped_scenarios() -> list[dict]:
+    """The scenario files shipped with rubrotor: name, description and path.
+
+    Returns
+    -------
+    list of dict
+        ``{"name", "description", "path"}`` sorted by file name.
+    """
+    import tomllib
+    from importlib import resources
+
+    folder = resources.files("rubrotor") / "scenarios"
+    out = []
+    for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+        if not entry.name.endswith(".toml"):
+            continue
+        meta = tomllib.loads(entry.read_text()).get("meta", {})
+        out.append({"name": meta.get("name", entry.name[:-5]),
+                    "description": " ".join(meta.get("description", "").split()),
+                    "path": str(entry)})
+    return out
+
+
+def _scenarios_run(args: argparse.Namespace) -> int:
+    items = shipped_scenarios()
+    if args.json:
+        _print_json({"scenarios": items})
+        return 0
+    width = max(len(i["name"]) for i in items)
+    for i in items:
+        print(f"{i['name'].ljust(width)}  {i['description']}")
+    return 0
+
+
+def _reproduce_args(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    parser.add_argument("--quick", action="store_true",
+                        help="shortened runs and coarser output (for tests)")
+    parser.add_argument("--seed-friction", action="store_true",
+                        help="run cases 1-3 with the seed's literal friction sign")
+    parser.add_argument("--quiet", action="store_true", help="no progress lines")
+
+
+def _reproduce_run(args: argparse.Namespace) -> int:
+    from rubrotor.reproduce import reproduce
+
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", args.out, "a directory")
+    summary = reproduce(out, quick=args.quick, seed_friction=args.seed_friction,
+                        quiet=args.quiet)
+    print(_table(["seed claim", "verdict"],
+                 [[c["claim"][:70], "holds" if c["holds"] else "does not hold"]
+                  for c in summary["claims"]]))
+    print(f"wrote {out / 'report.html'}, {out / 'report.md'}, {out / 'summary.json'} "
+          f"in {summary['wall_time_s']:.1f} s")
+    return 0
+
+
+COMMANDS += [
+    Command("scenarios", "list the shipped scenario files", _scenarios_args, _scenarios_run),
+    Command("reproduce", "reproduce the seed study: figures, report.html, summary.json",
+            _reproduce_args, _reproduce_run),
+]

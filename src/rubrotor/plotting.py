@@ -232,6 +232,7 @@ __all__ += [
     "analysis_figure",
     "response_figure",
     "theory_comparison_figure",
+    "envelope_figure",
 ]
 
 _MARK_COLOR = {"forward": "#2b9bff", "backward": "#ff3ea5"}
@@ -654,6 +655,43 @@ def theory_comparison_figure(ds_a, ds_b, *, labels=("Timoshenko", "Euler-Bernoul
     for ax in (ax1, ax2):
         ax.grid(True, alpha=0.3)
         ax.set_xlim(t[0], t[n - 1])
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def envelope_figure(envelopes: dict, *, title: str | None = None) -> Figure:
+    """Largest orbit radius per revolution, relative to the clearance, for several runs.
+
+    Parameters
+    ----------
+    envelopes : dict
+        ``{(case, variant): (revolution_index, max_abs_P_over_g)}``; one colour per case, one
+        line style per variant (first variant solid, second dashed).
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Logarithmic |P|/g axis (dimensionless) against revolutions; the clearance (|P|/g = 1)
+        is a black line.
+    """
+    fig = Figure(figsize=(10, 4.8), layout="constrained")
+    ax = fig.subplots()
+    cases = list(dict.fromkeys(k[0] for k in envelopes))
+    variants = list(dict.fromkeys(k[1] for k in envelopes))
+    styles = ["-", "--", ":"]
+    colors = ["tab:blue", "tab:orange", "tab:green", "tab:purple"]
+    for (case, variant), (rev, val) in envelopes.items():
+        ax.semilogy(rev, val, color=colors[cases.index(case) % 4],
+                    linestyle=styles[variants.index(variant) % 3], linewidth=1.2,
+                    label=f"{case}, {variant}")
+    ax.axhline(1.0, color="black", linewidth=1.0, label="clearance")
+    ax.set_xlabel("Revolution")
+    ax.set_ylabel("max |P| / g per revolution (-)")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.legend(fontsize=8, loc="outside right upper")
     if title:
         fig.suptitle(title, fontsize=11)
     return fig
