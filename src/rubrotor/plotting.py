@@ -237,6 +237,7 @@ __all__ += [
 
 _MARK_COLOR = {"forward": "#2b9bff", "backward": "#ff3ea5"}
 _MARK_COLOR_LIGHT = _MARK_COLOR
+_HARMONIC_COLOR = "#2ca02c"
 
 
 def _mark_style(label: str) -> str:
@@ -263,10 +264,11 @@ def _draw_scalogram_map(ax, binned, modes, spin_hz, unit, norm, cmap="magma"):
     ax.set_ylabel("Frequency (Hz)")
     for label, freq, whirl in modes:
         if f[0] <= freq <= f[-1]:
-            ax.axhline(freq, color=_MARK_COLOR[whirl], linestyle=_mark_style(label), linewidth=1.1)
+            ax.axhline(freq, color=_MARK_COLOR[whirl], linestyle=_mark_style(label),
+                       linewidth=1.5 if "shear" in label else 1.1)
     harm = _harmonics(spin_hz, f[0], f[-1], max_order=3)
     for k, fk in harm:
-        ax.axhline(fk, color="white", linestyle="-", linewidth=0.6, alpha=0.6)
+        ax.axhline(fk, color=_HARMONIC_COLOR, linestyle="-", linewidth=0.9)
         ax.annotate(f"{k}X", (1.0, fk), xycoords=("axes fraction", "data"), xytext=(2, 0),
                     textcoords="offset points", va="center", fontsize=7, color="0.2")
     return mesh
@@ -285,7 +287,7 @@ def _mark_handles(modes, spin_hz, on_dark: bool) -> list:
         handles.append(Line2D([], [], color=colors[whirl], linestyle=_mark_style(label),
                               label=f"{whirl} whirl, {branch} branch"))
     if spin_hz:
-        handles.append(Line2D([], [], color="0.5", linestyle="-", linewidth=0.8,
+        handles.append(Line2D([], [], color=_HARMONIC_COLOR, linestyle="-", linewidth=0.9,
                               label=f"spin harmonics kX ({spin_hz:.0f} Hz)"))
     return handles
 
@@ -369,7 +371,7 @@ def _draw_scalogram_curves(ax_s, ax_i, frequencies, curves, modes, spin_hz):
                 ax.axvline(freq, color=_MARK_COLOR_LIGHT[whirl], linestyle=_mark_style(label),
                            linewidth=0.8, alpha=0.7)
         for _k, fk in _harmonics(spin_hz, frequencies[0], frequencies[-1], max_order=3):
-            ax.axvline(fk, color="0.5", linewidth=0.7, alpha=0.7)
+            ax.axvline(fk, color=_HARMONIC_COLOR, linewidth=0.8, alpha=0.8)
         ax.set_xlim(frequencies[0], frequencies[-1])
         ax.grid(True, which="both", alpha=0.25)
         ax.set_xlabel("Frequency (Hz)")
@@ -444,7 +446,7 @@ def _draw_spectrum(ax, spectrum, two_channel, modes, spin_hz, unit):
         ax.axvline(freq, color=_MARK_COLOR_LIGHT[whirl], linestyle=_mark_style(label),
                    linewidth=0.8, alpha=0.6)
     for _k, fk in _harmonics(spin_hz, lo, hi, max_order=3):
-        ax.axvline(fk, color="0.5", linewidth=0.7, alpha=0.7)
+        ax.axvline(fk, color=_HARMONIC_COLOR, linewidth=0.8, alpha=0.8)
     peak = float(a.max()) if a.size else 1.0
     ax.set_ylim(peak * 1e-6, peak * 3)
     ax.set_xlim(lo, hi)
@@ -661,12 +663,12 @@ def theory_comparison_figure(ds_a, ds_b, *, labels=("Timoshenko", "Euler-Bernoul
 
 
 def envelope_figure(envelopes: dict, *, title: str | None = None) -> Figure:
-    """Largest orbit radius per revolution, relative to the clearance, for several runs.
+    """Largest orbit radius per revolution (or block of revolutions) relative to the clearance.
 
     Parameters
     ----------
     envelopes : dict
-        ``{(case, variant): (revolution_index, max_abs_P_over_g)}``; one colour per case, one
+        ``{(case, variant): (revolution, max_abs_P_over_g)}``; one colour per case, one
         line style per variant (first variant solid, second dashed).
     title : str, optional
         Figure title.
@@ -689,7 +691,7 @@ def envelope_figure(envelopes: dict, *, title: str | None = None) -> Figure:
                     label=f"{case}, {variant}")
     ax.axhline(1.0, color="black", linewidth=1.0, label="clearance")
     ax.set_xlabel("Revolution")
-    ax.set_ylabel("max |P| / g per revolution (-)")
+    ax.set_ylabel("max |P| / g (-)")
     ax.grid(True, which="both", alpha=0.3)
     fig.legend(fontsize=8, loc="outside right upper")
     if title:
