@@ -240,9 +240,9 @@ def _render(blocks, out: Path) -> tuple[str, str]:
             body.append("<ul>" + "".join(f"<li>{html.escape(x)}</li>" for x in b[1]) + "</ul>")
         elif kind == "table":
             headers, rows = b[1], b[2]
-            md.append("| " + " | ".join(headers) + " |")
+            md.append("| " + " | ".join(h.replace("|", "\\|") for h in headers) + " |")
             md.append("|" + "---|" * len(headers))
-            md += ["| " + " | ".join(str(c).replace("|", "/") for c in r) + " |" for r in rows]
+            md += ["| " + " | ".join(str(c).replace("|", "\\|") for c in r) + " |" for r in rows]
             md.append("")
             th = "".join(f"<th>{html.escape(h)}</th>" for h in headers)
             trs = []
@@ -577,8 +577,8 @@ def _claims(metrics, spectral, fig6, band) -> list[dict]:
         "numbers": (f"r = {fig6['slenderness']:g}, {fig6['revolutions']:g} rev: max |w_T - w_EB| "
                     f"/ max |w| = {fig6['max_rel_diff_w']:.2e}, same for v "
                     f"{fig6['max_rel_diff_v']:.2e}; first forward bending frequency "
-                    f"{fig6['forward_bending_hz_timoshenko'][1]:.4f} vs "
-                    f"{fig6['forward_bending_hz_euler_bernoulli'][1]:.4f} Hz"),
+                    f"{fig6['forward_bending_hz_timoshenko'][1]:.7g} vs "
+                    f"{fig6['forward_bending_hz_euler_bernoulli'][1]:.7g} Hz"),
     })
     return rows
 
@@ -644,7 +644,7 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
         "undamped model. With 0.5 % the start-up transient dies and the rub with it (table).",
         f"Initial state (assumed): {s['initial_state']}.",
         f"Integration: exponential integrator, fixed d tau = {st['dtau']:g} (the seed's step), "
-        f"{st['revolutions']:g} revolutions per case, every {st['save_every']}th step saved "
+        f"{st['revolutions']:g} revolutions per case, one step in {st['save_every']} saved "
         f"(fs = {s['cases']['case1']['spectral']['fs_hz'] / 1e3:.1f} kHz). 'Late' numbers are "
         "over the second half of each run.",
         "Natural frequencies at the operating speed (Hz): " + ", ".join(
@@ -685,8 +685,8 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
                    "orbit plus the undamped free vibration of modes 1 and 3 started at t = 0; the "
                    "theories differ only through the slightly different natural frequencies "
                    "(mode 1 forward: "
-                   f"{f6['forward_bending_hz_timoshenko']['1']:.4f} Hz Timoshenko, "
-                   f"{f6['forward_bending_hz_euler_bernoulli']['1']:.4f} Hz Euler-Bernoulli), so "
+                   f"{f6['forward_bending_hz_timoshenko']['1']:.7g} Hz Timoshenko, "
+                   f"{f6['forward_bending_hz_euler_bernoulli']['1']:.7g} Hz Euler-Bernoulli), so "
                    "the difference grows slowly with time as the free vibrations drift apart: "
                    f"max |w_T - w_EB| / max |w| = {f6['max_rel_diff_w']:.2e}."))
     b.append(("img", "fig6_timoshenko_vs_euler_bernoulli.png", "Vertical displacement, both "
