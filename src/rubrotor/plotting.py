@@ -322,7 +322,7 @@ def scalogram_map_figure(
         Natural frequencies ``(label, frequency_hz, whirl)`` drawn as horizontal lines (forward
         cyan, backward magenta; bending dashed, shear dotted).
     spin_hz : float, optional
-        Spin frequency (Hz); 1X-3X are drawn as thin white lines and labelled on the right.
+        Spin frequency (Hz); 1X-3X are drawn as thin green lines and labelled on the right.
     unit : str
         Unit of ``|W|`` (that of the signal).
     title : str, optional
