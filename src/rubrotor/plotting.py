@@ -408,3 +408,552 @@ def regime_map_figure(ds, key_x: str, key_y: str) -> Figure:
     fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 4), fontsize=9)
     fig.suptitle(f"Rub regime map: {ds.attrs.get('scenario_name', '')}", fontsize=11)
     return fig
+
+
+# ---- analysis and seed-reproduction figures ----------------------------------------------------
+# Figures of `rubrotor analyze` and `rubrotor reproduce`. Natural frequencies are given as
+# (label, frequency_hz, whirl) entries (see rubrotor.analysis.overview.mode_entries); a label
+# containing "shear" marks the Timoshenko shear branch.
+__all__ += [
+    "scalogram_map_figure",
+    "scalogram_curves_figure",
+    "full_spectrum_figure",
+    "analysis_figure",
+    "response_figure",
+    "theory_comparison_figure",
+    "envelope_figure",
+]
+
+_MARK_COLOR = {"forward": "#2b9bff", "backward": "#ff3ea5"}
+_MARK_COLOR_LIGHT = _MARK_COLOR
+_HARMONIC_COLOR = "#2ca02c"
+
+
+def _mark_style(label: str) -> str:
+    return ":" if "shear" in label else "--"
+
+
+def _harmonics(spin_hz, lo: float, hi: float, max_order: int = 40) -> list[tuple[int, float]]:
+    if not spin_hz:
+        return []
+    return [(k, k * spin_hz) for k in range(1, max_order + 1) if lo <= k * spin_hz <= hi]
+
+
+def _draw_scalogram_map(ax, binned, modes, spin_hz, unit, norm, cmap="magma"):
+    """Draw one time-binned |W| map on ``ax``; returns the QuadMesh."""
+    import numpy as np
+
+    t_ms = binned.times * 1e3
+    f = binned.frequencies
+    mesh = ax.pcolormesh(
+        t_ms,
+        f,
+        np.maximum(binned.values, norm.vmin),
+        shading="nearest",
+        cmap=cmap,
+        norm=norm,
+        rasterized=True,
+    )
+    ax.set_yscale("log")
+    ax.set_ylim(f[0], f[-1])
+    ax.set_xlabel("Time (ms)")
+    ax.set_ylabel("Frequency (Hz)")
+    for label, freq, whirl in modes:
+        if f[0] <= freq <= f[-1]:
+            ax.axhline(
+                freq,
+                color=_MARK_COLOR[whirl],
+                linestyle=_mark_style(label),
+                linewidth=1.5 if "shear" in label else 1.1,
+            )
+    harm = _harmonics(spin_hz, f[0], f[-1], max_order=3)
+    for k, fk in harm:
+        ax.axhline(fk, color=_HARMONIC_COLOR, linestyle="-", linewidth=0.9)
+        ax.annotate(
+            f"{k}X",
+            (1.0, fk),
+            xycoords=("axes fraction", "data"),
+            xytext=(2, 0),
+            textcoords="offset points",
+            va="center",
+            fontsize=7,
+            color="0.2",
+        )
+    return mesh
+
+
+def _mark_handles(modes, spin_hz, on_dark: bool) -> list:
+    colors = _MARK_COLOR if on_dark else _MARK_COLOR_LIGHT
+    handles = []
+    seen = set()
+    for label, _freq, whirl in modes:
+        branch = "shear" if "shear" in label else "bending"
+        key = (branch, whirl)
+        if key in seen:
+            continue
+        seen.add(key)
+        handles.append(
+            Line2D(
+                [],
+                [],
+                color=colors[whirl],
+                linestyle=_mark_style(label),
+                label=f"{whirl} whirl, {branch} branch",
+            )
+        )
+    if spin_hz:
+        handles.append(
+            Line2D(
+                [],
+                [],
+                color=_HARMONIC_COLOR,
+                linestyle="-",
+                linewidth=0.9,
+                label=f"spin harmonics kX ({spin_hz:.0f} Hz)",
+            )
+        )
+    return handles
+
+
+def _log_norm(values_list, decades: float = 4.0):
+    import numpy as np
+    from matplotlib.colors import LogNorm
+
+    vmax = max(float(np.max(v)) for v in values_list)
+    vmax = vmax if vmax > 0 else 1.0
+    return LogNorm(vmin=vmax * 10 ** (-decades), vmax=vmax)
+
+
+def scalogram_map_figure(
+    maps,
+    *,
+    modes=(),
+    spin_hz: float | None = None,
+    unit: str = "m/s^2",
+    title: str | None = None,
+    decades: float = 4.0,
+    ncols: int = 2,
+) -> Figure:
+    """Time-frequency map of time-binned ``|W|`` (seed Fig. 7), one panel per signal.
+
+    Parameters
+    ----------
+    maps : BinnedCWT or dict of str to BinnedCWT
+        Maps from :func:`rubrotor.analysis.wavelet.cwt_binned`; a dict gives one titled panel
+        per entry, all on one logarithmic colour scale.
+    modes : sequence of (str, float, str), optional
+        Natural frequencies ``(label, frequency_hz, whirl)`` drawn as horizontal lines (forward
+        cyan, backward magenta; bending dashed, shear dotted).
+    spin_hz : float, optional
+        Spin frequency (Hz); 1X-3X are drawn as thin green lines and labelled on the right.
+    unit : str
+        Unit of ``|W|`` (that of the signal).
+    title : str, optional
+        Figure title.
+    decades : float
+        Colour range in decades below the largest value.
+    ncols : int
+        Panels per row.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if not isinstance(maps, dict):
+        maps = {"": maps}
+    n = len(maps)
+    ncols = min(ncols, n)
+    nrows = -(-n // ncols)
+    fig = Figure(figsize=(6.2 * ncols + 1.5, 3.9 * nrows + 1.0), layout="constrained")
+    axes = fig.subplots(nrows, ncols, squeeze=False)
+    norm = _log_norm([m.values for m in maps.values()], decades)
+    mesh = None
+    for ax, (name, b) in zip(axes.flat, maps.items(), strict=False):
+        mesh = _draw_scalogram_map(ax, b, modes, spin_hz, unit, norm)
+        if name:
+            ax.set_title(name, fontsize=10)
+    for ax in list(axes.flat)[n:]:
+        ax.set_visible(False)
+    fig.colorbar(mesh, ax=axes, label=f"max |W| per time bin ({unit})", shrink=0.9)
+    handles = _mark_handles(modes, spin_hz, on_dark=False)
+    if handles:
+        fig.legend(
+            handles=handles, loc="outside lower center", ncol=min(len(handles), 3), fontsize=8
+        )
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def _draw_scalogram_curves(ax_s, ax_i, frequencies, curves, modes, spin_hz):
+    for name, (scal, inner) in curves.items():
+        (line,) = ax_s.loglog(frequencies, scal, label=name, linewidth=1.3)
+        ax_i.loglog(frequencies, inner, label=name, linewidth=1.3, color=line.get_color())
+    for ax in (ax_s, ax_i):
+        for label, freq, whirl in modes:
+            if frequencies[0] <= freq <= frequencies[-1]:
+                ax.axvline(
+                    freq,
+                    color=_MARK_COLOR_LIGHT[whirl],
+                    linestyle=_mark_style(label),
+                    linewidth=0.8,
+                    alpha=0.7,
+                )
+        for _k, fk in _harmonics(spin_hz, frequencies[0], frequencies[-1], max_order=3):
+            ax.axvline(fk, color=_HARMONIC_COLOR, linewidth=0.8, alpha=0.8)
+        ax.set_xlim(frequencies[0], frequencies[-1])
+        ax.grid(True, which="both", alpha=0.25)
+        ax.set_xlabel("Frequency (Hz)")
+
+
+def scalogram_curves_figure(
+    frequencies,
+    curves: dict,
+    *,
+    modes=(),
+    spin_hz: float | None = None,
+    unit: str = "m/s^2",
+    title: str | None = None,
+) -> Figure:
+    """Scalogram (seed eq. 19) and inner scalogram (eq. 20) against frequency.
+
+    Parameters
+    ----------
+    frequencies : array_like
+        Scalogram frequencies (Hz).
+    curves : dict of str to (array_like, array_like)
+        ``{name: (scalogram, inner_scalogram)}``, one line per name in both panels
+        (unit of the signal times s^0.5).
+    modes : sequence of (str, float, str), optional
+        Natural frequencies drawn as vertical lines (forward blue, backward red; bending dashed,
+        shear dotted).
+    spin_hz : float, optional
+        Spin frequency (Hz); 1X-3X drawn as grey lines.
+    unit : str
+        Unit of the signal.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = Figure(figsize=(11, 4.4), layout="constrained")
+    ax_s, ax_i = fig.subplots(1, 2, sharey=True)
+    _draw_scalogram_curves(ax_s, ax_i, frequencies, curves, modes, spin_hz)
+    ax_s.set_ylabel(f"Scalogram ({unit} s$^{{1/2}}$)")
+    ax_s.set_title("scalogram (whole record)", fontsize=10)
+    ax_i.set_title("inner scalogram (outside the cone of influence)", fontsize=10)
+    handles = [
+        Line2D([], [], color=ln.get_color(), label=ln.get_label())
+        for ln in ax_s.get_lines()
+        if not ln.get_label().startswith("_")
+    ]
+    handles += _mark_handles(modes, spin_hz, on_dark=False)
+    fig.legend(handles=handles, loc="outside right upper", fontsize=8)
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def _draw_spectrum(ax, spectrum, two_channel, modes, spin_hz, unit):
+    import numpy as np
+
+    f = np.asarray(spectrum.frequencies)
+    a = np.asarray(spectrum.amplitudes)
+    if two_channel:
+        fwd = f > 0
+        bwd = f < 0
+        ax.loglog(f[fwd], a[fwd], color="tab:blue", linewidth=0.9, label="forward (f > 0)")
+        ax.loglog(
+            -f[bwd], a[bwd], color="tab:red", linewidth=0.9, alpha=0.8, label="backward (f < 0)"
+        )
+        ax.set_xlabel("|Whirl frequency| (Hz)")
+    else:
+        pos = f > 0
+        ax.loglog(f[pos], a[pos], color="0.2", linewidth=0.9, label="amplitude spectrum")
+        ax.set_xlabel("Frequency (Hz)")
+    pos = np.abs(f[f != 0])
+    lo, hi = float(pos.min()), float(pos.max())
+    for label, freq, whirl in modes:
+        ax.axvline(
+            freq,
+            color=_MARK_COLOR_LIGHT[whirl],
+            linestyle=_mark_style(label),
+            linewidth=0.8,
+            alpha=0.6,
+        )
+    for _k, fk in _harmonics(spin_hz, lo, hi, max_order=3):
+        ax.axvline(fk, color=_HARMONIC_COLOR, linewidth=0.8, alpha=0.8)
+    peak = float(a.max()) if a.size else 1.0
+    ax.set_ylim(peak * 1e-6, peak * 3)
+    ax.set_xlim(lo, hi)
+    ax.set_ylabel(f"Amplitude ({unit})")
+    ax.grid(True, which="both", alpha=0.25)
+    ax.legend(fontsize=8, loc="lower left")
+
+
+def full_spectrum_figure(
+    spectrum,
+    *,
+    two_channel: bool = True,
+    modes=(),
+    spin_hz: float | None = None,
+    unit: str = "m/s^2",
+    title: str | None = None,
+) -> Figure:
+    """Full spectrum of an orbit, forward and backward whirl against |frequency|.
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        From :func:`rubrotor.analysis.spectra.full_spectrum` (or
+        :func:`~rubrotor.analysis.spectra.amplitude_spectrum` with ``two_channel=False``).
+    two_channel : bool
+        Whether ``spectrum`` is a full spectrum (negative frequencies = backward whirl).
+    modes : sequence of (str, float, str), optional
+        Natural frequencies drawn as vertical lines.
+    spin_hz : float, optional
+        Spin frequency (Hz); 1X-3X drawn as grey lines.
+    unit : str
+        Unit of the amplitudes.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = Figure(figsize=(9, 4.2), layout="constrained")
+    ax = fig.subplots()
+    _draw_spectrum(ax, spectrum, two_channel, modes, spin_hz, unit)
+    handles = _mark_handles(modes, spin_hz, on_dark=False)
+    if handles:
+        fig.legend(handles=handles, loc="outside right upper", fontsize=8)
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def analysis_figure(analysis, *, title: str | None = None) -> Figure:
+    """Combined analysis figure: scalogram map, scalogram curves and spectrum.
+
+    Parameters
+    ----------
+    analysis : rubrotor.analysis.overview.SignalAnalysis
+        From :func:`rubrotor.analysis.overview.analyze_signal`.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Top: time-binned ``|W|`` map (log colour, natural frequencies and spin harmonics marked);
+        middle: scalogram and inner scalogram; bottom: full (or amplitude) spectrum.
+    """
+    a = analysis
+    fig = Figure(figsize=(12, 12), layout="constrained")
+    grid = fig.add_gridspec(3, 2, height_ratios=[1.3, 1, 1])
+    ax_map = fig.add_subplot(grid[0, :])
+    ax_s = fig.add_subplot(grid[1, 0])
+    ax_i = fig.add_subplot(grid[1, 1], sharey=ax_s)
+    ax_f = fig.add_subplot(grid[2, :])
+    norm = _log_norm([a.binned.values])
+    mesh = _draw_scalogram_map(ax_map, a.binned, a.modes, a.spin_hz, a.unit, norm)
+    fig.colorbar(mesh, ax=ax_map, label=f"max |W| per bin ({a.unit})")
+    ax_map.set_title("CWT map (analytic Morlet, omega0 = 6)", fontsize=10)
+    _draw_scalogram_curves(
+        ax_s, ax_i, a.frequencies, {"signal": (a.scalogram, a.inner)}, a.modes, a.spin_hz
+    )
+    ax_s.set_ylabel(f"Scalogram ({a.unit} s$^{{1/2}}$)")
+    ax_s.set_title("scalogram", fontsize=10)
+    ax_i.set_title("inner scalogram", fontsize=10)
+    _draw_spectrum(ax_f, a.spectrum, a.two_channel, a.modes, a.spin_hz, a.unit)
+    ax_f.set_title(
+        "full spectrum (orbit v + i w)" if a.two_channel else "amplitude spectrum", fontsize=10
+    )
+    handles = _mark_handles(a.modes, a.spin_hz, on_dark=False)
+    if handles:
+        fig.legend(
+            handles=handles, loc="outside lower center", ncol=min(len(handles), 5), fontsize=8
+        )
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def response_figure(ds, *, title: str | None = None, clearance: float | None = None) -> Figure:
+    """Six-panel response figure like seed Figs. 3-5.
+
+    (a) horizontal displacement v and (c) vertical displacement w against time with the
+    clearance marked, (b), (d) their phase portraits, (e) the normal contact force against time,
+    (f) the orbit with the clearance circle.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Results of :func:`rubrotor.simulate`.
+    title : str, optional
+        Figure title.
+    clearance : float, optional
+        Radial clearance (m); default from ``ds.attrs["parameters"]`` (none without contact).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import json
+
+    import numpy as np
+
+    if clearance is None:
+        params = json.loads(ds.attrs.get("parameters", "{}"))
+        clearance = (params.get("contact.clearance") or [None])[0]
+    t = ds["time"].values * 1e3
+    v = ds["v"].values * 1e3
+    w = ds["w"].values * 1e3
+    vd = ds["v_dot"].values
+    wd = ds["w_dot"].values
+    fn = ds["normal_force"].values * 1e-3
+    fig = Figure(figsize=(12, 11), layout="constrained")
+    axes = fig.subplots(3, 2)
+    g = None if clearance is None else clearance * 1e3
+    for row, (x, xd, name) in enumerate(((v, vd, "v (horizontal)"), (w, wd, "w (vertical)"))):
+        ax = axes[row, 0]
+        ax.plot(t, x, linewidth=0.5, color="tab:blue")
+        if g is not None:
+            for s in (1, -1):
+                ax.axhline(s * g, color="black", linewidth=1.0)
+        ax.set_xlabel("Time (ms)")
+        ax.set_ylabel(f"{name} (mm)")
+        ax.set_xlim(t[0], t[-1])
+        ax = axes[row, 1]
+        ax.plot(x, xd, linewidth=0.3, color="tab:blue")
+        ax.set_xlabel(f"{name.split()[0]} (mm)")
+        ax.set_ylabel(f"d{name.split()[0]}/dt (m/s)")
+    axes[2, 0].plot(t, fn, linewidth=0.5, color="tab:red")
+    axes[2, 0].set_xlabel("Time (ms)")
+    axes[2, 0].set_ylabel("Normal contact force (kN)")
+    axes[2, 0].set_xlim(t[0], t[-1])
+    if not np.any(fn > 0):
+        axes[2, 0].text(
+            0.5,
+            0.5,
+            "no contact",
+            transform=axes[2, 0].transAxes,
+            ha="center",
+            va="center",
+            fontsize=12,
+            color="0.4",
+        )
+    ax = axes[2, 1]
+    ax.plot(v, w, linewidth=0.3, color="tab:blue")
+    if g is not None:
+        th = np.linspace(0, 2 * np.pi, 361)
+        ax.plot(g * np.cos(th), g * np.sin(th), color="black", linewidth=1.2, label="clearance")
+        ax.legend(fontsize=8, loc="upper right")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("v (mm)")
+    ax.set_ylabel("w (mm)")
+    for ax, letter in zip(axes[:, 0], "ace", strict=True):
+        ax.set_title(f"({letter})", loc="left", fontsize=10)
+    for ax, letter in zip(axes[:, 1], "bdf", strict=True):
+        ax.set_title(f"({letter})", loc="left", fontsize=10)
+    for ax in axes.flat:
+        ax.grid(True, alpha=0.3)
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def theory_comparison_figure(
+    ds_a,
+    ds_b,
+    *,
+    labels=("Timoshenko", "Euler-Bernoulli"),
+    variable: str = "w",
+    title: str | None = None,
+) -> Figure:
+    """Two responses of the same rotor under two beam theories (seed Fig. 6) and their difference.
+
+    Parameters
+    ----------
+    ds_a, ds_b : xarray.Dataset
+        Results on the same time grid.
+    labels : (str, str)
+        Legend names.
+    variable : {"v", "w"}
+        Displacement compared (m, plotted in mm).
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Top: both responses; bottom: their difference (same unit, mm).
+    """
+    import numpy as np
+
+    t = ds_a["time"].values * 1e3
+    a = ds_a[variable].values * 1e3
+    b = ds_b[variable].values * 1e3
+    n = min(a.size, b.size)
+    fig = Figure(figsize=(11, 6.5), layout="constrained")
+    ax1, ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1.6, 1]})
+    ax1.plot(t[:n], a[:n], color="tab:blue", linewidth=1.4, label=labels[0])
+    ax1.plot(t[:n], b[:n], color="tab:orange", linewidth=1.0, linestyle="--", label=labels[1])
+    ax1.set_ylabel(f"{variable} at midspan (mm)")
+    ax1.legend(fontsize=9, loc="upper right")
+    ax2.plot(t[:n], a[:n] - b[:n], color="0.2", linewidth=0.8)
+    ax2.set_ylabel(f"difference {variable} (mm)")
+    ax2.set_xlabel("Time (ms)")
+    rel = float(np.max(np.abs(a[:n] - b[:n])) / np.max(np.abs(a[:n])))
+    ax2.set_title(f"max |difference| / max |{variable}| = {rel:.2e}", fontsize=9, loc="left")
+    for ax in (ax1, ax2):
+        ax.grid(True, alpha=0.3)
+        ax.set_xlim(t[0], t[n - 1])
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def envelope_figure(envelopes: dict, *, title: str | None = None) -> Figure:
+    """Largest orbit radius per revolution (or block of revolutions) relative to the clearance.
+
+    Parameters
+    ----------
+    envelopes : dict
+        ``{(case, variant): (revolution, max_abs_P_over_g)}``; one colour per case, one
+        line style per variant (first variant solid, second dashed).
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Logarithmic |P|/g axis (dimensionless) against revolutions; the clearance (|P|/g = 1)
+        is a black line.
+    """
+    fig = Figure(figsize=(10, 4.8), layout="constrained")
+    ax = fig.subplots()
+    cases = list(dict.fromkeys(k[0] for k in envelopes))
+    variants = list(dict.fromkeys(k[1] for k in envelopes))
+    styles = ["-", "--", ":"]
+    colors = ["tab:blue", "tab:orange", "tab:green", "tab:purple"]
+    for (case, variant), (rev, val) in envelopes.items():
+        ax.semilogy(
+            rev,
+            val,
+            color=colors[cases.index(case) % 4],
+            linestyle=styles[variants.index(variant) % 3],
+            linewidth=1.2,
+            label=f"{case}, {variant}",
+        )
+    ax.axhline(1.0, color="black", linewidth=1.0, label="clearance")
+    ax.set_xlabel("Revolution")
+    ax.set_ylabel("max |P| / g (-)")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.legend(fontsize=8, loc="outside right upper")
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
