@@ -32,7 +32,8 @@ from rubrotor.sweep import (
 )
 
 CASE1 = str(resources.files("rubrotor") / "scenarios" / "seed_case1.toml")
-BASE = load_scenario(CASE1)
+# seed case 1 geometry and contact with the unbalance these regime cases were built on (2e-3 kg m)
+BASE = load_scenario(CASE1).with_changes(**{"unbalance.magnitude": 2e-3})
 # periodic partial rub: seed case 1 with 2 % modal damping and a 1e5 N side load
 LOADED = BASE.with_changes(**{"damping.ratio": 0.02, "load.force_y": 1e5})
 SHORT = dict(transient_revolutions=30, revolutions=60, samples_per_revolution=64)
