@@ -35,8 +35,21 @@ def csv_file(tmp_path):
 
 def test_csv_two_columns(csv_file, tmp_path, capsys):
     out = tmp_path / "out"
-    code = main(["analyze", str(csv_file), "--fs", str(FS), "--columns", "v,w",
-                 "--spin-hz", str(SPIN), "--out", str(out), "--json"])
+    code = main(
+        [
+            "analyze",
+            str(csv_file),
+            "--fs",
+            str(FS),
+            "--columns",
+            "v,w",
+            "--spin-hz",
+            str(SPIN),
+            "--out",
+            str(out),
+            "--json",
+        ]
+    )
     assert code == 0
     d = json.loads(capsys.readouterr().out)
     assert (out / "analysis.png").stat().st_size > 10000
@@ -53,8 +66,22 @@ def test_single_column_npy_and_wav(tmp_path, capsys):
 
     v, _ = _orbit()
     np.save(tmp_path / "x.npy", v)
-    assert main(["analyze", str(tmp_path / "x.npy"), "--fs", str(FS), "--out",
-                 str(tmp_path / "a"), "--spin-hz", str(SPIN), "--json"]) == 0
+    assert (
+        main(
+            [
+                "analyze",
+                str(tmp_path / "x.npy"),
+                "--fs",
+                str(FS),
+                "--out",
+                str(tmp_path / "a"),
+                "--spin-hz",
+                str(SPIN),
+                "--json",
+            ]
+        )
+        == 0
+    )
     d = json.loads(capsys.readouterr().out)
     assert d["backward_share"] is None and d["channels"] == ["0"]
     wavfile.write(tmp_path / "x.wav", int(FS), (v * 1000).astype(np.int16))
@@ -89,8 +116,9 @@ def test_bad_input(args, needle, csv_file, tmp_path, capsys):
 
 def test_results_file(tmp_path, capsys):
     sc = load_scenario(resources.files("rubrotor") / "scenarios" / "seed_case1.toml")
-    ds = simulate(sc, integrator=Integrator(revolutions=30, dtau=1e-3, save_every=32),
-                  progress=False)
+    ds = simulate(
+        sc, integrator=Integrator(revolutions=30, dtau=1e-3, save_every=32), progress=False
+    )
     save_dataset(ds, tmp_path / "results.nc")
     assert main(["analyze", str(tmp_path / "results.nc")]) == 0
     out = capsys.readouterr().out

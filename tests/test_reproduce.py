@@ -24,13 +24,19 @@ def test_files(quick):
     for key, _stem, _title in CASES:
         assert (out / key / "results.nc").is_file()
         assert (out / key / "response.png").stat().st_size > 20000
-    for name in ("fig6_timoshenko_vs_euler_bernoulli.png", "fig7_cwt_maps.png",
-                 "fig7_scalograms.png", "campbell.png", "friction_sign.png", "report.md"):
+    for name in (
+        "fig6_timoshenko_vs_euler_bernoulli.png",
+        "fig7_cwt_maps.png",
+        "fig7_scalograms.png",
+        "campbell.png",
+        "friction_sign.png",
+        "report.md",
+    ):
         assert (out / name).stat().st_size > 1000, name
     page = (out / "report.html").read_text()
     # self-contained: every figure embedded, nothing loaded from disk or network
     assert page.count("data:image/png;base64,") == 9
-    assert "src=\"http" not in page and ".png\"" not in page
+    assert 'src="http' not in page and '.png"' not in page
     md = (out / "report.md").read_text()
     assert md.count("| holds |") + md.count("| does not hold |") == 7
 
@@ -60,22 +66,27 @@ def test_claims_numbers(quick):
     c = s["cases"]
     hardest = claims["Case 1 rubs hardest"]
     assert hardest["holds"] == (
-        c["case1"]["contact_fraction"] > max(c["case2"]["contact_fraction"],
-                                             c["case3"]["contact_fraction"])
-        and c["case1"]["mean_normal_force_N"] > max(c["case2"]["mean_normal_force_N"],
-                                                    c["case3"]["mean_normal_force_N"]))
+        c["case1"]["contact_fraction"]
+        > max(c["case2"]["contact_fraction"], c["case3"]["contact_fraction"])
+        and c["case1"]["mean_normal_force_N"]
+        > max(c["case2"]["mean_normal_force_N"], c["case3"]["mean_normal_force_N"])
+    )
     lower = claims["Case 3's contact force is lower than case 2's"]
     assert lower["holds"] == (c["case3"]["max_normal_force_N"] < c["case2"]["max_normal_force_N"])
     periodic = claims["Case 2 settles into periodic impacts in steady state"]
     assert periodic["holds"] == (c["case2"]["poincare"]["period"] is not None)
     # band-energy ratio near the mode-1 shear branch, case 1 vs no contact, as computed
-    ratio = c["case1"]["spectral"]["shear1_band_energy"] / c["no_contact"]["spectral"][
-        "shear1_band_energy"]
+    ratio = (
+        c["case1"]["spectral"]["shear1_band_energy"]
+        / c["no_contact"]["spectral"]["shear1_band_energy"]
+    )
     assert c["case1"]["spectral"]["shear1_ratio_to_no_contact"] == pytest.approx(ratio)
     band = claims["Rubbing excites a band near 20 kHz that the no-contact run lacks"]
-    assert band["holds"] == (min(c[k]["spectral"]["shear1_ratio_to_no_contact"]
-                                 for k in ("case1", "case2", "case3")) > 10
-                             and band["holds"] in (True, False))
+    assert band["holds"] == (
+        min(c[k]["spectral"]["shear1_ratio_to_no_contact"] for k in ("case1", "case2", "case3"))
+        > 10
+        and band["holds"] in (True, False)
+    )
     assert f"x{ratio:.3g}" in band["numbers"]
     # the Timoshenko and Euler-Bernoulli responses of a slender shaft agree closely
     f6 = s["fig6"]
@@ -88,8 +99,9 @@ def test_sensitivity_and_friction(quick):
     rows = {(r["unbalance_factor"], r["damping_ratio"]): r for r in s["sensitivity"]}
     # halving the unbalance removes the contact, doubling it gives full annular rub
     assert all(rows[(0.5, 0.0)][k]["contact_fraction"] == 0 for k in ("case1", "case2", "case3"))
-    assert all(rows[(2.0, 0.0)][k]["regime"] == "full annular rub"
-               for k in ("case1", "case2", "case3"))
+    assert all(
+        rows[(2.0, 0.0)][k]["regime"] == "full annular rub" for k in ("case1", "case2", "case3")
+    )
     other = s["friction_sign_comparison"]["other_runs"]
     assert s["friction_sign_comparison"]["other"] == "seed"
     assert set(other) == {"case1", "case2", "case3"}
@@ -98,8 +110,14 @@ def test_sensitivity_and_friction(quick):
 
 def test_scenarios_command(capsys):
     names = [s["name"] for s in shipped_scenarios()]
-    for n in ("seed_case1", "seed_case2", "seed_case3", "seed_no_contact",
-              "seed_fig6_timoshenko", "seed_fig6_euler_bernoulli"):
+    for n in (
+        "seed_case1",
+        "seed_case2",
+        "seed_case3",
+        "seed_no_contact",
+        "seed_fig6_timoshenko",
+        "seed_fig6_euler_bernoulli",
+    ):
         assert n in names
     assert main(["scenarios"]) == 0
     out = capsys.readouterr().out

@@ -547,17 +547,29 @@ _MAX_ANALYSIS_RATE = 2.0e6  # Hz; longer-rate records are low-passed and decimat
 
 
 def _analyze_args(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("input", metavar="FILE",
-                        help="results.nc from `rubrotor run`, or a signal (.csv, .npy, .wav)")
-    parser.add_argument("--out", metavar="DIR",
-                        help="output directory (default: the input file's directory)")
-    parser.add_argument("--fs", type=float, metavar="HZ",
-                        help="sampling frequency (Hz); required for .csv and .npy")
-    parser.add_argument("--columns", metavar="A[,B]",
-                        help="column names (CSV header) or 0-based indices: one column, or two "
-                             "(v,w) for the full spectrum; default the first column")
-    parser.add_argument("--spin-hz", type=float, metavar="HZ",
-                        help="spin frequency (Hz) for signal files (harmonic ratios)")
+    parser.add_argument(
+        "input",
+        metavar="FILE",
+        help="results.nc from `rubrotor run`, or a signal (.csv, .npy, .wav)",
+    )
+    parser.add_argument(
+        "--out", metavar="DIR", help="output directory (default: the input file's directory)"
+    )
+    parser.add_argument(
+        "--fs", type=float, metavar="HZ", help="sampling frequency (Hz); required for .csv and .npy"
+    )
+    parser.add_argument(
+        "--columns",
+        metavar="A[,B]",
+        help="column names (CSV header) or 0-based indices: one column, or two "
+        "(v,w) for the full spectrum; default the first column",
+    )
+    parser.add_argument(
+        "--spin-hz",
+        type=float,
+        metavar="HZ",
+        help="spin frequency (Hz) for signal files (harmonic ratios)",
+    )
     parser.add_argument("--json", action="store_true", help="print the indicators as JSON")
 
 
@@ -669,8 +681,9 @@ def load_signals(path, *, fs=None, columns=None, spin_hz=None) -> dict:
         t = ds["time"].values
         dt = np.diff(t)
         if t.size < 64 or not np.all(dt > 0) or np.ptp(dt) > 1e-6 * np.mean(dt):
-            raise InputError("input", str(path), "results saved on a uniform time grid "
-                             "(at least 64 samples)")
+            raise InputError(
+                "input", str(path), "results saved on a uniform time grid (at least 64 samples)"
+            )
         rate = 1.0 / float(np.mean(dt))
         text = ds.attrs.get("scenario", "")
         entries: list = []
@@ -685,9 +698,17 @@ def load_signals(path, *, fs=None, columns=None, spin_hz=None) -> dict:
         for name, x in (("v_ddot", v), ("w_ddot", w)):
             if not np.all(np.isfinite(x)):
                 raise InputError("input", f"{path}: {name}", "finite data (no NaN or inf)")
-        return {"v": v, "w": w, "fs": rate, "spin_hz": float(ds.attrs["speed_hz"]),
-                "modes": entries, "unit": "m/s^2", "names": ["v_ddot", "w_ddot"],
-                "source": str(p), "scenario_name": ds.attrs.get("scenario_name", "")}
+        return {
+            "v": v,
+            "w": w,
+            "fs": rate,
+            "spin_hz": float(ds.attrs["speed_hz"]),
+            "modes": entries,
+            "unit": "m/s^2",
+            "names": ["v_ddot", "w_ddot"],
+            "source": str(p),
+            "scenario_name": ds.attrs.get("scenario_name", ""),
+        }
     table, rate = _read_table(p, ext, fs)
     if fs is None:
         if rate is None:
@@ -699,9 +720,17 @@ def load_signals(path, *, fs=None, columns=None, spin_hz=None) -> dict:
             raise InputError("input", f"column {name}: {x.size} samples", "at least 64 samples")
         if not np.all(np.isfinite(x)):
             raise InputError("input", f"column {name}", "finite data (no NaN or inf)")
-    return {"v": cols[0][1], "w": cols[1][1] if len(cols) == 2 else None, "fs": float(fs),
-            "spin_hz": spin_hz, "modes": [], "unit": "signal unit",
-            "names": [c[0] for c in cols], "source": str(p), "scenario_name": ""}
+    return {
+        "v": cols[0][1],
+        "w": cols[1][1] if len(cols) == 2 else None,
+        "fs": float(fs),
+        "spin_hz": spin_hz,
+        "modes": [],
+        "unit": "signal unit",
+        "names": [c[0] for c in cols],
+        "source": str(p),
+        "scenario_name": "",
+    }
 
 
 def _indicator_rows(d: dict) -> list[list[str]]:
@@ -714,8 +743,9 @@ def _indicator_rows(d: dict) -> list[list[str]]:
         rows.append([f"band energy {label} ({freq[label]:.0f} Hz)", f"{e:.4g}", f"({unit})^2"])
     for order, r in (d.get("harmonic_ratio") or {}).items():
         kind = "sub" if float(order) < 1 else "super"
-        rows.append([f"{kind}-harmonic {float(order):.3g}X / 1X", "inf" if r is None
-                     else f"{r:.4g}", ""])
+        rows.append(
+            [f"{kind}-harmonic {float(order):.3g}X / 1X", "inf" if r is None else f"{r:.4g}", ""]
+        )
     if d.get("backward_share") is not None:
         rows.append(["backward-whirl share", f"{d['backward_share']:.4f}", ""])
     for i, f in enumerate(d.get("inner_scalogram_peaks_hz", []), 1):
@@ -737,17 +767,23 @@ def _analyze_run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else Path(args.input).resolve().parent
     if out.exists() and not out.is_dir():
         raise InputError("--out", args.out, "a directory")
-    a = analyze_signal(chans[0], fs, w=chans[1] if len(chans) == 2 else None, spin_hz=spin,
-                       modes=sig["modes"], unit=sig["unit"])
+    a = analyze_signal(
+        chans[0],
+        fs,
+        w=chans[1] if len(chans) == 2 else None,
+        spin_hz=spin,
+        modes=sig["modes"],
+        unit=sig["unit"],
+    )
     d = indicators_dict(a)
     d["source"] = sig["source"]
     d["channels"] = sig["names"]
     name = sig["scenario_name"] or Path(args.input).name
-    fig = analysis_figure(a, title=f"{name}: {' + i '.join(sig['names'])} "
-                                   f"(fs = {fs / 1e3:.4g} kHz)")
+    fig = analysis_figure(
+        a, title=f"{name}: {' + i '.join(sig['names'])} (fs = {fs / 1e3:.4g} kHz)"
+    )
     atomic_write(out / "analysis.png", lambda tmp: fig.savefig(tmp, format="png", dpi=110))
-    atomic_write(out / "indicators.json",
-                 lambda tmp: Path(tmp).write_text(json.dumps(d, indent=2)))
+    atomic_write(out / "indicators.json", lambda tmp: Path(tmp).write_text(json.dumps(d, indent=2)))
     if args.json:
         _print_json(d)
     else:
@@ -758,8 +794,12 @@ def _analyze_run(args: argparse.Namespace) -> int:
 
 
 COMMANDS += [
-    Command("analyze", "rub indicators and CWT/spectrum figure of a results or signal file",
-            _analyze_args, _analyze_run),
+    Command(
+        "analyze",
+        "rub indicators and CWT/spectrum figure of a results or signal file",
+        _analyze_args,
+        _analyze_run,
+    ),
 ]
 
 
@@ -784,9 +824,13 @@ def shipped_scenarios() -> list[dict]:
         if not entry.name.endswith(".toml"):
             continue
         meta = tomllib.loads(entry.read_text()).get("meta", {})
-        out.append({"name": meta.get("name", entry.name[:-5]),
-                    "description": " ".join(meta.get("description", "").split()),
-                    "path": str(entry)})
+        out.append(
+            {
+                "name": meta.get("name", entry.name[:-5]),
+                "description": " ".join(meta.get("description", "").split()),
+                "path": str(entry),
+            }
+        )
     return out
 
 
@@ -803,10 +847,14 @@ def _scenarios_run(args: argparse.Namespace) -> int:
 
 def _reproduce_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    parser.add_argument("--quick", action="store_true",
-                        help="shortened runs and coarser output (for tests)")
-    parser.add_argument("--seed-friction", action="store_true",
-                        help="run cases 1-3 with the seed's literal friction sign")
+    parser.add_argument(
+        "--quick", action="store_true", help="shortened runs and coarser output (for tests)"
+    )
+    parser.add_argument(
+        "--seed-friction",
+        action="store_true",
+        help="run cases 1-3 with the seed's literal friction sign",
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
 
 
@@ -816,18 +864,29 @@ def _reproduce_run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out", args.out, "a directory")
-    summary = reproduce(out, quick=args.quick, seed_friction=args.seed_friction,
-                        quiet=args.quiet)
-    print(_table(["seed claim", "verdict"],
-                 [[c["claim"][:70], "holds" if c["holds"] else "does not hold"]
-                  for c in summary["claims"]]))
-    print(f"wrote {out / 'report.html'}, {out / 'report.md'}, {out / 'summary.json'} "
-          f"in {summary['wall_time_s']:.1f} s")
+    summary = reproduce(out, quick=args.quick, seed_friction=args.seed_friction, quiet=args.quiet)
+    print(
+        _table(
+            ["seed claim", "verdict"],
+            [
+                [c["claim"][:70], "holds" if c["holds"] else "does not hold"]
+                for c in summary["claims"]
+            ],
+        )
+    )
+    print(
+        f"wrote {out / 'report.html'}, {out / 'report.md'}, {out / 'summary.json'} "
+        f"in {summary['wall_time_s']:.1f} s"
+    )
     return 0
 
 
 COMMANDS += [
     Command("scenarios", "list the shipped scenario files", _scenarios_args, _scenarios_run),
-    Command("reproduce", "reproduce the seed study: figures, report.html, summary.json",
-            _reproduce_args, _reproduce_run),
+    Command(
+        "reproduce",
+        "reproduce the seed study: figures, report.html, summary.json",
+        _reproduce_args,
+        _reproduce_run,
+    ),
 ]

@@ -72,13 +72,25 @@ class Settings:
     save_every: int = 32
     fig6_revolutions: float = 50
     sensitivity_revolutions: float = 300
-    sensitivity: tuple = ((0.5, 0.0), (1.0, 0.0), (4 / 3, 0.0), (2.0, 0.0), (1.0, 3e-4),
-                          (4 / 3, 3e-4), (1.0, 0.005))
+    sensitivity: tuple = (
+        (0.5, 0.0),
+        (1.0, 0.0),
+        (4 / 3, 0.0),
+        (2.0, 0.0),
+        (1.0, 3e-4),
+        (4 / 3, 3e-4),
+        (1.0, 0.005),
+    )
 
 
 FULL = Settings()
-QUICK = Settings(revolutions=80, save_every=64, fig6_revolutions=20, sensitivity_revolutions=150,
-                 sensitivity=((0.5, 0.0), (1.0, 0.0), (2.0, 0.0)))
+QUICK = Settings(
+    revolutions=80,
+    save_every=64,
+    fig6_revolutions=20,
+    sensitivity_revolutions=150,
+    sensitivity=((0.5, 0.0), (1.0, 0.0), (2.0, 0.0)),
+)
 DTAU = 1e-3
 PERIOD_TOL = 0.01  # Poincare residual (relative to max |P|) below which a period is accepted
 
@@ -128,8 +140,13 @@ def poincare_period(ds, max_k: int = 12, tol: float = PERIOD_TOL) -> dict:
     arr = np.array(res)
     ok = [k for k, r in enumerate(res, 1) if r < tol]
     best = int(np.nanargmin(arr)) + 1
-    return {"period": ok[0] if ok else None, "best_k": best, "best_residual": res[best - 1],
-            "residuals": res, "samples": int(pts.size)}
+    return {
+        "period": ok[0] if ok else None,
+        "best_k": best,
+        "best_residual": res[best - 1],
+        "residuals": res,
+        "samples": int(pts.size),
+    }
 
 
 def case_metrics(ds, clearance: float | None) -> dict:
@@ -250,8 +267,11 @@ def _render(blocks, out: Path) -> tuple[str, str]:
                 tds = []
                 for c in r:
                     c = str(c)
-                    cls = ' class="ok"' if c.startswith("holds") else (
-                        ' class="no"' if c.startswith("does not") else "")
+                    cls = (
+                        ' class="ok"'
+                        if c.startswith("holds")
+                        else (' class="no"' if c.startswith("does not") else "")
+                    )
                     tds.append(f"<td{cls}>{html.escape(c)}</td>")
                 trs.append("<tr>" + "".join(tds) + "</tr>")
             body.append(f"<table><tr>{th}</tr>{''.join(trs)}</table>")
@@ -259,22 +279,29 @@ def _render(blocks, out: Path) -> tuple[str, str]:
             rel, caption = b[1], b[2]
             md.append(f"![{caption}]({rel})\n\n*{caption}*\n")
             data = base64.b64encode((out / rel).read_bytes()).decode("ascii")
-            body.append(f'<figure><img src="data:image/png;base64,{data}" alt="'
-                        f'{html.escape(caption)}"><figcaption>{html.escape(caption)}'
-                        "</figcaption></figure>")
-    style = ("body{font-family:sans-serif;max-width:1250px;margin:auto;padding:1em;line-height:1.4}"
-             "table{border-collapse:collapse;margin:0.6em 0;font-size:0.9em}"
-             "td,th{border:1px solid #bbb;padding:3px 7px;text-align:left;vertical-align:top}"
-             "th{background:#eee}td.ok{background:#dff0d8}td.no{background:#f8d7da}"
-             "img{max-width:100%;border:1px solid #ddd}figcaption{font-style:italic;color:#444}")
-    page = ("<!DOCTYPE html><html><head><meta charset='utf-8'><title>rubrotor: seed reproduction"
-            f"</title><style>{style}</style></head><body>{''.join(body)}</body></html>")
+            body.append(
+                f'<figure><img src="data:image/png;base64,{data}" alt="'
+                f'{html.escape(caption)}"><figcaption>{html.escape(caption)}'
+                "</figcaption></figure>"
+            )
+    style = (
+        "body{font-family:sans-serif;max-width:1250px;margin:auto;padding:1em;line-height:1.4}"
+        "table{border-collapse:collapse;margin:0.6em 0;font-size:0.9em}"
+        "td,th{border:1px solid #bbb;padding:3px 7px;text-align:left;vertical-align:top}"
+        "th{background:#eee}td.ok{background:#dff0d8}td.no{background:#f8d7da}"
+        "img{max-width:100%;border:1px solid #ddd}figcaption{font-style:italic;color:#444}"
+    )
+    page = (
+        "<!DOCTYPE html><html><head><meta charset='utf-8'><title>rubrotor: seed reproduction"
+        f"</title><style>{style}</style></head><body>{''.join(body)}</body></html>"
+    )
     return "\n".join(md), page
 
 
 # ---- the reproduction -----------------------------------------------------------------------
-def reproduce(out, *, quick: bool = False, seed_friction: bool = False,
-              quiet: bool = False) -> dict:
+def reproduce(
+    out, *, quick: bool = False, seed_friction: bool = False, quiet: bool = False
+) -> dict:
     """Run the seed reproduction and write its files.
 
     Parameters
@@ -309,7 +336,8 @@ def reproduce(out, *, quick: bool = False, seed_friction: bool = False,
             src = scen[key].source
             scen[key] = dataclasses.replace(
                 scen[key].with_changes(**{"contact.friction_sign": "seed"}),
-                source=src.replace('friction_sign = "physical"', 'friction_sign = "seed"'))
+                source=src.replace('friction_sign = "physical"', 'friction_sign = "seed"'),
+            )
     base = scen["case1"]
     speed = base.speed
     spin_hz = speed / TWO_PI
@@ -328,9 +356,11 @@ def reproduce(out, *, quick: bool = False, seed_friction: bool = False,
         metrics[key] = case_metrics(ds, g)
         spectral[key] = _spectral(ds, entries, band)
         fig = plotting.response_figure(
-            ds, clearance=g,
+            ds,
+            clearance=g,
             title=f"{title}: responses at midspan ({metrics[key]['revolutions']:.0f} rev from rest, "
-                  f"friction sign {sc.contact.friction_sign if sc.contact else '-'})")
+            f"friction sign {sc.contact.friction_sign if sc.contact else '-'})",
+        )
         _savefig(fig, out / key / "response.png")
     nc_e = spectral["no_contact"]["shear1_band_energy"]
     for key in spectral:
@@ -356,14 +386,25 @@ def reproduce(out, *, quick: bool = False, seed_friction: bool = False,
         j = (freqs >= band[2]) & (freqs <= band[3])
         spectral[key]["inner_scalogram_shear1_max"] = float(in_[j].max())
         spectral[key]["inner_scalogram_peaks_hz"] = peaks[key]
-    _savefig(plotting.scalogram_map_figure(
-        maps, modes=entries, spin_hz=spin_hz,
-        title="CWT of the horizontal acceleration at midspan (seed Fig. 7): max |W| per time bin"),
-        out / "fig7_cwt_maps.png")
-    _savefig(plotting.scalogram_curves_figure(
-        freqs, curves, modes=entries, spin_hz=spin_hz,
-        title="Scalogram and inner scalogram of the horizontal acceleration"),
-        out / "fig7_scalograms.png")
+    _savefig(
+        plotting.scalogram_map_figure(
+            maps,
+            modes=entries,
+            spin_hz=spin_hz,
+            title="CWT of the horizontal acceleration at midspan (seed Fig. 7): max |W| per time bin",
+        ),
+        out / "fig7_cwt_maps.png",
+    )
+    _savefig(
+        plotting.scalogram_curves_figure(
+            freqs,
+            curves,
+            modes=entries,
+            spin_hz=spin_hz,
+            title="Scalogram and inner scalogram of the horizontal acceleration",
+        ),
+        out / "fig7_scalograms.png",
+    )
 
     # 3. Timoshenko vs Euler-Bernoulli (seed Fig. 6)
     _progress("Fig. 6: Timoshenko vs Euler-Bernoulli at r = 0.0013", t0, quiet)
@@ -376,10 +417,16 @@ def reproduce(out, *, quick: bool = False, seed_friction: bool = False,
     for var in ("v", "w"):
         a, b = d_t[var].values, d_e[var].values
         rel[var] = float(np.max(np.abs(a - b)) / np.max(np.abs(a)))
-    f6_modes = {m.n: m.frequency_hz for m in modes(s_t, s_t.speed)
-                if m.branch == "bending" and m.whirl == "forward"}
-    f6_modes_eb = {m.n: m.frequency_hz for m in modes(s_e, s_e.speed)
-                   if m.branch == "bending" and m.whirl == "forward"}
+    f6_modes = {
+        m.n: m.frequency_hz
+        for m in modes(s_t, s_t.speed)
+        if m.branch == "bending" and m.whirl == "forward"
+    }
+    f6_modes_eb = {
+        m.n: m.frequency_hz
+        for m in modes(s_e, s_e.speed)
+        if m.branch == "bending" and m.whirl == "forward"
+    }
     fig6 = {
         "slenderness": s_t.shaft.slenderness,
         "diameter_m": s_t.shaft.diameter,
@@ -391,16 +438,23 @@ def reproduce(out, *, quick: bool = False, seed_friction: bool = False,
         "forward_bending_hz_timoshenko": f6_modes,
         "forward_bending_hz_euler_bernoulli": f6_modes_eb,
     }
-    _savefig(plotting.theory_comparison_figure(
-        d_t, d_e, variable="w",
-        title=f"Seed Fig. 6: no contact, r = {s_t.shaft.slenderness:g} (D = "
-              f"{s_t.shaft.diameter * 1e3:.2f} mm), {s_t.speed:.1f} rad/s, 3 modes, from rest"),
-        out / "fig6_timoshenko_vs_euler_bernoulli.png")
+    _savefig(
+        plotting.theory_comparison_figure(
+            d_t,
+            d_e,
+            variable="w",
+            title=f"Seed Fig. 6: no contact, r = {s_t.shaft.slenderness:g} (D = "
+            f"{s_t.shaft.diameter * 1e3:.2f} mm), {s_t.speed:.1f} rad/s, 3 modes, from rest",
+        ),
+        out / "fig6_timoshenko_vs_euler_bernoulli.png",
+    )
 
     # 4. Campbell diagram
     _progress("Campbell diagram", t0, quiet)
-    _savefig(plotting.campbell_figure(base.shaft, np.linspace(0, 3 * speed, 301),
-                                      operating_speed=speed), out / "campbell.png")
+    _savefig(
+        plotting.campbell_figure(base.shaft, np.linspace(0, 3 * speed, 301), operating_speed=speed),
+        out / "campbell.png",
+    )
 
     # 5. the other friction sign
     _progress(f"cases 1-3 with the {other_sign} friction sign", t0, quiet)
@@ -412,12 +466,17 @@ def reproduce(out, *, quick: bool = False, seed_friction: bool = False,
         m_o = case_metrics(d_o, sc_o.contact.clearance)
         m_o["status_message"] = d_o.attrs["status_message"]
         m_o["max_orbit_whole_run_over_clearance"] = float(
-            np.max(np.hypot(d_o["v"].values, d_o["w"].values)) / sc_o.contact.clearance)
+            np.max(np.hypot(d_o["v"].values, d_o["w"].values)) / sc_o.contact.clearance
+        )
         friction[key] = m_o
         for sign, d in ((main_sign, results[key]), (other_sign, d_o)):
             env[(key, sign)] = _envelope(d, scen[key].contact.clearance)
-    _savefig(plotting.envelope_figure(env, title="Orbit envelope (max over 5 revolutions): friction sign"),
-             out / "friction_sign.png")
+    _savefig(
+        plotting.envelope_figure(
+            env, title="Orbit envelope (max over 5 revolutions): friction sign"
+        ),
+        out / "friction_sign.png",
+    )
 
     # 6. sensitivity to the unbalance and damping (adaptive integrator)
     _progress("sensitivity: unbalance and damping", t0, quiet)
@@ -427,19 +486,33 @@ def reproduce(out, *, quick: bool = False, seed_friction: bool = False,
         row = {"unbalance_kg_m": me0 * fac, "unbalance_factor": fac, "damping_ratio": zeta}
         energy = {}
         for key in ("no_contact", "case1", "case2", "case3"):
-            sc_s = scen[key].with_changes(**{"unbalance.magnitude": me0 * fac,
-                                             "damping.ratio": zeta})
-            d = simulate(sc_s, integrator=Integrator(revolutions=st.sensitivity_revolutions,
-                                                     output_dtau=TWO_PI / 64), progress=False)
+            sc_s = scen[key].with_changes(
+                **{"unbalance.magnitude": me0 * fac, "damping.ratio": zeta}
+            )
+            d = simulate(
+                sc_s,
+                integrator=Integrator(
+                    revolutions=st.sensitivity_revolutions, output_dtau=TWO_PI / 64
+                ),
+                progress=False,
+            )
             energy[key] = _spectral(d, entries, band)["shear1_band_energy"]
             if key == "no_contact":
                 continue
             m = case_metrics(d, sc_s.contact.clearance)
-            row[key] = {k: m[k] for k in ("contact_fraction", "max_orbit_over_clearance",
-                                          "max_normal_force_N", "status")}
+            row[key] = {
+                k: m[k]
+                for k in (
+                    "contact_fraction",
+                    "max_orbit_over_clearance",
+                    "max_normal_force_N",
+                    "status",
+                )
+            }
             row[key]["regime"] = _regime(m)
             row[key]["shear1_ratio_to_no_contact"] = (
-                energy[key] / energy["no_contact"] if energy["no_contact"] > 0 else float("inf"))
+                energy[key] / energy["no_contact"] if energy["no_contact"] > 0 else float("inf")
+            )
         sens.append(row)
 
     # 7. claims
@@ -448,31 +521,42 @@ def reproduce(out, *, quick: bool = False, seed_friction: bool = False,
     claims = _claims(metrics, spectral, fig6, band)
     wall = time.perf_counter() - t0
     summary = {
-        "settings": dataclasses.asdict(st) | {"dtau": DTAU, "quick": quick,
-                                              "friction_sign": main_sign},
+        "settings": dataclasses.asdict(st)
+        | {"dtau": DTAU, "quick": quick, "friction_sign": main_sign},
         "speed_rad_s": speed,
         "spin_hz": spin_hz,
         "first_forward_critical_rad_s": next(
-            c.speed_rad_s for c in critical_speeds(base)
-            if c.whirl == "forward" and c.branch == "bending" and c.n == 1),
+            c.speed_rad_s
+            for c in critical_speeds(base)
+            if c.whirl == "forward" and c.branch == "bending" and c.n == 1
+        ),
         "natural_frequencies_hz": {lab: fr for lab, fr, _ in entries},
         "shear1_band_hz": [band[0], band[1]],
         "unbalance_kg_m": me0,
         "damping_ratio": base.damping.ratios[0],
         "initial_state": "rest (zero displacement and velocity), full spin speed from t = 0",
-        "cases": {k: metrics[k] | {"spectral": spectral[k],
-                                   "clearance_m": scen[k].contact.clearance
-                                   if scen[k].contact else None}
-                  for k, _, _ in CASES},
+        "cases": {
+            k: metrics[k]
+            | {
+                "spectral": spectral[k],
+                "clearance_m": scen[k].contact.clearance if scen[k].contact else None,
+            }
+            for k, _, _ in CASES
+        },
         "fig6": fig6,
-        "friction_sign_comparison": {"main": main_sign, "other": other_sign, "other_runs": friction},
+        "friction_sign_comparison": {
+            "main": main_sign,
+            "other": other_sign,
+            "other_runs": friction,
+        },
         "sensitivity": sens,
         "claims": claims,
         "wall_time_s": wall,
     }
     summary = json.loads(json.dumps(summary, default=_json_default))
-    atomic_write(out / "summary.json",
-                 lambda tmp: Path(tmp).write_text(json.dumps(summary, indent=2)))
+    atomic_write(
+        out / "summary.json", lambda tmp: Path(tmp).write_text(json.dumps(summary, indent=2))
+    )
     blocks = _report_blocks(summary, scen, m1, m2, m3)
     md, page = _render(blocks, out)
     atomic_write(out / "report.md", lambda tmp: Path(tmp).write_text(md))
@@ -515,193 +599,319 @@ def _claims(metrics, spectral, fig6, band) -> list[dict]:
     m1, m2, m3 = metrics["case1"], metrics["case2"], metrics["case3"]
     s = spectral
     rows = []
-    hardest = (m1["contact_fraction"] > max(m2["contact_fraction"], m3["contact_fraction"])
-               and m1["mean_normal_force_N"] > max(m2["mean_normal_force_N"],
-                                                   m3["mean_normal_force_N"]))
-    rows.append({
-        "claim": "Case 1 rubs hardest (seed Fig. 3, 7a)",
-        "holds": bool(hardest),
-        "numbers": (f"late contact fraction {m1['contact_fraction']:.3f} / "
-                    f"{m2['contact_fraction']:.3f} / {m3['contact_fraction']:.3f}; mean normal "
-                    f"force {m1['mean_normal_force_N']:.3g} / {m2['mean_normal_force_N']:.3g} / "
-                    f"{m3['mean_normal_force_N']:.3g} N (cases 1/2/3)"),
-    })
+    hardest = m1["contact_fraction"] > max(m2["contact_fraction"], m3["contact_fraction"]) and m1[
+        "mean_normal_force_N"
+    ] > max(m2["mean_normal_force_N"], m3["mean_normal_force_N"])
+    rows.append(
+        {
+            "claim": "Case 1 rubs hardest (seed Fig. 3, 7a)",
+            "holds": bool(hardest),
+            "numbers": (
+                f"late contact fraction {m1['contact_fraction']:.3f} / "
+                f"{m2['contact_fraction']:.3f} / {m3['contact_fraction']:.3f}; mean normal "
+                f"force {m1['mean_normal_force_N']:.3g} / {m2['mean_normal_force_N']:.3g} / "
+                f"{m3['mean_normal_force_N']:.3g} N (cases 1/2/3)"
+            ),
+        }
+    )
     per = m2["poincare"]
-    rows.append({
-        "claim": "Case 2 settles into periodic impacts in steady state (seed Fig. 4)",
-        "holds": bool(m2["contact_fraction"] > 0 and per["period"] is not None),
-        "numbers": (f"contact fraction {m2['contact_fraction']:.3f}, "
-                    f"{m2['impacts_per_rev']:.2f} impacts/rev; Poincare (once per rev, last "
-                    f"{per['samples']} rev): best k = {per['best_k']} with residual "
-                    f"{per['best_residual']:.3f} of max |P| (period accepted below "
-                    f"{PERIOD_TOL})"),
-    })
-    rows.append({
-        "claim": "Case 3's contact force is lower than case 2's (seed Fig. 5e)",
-        "holds": bool(m3["max_normal_force_N"] < m2["max_normal_force_N"]),
-        "numbers": (f"late max normal force {m3['max_normal_force_N']:.3g} N (case 3) vs "
-                    f"{m2['max_normal_force_N']:.3g} N (case 2); mean "
-                    f"{m3['mean_normal_force_N']:.3g} vs {m2['mean_normal_force_N']:.3g} N"),
-    })
+    rows.append(
+        {
+            "claim": "Case 2 settles into periodic impacts in steady state (seed Fig. 4)",
+            "holds": bool(m2["contact_fraction"] > 0 and per["period"] is not None),
+            "numbers": (
+                f"contact fraction {m2['contact_fraction']:.3f}, "
+                f"{m2['impacts_per_rev']:.2f} impacts/rev; Poincare (once per rev, last "
+                f"{per['samples']} rev): best k = {per['best_k']} with residual "
+                f"{per['best_residual']:.3f} of max |P| (period accepted below "
+                f"{PERIOD_TOL})"
+            ),
+        }
+    )
+    rows.append(
+        {
+            "claim": "Case 3's contact force is lower than case 2's (seed Fig. 5e)",
+            "holds": bool(m3["max_normal_force_N"] < m2["max_normal_force_N"]),
+            "numbers": (
+                f"late max normal force {m3['max_normal_force_N']:.3g} N (case 3) vs "
+                f"{m2['max_normal_force_N']:.3g} N (case 2); mean "
+                f"{m3['mean_normal_force_N']:.3g} vs {m2['mean_normal_force_N']:.3g} N"
+            ),
+        }
+    )
     r = [s[k]["shear1_ratio_to_no_contact"] for k in ("case1", "case2", "case3")]
     pk = [s[k]["shear1_peak_hz"] for k in ("case1", "case2", "case3")]
     in_band = all(band[0] * 0.97 <= abs(p) <= band[1] * 1.03 for p in pk)
-    rows.append({
-        "claim": ("Rubbing excites a band near 20 kHz that the no-contact run lacks: the shear "
-                  "branch of mode 1"),
-        "holds": bool(min(r) > 10 and in_band),
-        "numbers": (f"acceleration energy in {band[2] / 1e3:.1f}-{band[3] / 1e3:.1f} kHz vs "
-                    f"no contact: x{r[0]:.3g} / x{r[1]:.3g} / x{r[2]:.3g} (cases 1/2/3); "
-                    f"strongest line there at {abs(pk[0]) / 1e3:.2f} / {abs(pk[1]) / 1e3:.2f} / "
-                    f"{abs(pk[2]) / 1e3:.2f} kHz ({'forward' if pk[0] > 0 else 'backward'} in "
-                    f"case 1); mode-1 shear branch {band[0] / 1e3:.2f} (B) - "
-                    f"{band[1] / 1e3:.2f} (F) kHz"),
-    })
+    rows.append(
+        {
+            "claim": (
+                "Rubbing excites a band near 20 kHz that the no-contact run lacks: the shear "
+                "branch of mode 1"
+            ),
+            "holds": bool(min(r) > 10 and in_band),
+            "numbers": (
+                f"acceleration energy in {band[2] / 1e3:.1f}-{band[3] / 1e3:.1f} kHz vs "
+                f"no contact: x{r[0]:.3g} / x{r[1]:.3g} / x{r[2]:.3g} (cases 1/2/3); "
+                f"strongest line there at {abs(pk[0]) / 1e3:.2f} / {abs(pk[1]) / 1e3:.2f} / "
+                f"{abs(pk[2]) / 1e3:.2f} kHz ({'forward' if pk[0] > 0 else 'backward'} in "
+                f"case 1); mode-1 shear branch {band[0] / 1e3:.2f} (B) - "
+                f"{band[1] / 1e3:.2f} (F) kHz"
+            ),
+        }
+    )
     share = [s[k]["shear1_band_share"] for k in ("case1", "case2", "case3")]
-    rows.append({
-        "claim": ("In case 1 the ~20 kHz band dominates the acceleration (seed: 'no other "
-                  "frequency rather than the 20 kHz appears')"),
-        "holds": bool(share[0] > 0.5),
-        "numbers": (f"share of the acceleration mean square in the band: {share[0]:.3g} / "
-                    f"{share[1]:.3g} / {share[2]:.3g} (cases 1/2/3)"),
-    })
-    rows.append({
-        "claim": "The rub band carries more energy in case 3 than in case 2 (seed Fig. 7b, c)",
-        "holds": bool(s["case3"]["shear1_band_energy"] > s["case2"]["shear1_band_energy"]),
-        "numbers": (f"band energy {s['case3']['shear1_band_energy']:.3g} vs "
-                    f"{s['case2']['shear1_band_energy']:.3g} (m/s^2)^2 (case 3 vs case 2)"),
-    })
-    rows.append({
-        "claim": "The Timoshenko model matches Euler-Bernoulli for a slender shaft (Fig. 6)",
-        "holds": bool(max(fig6["max_rel_diff_v"], fig6["max_rel_diff_w"]) < 0.05),
-        "numbers": (f"r = {fig6['slenderness']:g}, {fig6['revolutions']:g} rev: max |w_T - w_EB| "
-                    f"/ max |w| = {fig6['max_rel_diff_w']:.2e}, same for v "
-                    f"{fig6['max_rel_diff_v']:.2e}; first forward bending frequency "
-                    f"{fig6['forward_bending_hz_timoshenko'][1]:.7g} vs "
-                    f"{fig6['forward_bending_hz_euler_bernoulli'][1]:.7g} Hz"),
-    })
+    rows.append(
+        {
+            "claim": (
+                "In case 1 the ~20 kHz band dominates the acceleration (seed: 'no other "
+                "frequency rather than the 20 kHz appears')"
+            ),
+            "holds": bool(share[0] > 0.5),
+            "numbers": (
+                f"share of the acceleration mean square in the band: {share[0]:.3g} / "
+                f"{share[1]:.3g} / {share[2]:.3g} (cases 1/2/3)"
+            ),
+        }
+    )
+    rows.append(
+        {
+            "claim": "The rub band carries more energy in case 3 than in case 2 (seed Fig. 7b, c)",
+            "holds": bool(s["case3"]["shear1_band_energy"] > s["case2"]["shear1_band_energy"]),
+            "numbers": (
+                f"band energy {s['case3']['shear1_band_energy']:.3g} vs "
+                f"{s['case2']['shear1_band_energy']:.3g} (m/s^2)^2 (case 3 vs case 2)"
+            ),
+        }
+    )
+    rows.append(
+        {
+            "claim": "The Timoshenko model matches Euler-Bernoulli for a slender shaft (Fig. 6)",
+            "holds": bool(max(fig6["max_rel_diff_v"], fig6["max_rel_diff_w"]) < 0.05),
+            "numbers": (
+                f"r = {fig6['slenderness']:g}, {fig6['revolutions']:g} rev: max |w_T - w_EB| "
+                f"/ max |w| = {fig6['max_rel_diff_w']:.2e}, same for v "
+                f"{fig6['max_rel_diff_v']:.2e}; first forward bending frequency "
+                f"{fig6['forward_bending_hz_timoshenko'][1]:.7g} vs "
+                f"{fig6['forward_bending_hz_euler_bernoulli'][1]:.7g} Hz"
+            ),
+        }
+    )
     return rows
 
 
 INCONSISTENCIES = [
-    ("Density '26.6 N/m^3'", "A specific weight in kN/m^3; we use the mass density 2660 kg/m^3, "
-     "the only value that reproduces a ~20 kHz rub band."),
-    ("nu = 0.334 vs E/(2G) - 1 = 0.355", "We give E and G (Table 1) and derive nu = 0.355; the "
-     "seed's delta = (9/5)(1 + nu) is reproduced through kappa = 10/9 (below)."),
-    ("Shear coefficient 10/9 vs Cowper", "The seed's delta = E/(kappa G) implies kappa = 10/9; "
-     "the seed scenarios use it (shear_coefficient = \"seed\"). Cowper's 0.886 is the library "
-     "default for physical work (first critical 1218.5 Hz instead of 1232.3 Hz)."),
-    ("Single-equation forced form (eq. 1)", "Putting point forces on the right side of the "
-     "4th-order single equation drops the d2F/dx2 and d2F/dt2 terms; we integrate the two-field "
-     "(deflection + rotation) model, which has the same free vibration and takes point forces "
-     "correctly."),
-    ("Friction sign (eqs. 15-16)", "The seed's friction feeds forward whirl. Default: friction "
-     "opposing sliding (physical); the seed's sign is a switch (contact.friction_sign = \"seed\", "
-     "rubrotor reproduce --seed-friction); its effect is measured below."),
-    ("Contact units", "k_h = 1e3 N/m^1.5, b_h = 1e2 s/m, g = 3e-3 mm give ~1e-5 N forces in SI; "
-     "they are values of the dimensionless model (k_h' = k_h L^3.5/(EI), b_h' = b_h L Omega, "
-     "g' = g/L), and the scenarios give them so (stiffness_nd, damping_nd, clearance_nd)."),
-    ("Operating speed 2.6 kHz", "1.5 x the first forward critical speed of the Table 1 rotor is "
-     "1.5 x 1232.3 = 1848.4 Hz (11614 rad/s); 2.6 kHz cannot be obtained from the table. We run at "
-     "1848.4 Hz (speed.critical_multiple = 1.5)."),
-    ("b_h and restitution", "The seed says a larger b_h makes impacts more elastic; with "
-     "Hunt-Crossley b_h = 3(1 - e)/(2 v0) a larger b_h means a lower restitution e (more "
-     "dissipation). Case 3 is run as specified; the report states the measured force."),
-    ("Unbalance, structural damping, initial state", "Not given; chosen below and varied in the "
-     "sensitivity table."),
+    (
+        "Density '26.6 N/m^3'",
+        "A specific weight in kN/m^3; we use the mass density 2660 kg/m^3, "
+        "the only value that reproduces a ~20 kHz rub band.",
+    ),
+    (
+        "nu = 0.334 vs E/(2G) - 1 = 0.355",
+        "We give E and G (Table 1) and derive nu = 0.355; the "
+        "seed's delta = (9/5)(1 + nu) is reproduced through kappa = 10/9 (below).",
+    ),
+    (
+        "Shear coefficient 10/9 vs Cowper",
+        "The seed's delta = E/(kappa G) implies kappa = 10/9; "
+        'the seed scenarios use it (shear_coefficient = "seed"). Cowper\'s 0.886 is the library '
+        "default for physical work (first critical 1218.5 Hz instead of 1232.3 Hz).",
+    ),
+    (
+        "Single-equation forced form (eq. 1)",
+        "Putting point forces on the right side of the "
+        "4th-order single equation drops the d2F/dx2 and d2F/dt2 terms; we integrate the two-field "
+        "(deflection + rotation) model, which has the same free vibration and takes point forces "
+        "correctly.",
+    ),
+    (
+        "Friction sign (eqs. 15-16)",
+        "The seed's friction feeds forward whirl. Default: friction "
+        'opposing sliding (physical); the seed\'s sign is a switch (contact.friction_sign = "seed", '
+        "rubrotor reproduce --seed-friction); its effect is measured below.",
+    ),
+    (
+        "Contact units",
+        "k_h = 1e3 N/m^1.5, b_h = 1e2 s/m, g = 3e-3 mm give ~1e-5 N forces in SI; "
+        "they are values of the dimensionless model (k_h' = k_h L^3.5/(EI), b_h' = b_h L Omega, "
+        "g' = g/L), and the scenarios give them so (stiffness_nd, damping_nd, clearance_nd).",
+    ),
+    (
+        "Operating speed 2.6 kHz",
+        "1.5 x the first forward critical speed of the Table 1 rotor is "
+        "1.5 x 1232.3 = 1848.4 Hz (11614 rad/s); 2.6 kHz cannot be obtained from the table. We run at "
+        "1848.4 Hz (speed.critical_multiple = 1.5).",
+    ),
+    (
+        "b_h and restitution",
+        "The seed says a larger b_h makes impacts more elastic; with "
+        "Hunt-Crossley b_h = 3(1 - e)/(2 v0) a larger b_h means a lower restitution e (more "
+        "dissipation). Case 3 is run as specified; the report states the measured force.",
+    ),
+    (
+        "Unbalance, structural damping, initial state",
+        "Not given; chosen below and varied in the sensitivity table.",
+    ),
 ]
 
 
 def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
     st = s["settings"]
-    b: list = [("h1", "rubrotor: reproduction of the seed study (IFToMM 2018, 'Rubbing Effect "
-                      "Analysis in a Continuous Rotor Model')")]
-    b.append(("p", f"Generated by `rubrotor reproduce` in {s['wall_time_s']:.1f} s"
-                   f"{' (quick settings: shortened runs, coarser output)' if st['quick'] else ''}."
-                   f" Friction sign of the main cases: {st['friction_sign']}."))
+    b: list = [
+        (
+            "h1",
+            "rubrotor: reproduction of the seed study (IFToMM 2018, 'Rubbing Effect "
+            "Analysis in a Continuous Rotor Model')",
+        )
+    ]
+    b.append(
+        (
+            "p",
+            f"Generated by `rubrotor reproduce` in {s['wall_time_s']:.1f} s"
+            f"{' (quick settings: shortened runs, coarser output)' if st['quick'] else ''}."
+            f" Friction sign of the main cases: {st['friction_sign']}.",
+        )
+    )
     b.append(("h2", "Claims"))
-    b.append(("table", ["seed claim", "verdict", "measured"],
-              [[c["claim"], "holds" if c["holds"] else "does not hold", c["numbers"]]
-               for c in s["claims"]]))
-    b.append(("p", "Why the rub-band claims fail here: started from rest without structural "
-                   "damping, every run (the no-contact one included) rings at all natural "
-                   "frequencies, the mode-1 shear branch among them, for ever; the impacts are "
-                   "soft (contact lasting a good part of a 1.25 kHz bending period, far longer "
-                   "than the 45 us shear period), so they add little there. With a little "
-                   "damping (0.03 %, sensitivity table), which lets the start-up ringing of the "
-                   "shear branch decay, case 1 reaches only a few times the no-contact band "
-                   "energy, far from the seed's dominant 20 kHz band. Why case 2 is not periodic: its "
-                   "partial rub is carried by the undamped mode-1 free vibration (about 2/3 of "
-                   "the spin frequency, hence the near period 3), which is not locked to the "
-                   "spin."))
+    b.append(
+        (
+            "table",
+            ["seed claim", "verdict", "measured"],
+            [
+                [c["claim"], "holds" if c["holds"] else "does not hold", c["numbers"]]
+                for c in s["claims"]
+            ],
+        )
+    )
+    b.append(
+        (
+            "p",
+            "Why the rub-band claims fail here: started from rest without structural "
+            "damping, every run (the no-contact one included) rings at all natural "
+            "frequencies, the mode-1 shear branch among them, for ever; the impacts are "
+            "soft (contact lasting a good part of a 1.25 kHz bending period, far longer "
+            "than the 45 us shear period), so they add little there. With a little "
+            "damping (0.03 %, sensitivity table), which lets the start-up ringing of the "
+            "shear branch decay, case 1 reaches only a few times the no-contact band "
+            "energy, far from the seed's dominant 20 kHz band. Why case 2 is not periodic: its "
+            "partial rub is carried by the undamped mode-1 free vibration (about 2/3 of "
+            "the spin frequency, hence the near period 3), which is not locked to the "
+            "spin.",
+        )
+    )
     b.append(("h2", "Parameters and assumptions"))
     sh = scen["case1"].shaft
     c1, c3 = scen["case1"].contact, scen["case3"].contact
-    b.append(("ul", [
-        f"Shaft (seed Table 1): L = {sh.length} m, D = {sh.diameter * 1e3:g} mm "
-        f"(r = {sh.slenderness:g}), E = {sh.youngs_modulus / 1e9:g} GPa, G = {sh.G / 1e9:g} GPa, "
-        f"rho = {sh.density:g} kg/m^3, kappa = {sh.kappa:.4g} (seed), Timoshenko with gyroscopic "
-        f"moments, simply supported, {sh.modes} modes (mode 2 is not excited at midspan).",
-        f"Speed: 1.5 x first forward critical = {s['speed_rad_s']:.1f} rad/s = "
-        f"{s['spin_hz']:.1f} Hz.",
-        f"Contact at midspan: Hertz-Hunt-Crossley, k_h' = 1e3 (k_h = {c1.stiffness:.3g} "
-        f"N/m^1.5), b_h' = 1e2 / 1e3 (b_h = {c1.damping:.3g} / {c3.damping:.3g} s/m), g' = 3e-3 / "
-        f"3.5e-3 (g = {c1.clearance * 1e3:.2f} / {scen['case2'].contact.clearance * 1e3:.2f} mm), "
-        f"mu = {c1.friction}.",
-        f"Unbalance (assumed): {s['unbalance_kg_m']:g} kg m at midspan. Chosen so that, started "
-        "from rest, cases 1-3 are in partial rub with case 1 the hardest (the seed's picture); "
-        "0.5x gives no contact, 2x gives full annular rub in every case (table below).",
-        f"Structural damping (assumed): modal ratio {s['damping_ratio']:g}, as in the seed's "
-        "undamped model. With 0.5 % the start-up transient dies and the rub with it (table).",
-        f"Initial state (assumed): {s['initial_state']}.",
-        f"Integration: exponential integrator, fixed d tau = {st['dtau']:g} (the seed's step), "
-        f"{st['revolutions']:g} revolutions per case, one step in {st['save_every']} saved "
-        f"(fs = {s['cases']['case1']['spectral']['fs_hz'] / 1e3:.1f} kHz). 'Late' numbers are "
-        "over the second half of each run.",
-        "Natural frequencies at the operating speed (Hz): " + ", ".join(
-            f"{k} {v:.0f}" for k, v in s["natural_frequencies_hz"].items()),
-    ]))
+    b.append(
+        (
+            "ul",
+            [
+                f"Shaft (seed Table 1): L = {sh.length} m, D = {sh.diameter * 1e3:g} mm "
+                f"(r = {sh.slenderness:g}), E = {sh.youngs_modulus / 1e9:g} GPa, G = {sh.G / 1e9:g} GPa, "
+                f"rho = {sh.density:g} kg/m^3, kappa = {sh.kappa:.4g} (seed), Timoshenko with gyroscopic "
+                f"moments, simply supported, {sh.modes} modes (mode 2 is not excited at midspan).",
+                f"Speed: 1.5 x first forward critical = {s['speed_rad_s']:.1f} rad/s = "
+                f"{s['spin_hz']:.1f} Hz.",
+                f"Contact at midspan: Hertz-Hunt-Crossley, k_h' = 1e3 (k_h = {c1.stiffness:.3g} "
+                f"N/m^1.5), b_h' = 1e2 / 1e3 (b_h = {c1.damping:.3g} / {c3.damping:.3g} s/m), g' = 3e-3 / "
+                f"3.5e-3 (g = {c1.clearance * 1e3:.2f} / {scen['case2'].contact.clearance * 1e3:.2f} mm), "
+                f"mu = {c1.friction}.",
+                f"Unbalance (assumed): {s['unbalance_kg_m']:g} kg m at midspan. Chosen so that, started "
+                "from rest, cases 1-3 are in partial rub with case 1 the hardest (the seed's picture); "
+                "0.5x gives no contact, 2x gives full annular rub in every case (table below).",
+                f"Structural damping (assumed): modal ratio {s['damping_ratio']:g}, as in the seed's "
+                "undamped model. With 0.5 % the start-up transient dies and the rub with it (table).",
+                f"Initial state (assumed): {s['initial_state']}.",
+                f"Integration: exponential integrator, fixed d tau = {st['dtau']:g} (the seed's step), "
+                f"{st['revolutions']:g} revolutions per case, one step in {st['save_every']} saved "
+                f"(fs = {s['cases']['case1']['spectral']['fs_hz'] / 1e3:.1f} kHz). 'Late' numbers are "
+                "over the second half of each run.",
+                "Natural frequencies at the operating speed (Hz): "
+                + ", ".join(f"{k} {v:.0f}" for k, v in s["natural_frequencies_hz"].items()),
+            ],
+        )
+    )
     b.append(("h2", "Cases 1-3 and the no-contact run (seed Figs. 3-5)"))
     rows = []
     for key, _stem, title in CASES:
         m = s["cases"][key]
         sp = m["spectral"]
         per = m["poincare"]
-        rows.append([title, _fmt(m["contact_fraction"]), _fmt(m["max_orbit_over_clearance"]),
-                     _fmt(m["max_normal_force_N"]), _fmt(m["mean_normal_force_N"]),
-                     _fmt(m["impacts_per_rev"]),
-                     f"{per['period'] or '-'} (best k {per['best_k']}, "
-                     f"{per['best_residual']:.2g})",
-                     _fmt(sp["shear1_band_energy"]), _fmt(sp["shear1_ratio_to_no_contact"]),
-                     ", ".join(f"{f / 1e3:.3g}" for f in sp["inner_scalogram_peaks_hz"][:4])])
-    b.append(("table", ["case", "contact fraction", "max |P|/g", "max F_n (N)", "mean F_n (N)",
-                        "impacts/rev", "period (Poincare)",
-                        "acc. energy 19.6-25.5 kHz ((m/s^2)^2)", "vs no contact",
-                        "inner-scalogram peaks (kHz)"], rows))
+        rows.append(
+            [
+                title,
+                _fmt(m["contact_fraction"]),
+                _fmt(m["max_orbit_over_clearance"]),
+                _fmt(m["max_normal_force_N"]),
+                _fmt(m["mean_normal_force_N"]),
+                _fmt(m["impacts_per_rev"]),
+                f"{per['period'] or '-'} (best k {per['best_k']}, {per['best_residual']:.2g})",
+                _fmt(sp["shear1_band_energy"]),
+                _fmt(sp["shear1_ratio_to_no_contact"]),
+                ", ".join(f"{f / 1e3:.3g}" for f in sp["inner_scalogram_peaks_hz"][:4]),
+            ]
+        )
+    b.append(
+        (
+            "table",
+            [
+                "case",
+                "contact fraction",
+                "max |P|/g",
+                "max F_n (N)",
+                "mean F_n (N)",
+                "impacts/rev",
+                "period (Poincare)",
+                "acc. energy 19.6-25.5 kHz ((m/s^2)^2)",
+                "vs no contact",
+                "inner-scalogram peaks (kHz)",
+            ],
+            rows,
+        )
+    )
     for key, _stem, title in CASES:
-        b.append(("img", f"{key}/response.png",
-                  f"{title}: (a) v and (c) w against time (black: clearance), (b), (d) phase "
-                  "portraits, (e) normal contact force, (f) orbit with the clearance circle"))
+        b.append(
+            (
+                "img",
+                f"{key}/response.png",
+                f"{title}: (a) v and (c) w against time (black: clearance), (b), (d) phase "
+                "portraits, (e) normal contact force, (f) orbit with the clearance circle",
+            )
+        )
     b.append(("h2", "CWT of the acceleration (seed Fig. 7)"))
-    b.append(("p", "Analytic Morlet (omega0 = 6), L1 normalization; horizontal acceleration at "
-                   "midspan over the whole run. Dashed lines: bending branch, dotted: shear "
-                   "branch; blue forward, pink backward whirl; green: 1X-3X spin harmonics."))
+    b.append(
+        (
+            "p",
+            "Analytic Morlet (omega0 = 6), L1 normalization; horizontal acceleration at "
+            "midspan over the whole run. Dashed lines: bending branch, dotted: shear "
+            "branch; blue forward, pink backward whirl; green: 1X-3X spin harmonics.",
+        )
+    )
     b.append(("img", "fig7_cwt_maps.png", "Time-binned CWT maps (one colour scale for all four)"))
     b.append(("img", "fig7_scalograms.png", "Scalogram and inner scalogram"))
     f6 = s["fig6"]
     b.append(("h2", "Timoshenko vs Euler-Bernoulli (seed Fig. 6)"))
-    b.append(("p", f"No contact, r = {f6['slenderness']:g} (D = {f6['diameter_m'] * 1e3:.2f} mm), "
-                   f"same speed ({f6['speed_rad_s']:.2f} rad/s) and unbalance for both theories, "
-                   f"{f6['revolutions']:g} revolutions from rest. The 3-mode response is the 1X "
-                   "orbit plus the undamped free vibration of modes 1 and 3 started at t = 0; the "
-                   "theories differ only through the slightly different natural frequencies "
-                   "(mode 1 forward: "
-                   f"{f6['forward_bending_hz_timoshenko']['1']:.7g} Hz Timoshenko, "
-                   f"{f6['forward_bending_hz_euler_bernoulli']['1']:.7g} Hz Euler-Bernoulli), so "
-                   "the difference grows slowly with time as the free vibrations drift apart: "
-                   f"max |w_T - w_EB| / max |w| = {f6['max_rel_diff_w']:.2e}."))
-    b.append(("img", "fig6_timoshenko_vs_euler_bernoulli.png", "Vertical displacement, both "
-                                                                  "theories, and difference"))
+    b.append(
+        (
+            "p",
+            f"No contact, r = {f6['slenderness']:g} (D = {f6['diameter_m'] * 1e3:.2f} mm), "
+            f"same speed ({f6['speed_rad_s']:.2f} rad/s) and unbalance for both theories, "
+            f"{f6['revolutions']:g} revolutions from rest. The 3-mode response is the 1X "
+            "orbit plus the undamped free vibration of modes 1 and 3 started at t = 0; the "
+            "theories differ only through the slightly different natural frequencies "
+            "(mode 1 forward: "
+            f"{f6['forward_bending_hz_timoshenko']['1']:.7g} Hz Timoshenko, "
+            f"{f6['forward_bending_hz_euler_bernoulli']['1']:.7g} Hz Euler-Bernoulli), so "
+            "the difference grows slowly with time as the free vibrations drift apart: "
+            f"max |w_T - w_EB| / max |w| = {f6['max_rel_diff_w']:.2e}.",
+        )
+    )
+    b.append(
+        (
+            "img",
+            "fig6_timoshenko_vs_euler_bernoulli.png",
+            "Vertical displacement, both theories, and difference",
+        )
+    )
     b.append(("h2", "Campbell diagram"))
     b.append(("img", "campbell.png", "Campbell diagram of the seed rotor with the operating speed"))
     fr = s["friction_sign_comparison"]
@@ -710,30 +920,55 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
     for key in ("case1", "case2", "case3"):
         o = fr["other_runs"][key]
         m = s["cases"][key]
-        rows.append([key, f"{_regime(m)}; max |P|/g {_fmt(m['max_orbit_over_clearance'])}",
-                     f"{_regime(o)}; max |P|/g over the run "
-                     f"{_fmt(o['max_orbit_whole_run_over_clearance'])}; "
-                     f"{o['revolutions']:.0f} rev simulated; {o['status_message'] or 'complete'}"])
+        rows.append(
+            [
+                key,
+                f"{_regime(m)}; max |P|/g {_fmt(m['max_orbit_over_clearance'])}",
+                f"{_regime(o)}; max |P|/g over the run "
+                f"{_fmt(o['max_orbit_whole_run_over_clearance'])}; "
+                f"{o['revolutions']:.0f} rev simulated; {o['status_message'] or 'complete'}",
+            ]
+        )
     b.append(("table", ["case", f"{fr['main']} sign", f"{fr['other']} sign"], rows))
-    b.append(("p", "The seed's sign (eqs. 15-16) puts the friction force along the forward "
-                   "whirl: energy flows into the orbit during contact (model-notes section 3)."))
-    b.append(("img", "friction_sign.png", "Largest |P|/g in each block of 5 revolutions, both friction signs"))
+    b.append(
+        (
+            "p",
+            "The seed's sign (eqs. 15-16) puts the friction force along the forward "
+            "whirl: energy flows into the orbit during contact (model-notes section 3).",
+        )
+    )
+    b.append(
+        (
+            "img",
+            "friction_sign.png",
+            "Largest |P|/g in each block of 5 revolutions, both friction signs",
+        )
+    )
     b.append(("h2", "Sensitivity to the unbalance and the structural damping"))
-    b.append(("p", "Adaptive integrator, from rest, "
-                   f"{st['sensitivity_revolutions']:g} revolutions, late half, 64 samples per "
-                   "revolution. Regime per case with contact fraction, max |P|/g, max normal "
-                   "force and the acceleration energy in the mode-1 shear band relative to the "
-                   "no-contact run with the same unbalance and damping."))
+    b.append(
+        (
+            "p",
+            "Adaptive integrator, from rest, "
+            f"{st['sensitivity_revolutions']:g} revolutions, late half, 64 samples per "
+            "revolution. Regime per case with contact fraction, max |P|/g, max normal "
+            "force and the acceleration energy in the mode-1 shear band relative to the "
+            "no-contact run with the same unbalance and damping.",
+        )
+    )
     rows = []
     for r in s["sensitivity"]:
-        cells = [f"{r['unbalance_kg_m']:.3g} ({r['unbalance_factor']:.3g}x)",
-                 f"{r['damping_ratio']:g}"]
+        cells = [
+            f"{r['unbalance_kg_m']:.3g} ({r['unbalance_factor']:.3g}x)",
+            f"{r['damping_ratio']:g}",
+        ]
         for key in ("case1", "case2", "case3"):
             c = r[key]
-            cells.append(f"{c['regime']}: {c['contact_fraction']:.2f}, "
-                         f"{_fmt(c['max_orbit_over_clearance'])}, "
-                         f"{_fmt(c['max_normal_force_N'])} N; band x"
-                         f"{_fmt(c['shear1_ratio_to_no_contact'])}")
+            cells.append(
+                f"{c['regime']}: {c['contact_fraction']:.2f}, "
+                f"{_fmt(c['max_orbit_over_clearance'])}, "
+                f"{_fmt(c['max_normal_force_N'])} N; band x"
+                f"{_fmt(c['shear1_ratio_to_no_contact'])}"
+            )
         rows.append(cells)
     b.append(("table", ["unbalance (kg m)", "damping ratio", "case 1", "case 2", "case 3"], rows))
     b.append(("h2", "Inconsistencies in the seed and what we did"))

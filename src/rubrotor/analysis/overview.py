@@ -195,18 +195,35 @@ def analyze_signal(
     ind = None
     if spin_hz is not None:
         ind = rub_indicators(
-            v, fs, spin_hz, kept, w=w, baseline=baseline, scalogram_range_hz=frequency_range,
+            v,
+            fs,
+            spin_hz,
+            kept,
+            w=w,
+            baseline=baseline,
+            scalogram_range_hz=frequency_range,
             n_frequencies=n_frequencies,
         )
     details = {
         "samples": int(n),
         "duration_s": n / fs,
-        "rms": float(np.sqrt(np.mean(v**2))) if w is None else float(
-            np.sqrt(np.mean(v**2 + w**2))),
+        "rms": float(np.sqrt(np.mean(v**2))) if w is None else float(np.sqrt(np.mean(v**2 + w**2))),
         "frequency_range_hz": [float(frequency_range[0]), float(frequency_range[1])],
     }
-    return SignalAnalysis(fs, unit, spin_hz, list(kept), binned, freqs, scal, inner, spectrum,
-                          w is not None, ind, details)
+    return SignalAnalysis(
+        fs,
+        unit,
+        spin_hz,
+        list(kept),
+        binned,
+        freqs,
+        scal,
+        inner,
+        spectrum,
+        w is not None,
+        ind,
+        details,
+    )
 
 
 def _num(x):
@@ -229,16 +246,22 @@ def indicators_dict(a: SignalAnalysis) -> dict:
         ``band_ratio``, ``harmonic_ratio`` ({order: ratio to 1X}), ``backward_share``,
         ``inner_scalogram_peaks_hz``, ``details``. Infinite ratios are written as null.
     """
-    out = {"fs_hz": a.fs, "unit": a.unit, "spin_hz": a.spin_hz, **a.details,
-           "modes": [{"label": m[0], "frequency_hz": m[1], "whirl": m[2]} for m in a.modes]}
+    out = {
+        "fs_hz": a.fs,
+        "unit": a.unit,
+        "spin_hz": a.spin_hz,
+        **a.details,
+        "modes": [{"label": m[0], "frequency_hz": m[1], "whirl": m[2]} for m in a.modes],
+    }
     ind = a.indicators
     if ind is None:
         idx = np.argsort(a.inner)[::-1][:5]
         out["inner_scalogram_peaks_hz"] = [float(f) for f in a.frequencies[idx]]
         return out
     out["band_energy"] = {k: _num(v) for k, v in ind.band_energy.items()}
-    out["band_ratio"] = None if ind.band_ratio is None else {
-        k: _num(v) for k, v in ind.band_ratio.items()}
+    out["band_ratio"] = (
+        None if ind.band_ratio is None else {k: _num(v) for k, v in ind.band_ratio.items()}
+    )
     out["harmonic_ratio"] = {f"{k:.4g}": _num(v) for k, v in ind.harmonic_ratio.items()}
     out["backward_share"] = None if ind.backward_share is None else float(ind.backward_share)
     out["inner_scalogram_peaks_hz"] = [float(f) for f in ind.scalogram_peaks_hz]
