@@ -141,6 +141,54 @@ SCHEMA: dict[str, dict[str, str]] = {
 }
 """Allowed sections, their keys and the kind of value each key takes."""
 
+KEY_UNITS = {
+    "shaft.length": "m",
+    "shaft.diameter": "m",
+    "shaft.slenderness": "1",
+    "shaft.bore_diameter": "m",
+    "shaft.youngs_modulus": "Pa",
+    "shaft.shear_modulus": "Pa",
+    "shaft.poisson_ratio": "1",
+    "shaft.shear_parameter": "1",
+    "shaft.density": "kg/m^3",
+    "speed.rad_per_s": "rad/s",
+    "speed.rpm": "rev/min",
+    "speed.hz": "Hz",
+    "speed.critical_multiple": "x first forward critical",
+    "speed.dimensionless": "1",
+    "unbalance.magnitude": "kg m",
+    "unbalance.position": "m",
+    "unbalance.phase_deg": "deg",
+    "load.force_y": "N",
+    "load.force_z": "N",
+    "load.position": "m",
+    "contact.position": "m",
+    "contact.clearance": "m",
+    "contact.stiffness": "N/m^1.5 (hertz) or N/m (linear)",
+    "contact.damping": "s/m (hertz) or N s/m (linear)",
+    "contact.impact_speed": "m/s",
+    "contact.friction": "1",
+    "contact.radius": "m",
+    "contact.friction_regularization": "m/s",
+    "damping.ratio": "1",
+    "simulation.revolutions": "rev",
+    "simulation.duration": "s",
+    "simulation.dtau": "rad",
+    "simulation.dt": "s",
+    "simulation.atol": "m",
+    "simulation.output_dtau": "rad",
+    "simulation.sample_rate": "Hz",
+    "simulation.probes": "m",
+    "simulation.max_displacement": "m",
+}
+"""Unit of each numeric scenario key (``*_nd`` keys and unlisted numbers are dimensionless)."""
+
+
+def key_unit(key: str) -> str:
+    """Unit of a dotted scenario key, ``"1"`` for dimensionless ones (``*_nd``, ratios)."""
+    return KEY_UNITS.get(key, "1")
+
+
 ALTERNATIVES: dict[str, list[tuple[tuple[str, ...], bool]]] = {
     "shaft": [
         (("diameter", "slenderness"), True),

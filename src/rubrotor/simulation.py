@@ -412,6 +412,10 @@ def simulate_system(
         acc_z = rows_v @ beta_u * fu0
         y = np.zeros(ns, complex)
     acc_c = rows_v @ beta_l * fl if method == "abm" else np.zeros(len(stations), complex)
+    orows = tuple(
+        np.ascontiguousarray(a, dtype=complex)
+        for a in (rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c)
+    )
 
     if h_fixed is not None:
         n_steps = int(round(t_total / h_fixed))
@@ -437,23 +441,7 @@ def simulate_system(
     def write0():
         from rubrotor.core.integrate import _write_sample
 
-        _write_sample(
-            out,
-            0,
-            y,
-            1 + 0j,
-            0j,
-            cp,
-            rows_d,
-            rows_v,
-            rows_a,
-            acc_fc,
-            part_u,
-            part_l,
-            vel_z,
-            acc_z,
-            acc_c,
-        )
+        _write_sample(out, 0, y, 1 + 0j, 0j, cp, orows)
 
     write0()
 
@@ -487,7 +475,7 @@ def simulate_system(
             return expo_fixed(
                 y, cstate, istate, count, integrator.save_every, out, offset,
                 E, G0, G1, sd, sv, cdc, cvc, cp,
-                rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+                orows,
                 speed, h, max_disp,
                 track_energy, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl, work,
                 events,
@@ -527,7 +515,7 @@ def simulate_system(
                 y, cstate, istate, count, out, offset,
                 E, G0, G1, cdE, cvE, cdG0, cvG0, sd, sv, errc, rot, cdc, cvc, cp,
                 Q0, Qm, Q1, cdQ0, cvQ0, cdQm, cvQm, sdq, svq,
-                rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+                orows,
                 speed, H, max_disp, integrator.rtol, integrator.atol,
                 events, stat_arr,
             )  # fmt: skip
@@ -542,7 +530,7 @@ def simulate_system(
             return abm_fixed(
                 y, hist, istate, count, integrator.save_every, out, offset,
                 lam, beta_c, beta_u, beta_l, fu0, fl, cdc, cvc, cp,
-                rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+                orows,
                 speed, h, max_disp, events,
             )  # fmt: skip
 
@@ -638,28 +626,8 @@ def simulate_system(
     )
 
 
-_UNITS = {
-    "shaft.length": "m",
-    "shaft.diameter": "m",
-    "shaft.bore_diameter": "m",
-    "shaft.youngs_modulus": "Pa",
-    "shaft.shear_modulus": "Pa",
-    "shaft.poisson_ratio": "1",
-    "shaft.density": "kg/m^3",
-    "shaft.kappa": "1",
-    "unbalance.magnitude": "kg m",
-    "unbalance.position": "m",
-    "unbalance.phase": "rad",
-    "load.force_y": "N",
-    "load.force_z": "N",
-    "load.position": "m",
-    "contact.clearance": "m",
-    "contact.position": "m",
-    "contact.friction": "1",
-    "contact.radius": "m",
-    "contact.friction_regularization": "m/s",
-    "speed.rad_per_s": "rad/s",
-}
+# units of resolved object fields that are not scenario keys (see rubrotor.scenario.KEY_UNITS)
+_FIELD_UNITS = {"shaft.kappa": "1", "unbalance.phase": "rad"}
 
 
 def scenario_parameters(scenario) -> dict:
@@ -676,11 +644,19 @@ def scenario_parameters(scenario) -> dict:
     """
     import dataclasses
 
+    from rubrotor.scenario import key_unit
+
+    def unit(key, value=0.0):
+        if isinstance(value, bool) or not isinstance(value, int | float | tuple):
+            return ""  # names, flags and switches have no unit
+        return _FIELD_UNITS.get(key) or key_unit(key)
+
     out: dict = {}
     sh = scenario.shaft
     for f in dataclasses.fields(sh):
         if f.init:
-            out[f"shaft.{f.name}"] = [getattr(sh, f.name), _UNITS.get(f"shaft.{f.name}", "")]
+            val = getattr(sh, f.name)
+            out[f"shaft.{f.name}"] = [val, unit(f"shaft.{f.name}", val)]
     out["shaft.shear_modulus"] = [sh.G, "Pa"]
     out["shaft.poisson_ratio"] = [sh.nu, "1"]
     out["shaft.kappa"] = [sh.kappa, "1"]
@@ -691,12 +667,12 @@ def scenario_parameters(scenario) -> dict:
             continue
         for f in dataclasses.fields(obj):
             key = f"{sec}.{f.name}"
-            unit = _UNITS.get(key, "")
+            u = unit(key, getattr(obj, f.name))
             if sec == "contact" and f.name == "stiffness":
-                unit = "N/m^1.5" if obj.law == "hertz" else "N/m"
+                u = "N/m^1.5" if obj.law == "hertz" else "N/m"
             if sec == "contact" and f.name == "damping":
-                unit = "s/m" if obj.law == "hertz" else "N s/m"
-            out[key] = [getattr(obj, f.name), unit]
+                u = "s/m" if obj.law == "hertz" else "N s/m"
+            out[key] = [getattr(obj, f.name), u]
     return out
 
 
@@ -811,42 +787,32 @@ def converge(
         )
         return r.channels[0] + 1j * r.channels[1], _time.perf_counter() - t0, r.status
 
-    rows = []
-    prev = None
-    for k in range(halvings + 1):
-        p, wall, status = run(scenario.shaft, k)
-        if prev is not None:
-            n = min(len(p), len(prev[0]))
-            diff = float(np.max(np.abs(p[:n] - prev[0][:n])))
-            rows.append(
-                {
-                    "study": "step",
-                    "a": f"dtau/{2 ** (k - 1)}",
-                    "b": f"dtau/{2**k}",
-                    "max_diff_m": diff,
-                    "rel_diff": diff / float(np.max(np.abs(p[:n]))),
-                    "wall_s": wall,
-                    "status": status,
-                }
-            )
-        prev = (p, wall)
-    prev = None
-    for m in range(1, max_modes + 1):
-        sh = dataclasses.replace(scenario.shaft, modes=m)
-        p, wall, status = run(sh, 0)
-        if prev is not None:
-            n = min(len(p), len(prev[0]))
-            diff = float(np.max(np.abs(p[:n] - prev[0][:n])))
-            rows.append(
-                {
-                    "study": "modes",
-                    "a": f"{m - 1} modes",
-                    "b": f"{m} modes",
-                    "max_diff_m": diff,
-                    "rel_diff": diff / float(np.max(np.abs(p[:n]))),
-                    "wall_s": wall,
-                    "status": status,
-                }
-            )
-        prev = (p, wall)
+    def compare(study, runs):
+        """Rows comparing each run of ``runs = [(label, shaft, k), ...]`` with the previous one."""
+        rows, prev = [], None
+        for label, shaft, k in runs:
+            p, wall, status = run(shaft, k)
+            if prev is not None:
+                n = min(len(p), len(prev[1]))
+                diff = float(np.max(np.abs(p[:n] - prev[1][:n])))
+                rows.append(
+                    {
+                        "study": study,
+                        "a": prev[0],
+                        "b": label,
+                        "max_diff_m": diff,
+                        "rel_diff": diff / float(np.max(np.abs(p[:n]))),
+                        "wall_s": wall,
+                        "status": status,
+                    }
+                )
+            prev = (label, p)
+        return rows
+
+    steps = [(f"dtau/{2**k}", scenario.shaft, k) for k in range(halvings + 1)]
+    modes = [
+        (f"{m} modes", dataclasses.replace(scenario.shaft, modes=m), 0)
+        for m in range(1, max_modes + 1)
+    ]
+    rows = compare("step", steps) + compare("modes", modes)
     return rows

@@ -70,6 +70,7 @@ from pathlib import Path
 import numpy as np
 
 from rubrotor.errors import InputError
+from rubrotor.scenario import key_unit
 
 __all__ = [
     "REGIMES",
@@ -95,32 +96,6 @@ REGIMES = (
 NO_CONTACT, PARTIAL, FULL, QUASI, CHAOTIC, UNCLASSIFIED = range(6)
 N_PEAKS = 3
 STORE_VERSION = 1
-
-_UNITS = {
-    "speed.rad_per_s": "rad/s",
-    "speed.rpm": "rev/min",
-    "speed.hz": "Hz",
-    "speed.critical_multiple": "x first forward critical",
-    "speed.dimensionless": "1",
-    "unbalance.magnitude": "kg m",
-    "unbalance.position": "m",
-    "unbalance.phase_deg": "deg",
-    "load.force_y": "N",
-    "load.force_z": "N",
-    "load.position": "m",
-    "contact.clearance": "m",
-    "contact.position": "m",
-    "contact.friction": "1",
-    "contact.radius": "m",
-    "contact.damping": "s/m",
-    "contact.friction_regularization": "m/s",
-    "damping.ratio": "1",
-    "shaft.length": "m",
-    "shaft.diameter": "m",
-    "shaft.youngs_modulus": "Pa",
-    "shaft.shear_modulus": "Pa",
-    "shaft.density": "kg/m^3",
-}
 
 
 # ---- grids -------------------------------------------------------------------------------------
@@ -583,7 +558,7 @@ def _template(keys, grid, kept: int, attrs: dict):
         coords[key] = (
             key,
             np.asarray(values, float),
-            {"units": _UNITS.get(key, ""), "long_name": f"swept scenario key {key}"},
+            {"units": key_unit(key), "long_name": f"swept scenario key {key}"},
         )
     coords["revolution"] = (
         "revolution",

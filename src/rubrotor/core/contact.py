@@ -50,73 +50,20 @@ def pack_contact(
 
 
 @njit(cache=True, inline="always")
-def contact_force(py, pz, uy, uz, cp):
-    """Contact force on the rotor.
+def _law(py, pz, uy, uz, cp):
+    """The contact law and its Jacobian, written once.
 
-    Parameters
-    ----------
-    py, pz : float
-        Shaft-centre displacement at the contact station (m).
-    uy, uz : float
-        Its velocity (m/s).
-    cp : ndarray
-        Packed parameters (:data:`CP_FIELDS`).
-
-    Returns
-    -------
-    fy, fz : float
-        Force components on the rotor (N).
-    fn : float
-        Normal force magnitude (N), >= 0.
-    ft : float
-        Friction force along the tangent ``t = i n`` (N); negative opposes the spin direction.
+    Returns ``(fy, fz, fn, ft, j00, j01, j02, j03, j10, j11, j12, j13)`` with
+    ``j[i][k] = d(fy, fz)[i] / d(py, pz, uy, uz)[k]``; the derivative of the smoothed friction
+    sign is neglected (a quasi-Newton Jacobian). Inlined, so callers that drop the derivatives do
+    not compute them.
     """
     if cp[0] == 0.0:
-        return 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     d = math.sqrt(py * py + pz * pz)
     g = cp[4]
     if d <= g:
-        return 0.0, 0.0, 0.0, 0.0
-    ny = py / d
-    nz = pz / d
-    eps = d - g
-    epsd = ny * uy + nz * uz
-    k = cp[2]
-    c = cp[3]
-    if cp[1] == 0.0:
-        fn = k * eps * math.sqrt(eps) * (1.0 + c * epsd)
-    else:
-        fn = k * eps + c * epsd
-    if fn <= 0.0:
-        return 0.0, 0.0, 0.0, 0.0
-    mu = cp[5]
-    if cp[6] == 0.0:
-        vs = cp[7] - nz * uy + ny * uz
-        sig = vs / math.sqrt(vs * vs + cp[8] * cp[8])
-    else:
-        sig = -1.0
-    fy = -fn * (ny - mu * sig * nz)
-    fz = -fn * (nz + mu * sig * ny)
-    return fy, fz, fn, -mu * sig * fn
-
-
-@njit(cache=True)
-def contact_force_jac(py, pz, uy, uz, cp, jac):
-    """Contact force and its Jacobian.
-
-    ``jac`` (2 x 4, filled in place) holds ``d(fy, fz) / d(py, pz, uy, uz)``; the derivative of
-    the smoothed friction sign is neglected (a quasi-Newton Jacobian). Returns
-    ``(fy, fz, fn, ft)`` as :func:`contact_force`.
-    """
-    for i in range(2):
-        for j in range(4):
-            jac[i, j] = 0.0
-    if cp[0] == 0.0:
-        return 0.0, 0.0, 0.0, 0.0
-    d = math.sqrt(py * py + pz * pz)
-    g = cp[4]
-    if d <= g:
-        return 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     ny = py / d
     nz = pz / d
     eps = d - g
@@ -143,7 +90,7 @@ def contact_force_jac(py, pz, uy, uz, cp, jac):
         dfn_uy = c * ny
         dfn_uz = c * nz
     if fn <= 0.0:
-        return 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     mu = cp[5]
     if cp[6] == 0.0:
         vs = cp[7] - nz * uy + ny * uz
@@ -151,9 +98,9 @@ def contact_force_jac(py, pz, uy, uz, cp, jac):
     else:
         sig = -1.0
     ms = mu * sig
+    # F = -fn w, w = (I + ms J) n, J = [[0, -1], [1, 0]]; dw/dp = (I + ms J)(I - n n^T) / d
     wy = ny - ms * nz
     wz = nz + ms * ny
-    # dn/dp = (I - n n^T)/d ; dw/dp = (I + ms J)(I - n n^T)/d, J = [[0,-1],[1,0]]
     p11 = (1.0 - ny * ny) / d
     p12 = -ny * nz / d
     p22 = (1.0 - nz * nz) / d
@@ -161,15 +108,66 @@ def contact_force_jac(py, pz, uy, uz, cp, jac):
     w12 = p12 - ms * p22
     w21 = p12 + ms * p11
     w22 = p22 + ms * p12
-    jac[0, 0] = -(wy * dfn_py + fn * w11)
-    jac[0, 1] = -(wy * dfn_pz + fn * w12)
-    jac[1, 0] = -(wz * dfn_py + fn * w21)
-    jac[1, 1] = -(wz * dfn_pz + fn * w22)
-    jac[0, 2] = -wy * dfn_uy
-    jac[0, 3] = -wy * dfn_uz
-    jac[1, 2] = -wz * dfn_uy
-    jac[1, 3] = -wz * dfn_uz
-    return -fn * wy, -fn * wz, fn, -ms * fn
+    return (
+        -fn * wy,
+        -fn * wz,
+        fn,
+        -ms * fn,
+        -(wy * dfn_py + fn * w11),
+        -(wy * dfn_pz + fn * w12),
+        -wy * dfn_uy,
+        -wy * dfn_uz,
+        -(wz * dfn_py + fn * w21),
+        -(wz * dfn_pz + fn * w22),
+        -wz * dfn_uy,
+        -wz * dfn_uz,
+    )
+
+
+@njit(cache=True, inline="always")
+def contact_force(py, pz, uy, uz, cp):
+    """Contact force on the rotor.
+
+    Parameters
+    ----------
+    py, pz : float
+        Shaft-centre displacement at the contact station (m).
+    uy, uz : float
+        Its velocity (m/s).
+    cp : ndarray
+        Packed parameters (:data:`CP_FIELDS`).
+
+    Returns
+    -------
+    fy, fz : float
+        Force components on the rotor (N).
+    fn : float
+        Normal force magnitude (N), >= 0.
+    ft : float
+        Friction force along the tangent ``t = i n`` (N); negative opposes the spin direction.
+    """
+    r = _law(py, pz, uy, uz, cp)
+    return r[0], r[1], r[2], r[3]
+
+
+@njit(cache=True, inline="always")
+def contact_force_jac(py, pz, uy, uz, cp, jac):
+    """Contact force and its Jacobian.
+
+    ``jac`` (2 x 4, filled in place) holds ``d(fy, fz) / d(py, pz, uy, uz)``; the derivative of
+    the smoothed friction sign is neglected (a quasi-Newton Jacobian). Returns
+    ``(fy, fz, fn, ft)`` as :func:`contact_force`.
+    """
+    r = _law(py, pz, uy, uz, cp)
+    jac[0, 0] = r[4]
+    jac[0, 1] = r[5]
+    jac[0, 2] = r[6]
+    jac[0, 3] = r[7]
+    jac[1, 0] = r[8]
+    jac[1, 1] = r[9]
+    jac[1, 2] = r[10]
+    jac[1, 3] = r[11]
+    return r[0], r[1], r[2], r[3]
 
 
 @njit(cache=True)

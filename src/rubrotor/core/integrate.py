@@ -39,32 +39,57 @@ def n_channels(n_stations: int) -> int:
     return 6 * n_stations + 2
 
 
+@njit(cache=True, inline="always")
+def _station(y, z, F, s, orows):
+    """Complex displacement (m), velocity (m/s) and acceleration (m/s^2) at output station ``s``.
+
+    ``orows = (rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c)``: rows
+    mapping the eigen-coordinates to each quantity, the direct acceleration per N of contact
+    force, and the contributions of the particular (steady) solution as multiples of the
+    unbalance phasor ``z`` and constants.
+    """
+    rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c = orows
+    P = part_u[s] * z + part_l[s]
+    V = vel_z[s] * z
+    A = acc_z[s] * z + acc_c[s] + acc_fc[s] * F
+    for j in range(y.shape[0]):
+        yj = y[j]
+        P += rows_d[s, j] * yj
+        V += rows_v[s, j] * yj
+        A += rows_a[s, j] * yj
+    return P, V, A
+
+
+@njit(cache=True, inline="always")
+def _put(out, idx, s, P, V, A):
+    b = 6 * s
+    out[b, idx] = P.real
+    out[b + 1, idx] = P.imag
+    out[b + 2, idx] = V.real
+    out[b + 3, idx] = V.imag
+    out[b + 4, idx] = A.real
+    out[b + 5, idx] = A.imag
+
+
 @njit(cache=True)
-def _write_sample(
-    out, idx, y, z, F, cp, rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c
-):
-    nst = rows_d.shape[0]
-    ns = y.shape[0]
-    for s in range(nst):
-        P = part_u[s] * z + part_l[s]
-        V = vel_z[s] * z
-        A = acc_z[s] * z + acc_c[s] + acc_fc[s] * F
-        for j in range(ns):
-            yj = y[j]
-            P += rows_d[s, j] * yj
-            V += rows_v[s, j] * yj
-            A += rows_a[s, j] * yj
-        b = 6 * s
-        out[b, idx] = P.real
-        out[b + 1, idx] = P.imag
-        out[b + 2, idx] = V.real
-        out[b + 3, idx] = V.imag
-        out[b + 4, idx] = A.real
-        out[b + 5, idx] = A.imag
-    fy, fz, fn, ft = contact_force(out[0, idx], out[1, idx], out[2, idx], out[3, idx], cp)
+def _write_probes(out, idx, y, z, F, orows, fn, ft):
+    """Write stations 1.. (probes) from ``y`` and the given normal and friction forces (N)."""
+    nst = orows[0].shape[0]
+    for s in range(1, nst):
+        P, V, A = _station(y, z, F, s, orows)
+        _put(out, idx, s, P, V, A)
     b = 6 * nst
     out[b, idx] = fn
     out[b + 1, idx] = ft
+
+
+@njit(cache=True)
+def _write_sample(out, idx, y, z, F, cp, orows):
+    """Write one sample computed from ``y``; the contact forces from station 0's state."""
+    P, V, A = _station(y, z, F, 0, orows)
+    _put(out, idx, 0, P, V, A)
+    fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    _write_probes(out, idx, y, z, F, orows, fn, ft)
 
 
 @njit(cache=True)
@@ -115,65 +140,11 @@ def _friction_power(y, z, F, cp, cdc, cvc, part_c, vel_c_z, part_l_c):
     return ft * (ty * V.real + tz * V.imag)
 
 
-@njit(cache=True)
-def _write_fast(
-    out,
-    idx,
-    y,
-    z,
-    F,
-    fn,
-    ft,
-    P,
-    V,
-    rows_d,
-    rows_v,
-    rows_a,
-    acc_fc,
-    part_u,
-    part_l,
-    vel_z,
-    acc_z,
-    acc_c,
-):
-    """Write a sample reusing the contact-station P (m) and V (m/s) the step already computed."""
-    ns = y.shape[0]
-    A = acc_z[0] * z + acc_c[0] + acc_fc[0] * F
-    for j in range(ns):
-        A += rows_a[0, j] * y[j]
-    out[0, idx] = P.real
-    out[1, idx] = P.imag
-    out[2, idx] = V.real
-    out[3, idx] = V.imag
-    out[4, idx] = A.real
-    out[5, idx] = A.imag
-    nst = rows_d.shape[0]
-    for s in range(1, nst):
-        Ps = part_u[s] * z + part_l[s]
-        Vs = vel_z[s] * z
-        As = acc_z[s] * z + acc_c[s] + acc_fc[s] * F
-        for j in range(ns):
-            yj = y[j]
-            Ps += rows_d[s, j] * yj
-            Vs += rows_v[s, j] * yj
-            As += rows_a[s, j] * yj
-        b = 6 * s
-        out[b, idx] = Ps.real
-        out[b + 1, idx] = Ps.imag
-        out[b + 2, idx] = Vs.real
-        out[b + 3, idx] = Vs.imag
-        out[b + 4, idx] = As.real
-        out[b + 5, idx] = As.imag
-    b = 6 * nst
-    out[b, idx] = fn
-    out[b + 1, idx] = ft
-
-
 @njit(cache=True, fastmath=SAFE_FASTMATH)
 def expo_fixed(
     y, cstate, istate, n_samples, save_every, out, out_offset,
     E, G0, G1, sd, sv, cdc, cvc, cp,
-    rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+    orows,
     omega, h, max_disp,
     energy, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl, work,
     events,
@@ -203,6 +174,8 @@ def expo_fixed(
     z = cstate[1]
     Fp = cstate[2]
     step = istate[0]
+    rows_a, acc_fc, part_u, part_l, vel_z = orows[2], orows[3], orows[4], orows[5], orows[6]
+    acc_z, acc_c = orows[7], orows[8]
     part_c = part_u[0]
     part_lc = part_l[0]
     vel_cz = vel_z[0]
@@ -316,26 +289,12 @@ def expo_fixed(
                 break
         if istate[2] != 0:
             break
-        _write_fast(
-            out,
-            out_offset + s_i,
-            y,
-            z,
-            F,
-            fn_c,
-            ft_c,
-            P,
-            V,
-            rows_d,
-            rows_v,
-            rows_a,
-            acc_fc,
-            part_u,
-            part_l,
-            vel_z,
-            acc_z,
-            acc_c,
-        )
+        A0 = acc_z[0] * z + acc_c[0] + acc_fc[0] * F
+        for j in range(ns):
+            A0 += rows_a[0, j] * y[j]
+        # station 0 reuses P, V of the step; the contact forces come from the Newton solve
+        _put(out, out_offset + s_i, 0, P, V, A0)
+        _write_probes(out, out_offset + s_i, y, z, F, orows, fn_c, ft_c)
         written += 1
     cstate[0] = F
     cstate[1] = z
@@ -349,7 +308,7 @@ def expo_adaptive(
     y, cstate, istate, n_samples, out, out_offset,
     E, G0, G1, cdE, cvE, cdG0, cvG0, sd, sv, errc, rot, cdc, cvc, cp,
     Q0, Qm, Q1, cdQ0, cvQ0, cdQm, cvQm, sdq, svq,
-    rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+    orows,
     omega, H, max_disp, rtol, atol,
     events, stats,
 ):  # fmt: skip
@@ -386,11 +345,11 @@ def expo_adaptive(
     F = cstate[0]
     z = cstate[1]
     Fp = cstate[2]
-    part_c = part_u[0]
-    part_lc = part_l[0]
-    vel_cz = vel_z[0]
+    part_c = orows[4][0]
+    part_lc = orows[5][0]
+    vel_cz = orows[6][0]
     g = cp[4]
-    a_f = abs(acc_fc[0])
+    a_f = abs(orows[3][0])
     maxd2 = max_disp * max_disp
     lev = istate[3]
     lev_prev = istate[4]
@@ -484,23 +443,7 @@ def expo_adaptive(
         tt = sample * H
         z = complex(math.cos(omega * tt), math.sin(omega * tt))
         # the sample is recomputed from y with the exact phasor (not the recurrence one)
-        _write_sample(
-            out,
-            out_offset + s_i,
-            y,
-            z,
-            F,
-            cp,
-            rows_d,
-            rows_v,
-            rows_a,
-            acc_fc,
-            part_u,
-            part_l,
-            vel_z,
-            acc_z,
-            acc_c,
-        )
+        _write_sample(out, out_offset + s_i, y, z, F, cp, orows)
         written += 1
     cstate[0] = F
     cstate[1] = z
@@ -529,7 +472,7 @@ def _rhs(t, y, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, dy):
 def abm_fixed(
     y, hist, istate, n_samples, save_every, out, out_offset,
     lam, beta_c, beta_u, beta_l, fu0, fl, cdc, cvc, cp,
-    rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c,
+    orows,
     omega, h, max_disp, events,
 ):  # fmt: skip
     """Seed scheme: fixed-step 4th-order Adams-Bashforth-Moulton PECE, RK4 start.
@@ -611,23 +554,7 @@ def abm_fixed(
             P += cdc[j] * y[j]
             V += cvc[j] * y[j]
         fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
-        _write_sample(
-            out,
-            out_offset + s_i,
-            y,
-            z,
-            complex(fy, fz),
-            cp,
-            rows_d,
-            rows_v,
-            rows_a,
-            acc_fc,
-            part_u,
-            part_l,
-            vel_z,
-            acc_z,
-            acc_c,
-        )
+        _write_sample(out, out_offset + s_i, y, z, complex(fy, fz), cp, orows)
         written += 1
     istate[0] = step
     return written
