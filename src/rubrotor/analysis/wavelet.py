@@ -70,9 +70,22 @@ of width ``coi``, which (like the padded region) are computed by a short direct 
 the time-domain kernel ``(g/(s*sqrt(2*pi))) * exp(i*omega0*t/s - t**2/(2*s**2))``, |t| <= L.  That
 kernel is the exact inverse DFT of the truncated filter (Poisson summation) up to the truncation
 level ``eps``, provided the band does not reach Nyquist (``(omega0 + h)/s < pi``) and the kernel
-fits in the circle; rows where that fails (frequencies above about 0.2 fs in float64, or scales
-comparable to the record) are computed as full rows one at a time.  Memory is O(N + number of
-frequencies).
+fits in the circle.  Where it does not (frequencies above about 0.2 fs in float64) the edge
+strips are summed directly from the band, ``W[m] = (1/M) sum_k G(k) Y[k] exp(2j*pi*k*m/M)``, for
+each of their ``2*coi`` samples (compiled, :mod:`rubrotor.core.cwtkern`); only rows where
+neither applies (scales comparable to the record, or zero padding with a band reaching Nyquist)
+are computed as full rows one at a time.  The Parseval band sums are compiled too.  Memory is
+O(N + number of frequencies).
+
+Computing rows
+--------------
+Row ``j`` is ``W[m] = sum_k Z[k] exp(2j*pi*k*m/M)`` over its band of ``B`` bins.  With
+``M = P*L`` and ``m = P*q + r`` it is a batch of inverse FFTs of length ``L`` (a divisor of
+``M`` of at least ``B/8`` bins, about 2^17 at most so that a row stays in cache) of the band
+folded modulo ``L`` with per-residue twiddles, interleaved back into the row; the symmetric mode
+computes only the residues ``r < ceil(P/2)`` and fills the rest from ``W[2N-1-m] = conj(W[m])``.
+The arithmetic is that of one complex FFT of length N per scale, in cache, without any
+N-by-scales complex temporary; :func:`cwt_magnitude` writes ``|W|`` straight into a real output.
 """
 
 from __future__ import annotations
@@ -106,6 +119,7 @@ _BATCH_ELEMENTS = 1 << 22  # rows per batch of rows(): about 4 Mi elements of bu
 _MAX_FOLD = 8  # band bins summed into one FFT input bin, at most
 _MIN_LENGTH = 8192  # shortest inverse FFT unless the band is narrower
 _FOLD_COST = 2.0  # cost of one folded bin relative to one FFT butterfly pass per point
+_STRIP_BUDGET = 1 << 25  # strip samples x band bins summed directly for an edge strip
 _CACHE_BYTES = 1 << 20  # FFT rows up to this size run from cache (measured: 2^17 complex64)
 
 
@@ -332,6 +346,9 @@ class _Plan:
             self.spec = sfft.rfft(xs, n=self.m, workers=workers)
         self.divisors = _divisors(self.m)
         self._work: np.ndarray | None = None
+        self._tables: tuple | None = None
+        self._spec_c: np.ndarray | None = None
+        self._power: np.ndarray | None = None
         self._layouts: dict[int, tuple[int, int, int]] = {}
 
     # filter ------------------------------------------------------------------------------
@@ -428,7 +445,7 @@ class _Plan:
             widths = [self.band(i)[1] - self.band(i)[0] + 1 for i in range(self.freqs.size)]
             self._z = np.empty(max(widths), dtype=np.complex128)
             self._twiddle = (2, 1, 2 * self.m) if sym else (1, 0, self.m)
-            self._tables = _kern.twiddle_tables(self._twiddle[2])
+            self._tables = (self._twiddle[2], *_kern.twiddle_tables(self._twiddle[2]))
             self._spec_c = (self.spec_ext if sym else self.spec).astype(np.complex128)
         z = self._z[: k_hi - k_lo + 1]
         w = self.scales[j] * (2.0 * np.pi / self.m)
@@ -436,7 +453,7 @@ class _Plan:
                           self.m, z)
         work = self._work[: rows * length].reshape(rows, length)
         mult, add, den = self._twiddle
-        lo, hi = self._tables
+        lo, hi = self._tables[1:]
         chunk = max(1024, -(-rows * length // 64) // rows)
         _kern.fold_band(z, k_lo, mult, add, den, lo, hi, work, chunk)
         res = sfft.ifft(work, axis=-1, norm="forward", overwrite_x=True, workers=self.workers)
@@ -459,25 +476,42 @@ class _Plan:
 
     # energies ----------------------------------------------------------------------------
     def circle_energy(self, j: int) -> float:
-        """sum over the padded circle of |W|^2 (Parseval), float64."""
+        """sum over the padded circle of |W|^2 (Parseval, compiled band sum), float64."""
+        if self._power is None:
+            spec = self.spec.astype(np.complex128 if self.padding != "symmetric" else np.float64)
+            self._power = spec.real ** 2 + (spec.imag ** 2 if np.iscomplexobj(spec) else 0.0)
         k_lo, k_hi = self.band(j)
-        m = self.m
-        top = self.n - 1 if self.padding == "symmetric" else m // 2
-        p0, p1 = max(k_lo, 0), min(k_hi, top) + 1
-        n0 = max(k_lo, -top)
-        kp = np.arange(p0, p1)
-        kn = np.arange(n0, 0)
-        spec = self.spec
-        if self.padding == "symmetric":
-            sp = np.square(spec[p0:p1])
-            sn = np.square(spec[1:-n0 + 1][::-1]) if n0 < 0 else spec[:0]
-        else:
-            sp = spec[p0:p1].real ** 2 + spec[p0:p1].imag ** 2
-            sn = np.abs(spec[1:-n0 + 1][::-1]) ** 2 if n0 < 0 else np.zeros(0)
-        e = np.dot(sp, self.gains(j, kp) ** 2)
-        if kn.size:
-            e += np.dot(sn, self.gains(j, kn) ** 2)
-        return float(e) / m
+        top = self.n - 1 if self.padding == "symmetric" else self.m // 2
+        w = self.scales[j] * (2.0 * np.pi / self.m)
+        e = _kern.band_energy(self._power, k_lo, k_hi, top, w, self.omega0, float(self.gain[j]),
+                              self.h, self.m)
+        return float(e) / self.m
+
+    def strip_energy(self, j: int, start: int, stop: int) -> float | None:
+        """sum of |W[m]|^2 for circle indices start <= m < stop, or None if too costly.
+
+        The short time-domain convolution where the kernel is local, else direct band sums (the
+        definition of W, valid up to Nyquist) when the strip times the band is small.
+        """
+        if stop <= start:
+            return 0.0
+        if self.local_ok(j):
+            return self.local_energy(j, start, stop)
+        k_lo, k_hi = self.band(j)
+        if (stop - start) * (k_hi - k_lo + 1) > _STRIP_BUDGET:
+            return None
+        sym = self.padding == "symmetric"
+        if self._spec_c is None:
+            self._spec_c = (self.spec_ext if sym else self.spec).astype(np.complex128)
+        mult, add, den = (2, 1, 2 * self.m) if sym else (1, 0, self.m)
+        if self._tables is None or self._tables[0] != den:
+            self._tables = (den, *_kern.twiddle_tables(den))
+        z = np.empty(k_hi - k_lo + 1, dtype=np.complex128)
+        w = self.scales[j] * (2.0 * np.pi / self.m)
+        _kern.band_values(self._spec_c, k_lo, w, self.omega0, float(self.gain[j]) / self.m,
+                          self.h, self.m, z)
+        return float(_kern.strip_energy(z, k_lo, mult, add, den, self._tables[1],
+                                        self._tables[2], np.arange(start, stop, dtype=np.int64)))
 
     def extended(self, idx: np.ndarray) -> np.ndarray:
         """Padded signal at arbitrary (possibly negative) circle indices."""
@@ -689,37 +723,41 @@ def _metadata(plan: _Plan) -> dict:
 
 
 def _energies(plan: _Plan, inner: bool) -> np.ndarray:
-    n = plan.n
+    n, m = plan.n, plan.m
     nf = plan.freqs.size
     energy = np.empty(nf)
     full_rows = []
     for j in range(nf):
         c = int(plan.coi[j])
         big_l = int(plan.half_support[j])
-        if not plan.local_ok(j) or (inner and c + 2 * big_l >= n):
+        if inner and 2 * c >= n:
+            energy[j] = 0.0
+            continue
+        strips = []
+        if plan.padding == "zero" and not plan.local_ok(j):
+            full_rows.append(j)  # W then spreads over the whole padding
+            continue
+        if plan.padding == "zero":
+            # W vanishes on the zero padding except within L samples of the record
+            strips += [(n, min(n + big_l, m - big_l)), (max(m - big_l, n), m)]
+        if inner:
+            strips += [(0, c), (n - c, n)]
+        if strips and plan.local_ok(j) and inner and c + 2 * big_l >= n:
+            full_rows.append(j)  # the short-convolution fallback would wrap
+            continue
+        parts = [plan.strip_energy(j, a, b) for a, b in strips]
+        if any(p is None for p in parts):
             full_rows.append(j)
             continue
         e = plan.circle_energy(j)
         if plan.padding == "symmetric":
             e *= 0.5
-        elif plan.padding == "zero":
-            # W vanishes on the zero padding except within L samples of the record
-            e -= plan.local_energy(j, n, min(n + big_l, plan.m - big_l))
-            e -= plan.local_energy(j, plan.m - big_l, plan.m)
-        if inner:
-            if 2 * c >= n:
-                e = 0.0
-            else:
-                e -= plan.local_energy(j, 0, c) + plan.local_energy(j, n - c, n)
-        energy[j] = max(e, 0.0)
+        energy[j] = max(e - sum(parts), 0.0)
     for idx, rows in plan.rows(full_rows, batch=max(1, (1 << 21) // plan.m)):
-        p = rows.real ** 2 + rows.imag ** 2
         for r, j in enumerate(idx):
+            p = rows[r].real ** 2 + rows[r].imag ** 2
             c = int(plan.coi[j])
-            if inner:
-                energy[j] = float(np.sum(p[r, c: n - c])) if 2 * c < n else 0.0
-            else:
-                energy[j] = float(np.sum(p[r]))
+            energy[j] = float(np.sum(p[c: n - c])) if inner else float(np.sum(p))
     return energy / plan.fs
 
 

@@ -14,7 +14,8 @@ Folding is exact (each ``A[k', r]`` sums the at most ``ceil(B/L)`` band bins con
 The twiddle of residue ``r`` is ``exp(2j*pi*k*(mult*r + add)/den)``; the symmetric extension
 (period ``2N``) uses ``mult = 2, add = 1, den = 4N`` so that the phase ``exp(1j*pi*k/(2N))`` of
 its spectrum is included.  Twiddles come from exact integer phase indices and a two-level table
-``exp(2j*pi*i/den) = lo[i % S] * hi[i // S]`` (error a few float64 ulps, no recurrence).
+``exp(2j*pi*i/den) = lo[i % S] * hi[i // S]`` every :data:`RESEED` bins and a complex recurrence
+in between (error a few tens of float64 ulps).
 
 Only numpy, numba and math are imported here.
 """
@@ -32,9 +33,11 @@ __all__ = [
     "scatter_abs",
     "scatter_complex",
     "band_energy",
+    "strip_energy",
 ]
 
 TABLE_BITS = 11  # low table of 2**11 entries
+RESEED = 16  # twiddle recurrence length between exact table values
 
 
 def twiddle_tables(den: int) -> tuple[np.ndarray, np.ndarray]:
@@ -105,6 +108,8 @@ def fold_band(z, k_lo, mult, add, den, lo, hi, work, chunk):
         for kp in range(kp0, kp1):
             row[kp] = 0.0
         cr = (mult * r + add) % den
+        step = lo[cr & mask] * hi[cr >> TABLE_BITS]
+        jump = (RESEED * cr) % den
         # bins k = kp + u*L of the band for kp0 <= kp < kp1, layer by layer
         u = (k_lo - kp1 + 1) // length
         while kp0 + u * length <= k_hi:
@@ -112,11 +117,19 @@ def fold_band(z, k_lo, mult, add, den, lo, hi, work, chunk):
             k1 = min(kp1 - 1 + u * length, k_hi)
             if k0 <= k1:
                 idx = ((k0 % den) * cr) % den
+                t = lo[idx & mask] * hi[idx >> TABLE_BITS]
+                left = RESEED
                 for k in range(k0, k1 + 1):
-                    row[k - u * length] += z[k - k_lo] * (lo[idx & mask] * hi[idx >> TABLE_BITS])
-                    idx += cr
-                    if idx >= den:
-                        idx -= den
+                    row[k - u * length] += z[k - k_lo] * t
+                    left -= 1
+                    if left == 0:  # exact value again every RESEED bins
+                        idx += jump
+                        if idx >= den:
+                            idx -= den
+                        t = lo[idx & mask] * hi[idx >> TABLE_BITS]
+                        left = RESEED
+                    else:
+                        t *= step
             u += 1
 
 
@@ -157,22 +170,46 @@ def scatter_complex(res, period, n, mirror, out):
 
 
 @njit(cache=True)
-def band_energy(power, k_lo, k_hi, top, scale, omega0, gain, h, m, nyquist_half):
+def band_energy(power, k_lo, k_hi, top, w, omega0, gain, h, m):
     """Parseval sum ``sum_k power[|k|] * G(k)**2`` over ``k_lo <= k <= k_hi``, ``|k| <= top``.
 
-    ``G(k) = gain * exp(-(scale*2*pi*k/m - omega0)**2 / 2)``, zero where ``|arg| > h``, halved at
-    ``k = m/2`` when ``nyquist_half``.  ``power[k]`` is the squared spectrum magnitude.
+    ``G`` from :func:`filter_gain`; ``power[k]`` is the squared modulus of the spectrum.
     """
     acc = 0.0
-    w = scale * 2.0 * math.pi / m
-    lo = max(k_lo, -top)
-    hi = min(k_hi, top)
-    for k in range(lo, hi + 1):
-        arg = w * k - omega0
-        if abs(arg) > h:
-            continue
-        g = gain * math.exp(-0.5 * arg * arg)
-        if nyquist_half and 2 * k == m:
-            g *= 0.5
+    for k in range(max(k_lo, -top), min(k_hi, top) + 1):
+        g = filter_gain(k, w, omega0, gain, h, m)
         acc += power[abs(k)] * (g * g)
     return acc
+
+
+@njit(cache=True, parallel=True)
+def strip_energy(z, k_lo, mult, add, den, lo, hi, positions):
+    """``sum_p |W[p]|**2`` over circle ``positions`` by direct band sums (float64).
+
+    ``W[p] = sum_b z[b] * exp(2j*pi*k*(mult*p + add)/den)``, ``k = k_lo + b``: the definition of
+    a row (``z`` from :func:`band_values`, twiddle as in :func:`fold_band`); cost
+    O(len(positions) * band) instead of a whole row.
+    """
+    mask = (1 << TABLE_BITS) - 1
+    acc = np.zeros(positions.size)
+    for i in prange(positions.size):
+        c = (mult * positions[i] + add) % den
+        step = lo[c & mask] * hi[c >> TABLE_BITS]
+        jump = (RESEED * c) % den
+        idx = ((k_lo % den) * c) % den
+        t = lo[idx & mask] * hi[idx >> TABLE_BITS]
+        left = RESEED
+        total = 0j
+        for b in range(z.size):
+            total += z[b] * t
+            left -= 1
+            if left == 0:
+                idx += jump
+                if idx >= den:
+                    idx -= den
+                t = lo[idx & mask] * hi[idx >> TABLE_BITS]
+                left = RESEED
+            else:
+                t *= step
+        acc[i] = total.real * total.real + total.imag * total.imag
+    return acc.sum()
