@@ -419,21 +419,6 @@ class _Plan:
         assert best is not None  # L = M/2 (symmetric) or M always qualifies
         return best[1], best[2], best[3]
 
-    def band_values(self, j: int) -> tuple[int, np.ndarray]:
-        """``(k_lo, Z)``: spectrum times filter over the band, divided by ``M`` (complex128)."""
-        k_lo, k_hi = self.band(j)
-        k = np.arange(k_lo, k_hi + 1)
-        g = self.gains(j, k) / self.m
-        if self.padding == "symmetric":
-            # the extension's spectrum is exp(1j*pi*k/(2N)) * C[|k|]; the phase is in the twiddle
-            z = self.spec_ext[np.abs(k)] * g
-        else:
-            neg = k < 0
-            z = self.spec[np.abs(k)].astype(np.complex128)
-            z[neg] = np.conj(z[neg])
-            z *= g
-        return k_lo, z.astype(np.complex128, copy=False)
-
     def row_into(self, j: int, dest: np.ndarray) -> None:
         """Write row ``j`` of W (complex ``dest``) or of |W| (real ``dest``), shape (N,)."""
         length, period, rows = self.layout(j)
