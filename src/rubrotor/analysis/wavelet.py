@@ -70,9 +70,22 @@ of width ``coi``, which (like the padded region) are computed by a short direct 
 the time-domain kernel ``(g/(s*sqrt(2*pi))) * exp(i*omega0*t/s - t**2/(2*s**2))``, |t| <= L.  That
 kernel is the exact inverse DFT of the truncated filter (Poisson summation) up to the truncation
 level ``eps``, provided the band does not reach Nyquist (``(omega0 + h)/s < pi``) and the kernel
-fits in the circle; rows where that fails (frequencies above about 0.2 fs in float64, or scales
-comparable to the record) are computed as full rows one at a time.  Memory is O(N + number of
-frequencies).
+fits in the circle.  Where it does not (frequencies above about 0.2 fs in float64) the edge
+strips are summed directly from the band, ``W[m] = (1/M) sum_k G(k) Y[k] exp(2j*pi*k*m/M)``, for
+each of their ``2*coi`` samples (compiled, :mod:`rubrotor.core.cwtkern`); only rows where
+neither applies (scales comparable to the record, or zero padding with a band reaching Nyquist)
+are computed as full rows one at a time.  The Parseval band sums are compiled too.  Memory is
+O(N + number of frequencies).
+
+Computing rows
+--------------
+Row ``j`` is ``W[m] = sum_k Z[k] exp(2j*pi*k*m/M)`` over its band of ``B`` bins.  With
+``M = P*L`` and ``m = P*q + r`` it is a batch of inverse FFTs of length ``L`` (a divisor of
+``M`` of at least ``B/8`` bins, about 2^17 at most so that a row stays in cache) of the band
+folded modulo ``L`` with per-residue twiddles, interleaved back into the row; the symmetric mode
+computes only the residues ``r < ceil(P/2)`` and fills the rest from ``W[2N-1-m] = conj(W[m])``.
+The arithmetic is that of one complex FFT of length N per scale, in cache, without any
+N-by-scales complex temporary; :func:`cwt_magnitude` writes ``|W|`` straight into a real output.
 """
 
 from __future__ import annotations
@@ -84,6 +97,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.fft as sfft
 
+from rubrotor.core import cwtkern as _kern
 from rubrotor.errors import InputError
 
 __all__ = [
@@ -92,6 +106,7 @@ __all__ = [
     "log_frequencies",
     "scale_from_frequency",
     "cwt",
+    "cwt_magnitude",
     "scalogram",
     "inner_scalogram",
     "cwt_binned",
@@ -100,7 +115,12 @@ __all__ = [
 
 PADDING_MODES = ("symmetric", "periodic", "zero")
 _NORMALIZATIONS = ("l1", "l2")
-_BATCH_ELEMENTS = 1 << 22  # rows per FFT batch: about 4 Mi elements of work buffer
+_BATCH_ELEMENTS = 1 << 22  # rows per batch of rows(): about 4 Mi elements of buffer
+_MAX_FOLD = 8  # band bins summed into one FFT input bin, at most
+_MIN_LENGTH = 8192  # shortest inverse FFT unless the band is narrower
+_FOLD_COST = 2.0  # cost of one folded bin relative to one FFT butterfly pass per point
+_STRIP_BUDGET = 1 << 25  # strip samples x band bins summed directly for an edge strip
+_CACHE_BYTES = 1 << 20  # FFT rows up to this size run from cache (measured: 2^17 complex64)
 
 
 class CWTResult(NamedTuple):
@@ -285,6 +305,11 @@ def scale_from_frequency(frequencies, fs: float, omega0: float = 6.0) -> np.ndar
     return float(fs) * float(omega0) / (2.0 * np.pi * np.asarray(frequencies, dtype=np.float64))
 
 
+def _divisors(m: int) -> list[int]:
+    small = [d for d in range(1, math.isqrt(m) + 1) if m % d == 0]
+    return sorted(set(small + [m // d for d in small]))
+
+
 def _halfwidth(eps: float) -> float:
     return math.sqrt(2.0 * math.log(1.0 / eps))
 
@@ -317,12 +342,19 @@ class _Plan:
         if padding == "symmetric":
             self.m = 2 * n
             self.spec = sfft.dct(xs, type=2, workers=workers)  # C_k, k = 0..N-1; C_N = 0
+            self.spec_ext = np.append(self.spec.astype(np.float64), 0.0)
         elif padding == "periodic":
             self.m = n
             self.spec = sfft.rfft(xs, workers=workers)
         else:
             self.m = sfft.next_fast_len(int(n + 2 * self.half_support.max()))
             self.spec = sfft.rfft(xs, n=self.m, workers=workers)
+        self.divisors = _divisors(self.m)
+        self._work: np.ndarray | None = None
+        self._tables: tuple | None = None
+        self._spec_c: np.ndarray | None = None
+        self._power: np.ndarray | None = None
+        self._layouts: dict[int, tuple[int, int, int]] = {}
 
     # filter ------------------------------------------------------------------------------
     def band(self, j: int) -> tuple[int, int]:
@@ -360,71 +392,134 @@ class _Plan:
         return amp * np.exp(1j * self.omega0 * t / s - 0.5 * (t / s) ** 2)
 
     # rows --------------------------------------------------------------------------------
+    def layout(self, j: int) -> tuple[int, int, int]:
+        if j not in self._layouts:
+            self._layouts[j] = self._layout(j)
+        return self._layouts[j]
+
+    def _layout(self, j: int) -> tuple[int, int, int]:
+        """``(L, P, R)``: inverse FFT length, interleave period ``P = M/L`` and rows computed.
+
+        ``L`` is a divisor of ``M`` at least the band width divided by ``_MAX_FOLD`` (each FFT
+        input bin then sums at most a few band bins) and preferably FFT-friendly; symmetric rows
+        need only the residues ``r < ceil(P/2)`` (the rest by conjugate symmetry) and ``P >= 2``.
+        """
+        k_lo, k_hi = self.band(j)
+        width = k_hi - k_lo + 1
+        sym = self.padding == "symmetric"
+        longest = self.m // 2 if sym else self.m
+        best = None
+        for length in self.divisors:
+            period = self.m // length
+            if period < (2 if sym else 1):
+                continue
+            if length * _MAX_FOLD < width or length < min(width, _MIN_LENGTH, longest):
+                continue
+            rows = (period + 1) // 2 if sym else period
+            smooth = sfft.next_fast_len(length) == length
+            # FFT passes (slower once a row leaves the cache) plus the folding of the band
+            spill = 1.0 if length * self.cdt.itemsize <= _CACHE_BYTES else 2.5
+            cost = (
+                0 if smooth else 1,
+                rows * length * math.log2(max(length, 2)) * spill
+                + _FOLD_COST * rows * max(width, length),
+            )
+            if best is None or cost < best[0]:
+                best = (cost, length, period, rows)
+        assert best is not None  # L = M/2 (symmetric) or M always qualifies
+        return best[1], best[2], best[3]
+
+    def row_into(self, j: int, dest: np.ndarray) -> None:
+        """Write row ``j`` of W (complex ``dest``) or of |W| (real ``dest``), shape (N,)."""
+        length, period, rows = self.layout(j)
+        k_lo, k_hi = self.band(j)
+        sym = self.padding == "symmetric"
+        if self._work is None:
+            size = max(int(np.prod(self.layout(i)[0::2])) for i in range(self.freqs.size))
+            self._work = np.empty(size, dtype=self.cdt)
+            widths = [self.band(i)[1] - self.band(i)[0] + 1 for i in range(self.freqs.size)]
+            self._z = np.empty(max(widths), dtype=np.complex128)
+            self._twiddle = (2, 1, 2 * self.m) if sym else (1, 0, self.m)
+            self._tables = (self._twiddle[2], *_kern.twiddle_tables(self._twiddle[2]))
+            self._spec_c = (self.spec_ext if sym else self.spec).astype(np.complex128)
+        z = self._z[: k_hi - k_lo + 1]
+        w = self.scales[j] * (2.0 * np.pi / self.m)
+        _kern.band_values(
+            self._spec_c, k_lo, w, self.omega0, self.gain[j] / self.m, self.h, self.m, z
+        )
+        work = self._work[: rows * length].reshape(rows, length)
+        mult, add, den = self._twiddle
+        lo, hi = self._tables[1:]
+        chunk = max(1024, -(-rows * length // 64) // rows)
+        _kern.fold_band(z, k_lo, mult, add, den, lo, hi, work, chunk)
+        res = sfft.ifft(work, axis=-1, norm="forward", overwrite_x=True, workers=self.workers)
+        if np.iscomplexobj(dest):
+            _kern.scatter_complex(res, period, self.n, sym, dest)
+        else:
+            _kern.scatter_abs(res, period, self.n, sym, dest)
+
     def rows(self, indices, batch: int | None = None) -> Iterator[tuple[np.ndarray, np.ndarray]]:
         """Yield ``(row_indices, W)`` with ``W`` of shape (len(row_indices), N)."""
         indices = np.asarray(indices, dtype=np.int64)
         if batch is None:
             batch = max(1, min(indices.size, _BATCH_ELEMENTS // self.m))
+        buf = np.empty((min(batch, indices.size), self.n), dtype=self.cdt)
         for start in range(0, indices.size, batch):
             idx = indices[start : start + batch]
-            yield idx, self._compute(idx)
-
-    def _compute(self, idx: np.ndarray) -> np.ndarray:
-        n, m = self.n, self.m
-        if self.padding == "symmetric":
-            a = np.zeros((idx.size, n), dtype=self.rdt)
-            b = np.zeros((idx.size, n), dtype=self.rdt)
-            c = self.spec
             for r, j in enumerate(idx):
-                k_lo, k_hi = self.band(j)
-                top = min(max(k_hi, -k_lo), n - 1)
-                k = np.arange(0, top + 1)
-                gp = self.gains(j, k)
-                gm = self.gains(j, -k)
-                ck = c[: top + 1]
-                a[r, : top + 1] = ck * (0.5 * (gp + gm))
-                a[r, 0] = ck[0] * gp[0]
-                b[r, :top] = ck[1:] * (0.5 * (gp[1:] - gm[1:]))
-            re = sfft.dct(a, type=3, axis=-1, workers=self.workers, overwrite_x=True)
-            im = sfft.dst(b, type=3, axis=-1, workers=self.workers, overwrite_x=True)
-            out = np.empty((idx.size, n), dtype=self.cdt)
-            scale = 1.0 / (2.0 * n)
-            np.multiply(re, scale, out=out.real)
-            np.multiply(im, scale, out=out.imag)
-            return out
-        work = np.zeros((idx.size, m), dtype=self.cdt)
-        spec = self.spec
-        for r, j in enumerate(idx):
-            k_lo, k_hi = self.band(j)
-            kp = np.arange(max(k_lo, 0), k_hi + 1)
-            work[r, kp] = spec[kp] * self.gains(j, kp)
-            if k_lo < 0:
-                kn = np.arange(k_lo, 0)
-                work[r, m + kn] = np.conj(spec[-kn]) * self.gains(j, kn)
-        out = sfft.ifft(work, axis=-1, workers=self.workers, overwrite_x=True)
-        return out[:, :n] if m != n else out
+                self.row_into(int(j), buf[r])
+            yield idx, buf[: idx.size]
 
     # energies ----------------------------------------------------------------------------
     def circle_energy(self, j: int) -> float:
-        """sum over the padded circle of |W|^2 (Parseval), float64."""
+        """sum over the padded circle of |W|^2 (Parseval, compiled band sum), float64."""
+        if self._power is None:
+            spec = self.spec.astype(np.complex128 if self.padding != "symmetric" else np.float64)
+            self._power = spec.real**2 + (spec.imag**2 if np.iscomplexobj(spec) else 0.0)
         k_lo, k_hi = self.band(j)
-        m = self.m
-        top = self.n - 1 if self.padding == "symmetric" else m // 2
-        p0, p1 = max(k_lo, 0), min(k_hi, top) + 1
-        n0 = max(k_lo, -top)
-        kp = np.arange(p0, p1)
-        kn = np.arange(n0, 0)
-        spec = self.spec
-        if self.padding == "symmetric":
-            sp = np.square(spec[p0:p1])
-            sn = np.square(spec[1 : -n0 + 1][::-1]) if n0 < 0 else spec[:0]
-        else:
-            sp = spec[p0:p1].real ** 2 + spec[p0:p1].imag ** 2
-            sn = np.abs(spec[1 : -n0 + 1][::-1]) ** 2 if n0 < 0 else np.zeros(0)
-        e = np.dot(sp, self.gains(j, kp) ** 2)
-        if kn.size:
-            e += np.dot(sn, self.gains(j, kn) ** 2)
-        return float(e) / m
+        top = self.n - 1 if self.padding == "symmetric" else self.m // 2
+        w = self.scales[j] * (2.0 * np.pi / self.m)
+        e = _kern.band_energy(
+            self._power, k_lo, k_hi, top, w, self.omega0, float(self.gain[j]), self.h, self.m
+        )
+        return float(e) / self.m
+
+    def strip_energy(self, j: int, start: int, stop: int) -> float | None:
+        """sum of |W[m]|^2 for circle indices start <= m < stop, or None if too costly.
+
+        The short time-domain convolution where the kernel is local, else direct band sums (the
+        definition of W, valid up to Nyquist) when the strip times the band is small.
+        """
+        if stop <= start:
+            return 0.0
+        if self.local_ok(j):
+            return self.local_energy(j, start, stop)
+        k_lo, k_hi = self.band(j)
+        if (stop - start) * (k_hi - k_lo + 1) > _STRIP_BUDGET:
+            return None
+        sym = self.padding == "symmetric"
+        if self._spec_c is None:
+            self._spec_c = (self.spec_ext if sym else self.spec).astype(np.complex128)
+        mult, add, den = (2, 1, 2 * self.m) if sym else (1, 0, self.m)
+        if self._tables is None or self._tables[0] != den:
+            self._tables = (den, *_kern.twiddle_tables(den))
+        z = np.empty(k_hi - k_lo + 1, dtype=np.complex128)
+        w = self.scales[j] * (2.0 * np.pi / self.m)
+        _kern.band_values(
+            self._spec_c, k_lo, w, self.omega0, float(self.gain[j]) / self.m, self.h, self.m, z
+        )
+        return float(
+            _kern.strip_energy(
+                z,
+                k_lo,
+                mult,
+                add,
+                den,
+                self._tables[1],
+                self._tables[2],
+                np.arange(start, stop, dtype=np.int64),
+            )
+        )
 
     def extended(self, idx: np.ndarray) -> np.ndarray:
         """Padded signal at arbitrary (possibly negative) circle indices."""
@@ -549,8 +644,74 @@ def cwt(
     real = np.float32 if dt == np.complex64 else np.float64
     plan = _make_plan(signal, fs, frequencies, omega0, normalization, padding, real, workers)
     out = np.empty((plan.freqs.size, plan.n), dtype=dt)
-    for idx, rows in plan.rows(np.arange(plan.freqs.size)):
-        out[idx] = rows
+    for j in range(plan.freqs.size):
+        plan.row_into(j, out[j])
+    return CWTResult(out, plan.freqs.copy(), plan.coi.copy(), _metadata(plan))
+
+
+def cwt_magnitude(
+    signal,
+    fs: float,
+    frequencies,
+    *,
+    omega0: float = 6.0,
+    normalization: str = "l1",
+    padding: str = "symmetric",
+    dtype=np.float32,
+    workers: int | None = None,
+    out: np.ndarray | None = None,
+) -> CWTResult:
+    """Modulus ``|W|`` of :func:`cwt`, written row by row into a real array.
+
+    Equal to ``np.abs(cwt(...).coefficients)`` to rounding, but the complex matrix is never
+    formed: each row goes from a work buffer of about N complex elements straight into ``out``,
+    so the memory is the output plus O(N).
+
+    Parameters
+    ----------
+    signal, fs, frequencies, omega0, normalization, padding, workers
+        As in :func:`cwt`.
+    dtype : {numpy.float32, numpy.float64}, optional
+        Output precision (default float32, computed from complex64 transforms; float64 uses
+        complex128).  Ignored when ``out`` is given (its dtype decides).
+    out : numpy.ndarray, optional
+        Preallocated C-contiguous float32 or float64 array of shape (n_frequencies, n_samples)
+        to fill and return.
+
+    Returns
+    -------
+    CWTResult
+        As :func:`cwt` with ``coefficients`` the real modulus ``|W|`` (``out`` when given).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fs = 1000.0
+    >>> x = 2.0 * np.cos(2 * np.pi * 50.0 * np.arange(2000) / fs)
+    >>> mag = cwt_magnitude(x, fs, [10.0, 50.0, 250.0]).coefficients
+    >>> mag.dtype, np.round(mag[:, 1000], 4).tolist()
+    (dtype('float32'), [0.0, 2.0, 0.0])
+    """
+    if out is not None:
+        dtype = out.dtype
+    try:
+        rdt = np.dtype(dtype)
+    except TypeError:
+        raise InputError("dtype", dtype, "numpy.float32 or numpy.float64") from None
+    if rdt not in (np.dtype(np.float32), np.dtype(np.float64)):
+        raise InputError("dtype", dtype, "numpy.float32 or numpy.float64")
+    plan = _make_plan(signal, fs, frequencies, omega0, normalization, padding, rdt, workers)
+    shape = (plan.freqs.size, plan.n)
+    if out is None:
+        out = np.empty(shape, dtype=rdt)
+    elif out.shape != shape or not out.flags.c_contiguous or not out.flags.writeable:
+        raise InputError(
+            "out",
+            f"array of shape {out.shape}",
+            f"a writeable C-contiguous float array of shape {shape}",
+        )
+    for j in range(plan.freqs.size):
+        plan.row_into(j, out[j])
     return CWTResult(out, plan.freqs.copy(), plan.coi.copy(), _metadata(plan))
 
 
@@ -573,37 +734,41 @@ def _metadata(plan: _Plan) -> dict:
 
 
 def _energies(plan: _Plan, inner: bool) -> np.ndarray:
-    n = plan.n
+    n, m = plan.n, plan.m
     nf = plan.freqs.size
     energy = np.empty(nf)
     full_rows = []
     for j in range(nf):
         c = int(plan.coi[j])
         big_l = int(plan.half_support[j])
-        if not plan.local_ok(j) or (inner and c + 2 * big_l >= n):
+        if inner and 2 * c >= n:
+            energy[j] = 0.0
+            continue
+        strips = []
+        if plan.padding == "zero" and not plan.local_ok(j):
+            full_rows.append(j)  # W then spreads over the whole padding
+            continue
+        if plan.padding == "zero":
+            # W vanishes on the zero padding except within L samples of the record
+            strips += [(n, min(n + big_l, m - big_l)), (max(m - big_l, n), m)]
+        if inner:
+            strips += [(0, c), (n - c, n)]
+        if strips and plan.local_ok(j) and inner and c + 2 * big_l >= n:
+            full_rows.append(j)  # the short-convolution fallback would wrap
+            continue
+        parts = [plan.strip_energy(j, a, b) for a, b in strips]
+        if any(p is None for p in parts):
             full_rows.append(j)
             continue
         e = plan.circle_energy(j)
         if plan.padding == "symmetric":
             e *= 0.5
-        elif plan.padding == "zero":
-            # W vanishes on the zero padding except within L samples of the record
-            e -= plan.local_energy(j, n, min(n + big_l, plan.m - big_l))
-            e -= plan.local_energy(j, plan.m - big_l, plan.m)
-        if inner:
-            if 2 * c >= n:
-                e = 0.0
-            else:
-                e -= plan.local_energy(j, 0, c) + plan.local_energy(j, n - c, n)
-        energy[j] = max(e, 0.0)
+        energy[j] = max(e - sum(parts), 0.0)
     for idx, rows in plan.rows(full_rows, batch=max(1, (1 << 21) // plan.m)):
-        p = rows.real**2 + rows.imag**2
         for r, j in enumerate(idx):
+            p = rows[r].real ** 2 + rows[r].imag ** 2
             c = int(plan.coi[j])
-            if inner:
-                energy[j] = float(np.sum(p[r, c : n - c])) if 2 * c < n else 0.0
-            else:
-                energy[j] = float(np.sum(p[r]))
+            energy[j] = float(np.sum(p[c : n - c])) if inner else float(np.sum(p))
     return energy / plan.fs
 
 
