@@ -7,11 +7,17 @@ The public surface, each name defined once in its own module:
   scenarios: :func:`load_scenario`, :class:`Scenario`;
 * modal analysis: :func:`modes`, :func:`critical_speeds`, :func:`campbell`;
 * simulation: :func:`simulate` (returns an ``xarray.Dataset``), :func:`converge`;
+* analysis: :func:`cwt`, :func:`scalogram`, :func:`full_spectrum`, :func:`amplitude_spectrum`,
+  :func:`rub_indicators`;
+* parameter maps: ``rubrotor.sweep.sweep`` (its module imports zarr/dask lazily);
 * results files: :func:`save_dataset`, :func:`load_dataset`.
 """
 
 __version__ = "0.1.0"
 
+from rubrotor.analysis.indicators import rub_indicators  # noqa: E402
+from rubrotor.analysis.spectra import amplitude_spectrum, full_spectrum  # noqa: E402
+from rubrotor.analysis.wavelet import cwt, scalogram  # noqa: E402
 from rubrotor.api import critical_speeds, modes  # noqa: E402
 from rubrotor.errors import InputError, RubrotorError, ScenarioError  # noqa: E402
 from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance  # noqa: E402
@@ -43,4 +49,9 @@ __all__ = [
     "modes",
     "save_dataset",
     "simulate",
+    "cwt",
+    "scalogram",
+    "amplitude_spectrum",
+    "full_spectrum",
+    "rub_indicators",
 ]

@@ -15,8 +15,8 @@ import numpy as np
 import scipy.fft as sfft
 from scipy.signal import find_peaks, get_window
 
-from rubrotor.analysis.spectra import _check_fs, _check_signal, order_spectrum
-from rubrotor.analysis.wavelet import inner_scalogram, log_frequencies
+from rubrotor.analysis.spectra import order_spectrum
+from rubrotor.analysis.wavelet import _check_fs, _check_signal, inner_scalogram, log_frequencies
 from rubrotor.errors import InputError
 
 __all__ = ["RubIndicators", "rub_indicators", "band_energies", "backward_whirl_share"]

@@ -14,6 +14,7 @@ import numpy as np
 import scipy.fft as sfft
 from scipy.signal import get_window
 
+from rubrotor.analysis.wavelet import _check_fs, _check_signal
 from rubrotor.errors import InputError
 
 __all__ = [
@@ -41,30 +42,6 @@ class Spectrum(NamedTuple):
 
     frequencies: np.ndarray
     amplitudes: np.ndarray
-
-
-def _check_fs(fs) -> float:
-    try:
-        value = float(fs)
-    except (TypeError, ValueError):
-        raise InputError("fs", fs, "a finite sampling frequency > 0 (Hz)") from None
-    if not np.isfinite(value) or value <= 0:
-        raise InputError("fs", fs, "a finite sampling frequency > 0 (Hz)")
-    return value
-
-
-def _check_signal(signal, field: str) -> np.ndarray:
-    try:
-        x = np.asarray(signal, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(field, signal, "a 1-D array of finite real numbers") from None
-    if x.ndim != 1 or x.size < 2:
-        raise InputError(
-            field, f"array of shape {x.shape}", "a 1-D array of at least 2 finite real samples"
-        )
-    if not np.all(np.isfinite(x)):
-        raise InputError(field, "array with NaN or inf", "a 1-D array of finite real numbers")
-    return x
 
 
 def _window(window, n: int) -> np.ndarray:
