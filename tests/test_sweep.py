@@ -250,7 +250,7 @@ def cluster():
         threads_per_worker=1,
         processes=True,
         host="127.0.0.1",
-        dashboard_address=None,
+        dashboard_address=":0",  # a free port: never collides with another cluster
     ) as c:
         yield c
 
