@@ -245,3 +245,17 @@ def test_bad_bins_and_log_frequencies():
         log_frequencies(5.0, 1.0, 3)
     with pytest.raises(InputError, match="count"):
         log_frequencies(1.0, 10.0, 0)
+
+
+@pytest.mark.parametrize("padding", ["symmetric", "periodic", "zero"])
+def test_scalograms_equal_the_two_separate_routes(padding):
+    from rubrotor.analysis.wavelet import inner_scalogram, scalogram, scalograms
+
+    rng = np.random.default_rng(3)
+    fs = 1000.0
+    x = rng.standard_normal(3000) + np.cos(2 * np.pi * 60 * np.arange(3000) / fs)
+    f = np.geomspace(3.0, 450.0, 40)
+    full, inner = scalograms(x, fs, f, padding=padding)
+    # equal up to the rounding of differently batched fallback rows
+    np.testing.assert_allclose(full, scalogram(x, fs, f, padding=padding), rtol=1e-12)
+    np.testing.assert_allclose(inner, inner_scalogram(x, fs, f, padding=padding), rtol=1e-12)

@@ -108,6 +108,7 @@ __all__ = [
     "cwt",
     "cwt_magnitude",
     "scalogram",
+    "scalograms",
     "inner_scalogram",
     "cwt_binned",
     "PADDING_MODES",
@@ -338,11 +339,10 @@ class _Plan:
         else:
             self.gain = np.sqrt(2.0 * self.scales) * np.pi**0.25
         n = self.n
-        xs = x.astype(self.rdt)
+        xs = x.astype(self.rdt, copy=False)
         if padding == "symmetric":
             self.m = 2 * n
             self.spec = sfft.dct(xs, type=2, workers=workers)  # C_k, k = 0..N-1; C_N = 0
-            self.spec_ext = np.append(self.spec.astype(np.float64), 0.0)
         elif padding == "periodic":
             self.m = n
             self.spec = sfft.rfft(xs, workers=workers)
@@ -353,8 +353,15 @@ class _Plan:
         self._work: np.ndarray | None = None
         self._tables: tuple | None = None
         self._spec_c: np.ndarray | None = None
-        self._power: np.ndarray | None = None
         self._layouts: dict[int, tuple[int, int, int]] = {}
+
+    def _complex_spectrum(self, sym: bool) -> np.ndarray:
+        """The spectrum as complex128; for the symmetric circle with ``C_N = 0`` appended."""
+        if not sym:
+            return self.spec.astype(np.complex128)
+        out = np.zeros(self.n + 1, np.complex128)
+        out[: self.n] = self.spec
+        return out
 
     # filter ------------------------------------------------------------------------------
     def band(self, j: int) -> tuple[int, int]:
@@ -441,7 +448,7 @@ class _Plan:
             self._z = np.empty(max(widths), dtype=np.complex128)
             self._twiddle = (2, 1, 2 * self.m) if sym else (1, 0, self.m)
             self._tables = (self._twiddle[2], *_kern.twiddle_tables(self._twiddle[2]))
-            self._spec_c = (self.spec_ext if sym else self.spec).astype(np.complex128)
+            self._spec_c = self._complex_spectrum(sym)
         z = self._z[: k_hi - k_lo + 1]
         w = self.scales[j] * (2.0 * np.pi / self.m)
         _kern.band_values(
@@ -473,14 +480,11 @@ class _Plan:
     # energies ----------------------------------------------------------------------------
     def circle_energy(self, j: int) -> float:
         """sum over the padded circle of |W|^2 (Parseval, compiled band sum), float64."""
-        if self._power is None:
-            spec = self.spec.astype(np.complex128 if self.padding != "symmetric" else np.float64)
-            self._power = spec.real**2 + (spec.imag**2 if np.iscomplexobj(spec) else 0.0)
         k_lo, k_hi = self.band(j)
         top = self.n - 1 if self.padding == "symmetric" else self.m // 2
         w = self.scales[j] * (2.0 * np.pi / self.m)
         e = _kern.band_energy(
-            self._power, k_lo, k_hi, top, w, self.omega0, float(self.gain[j]), self.h, self.m
+            self.spec, k_lo, k_hi, top, w, self.omega0, float(self.gain[j]), self.h, self.m
         )
         return float(e) / self.m
 
@@ -499,7 +503,7 @@ class _Plan:
             return None
         sym = self.padding == "symmetric"
         if self._spec_c is None:
-            self._spec_c = (self.spec_ext if sym else self.spec).astype(np.complex128)
+            self._spec_c = self._complex_spectrum(sym)
         mult, add, den = (2, 1, 2 * self.m) if sym else (1, 0, self.m)
         if self._tables is None or self._tables[0] != den:
             self._tables = (den, *_kern.twiddle_tables(den))
@@ -733,43 +737,47 @@ def _metadata(plan: _Plan) -> dict:
     }
 
 
-def _energies(plan: _Plan, inner: bool) -> np.ndarray:
+def _energies(plan: _Plan, inner: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    """Energies ``sum |W|^2 / fs`` per row over the record and, when ``inner``, outside the
+    cone of influence, computed together (the inner one is the full one minus edge strips)."""
     n, m = plan.n, plan.m
     nf = plan.freqs.size
-    energy = np.empty(nf)
+    full = np.empty(nf)
+    inn = np.empty(nf) if inner else None
     full_rows = []
     for j in range(nf):
         c = int(plan.coi[j])
         big_l = int(plan.half_support[j])
-        if inner and 2 * c >= n:
-            energy[j] = 0.0
-            continue
-        strips = []
-        if plan.padding == "zero" and not plan.local_ok(j):
-            full_rows.append(j)  # W then spreads over the whole padding
-            continue
+        pad_strips = []
         if plan.padding == "zero":
+            if not plan.local_ok(j):
+                full_rows.append(j)  # W then spreads over the whole padding
+                continue
             # W vanishes on the zero padding except within L samples of the record
-            strips += [(n, min(n + big_l, m - big_l)), (max(m - big_l, n), m)]
-        if inner:
-            strips += [(0, c), (n - c, n)]
-        if strips and plan.local_ok(j) and inner and c + 2 * big_l >= n:
+            pad_strips = [(n, min(n + big_l, m - big_l)), (max(m - big_l, n), m)]
+        edge_strips = [(0, c), (n - c, n)] if inner and 2 * c < n else []
+        if edge_strips and plan.local_ok(j) and c + 2 * big_l >= n:
             full_rows.append(j)  # the short-convolution fallback would wrap
             continue
-        parts = [plan.strip_energy(j, a, b) for a, b in strips]
-        if any(p is None for p in parts):
+        pad_parts = [plan.strip_energy(j, a, b) for a, b in pad_strips]
+        edge_parts = [plan.strip_energy(j, a, b) for a, b in edge_strips]
+        if any(p is None for p in pad_parts + edge_parts):
             full_rows.append(j)
             continue
         e = plan.circle_energy(j)
         if plan.padding == "symmetric":
             e *= 0.5
-        energy[j] = max(e - sum(parts), 0.0)
+        full[j] = max(e - sum(pad_parts), 0.0)
+        if inner:
+            inn[j] = max(full[j] - sum(edge_parts), 0.0) if 2 * c < n else 0.0
     for idx, rows in plan.rows(full_rows, batch=max(1, (1 << 21) // plan.m)):
         for r, j in enumerate(idx):
             p = rows[r].real ** 2 + rows[r].imag ** 2
             c = int(plan.coi[j])
-            energy[j] = float(np.sum(p[c : n - c])) if inner else float(np.sum(p))
-    return energy / plan.fs
+            full[j] = float(np.sum(p[:n]))
+            if inner:
+                inn[j] = float(np.sum(p[c : n - c])) if 2 * c < n else 0.0
+    return full / plan.fs, (inn / plan.fs if inner else None)
 
 
 def scalogram(
@@ -820,7 +828,49 @@ def scalogram(
     1
     """
     plan = _make_plan(signal, fs, frequencies, omega0, normalization, padding, np.float64, workers)
-    return np.sqrt(_energies(plan, bool(inner)))
+    full, inn = _energies(plan, bool(inner))
+    return np.sqrt(inn if inner else full)
+
+
+def scalograms(
+    signal,
+    fs: float,
+    frequencies,
+    *,
+    omega0: float = 6.0,
+    normalization: str = "l1",
+    padding: str = "symmetric",
+    workers: int | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Scalogram and inner scalogram together, sharing the Parseval sums (see :func:`scalogram`).
+
+    Parameters
+    ----------
+    signal : array_like, shape (n_samples,)
+        Real signal (any unit).
+    fs : float
+        Sampling frequency (Hz).
+    frequencies : array_like, shape (n_frequencies,)
+        Analysis frequencies (Hz) in (0, fs/2).
+    omega0, normalization, padding, workers
+        As in :func:`cwt`.
+
+    Returns
+    -------
+    full, inner : numpy.ndarray, float64, shape (n_frequencies,)
+        Seed eqs. (19) and (20) (unit of the signal times s**0.5 for ``"l1"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.cos(2 * np.pi * 5.0 * np.arange(1000) / 100.0)
+    >>> full, inner = scalograms(x, 100.0, [2.5, 5.0, 10.0])
+    >>> bool(np.all(inner <= full))
+    True
+    """
+    plan = _make_plan(signal, fs, frequencies, omega0, normalization, padding, np.float64, workers)
+    full, inn = _energies(plan, True)
+    return np.sqrt(full), np.sqrt(inn)
 
 
 def inner_scalogram(signal, fs: float, frequencies, **kwargs) -> np.ndarray:
