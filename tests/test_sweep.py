@@ -255,9 +255,22 @@ def cluster():
         yield c
 
 
+def assert_same_sweep(ds, ref):
+    """Equal to rounding: Dask's nanny starts workers with OMP/OPENBLAS_NUM_THREADS=1, so the
+    BLAS calls of the (small) modal assembly may round differently than in this process; the
+    labels, masks, coordinates and attributes must be identical."""
+    xr.testing.assert_allclose(ds, ref, rtol=1e-12, atol=0)
+    for name in ("regime", "period", "done", "status"):
+        if name in ref:
+            np.testing.assert_array_equal(ds[name].values, ref[name].values)
+    assert ds.attrs == ref.attrs
+    for name in ref.coords:
+        np.testing.assert_array_equal(ds[name].values, ref[name].values)
+
+
 def test_dask_equals_local(cluster, reference, tmp_path):
     ds = sweep(LOADED, VARY, scheduler=cluster.scheduler_address, chunk_size=1, **SHORT)
-    xr.testing.assert_identical(ds, reference)
+    assert_same_sweep(ds, reference)
 
 
 def test_dask_worker_killed_mid_sweep(cluster, tmp_path):
@@ -287,5 +300,5 @@ def test_dask_worker_killed_mid_sweep(cluster, tmp_path):
     t.join()
     assert killed
     assert ds["done"].values.all()
-    xr.testing.assert_identical(ds, local)
-    xr.testing.assert_identical(open_sweep(store), local)
+    assert_same_sweep(ds, local)
+    assert_same_sweep(open_sweep(store), local)
