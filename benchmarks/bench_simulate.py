@@ -32,15 +32,13 @@ import numpy as np
 import rubrotor
 from rubrotor.integrator import Integrator
 from rubrotor.reference import solve_ivp_reference
-from rubrotor.simulation import simulate_system
+from rubrotor.simulation import simulate_scenario, simulate_system
 
 SCEN = Path(rubrotor.__file__).parent / "scenarios" / "seed_case1.toml"
 
 
 def _run(sc, integ):
-    return simulate_system(
-        sc.shaft, sc.speed, integ, sc.unbalance, sc.contact, sc.load, sc.damping, progress=False
-    )
+    return simulate_scenario(sc, integ, progress=False)
 
 
 def _median_wall(fn, reps):

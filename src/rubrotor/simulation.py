@@ -23,7 +23,16 @@ from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance
 from rubrotor.integrator import Integrator
 from rubrotor.model import Shaft, modal_matrices
 
-__all__ = ["ModalSystem", "SimulationResult", "assemble", "simulate_system", "phi_functions"]
+__all__ = [
+    "ModalSystem",
+    "SimulationResult",
+    "assemble",
+    "simulate_system",
+    "simulate_scenario",
+    "simulate",
+    "converge",
+    "phi_functions",
+]
 
 ADAPTIVE_LEVELS = 21
 EVENT_BUFFER = 200_000
@@ -470,6 +479,17 @@ def simulate_system(
             vel_u_z = 0j
             vel_l_row = np.zeros(ns, complex)
             vel_l_z = 0j
+        etrack = (
+            wv,
+            wz,
+            cmat,
+            vel_u_row,
+            complex(vel_u_z),
+            complex(fu0),
+            vel_l_row,
+            complex(vel_l_z),
+            complex(fl),
+        )
 
         def run_chunk(offset, count):
             return expo_fixed(
@@ -477,7 +497,7 @@ def simulate_system(
                 E, G0, G1, sd, sv, cdc, cvc, cp,
                 orows,
                 speed, h, max_disp,
-                track_energy, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl, work,
+                track_energy, etrack, work,
                 events,
             )  # fmt: skip
 
@@ -676,6 +696,34 @@ def scenario_parameters(scenario) -> dict:
     return out
 
 
+def simulate_scenario(scenario, integrator: Integrator, **kwargs) -> SimulationResult:
+    """:func:`simulate_system` on the parts of a scenario (raw arrays, no Dataset).
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        Shaft, speed (rad/s), unbalance, contact, load and damping.
+    integrator : Integrator
+        How to integrate.
+    **kwargs
+        ``track_energy``, ``progress``, ``chunk_samples`` of :func:`simulate_system`.
+
+    Returns
+    -------
+    SimulationResult
+    """
+    return simulate_system(
+        scenario.shaft,
+        scenario.speed,
+        integrator,
+        scenario.unbalance,
+        scenario.contact,
+        scenario.load,
+        scenario.damping,
+        **kwargs,
+    )
+
+
 def simulate(
     scenario,
     *,
@@ -707,17 +755,7 @@ def simulate(
     integ = integrator or scenario.simulation
     if integ is None:
         raise InputError("simulation", None, "a [simulation] section (revolutions or duration)")
-    res = simulate_system(
-        scenario.shaft,
-        scenario.speed,
-        integ,
-        scenario.unbalance,
-        scenario.contact,
-        scenario.load,
-        scenario.damping,
-        track_energy=track_energy,
-        progress=progress,
-    )
+    res = simulate_scenario(scenario, integ, track_energy=track_energy, progress=progress)
     params = scenario_parameters(scenario)
     if integrator is not None:
         import dataclasses

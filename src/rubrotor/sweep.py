@@ -469,7 +469,7 @@ def simulate_point(
     ``revolutions`` and the output spacing ``2 pi / samples_per_revolution`` (rad of spin).
     """
     from rubrotor.integrator import Integrator
-    from rubrotor.simulation import simulate_system
+    from rubrotor.simulation import simulate_scenario
 
     base = scenario.simulation
     kw = {}
@@ -478,16 +478,7 @@ def simulate_point(
     integ = Integrator(
         revolutions=revolutions, output_dtau=2 * math.pi / samples_per_revolution, **kw
     )
-    r = simulate_system(
-        scenario.shaft,
-        scenario.speed,
-        integ,
-        scenario.unbalance,
-        scenario.contact,
-        scenario.load,
-        scenario.damping,
-        progress=False,
-    )
+    r = simulate_scenario(scenario, integ, progress=False)
     nst = len(r.stations)
     return point_metrics(
         r.time,

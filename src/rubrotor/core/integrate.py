@@ -93,10 +93,29 @@ def _write_sample(out, idx, y, z, F, cp, orows):
 
 
 @njit(cache=True)
-def _powers(
-    y, z, F, omega, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl, cvc, vel_c_z, qv
-):
-    """Instantaneous powers (W): unbalance, constant load, contact force, modal damping."""
+def _friction_power(y, z, cp, cdc, cvc, part_c, vel_c_z, part_lc):
+    """Power (W) of the friction force on the lateral motion of the shaft centre."""
+    P = part_c * z + part_lc
+    V = vel_c_z * z
+    for j in range(y.shape[0]):
+        P += cdc[j] * y[j]
+        V += cvc[j] * y[j]
+    fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    if fn == 0.0:
+        return 0.0
+    d = abs(P)
+    return ft * ((-P.imag / d) * V.real + (P.real / d) * V.imag)
+
+
+@njit(cache=True)
+def _powers(y, z, F, etrack, cp, cdc, cvc, part_c, vel_c_z, part_lc, qv):
+    """Instantaneous powers (W): unbalance, constant load, contact force, modal damping, friction.
+
+    ``etrack = (wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl)``: rows giving the
+    modal velocities, the damping matrix, the velocity rows of the unbalance and load stations
+    (with their particular-solution parts) and the force amplitudes.
+    """
+    wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl = etrack
     ns = y.shape[0]
     vu = vel_u_z * z
     vl = vel_l_z * z
@@ -117,27 +136,12 @@ def _powers(
         qv[i] = acc
     p_d = 0.0
     for i in range(nq):
-        for k in range(nq):
-            c = cmat[i, k]
+        for k2 in range(nq):
+            c = cmat[i, k2]
             if c != 0.0:
-                p_d += c * (qv[i].real * qv[k].real + qv[i].imag * qv[k].imag)
-    return p_u, p_l, p_c, p_d
-
-
-@njit(cache=True)
-def _friction_power(y, z, F, cp, cdc, cvc, part_c, vel_c_z, part_l_c):
-    P = part_c * z + part_l_c
-    V = vel_c_z * z
-    for j in range(y.shape[0]):
-        P += cdc[j] * y[j]
-        V += cvc[j] * y[j]
-    fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
-    if fn == 0.0:
-        return 0.0
-    d = abs(P)
-    ty = -P.imag / d
-    tz = P.real / d
-    return ft * (ty * V.real + tz * V.imag)
+                p_d += c * (qv[i].real * qv[k2].real + qv[i].imag * qv[k2].imag)
+    p_f = _friction_power(y, z, cp, cdc, cvc, part_c, vel_c_z, part_lc)
+    return p_u, p_l, p_c, p_d, p_f
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
@@ -146,7 +150,7 @@ def expo_fixed(
     E, G0, G1, sd, sv, cdc, cvc, cp,
     orows,
     omega, h, max_disp,
-    energy, wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl, work,
+    energy, etrack, work,
     events,
 ):  # fmt: skip
     """Fixed-step exponential integrator over ``n_samples`` saved samples.
@@ -161,7 +165,7 @@ def expo_fixed(
     """
     ns = y.shape[0]
     jac = np.zeros((2, 4))
-    qv = np.zeros(wv.shape[0], np.complex128)
+    qv = np.zeros(etrack[0].shape[0], np.complex128)
     # propagate-and-project vectors: pd = sum(cdE * y) + cdG0 * F, same for the velocity
     cdE = cdc * E
     cvE = cvc * E
@@ -188,28 +192,9 @@ def expo_fixed(
     fn_c = 0.0
     ft_c = 0.0
     d_prev = 0.0
-    pw0 = (0.0, 0.0, 0.0, 0.0)
-    pf0 = 0.0
+    pw0 = (0.0, 0.0, 0.0, 0.0, 0.0)
     if energy:
-        pw0 = _powers(
-            y,
-            z,
-            F,
-            omega,
-            wv,
-            wz,
-            cmat,
-            vel_u_row,
-            vel_u_z,
-            fu0,
-            vel_l_row,
-            vel_l_z,
-            fl,
-            cvc,
-            vel_cz,
-            qv,
-        )
-        pf0 = _friction_power(y, z, F, cp, cdc, cvc, part_c, vel_cz, part_lc)
+        pw0 = _powers(y, z, F, etrack, cp, cdc, cvc, part_c, vel_cz, part_lc, qv)
     for s_i in range(n_samples):
         for _ in range(save_every):
             step += 1
@@ -258,32 +243,13 @@ def expo_fixed(
             F = Fn
             z = zn
             if energy:
-                pw1 = _powers(
-                    y,
-                    z,
-                    F,
-                    omega,
-                    wv,
-                    wz,
-                    cmat,
-                    vel_u_row,
-                    vel_u_z,
-                    fu0,
-                    vel_l_row,
-                    vel_l_z,
-                    fl,
-                    cvc,
-                    vel_cz,
-                    qv,
-                )
-                pf1 = _friction_power(y, z, F, cp, cdc, cvc, part_c, vel_cz, part_lc)
+                pw1 = _powers(y, z, F, etrack, cp, cdc, cvc, part_c, vel_cz, part_lc, qv)
                 work[0] += 0.5 * h * (pw0[0] + pw1[0])
                 work[1] += 0.5 * h * (pw0[1] + pw1[1])
                 work[2] += 0.5 * h * (pw0[2] + pw1[2])
                 work[3] += 0.5 * h * (pw0[3] + pw1[3])
-                work[4] += 0.5 * h * (pf0 + pf1)
+                work[4] += 0.5 * h * (pw0[4] + pw1[4])
                 pw0 = pw1
-                pf0 = pf1
             if not (d2 <= maxd2):
                 istate[2] = 1
                 break
