@@ -77,6 +77,20 @@ def band_values(spec, k_lo, w, omega0, gain, h, m, z):
             z[b] = spec[k] * g if k >= 0 else spec[-k].conjugate() * g
 
 
+@njit(cache=True, inline="always")
+def _next_twiddle(t, step, idx, jump, den, left, lo, hi):
+    """Advance the twiddle ``t`` by ``step``; every ``RESEED`` bins take the exact value from the
+    two-level table at phase index ``idx + jump`` (mod ``den``) instead. Returns
+    ``(t, idx, left)``."""
+    left -= 1
+    if left == 0:
+        idx += jump
+        if idx >= den:
+            idx -= den
+        return lo[idx & ((1 << TABLE_BITS) - 1)] * hi[idx >> TABLE_BITS], idx, RESEED
+    return t * step, idx, left
+
+
 @njit(cache=True, parallel=True)
 def fold_band(z, k_lo, mult, add, den, lo, hi, work, chunk):
     """Fill ``work[r, k'] = sum_{k = k' mod L} z[k - k_lo] * exp(2j*pi*k*(mult*r + add)/den)``.
@@ -121,15 +135,7 @@ def fold_band(z, k_lo, mult, add, den, lo, hi, work, chunk):
                 left = RESEED
                 for k in range(k0, k1 + 1):
                     row[k - u * length] += z[k - k_lo] * t
-                    left -= 1
-                    if left == 0:  # exact value again every RESEED bins
-                        idx += jump
-                        if idx >= den:
-                            idx -= den
-                        t = lo[idx & mask] * hi[idx >> TABLE_BITS]
-                        left = RESEED
-                    else:
-                        t *= step
+                    t, idx, left = _next_twiddle(t, step, idx, jump, den, left, lo, hi)
             u += 1
 
 
@@ -234,14 +240,6 @@ def strip_energy(z, k_lo, mult, add, den, lo, hi, positions):
         total = 0j
         for b in range(z.size):
             total += z[b] * t
-            left -= 1
-            if left == 0:
-                idx += jump
-                if idx >= den:
-                    idx -= den
-                t = lo[idx & mask] * hi[idx >> TABLE_BITS]
-                left = RESEED
-            else:
-                t *= step
+            t, idx, left = _next_twiddle(t, step, idx, jump, den, left, lo, hi)
         acc[i] = total.real * total.real + total.imag * total.imag
     return acc.sum()
