@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from seed import seed_shaft
 
 from rubrotor.modal import (
     critical_speeds,
@@ -26,19 +27,6 @@ from rubrotor.modal import (
 from rubrotor.model import Shaft
 
 TWO_PI = 2 * math.pi
-
-
-def seed_shaft(**kw) -> Shaft:
-    base = dict(
-        length=0.4,
-        diameter=0.1,
-        youngs_modulus=71e9,
-        density=2660.0,
-        shear_modulus=26.2e9,
-        shear_coefficient="seed",
-    )
-    base.update(kw)
-    return Shaft(**base)
 
 
 def freqs(shaft, branch, whirl="forward", speed=0.0):

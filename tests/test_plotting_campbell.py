@@ -8,25 +8,12 @@ import matplotlib
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
+from seed import seed_shaft as shaft
 
 from rubrotor.modal import critical_speeds
-from rubrotor.model import Shaft
 from rubrotor.plotting import campbell_figure
 
 SPEEDS = np.linspace(0, 60000, 60)
-
-
-def shaft(**kw):
-    base = dict(
-        length=0.4,
-        diameter=0.1,
-        youngs_modulus=71e9,
-        density=2660.0,
-        shear_modulus=26.2e9,
-        shear_coefficient="seed",
-    )
-    base.update(kw)
-    return Shaft(**base)
 
 
 def _markers(fig):
