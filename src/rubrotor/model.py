@@ -38,11 +38,13 @@ __all__ = [
     "shear_coefficient_value",
     "THEORIES",
     "SHEAR_COEFFICIENTS",
+    "FORMULATIONS",
     "Dimensionless",
 ]
 
 THEORIES = ("timoshenko", "rayleigh", "euler-bernoulli")
 SHEAR_COEFFICIENTS = ("cowper", "hutchinson", "seed")
+FORMULATIONS = ("two-field", "seed-eq1")
 
 
 def _finite_positive(field_name: str, value, unit: str, allow_zero: bool = False) -> float:
@@ -137,6 +139,11 @@ class Shaft:
         Include gyroscopic moments (no effect for Euler-Bernoulli). Default True.
     modes : int
         Number of modes ``n = 1 .. modes`` kept in the expansion.
+    formulation : {"two-field", "seed-eq1"}
+        Equation form of a Timoshenko shaft in simulations: ``"two-field"`` (default, deflection
+        and rotation, forces applied correctly) or ``"seed-eq1"``, the seed's single equation
+        with the point forces on its right-hand side (:mod:`rubrotor.seedform`, a reproduction
+        switch). For Rayleigh and Euler-Bernoulli shafts both are the same one-field equation.
 
     Examples
     --------
@@ -157,6 +164,7 @@ class Shaft:
     theory: str = "timoshenko"
     gyroscopic: bool = True
     modes: int = 3
+    formulation: str = "two-field"
     _kappa: float = field(init=False, repr=False, compare=False)
     _nu: float = field(init=False, repr=False, compare=False)
     _g: float = field(init=False, repr=False, compare=False)
@@ -215,6 +223,10 @@ class Shaft:
             or not 1 <= self.modes <= 200
         ):
             raise InputError("shaft.modes", self.modes, "an integer in 1..200")
+        if self.formulation not in FORMULATIONS:
+            raise InputError(
+                "shaft.formulation", self.formulation, " or ".join(f'"{f}"' for f in FORMULATIONS)
+            )
         kappa = shear_coefficient_value(self.shear_coefficient, nu, bore / self.diameter)
         object.__setattr__(self, "_kappa", kappa)
 

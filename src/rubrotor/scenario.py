@@ -15,7 +15,7 @@ converted exactly with :class:`rubrotor.model.Dimensionless`)::
                   youngs_modulus (Pa); density (kg/m^3);
                   shear_modulus (Pa) | poisson_ratio | shear_parameter delta = E/(kappa G);
                   shear_coefficient ("cowper" | "hutchinson" | "seed" | number);
-                  theory; gyroscopic; modes
+                  theory; gyroscopic; modes; formulation ("two-field" | "seed-eq1")
     [speed]       exactly one of rad_per_s, rpm, hz, critical_multiple (of the first forward
                   bending critical speed), dimensionless (seed c = Omega L^2 sqrt(rho A/(E I)))
     [unbalance]   magnitude (kg m) | magnitude_nd (m e Omega^2 L^2/(E I));
@@ -27,6 +27,7 @@ converted exactly with :class:`rubrotor.model.Dimensionless`)::
                   friction_regularization                                      (optional)
     [damping]     ratio (a number or a list per mode)                          (optional)
     [simulation]  the fields of :class:`rubrotor.integrator.Integrator`         (optional)
+    [initial]     state ("rest" | "steady": on the steady no-contact orbit)     (optional)
 
 Positions default to midspan and are stored resolved, in m. Keys that need the speed
 (``magnitude_nd``, ``damping_nd``) are converted with the resolved speed.
@@ -57,7 +58,7 @@ from rubrotor.forces import (
 )
 from rubrotor.integrator import Integrator
 from rubrotor.modal import first_forward_critical
-from rubrotor.model import SHEAR_COEFFICIENTS, THEORIES, Dimensionless, Shaft
+from rubrotor.model import FORMULATIONS, SHEAR_COEFFICIENTS, THEORIES, Dimensionless, Shaft
 
 __all__ = [
     "Scenario",
@@ -89,6 +90,7 @@ SCHEMA: dict[str, dict[str, str]] = {
         "theory": "str",
         "gyroscopic": "bool",
         "modes": "int",
+        "formulation": "str",
     },
     "speed": {
         "rad_per_s": _NUM,
@@ -124,6 +126,7 @@ SCHEMA: dict[str, dict[str, str]] = {
         "friction_regularization": _NUM,
     },
     "damping": {"ratio": "number|list"},
+    "initial": {"state": "str"},
     "simulation": {
         "revolutions": _NUM,
         "duration": _NUM,
@@ -339,7 +342,15 @@ def _positive(name: str, value, unit: str, allow_zero: bool = False) -> float:
 def _build_shaft(sec: dict) -> Shaft:
     kwargs = {
         k: sec[k]
-        for k in ("length", "youngs_modulus", "density", "theory", "gyroscopic", "modes")
+        for k in (
+            "length",
+            "youngs_modulus",
+            "density",
+            "theory",
+            "gyroscopic",
+            "modes",
+            "formulation",
+        )
         if k in sec
     }
     length = _positive("shaft.length", sec["length"], "m")
@@ -364,6 +375,8 @@ def _build_shaft(sec: dict) -> Shaft:
     kwargs["shear_coefficient"] = coef
     if "theory" in sec:
         _choice("shaft.theory", sec["theory"], THEORIES)
+    if "formulation" in sec:
+        _choice("shaft.formulation", sec["formulation"], FORMULATIONS)
     if "modes" in sec and not 1 <= sec["modes"] <= 200:
         raise _err("shaft.modes", sec["modes"], "an integer in 1..200")
     if "shear_modulus" in sec:
@@ -524,6 +537,8 @@ def _build(spec: dict) -> dict:
         damping = ModalDamping() if sec is None else ModalDamping(_ratios(sec))
         sec = spec.get("simulation")
         simulation = None if sec is None else _build_simulation(sec, shaft, speed)
+        initial = spec.get("initial", {}).get("state", "rest")
+        _choice("initial.state", initial, ("rest", "steady"))
     except ScenarioError:
         raise
     except InputError as exc:
@@ -539,6 +554,7 @@ def _build(spec: dict) -> dict:
         contact=contact,
         damping=damping,
         simulation=simulation,
+        initial=initial,
     )
 
 
@@ -578,6 +594,8 @@ class Scenario:
         Modal damping ratios (zero when the section is absent).
     simulation : Integrator or None
         Integrator settings.
+    initial : {"rest", "steady"}
+        ``[initial] state``: start at rest (default) or on the steady no-contact orbit.
     source : str
         TOML text the scenario was read from (provenance); not compared by ``==``.
     """
@@ -591,6 +609,7 @@ class Scenario:
     contact: Contact | None = None
     damping: ModalDamping = field(default_factory=ModalDamping)
     simulation: Integrator | None = None
+    initial: str = "rest"
     source: str = field(default="", compare=False, repr=False)
     _spec: dict | None = field(default=None, compare=False, repr=False)
 
@@ -750,6 +769,7 @@ def _resolved_dict(sc: Scenario) -> dict:
         "theory": s.theory,
         "gyroscopic": s.gyroscopic,
         "modes": s.modes,
+        "formulation": s.formulation,
     }
     if s.shear_modulus is not None:
         shaft["shear_modulus"] = s.shear_modulus
@@ -772,6 +792,7 @@ def _resolved_dict(sc: Scenario) -> dict:
         c = dataclasses.asdict(sc.contact)
         out["contact"] = {k: v for k, v in c.items() if v is not None}
     out["damping"] = {"ratio": list(sc.damping.ratios)}
+    out["initial"] = {"state": sc.initial}
     if sc.simulation is not None:
         sim = dataclasses.asdict(sc.simulation)
         sim["probes"] = list(sim["probes"])

@@ -35,6 +35,7 @@ __all__ = [
 ]
 
 ADAPTIVE_LEVELS = 21
+INITIAL_STATES = ("rest", "steady")
 EVENT_BUFFER = 200_000
 
 
@@ -174,7 +175,13 @@ def assemble(shaft: Shaft, speed: float, damping: ModalDamping | None = None) ->
     Returns
     -------
     ModalSystem
+        Or a :class:`rubrotor.seedform.SeedModalSystem` (same interface) for a Timoshenko shaft
+        with ``formulation = "seed-eq1"``.
     """
+    if shaft.formulation == "seed-eq1" and shaft.theory == "timoshenko":
+        from rubrotor.seedform import assemble_seed
+
+        return assemble_seed(shaft, speed, damping)
     damping = damping or ModalDamping()
     blocks_a, blocks_m, blocks_k, blocks_c = [], [], [], []
     q_idx, qd_idx, defl = [], [], []
@@ -292,8 +299,9 @@ def simulate_system(
     track_energy: bool = False,
     progress: bool | None = None,
     chunk_samples: int = 1 << 15,
+    initial: str = "rest",
 ) -> SimulationResult:
-    """Simulate the rotor from rest.
+    """Simulate the rotor from rest or from its steady no-contact orbit.
 
     Parameters
     ----------
@@ -318,11 +326,20 @@ def simulate_system(
         terminal).
     chunk_samples : int
         Samples computed per compiled call.
+    initial : {"rest", "steady"}
+        Initial state: at rest and undeflected (default), or on the steady no-contact orbit
+        (the particular solution of unbalance and load, exact in the modal model).
 
     Returns
     -------
     SimulationResult
     """
+    if initial not in INITIAL_STATES:
+        raise InputError("initial.state", initial, " or ".join(f'"{x}"' for x in INITIAL_STATES))
+    if track_energy and shaft.formulation == "seed-eq1" and shaft.theory == "timoshenko":
+        raise InputError(
+            "track_energy", True, 'shaft.formulation = "two-field" (the seed form has no energy)'
+        )
     if (
         isinstance(speed, bool)
         or not isinstance(speed, int | float)
@@ -413,13 +430,16 @@ def simulate_system(
         part_l = rows_d @ y_l
         vel_z = 1j * speed * part_u
         acc_z = -(speed**2) * part_u
-        y = -(y_u + y_l)  # start from rest: shifted coordinates cancel the particular solution
+        # shifted coordinates: -(particular solution) is rest, 0 is the steady orbit
+        y = -(y_u + y_l) if initial == "rest" else np.zeros(ns, complex)
     else:
         part_u = np.zeros(len(stations), complex)
         part_l = np.zeros(len(stations), complex)
         vel_z = np.zeros(len(stations), complex)
         acc_z = rows_v @ beta_u * fu0
         y = np.zeros(ns, complex)
+        if initial == "steady":
+            y = beta_u * fu0 / (1j * speed - lam) - beta_l * fl / lam
     acc_c = rows_v @ beta_l * fl if method == "abm" else np.zeros(len(stations), complex)
     orows = tuple(
         np.ascontiguousarray(a, dtype=complex)
@@ -720,7 +740,7 @@ def simulate_scenario(scenario, integrator: Integrator, **kwargs) -> SimulationR
         scenario.contact,
         scenario.load,
         scenario.damping,
-        **kwargs,
+        **({"initial": getattr(scenario, "initial", "rest")} | kwargs),
     )
 
 
