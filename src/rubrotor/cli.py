@@ -890,3 +890,80 @@ COMMANDS += [
         _reproduce_run,
     ),
 ]
+
+
+# ---- stability of a pressed contact ----------------------------------------------------------
+def _stability_args(parser: argparse.ArgumentParser) -> None:
+    _add_scenario(parser)
+    parser.add_argument(
+        "--indentation", type=float, required=True, metavar="M", help="static indentation (m)"
+    )
+    parser.add_argument(
+        "--bh-nd", type=float, metavar="BH", help="contact damping b_h' (default: the scenario's)"
+    )
+    parser.add_argument(
+        "--formulation",
+        choices=("both", "two-field", "seed-eq1"),
+        default="both",
+        help="shaft formulation(s) (default both)",
+    )
+    parser.add_argument("--modes", type=int, metavar="N", help="shaft modes (default: scenario's)")
+    parser.add_argument("--no-friction", action="store_true", help="set mu = 0")
+    parser.add_argument(
+        "--linearisation", choices=("radial", "isotropic"), default="radial", help="contact model"
+    )
+    parser.add_argument("--top", type=int, default=6, help="eigenvalues listed per formulation")
+    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+
+
+def _stability_run(args: argparse.Namespace) -> int:
+    from rubrotor.stability import contact_stability
+
+    scenario = load_scenario(args.scenario)
+    if args.modes is not None and not 1 <= args.modes <= 200:
+        raise InputError("--modes", args.modes, "an integer in 1..200")
+    forms = ("two-field", "seed-eq1") if args.formulation == "both" else (args.formulation,)
+    res = [
+        contact_stability(
+            scenario,
+            args.indentation,
+            formulation=f,
+            contact_damping_nd=args.bh_nd,
+            modes=args.modes,
+            friction=not args.no_friction,
+            linearisation=args.linearisation,
+        )
+        for f in forms
+    ]
+    if args.json:
+        _print_json({"speed_rad_s": scenario.speed, "results": [r.as_dict() for r in res]})
+        return 0
+    r0 = res[0]
+    print(
+        f"{scenario.name}: pressed contact, indentation {r0.indentation:.4g} m, F_n0 "
+        f"{r0.normal_force:.4g} N, radial stiffness {r0.radial_stiffness:.4g} N/m, damping "
+        f"{r0.radial_damping:.4g} N s/m (b_h = {r0.contact_damping:.4g} s/m), "
+        f"{args.linearisation} linearisation"
+    )
+    rows = [
+        [
+            r.formulation,
+            f"{e.real:+.4g}",
+            f"{e.imag / TWO_PI:+.2f}",
+            "unstable" if e.real > 0 else "",
+        ]
+        for r in res
+        for e in r.eigenvalues[: max(args.top, 1)]
+    ]
+    print(_table(["formulation", "growth rate (1/s)", "whirl frequency (Hz)", ""], rows))
+    return 0
+
+
+COMMANDS += [
+    Command(
+        "stability",
+        "eigenvalues of the rotor pressed into the stator (linearised contact)",
+        _stability_args,
+        _stability_run,
+    )
+]

@@ -139,6 +139,9 @@ def poincare_period(ds, max_k: int = 12, tol: float = PERIOD_TOL) -> dict:
         res.append(float(np.max(np.abs(pts[k:] - pts[:-k])) / scale))
     arr = np.array(res)
     ok = [k for k, r in enumerate(res, 1) if r < tol]
+    if np.all(np.isnan(arr)):  # too few revolutions (e.g. a run that diverged early)
+        return {"period": None, "best_k": 0, "best_residual": float("nan"), "residuals": res,
+                "samples": int(pts.size)}  # fmt: skip
     best = int(np.nanargmin(arr)) + 1
     return {
         "period": ok[0] if ok else None,
@@ -213,6 +216,9 @@ def _spectral(ds, entries, band) -> dict:
     a_w = ds["w_ddot"].values[late]
     total = float(np.mean(a_v**2 + a_w**2))
     e1 = band_energy(a_v, fs, band[2], band[3], w=a_w)
+    # share of the same (Hann-windowed) periodogram: a growing record is not dominated by its
+    # last, windowed-out samples
+    total_w = band_energy(a_v, fs, 0.0, fs / 2, w=a_w)
     f = {lab: fr for lab, fr, _ in entries}
     e3 = band_energy(a_v, fs, 0.95 * f["3B shear"], 1.05 * f["3F shear"], w=a_w)
     # strongest line of the full spectrum inside the mode-1 shear band
@@ -226,7 +232,7 @@ def _spectral(ds, entries, band) -> dict:
         "acc_mean_square": total,
         "shear1_band_hz": [band[2], band[3]],
         "shear1_band_energy": e1,
-        "shear1_band_share": e1 / total if total > 0 else 0.0,
+        "shear1_band_share": e1 / total_w if total_w > 0 else 0.0,
         "shear3_band_energy": e3,
         "shear1_peak_hz": float(spec.frequencies[k]),
     }

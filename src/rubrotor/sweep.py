@@ -980,3 +980,71 @@ def open_sweep(path: str | os.PathLike):
         raise InputError("store", str(path), "an existing sweep store (zarr directory)")
     with xr.open_zarr(p, consolidated=False) as ds:
         return ds.load()
+
+
+def map_tasks(
+    fn, tasks: Sequence, *, workers: int | None = None, scheduler: str | None = None
+) -> Iterator:
+    """Run ``fn(task)`` for every task on the sweep machinery; yield results as they complete.
+
+    The same back ends as :func:`sweep`: in process (``workers=1``), a local process pool
+    (default ``os.cpu_count()`` workers) or a Dask distributed cluster (``scheduler``). ``fn``
+    must be a module-level function and the tasks picklable; results arrive in completion
+    order, so a task should carry its own key.
+
+    Parameters
+    ----------
+    fn : callable
+        Module-level function of one task.
+    tasks : sequence
+        Tasks (picklable).
+    workers : int, optional
+        Local worker processes (ignored with ``scheduler``).
+    scheduler : str, optional
+        Dask scheduler address, ``"tcp://host:port"``.
+
+    Yields
+    ------
+    object
+        ``fn(task)`` per task.
+    """
+    tasks = list(tasks)
+    if not tasks:
+        return
+    if scheduler is not None:
+        try:
+            from distributed import Client, as_completed
+        except ImportError:  # pragma: no cover - depends on the installation
+            raise InputError("scheduler", scheduler, "dask[distributed] installed") from None
+        try:
+            client = Client(scheduler, timeout=20, set_as_default=False)
+        except OSError as exc:
+            raise InputError(
+                "scheduler", scheduler, f"a reachable Dask scheduler ({exc})"
+            ) from None
+        try:
+            futs = [client.submit(fn, t, pure=False, retries=2) for t in tasks]
+            for fut in as_completed(futs, loop=client.loop):
+                yield fut.result()
+                fut.release()
+        finally:
+            client.close()
+        return
+    n = _int_arg("workers", (os.cpu_count() or 1) if workers is None else workers, 1)
+    pool = _local_pool(n, len(tasks))
+    if pool is None:
+        for t in tasks:
+            yield fn(t)
+        return
+    from concurrent.futures import FIRST_COMPLETED, wait
+
+    with pool:
+        pending = {pool.submit(fn, t) for t in tasks}
+        try:
+            while pending:
+                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in finished:
+                    yield fut.result()
+        finally:
+            for fut in pending:
+                fut.cancel()
