@@ -855,6 +855,17 @@ def _reproduce_args(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="run cases 1-3 with the seed's literal friction sign",
     )
+    parser.add_argument(
+        "--full",
+        action="store_true",
+        help="also the claim-robustness grid and the larger detection grid (minutes)",
+    )
+    parser.add_argument(
+        "--workers", type=int, metavar="N", help="worker processes of --full (default: all cores)"
+    )
+    parser.add_argument(
+        "--scheduler", metavar="ADDRESS", help="Dask scheduler for --full (tcp://host:port)"
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
 
 
@@ -864,13 +875,29 @@ def _reproduce_run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out", args.out, "a directory")
-    summary = reproduce(out, quick=args.quick, seed_friction=args.seed_friction, quiet=args.quiet)
+    if args.workers is not None and args.workers < 1:
+        raise InputError("--workers", args.workers, "an integer >= 1")
+    summary = reproduce(
+        out,
+        quick=args.quick,
+        seed_friction=args.seed_friction,
+        quiet=args.quiet,
+        full=args.full,
+        workers=args.workers,
+        scheduler=args.scheduler,
+    )
     print(
         _table(
-            ["seed claim", "verdict"],
+            ["seed claim", "two-field", "seed eq. (1)"],
             [
-                [c["claim"][:70], "holds" if c["holds"] else "does not hold"]
-                for c in summary["claims"]
+                [
+                    c["claim"][:70],
+                    "holds" if c["holds"] else "does not hold",
+                    "holds" if d["holds"] else "does not hold",
+                ]
+                for c, d in zip(
+                    summary["claims"], summary["seed_study"]["seed_form"]["claims"], strict=True
+                )
             ],
         )
     )

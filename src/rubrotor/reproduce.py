@@ -306,7 +306,14 @@ def _render(blocks, out: Path) -> tuple[str, str]:
 
 # ---- the reproduction -----------------------------------------------------------------------
 def reproduce(
-    out, *, quick: bool = False, seed_friction: bool = False, quiet: bool = False
+    out,
+    *,
+    quick: bool = False,
+    seed_friction: bool = False,
+    quiet: bool = False,
+    full: bool = False,
+    workers: int | None = None,
+    scheduler: str | None = None,
 ) -> dict:
     """Run the seed reproduction and write its files.
 
@@ -321,6 +328,13 @@ def reproduce(
         as the main cases; the comparison with the other sign is reported either way.
     quiet : bool
         No progress lines on stderr.
+    full : bool
+        Also run the claim-robustness grid and the larger detection grid
+        (:mod:`rubrotor.study.extras`).
+    workers : int, optional
+        Local worker processes of the robustness grid (default: all cores).
+    scheduler : str, optional
+        Dask scheduler address for the robustness grid.
 
     Returns
     -------
@@ -328,6 +342,7 @@ def reproduce(
         The content of ``summary.json``.
     """
     from rubrotor import plotting
+    from rubrotor.study.extras import run_extras
 
     t0 = time.perf_counter()
     st = QUICK if quick else FULL
@@ -521,6 +536,23 @@ def reproduce(
             )
         sens.append(row)
 
+    # 6b. the seed's own equations, contact stability, detection, robustness (--full)
+    extras = run_extras(
+        out,
+        scen,
+        entries=entries,
+        band=band,
+        freqs=freqs,
+        spin_hz=spin_hz,
+        save_every=st.save_every,
+        quick=quick,
+        full=full,
+        workers=workers,
+        scheduler=scheduler,
+        quiet=quiet,
+        t0=t0,
+    )
+
     # 7. claims
     _progress("claims, summary and report", t0, quiet)
     m1, m2, m3 = metrics["case1"], metrics["case2"], metrics["case3"]
@@ -557,6 +589,7 @@ def reproduce(
         },
         "sensitivity": sens,
         "claims": claims,
+        "seed_study": extras | {"full": full},
         "wall_time_s": wall,
     }
     summary = json.loads(json.dumps(summary, default=_json_default))
@@ -777,17 +810,10 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             f" Friction sign of the main cases: {st['friction_sign']}.",
         )
     )
-    b.append(("h2", "Claims"))
-    b.append(
-        (
-            "table",
-            ["seed claim", "verdict", "measured"],
-            [
-                [c["claim"], "holds" if c["holds"] else "does not hold", c["numbers"]]
-                for c in s["claims"]
-            ],
-        )
-    )
+    from rubrotor.study import report as seed_report
+
+    b += seed_report.lead_blocks(s)
+    b.append(("h2", "Two-field model: why its rub-band claims fail"))
     b.append(
         (
             "p",
@@ -892,8 +918,10 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             "branch; blue forward, pink backward whirl; green: 1X-3X spin harmonics.",
         )
     )
-    b.append(("img", "fig7_cwt_maps.png", "Time-binned CWT maps (one colour scale for all four)"))
-    b.append(("img", "fig7_scalograms.png", "Scalogram and inner scalogram"))
+    b.append(("img", "fig7_scalograms.png", "Scalogram and inner scalogram (two-field model)"))
+    b += seed_report.seed_form_blocks(s)
+    b += seed_report.stability_blocks(s)
+    b += seed_report.detection_blocks(s)
     f6 = s["fig6"]
     b.append(("h2", "Timoshenko vs Euler-Bernoulli (seed Fig. 6)"))
     b.append(
