@@ -30,15 +30,23 @@ def test_files(quick):
         "fig7_scalograms.png",
         "campbell.png",
         "friction_sign.png",
+        "fig7_cwt_maps_seed_eq1.png",
+        "stability_growth.png",
         "report.md",
     ):
         assert (out / name).stat().st_size > 1000, name
     page = (out / "report.html").read_text()
     # self-contained: every figure embedded, nothing loaded from disk or network
-    assert page.count("data:image/png;base64,") == 9
+    assert page.count("data:image/png;base64,") == 11
     assert 'src="http' not in page and '.png"' not in page
     md = (out / "report.md").read_text()
-    assert md.count("| holds |") + md.count("| does not hold |") == 7
+    # the verdict table: 7 claims x (two-field, seed form, seed form with a larger unbalance)
+    verdicts = [ln for ln in md.splitlines() if ln.startswith("| ") and "| holds |" in ln + "|"]
+    assert len(verdicts) >= 1
+    head = md.split("## Verdicts", 1)[1].split("\n## ", 1)[0]
+    rows = [ln for ln in head.splitlines() if ln.startswith("| ") and not ln.startswith("| seed")]
+    assert len(rows) == 7
+    assert all(ln.count("| holds |") + ln.count("| does not hold |") >= 1 for ln in rows)
 
 
 def test_summary_matches_results(quick):
@@ -122,3 +130,40 @@ def test_scenarios_command(capsys):
     assert main(["scenarios"]) == 0
     out = capsys.readouterr().out
     assert "seed_case2" in out and "g' = 3.5e-3" in out
+
+
+def test_seed_study_sections(quick):
+    """The seed-form part of the summary is what its own Datasets and functions give: claims
+    under the seed's equations from the seed-form metrics, the explanation's numbers from the
+    stability table (recomputed here with :func:`rubrotor.stability.contact_stability`)."""
+    from rubrotor.stability import contact_stability
+    from rubrotor.study.claims import seed_scenarios
+
+    out, s = quick
+    x = s["seed_study"]
+    sf = x["seed_form"]
+    assert len(sf["claims"]) == len(s["claims"]) == len(sf["strong"]["claims"]) == 7
+    c = sf["cases"]
+    hardest = sf["claims"][0]["holds"]
+    assert hardest == (
+        c["case1"]["contact_fraction"]
+        > max(c["case2"]["contact_fraction"], c["case3"]["contact_fraction"])
+        and c["case1"]["mean_normal_force_N"]
+        > max(c["case2"]["mean_normal_force_N"], c["case3"]["mean_normal_force_N"])
+    )
+    # engine and the seed's ABM integrate the same seed-form equations
+    assert all(a["max_rel_diff"] < 1e-4 for a in sf["abm"].values() if a["status"] == "complete")
+    row = next(r for r in x["stability"] if r["eps0_m"] == 1e-4 and r["bh_nd"] == 1e2)
+    ref = contact_stability(
+        seed_scenarios()["case1"], 1e-4, formulation="seed-eq1", contact_damping_nd=1e2,
+        modes=1, friction=False,
+    )  # fmt: skip
+    assert row["results"]["seed-eq1/radial, mu = 0"]["growth_per_s"] == pytest.approx(
+        ref.max_growth_rate, rel=1e-9
+    )
+    md = (out / "report.md").read_text()
+    assert f"{ref.max_growth_rate:+.3g} 1/s" in md
+    assert "rubrotor reproduce --full" in md  # robustness not run in the default path
+    det = x["detection"]
+    assert {r["class"] for r in det["runs"]} == {"rub", "no rub"}
+    assert all("no noise" in t["snr"] for t in det["table"])

@@ -31,6 +31,12 @@ def _status(m: dict) -> str:
     return f"diverges after {m['revolutions']:.1f} revolutions"
 
 
+def _status_abm(a: dict) -> str:
+    if a["status"] == "complete":
+        return f"stays bounded over its {a['revolutions']:.0f} revolutions"
+    return f"diverges after {a['revolutions']:.1f} revolutions"
+
+
 def _explanation(s: dict) -> list:
     x = s["seed_study"]
     sf = x["seed_form"]
@@ -58,6 +64,12 @@ def _explanation(s: dict) -> list:
         "f_two_mu": r1[mu_key]["frequency_hz"],
         "g_two_mu": r1[mu_key]["growth_per_s"],
         "g_two_mu_damped": x["friction_damped"]["growth_per_s"],
+        "n_strong": sum(c["holds"] for c in sf["strong"]["claims"]),
+        "strong_factor": f"{sf['strong']['unbalance_factor']:g}",
+        "strong_status": _status(sf["strong"]["cases"]["case1"]),
+        "strong_share": sf["strong"]["cases"]["case1"]["last_third"]["band_share"],
+        "strong_peak": sf["strong"]["cases"]["case1"]["last_third"]["peak_hz"],
+        "strong_abm": _status_abm(sf["strong"]["abm"]["case1"]),
     }
     text = resources.files("rubrotor").joinpath("templates/seed_study.md").read_text()
     return [("p", para.strip().format(**vals)) for para in text.split("\n\n") if para.strip()]
@@ -68,9 +80,18 @@ def lead_blocks(s: dict) -> list:
     x = s["seed_study"]
     sf = x["seed_form"]
     b: list = [("h2", "Verdicts: the seed's claims under our model and under the seed's equations")]
+    strong = sf["strong"]
     rows = [
-        [c["claim"], _verdict(c), _verdict(d), c["numbers"], d["numbers"]]
-        for c, d in zip(s["claims"], sf["claims"], strict=True)
+        [
+            c["claim"],
+            _verdict(c),
+            _verdict(d),
+            _verdict(e),
+            c["numbers"],
+            d["numbers"],
+            e["numbers"],
+        ]
+        for c, d, e in zip(s["claims"], sf["claims"], strong["claims"], strict=True)
     ]
     b.append(
         (
@@ -79,8 +100,10 @@ def lead_blocks(s: dict) -> list:
                 "seed claim",
                 "two-field (ours)",
                 "seed eq. (1) form",
+                f"seed eq. (1), unbalance x{strong['unbalance_factor']:g}",
                 "measured, two-field",
                 "measured, seed eq. (1)",
+                f"measured, seed eq. (1), unbalance x{strong['unbalance_factor']:g}",
             ],
             rows,
         )
