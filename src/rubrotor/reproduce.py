@@ -11,6 +11,12 @@ Every run starts from rest (the seed gives no initial state) and uses the seed's
 ``d tau = 0.001`` with the exponential integrator, saving every k-th step (363 kHz in the full run,
 181 kHz with ``quick``), which resolves the 20-32 kHz shear branches without decimation. The
 sensitivity runs use the default adaptive integrator (same physics, faster).
+
+The report leads with the verdicts under both formulations: the same cases under the seed's own
+eq. (1) form (``shaft.formulation = "seed-eq1"``, also with a larger unbalance), the linear
+stability of a pressed contact that explains the difference, and a rub-detection table
+(:mod:`rubrotor.study`). ``full=True`` (``rubrotor reproduce --full``) adds the claim-robustness
+grid over unbalance, damping, initial state, friction sign and formulation.
 """
 
 from __future__ import annotations

@@ -701,6 +701,7 @@ def scenario_parameters(scenario) -> dict:
     out["shaft.poisson_ratio"] = [sh.nu, "1"]
     out["shaft.kappa"] = [sh.kappa, "1"]
     out["speed.rad_per_s"] = [scenario.speed, "rad/s"]
+    out["initial.state"] = [getattr(scenario, "initial", "rest"), ""]
     for sec in ("unbalance", "load", "contact", "damping", "simulation"):
         obj = getattr(scenario, sec, None)
         if obj is None:

@@ -282,4 +282,32 @@ def detection_blocks(s: dict) -> list:
             )
         rows.append(cells)
     b.append(("table", ["indicator", *[f"margin, {lab}" for lab in labels]], rows))
+    b.append(("p", _detection_reading(det["table"], labels)))
     return b
+
+
+def _detection_reading(table: list, labels: list) -> str:
+    """One sentence per noise level: which indicators separate the classes."""
+    parts = []
+    for lab in labels:
+        ok = [
+            t["indicator"].split(" (")[0].split(",")[0]
+            for t in table
+            if t["snr"].get(lab, {}).get("margin_decades", -1) > 0
+        ]
+        parts.append(f"{lab}: {', '.join(ok) if ok else 'none'}")
+    text = (
+        "Indicators that separate every rub from every no-rub measurement, "
+        + "; ".join(parts)
+        + "."
+    )
+    bursts = next((t for t in table if t["key"] == "impacts_per_rev"), None)
+    if bursts and all(v["median_rub"] == 0 for v in bursts["snr"].values()):
+        text += (
+            " The burst counter (threshold median + 6 MAD on the acceleration without its 1X "
+            "part) finds no bursts even without noise: in this damped machine the partial rub is "
+            "a smooth once-per-revolution contact, not an impact train, so impacts per "
+            "revolution can only be read from a contact sensor (the simulation counts "
+            "them exactly)."
+        )
+    return text
