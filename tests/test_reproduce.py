@@ -31,13 +31,14 @@ def test_files(quick):
         "campbell.png",
         "friction_sign.png",
         "fig7_cwt_maps_seed_eq1.png",
+        "fig7_cwt_maps_seed_eq1_strong.png",
         "stability_growth.png",
         "report.md",
     ):
         assert (out / name).stat().st_size > 1000, name
     page = (out / "report.html").read_text()
     # self-contained: every figure embedded, nothing loaded from disk or network
-    assert page.count("data:image/png;base64,") == 11
+    assert page.count("data:image/png;base64,") == 12
     assert 'src="http' not in page and '.png"' not in page
     md = (out / "report.md").read_text()
     # the verdict table: 7 claims x (two-field, seed form, seed form with a larger unbalance)

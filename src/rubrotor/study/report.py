@@ -210,6 +210,40 @@ def seed_form_blocks(s: dict) -> list:
             "Seed eq. (1) form, same runs: CWT maps (own colour scale)",
         )
     )
+    strong = sf["strong"]
+    rows = []
+    for key, m in strong["cases"].items():
+        lt = m["last_third"]
+        rows.append(
+            [
+                key,
+                _status(m),
+                f"{lt['band_share']:.3g}" if math.isfinite(lt["band_share"]) else "-",
+                f"{lt['peak_hz']:.0f}" if math.isfinite(lt["peak_hz"]) else "-",
+                _status_abm(strong["abm"][key]),
+            ]
+        )
+    b.append(
+        (
+            "table",
+            [
+                f"case, unbalance x{strong['unbalance_factor']:g}",
+                "engine run",
+                "last third: share in 19.6-25.5 kHz",
+                "last third: peak (Hz, signed)",
+                "seed's ABM",
+            ],
+            rows,
+        )
+    )
+    b.append(
+        (
+            "img",
+            "fig7_cwt_maps_seed_eq1_strong.png",
+            f"Seed eq. (1) form with {strong['unbalance_factor']:g} x the unbalance: CWT maps "
+            "(contact runs shown up to the first |P| = 10 g, before the blow-up; own colour scale)",
+        )
+    )
     return b
 
 
