@@ -212,3 +212,31 @@ def test_steady_initial_state_is_the_particular_solution():
             r = np.hypot(ds["v"].values, ds["w"].values)
             assert np.max(np.abs(r - ref)) < 1e-6 * ref, (form, method)
     assert abs(radii["two-field"] / radii["seed-eq1"] - 1) > 0.05
+
+
+def test_coefficients_from_the_dimensionless_form():
+    """Third route: the seed's dimensionless eqs. (4)-(5) per mode (complex p' = v' + i w',
+    derivatives in tau = Omega t, projected on sin(n pi chi) with weight 2):
+    ``c^4 r^4 delta P'''' - 2i r^4 c^4 delta P''' + (c^2 + r^2 c^2 (delta + 1) K^2) P''
+    - 2i r^2 c^2 K^2 P' + K^4 P = 2 sin(K a') F'`` with ``K = n pi``; in SI
+    ``c_j = d_j E I / (2 L^3 Omega^j)`` (from ``P = L P'``, ``F = F' E I / L^2``)."""
+    from rubrotor.model import Dimensionless
+
+    sh = seed_shaft()
+    nd = Dimensionless(sh, SPEED)
+    r, delta, c = sh.slenderness, sh.shear_parameter, nd.speed_parameter
+    for n in (1, 2, 3):
+        K = n * math.pi
+        d = np.array(
+            [
+                c**4 * r**4 * delta,
+                -2j * r**4 * c**4 * delta,
+                c**2 + r**2 * c**2 * (delta + 1) * K**2,
+                -2j * r**2 * c**2 * K**2,
+                K**4,
+            ]
+        )
+        j = np.arange(4, -1, -1)
+        si = d * sh.bending_stiffness / (2 * sh.length**3 * SPEED**j)
+        ours = seed_coefficients(sh, n, SPEED)
+        assert np.max(np.abs(si - ours) / np.abs(ours)) < 1e-12
