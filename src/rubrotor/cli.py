@@ -888,15 +888,17 @@ def _reproduce_run(args: argparse.Namespace) -> int:
     )
     print(
         _table(
-            ["seed claim", "two-field", "seed eq. (1)"],
+            ["seed claim", "two-field", "seed eq. (1)", "seed eq. (1), larger unbalance"],
             [
                 [
                     c["claim"][:70],
-                    "holds" if c["holds"] else "does not hold",
-                    "holds" if d["holds"] else "does not hold",
+                    *("holds" if x["holds"] else "does not hold" for x in (c, d, e)),
                 ]
-                for c, d in zip(
-                    summary["claims"], summary["seed_study"]["seed_form"]["claims"], strict=True
+                for c, d, e in zip(
+                    summary["claims"],
+                    summary["seed_study"]["seed_form"]["claims"],
+                    summary["seed_study"]["seed_form"]["strong"]["claims"],
+                    strict=True,
                 )
             ],
         )

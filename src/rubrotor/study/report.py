@@ -152,6 +152,20 @@ def robustness_blocks(s: dict) -> list:
             )
         rows.append(cells)
     b.append(("table", ["seed claim", *[f"holds in: {f}" for f in st["formulations"]]], rows))
+    if len(st["formulations"]) == 2:
+        f0, f1 = st["formulations"]
+        diff = [
+            f"'{e['claim'].split(' (')[0].split(':')[0]}': {e[f0]['holds']} vs {e[f1]['holds']}"
+            for e in rob["summary"]
+            if e[f0]["holds"] != e[f1]["holds"]
+        ]
+        b.append(
+            (
+                "p",
+                f"Configurations where a claim holds, {f0} vs {f1} (of {rob['summary'][0][f0]['of']} "
+                "each): " + "; ".join(diff) + ".",
+            )
+        )
     return b
 
 
