@@ -461,12 +461,32 @@ def _point_scenario(base, keys: Sequence[str], values: Sequence[float]):
 
 
 def simulate_point(
-    scenario, transient_revolutions: int, revolutions: int, samples_per_revolution: int
-) -> dict:
+    scenario,
+    transient_revolutions: int,
+    revolutions: int,
+    samples_per_revolution: int,
+    start=None,
+) -> tuple[dict, object]:
     """Simulate one scenario with the adaptive integrator and reduce it with :func:`point_metrics`.
 
     The scenario's ``[simulation]`` tolerances are kept (when adaptive); the length is
     ``revolutions`` and the output spacing ``2 pi / samples_per_revolution`` (rad of spin).
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The point's scenario.
+    transient_revolutions, revolutions, samples_per_revolution : int
+        ``T``, ``R`` and ``N`` of the module docstring.
+    start : rubrotor.simulation.RotorState, optional
+        State to start from (default rest).
+
+    Returns
+    -------
+    metrics : dict
+        :func:`point_metrics` of the run.
+    final_state : rubrotor.simulation.RotorState or None
+        The state after ``R`` revolutions (None when the run did not complete).
     """
     from rubrotor.integrator import Integrator
     from rubrotor.simulation import simulate_scenario
@@ -478,9 +498,9 @@ def simulate_point(
     integ = Integrator(
         revolutions=revolutions, output_dtau=2 * math.pi / samples_per_revolution, **kw
     )
-    r = simulate_scenario(scenario, integ, progress=False)
+    r = simulate_scenario(scenario, integ, progress=False, start=start)
     nst = len(r.stations)
-    return point_metrics(
+    metrics = point_metrics(
         r.time,
         r.channels[0] + 1j * r.channels[1],
         r.channels[6 * nst],
@@ -491,6 +511,7 @@ def simulate_point(
         samples_per_revolution,
         complete=r.status == "complete",
     )
+    return metrics, r.final_state
 
 
 def run_chunk(task: dict) -> dict:
@@ -515,7 +536,7 @@ def run_chunk(task: dict) -> dict:
     for values in task["points"]:
         try:
             sc = _point_scenario(base, task["keys"], values)
-            m = simulate_point(sc, task["transient"], task["revolutions"], task["samples"])
+            m = simulate_point(sc, task["transient"], task["revolutions"], task["samples"])[0]
         except RubrotorError:  # e.g. a speed exactly at an undamped critical: not classified
             m = _empty_metrics(task["revolutions"] - task["transient"])
         metrics.append(m)
@@ -603,6 +624,26 @@ def _fill(ds, lead, sl, metrics: list[dict]) -> None:
         for name, value in m.items():
             ds[name].values[idx] = value
         ds["done"].values[idx] = 1
+
+
+def write_chunk(ds, store, lead, sl, metrics: list[dict]) -> None:
+    """Fill one chunk of points into ``ds`` and, with a zarr ``store``, write it there.
+
+    The values are written before the ``done`` mask, both with SIGINT held, so that a store
+    never marks a point done whose values are not written.
+    """
+    _fill(ds, lead, sl, metrics)
+    if store is None:
+        return
+    part = _chunk_dataset(ds, lead, sl)
+    region = _region(ds["done"].dims, lead, sl)
+    with _deferred_interrupt():
+        part.drop_vars(["done"]).drop_vars(list(part.coords)).to_zarr(
+            store, region=region, consolidated=False
+        )
+        part[["done"]].drop_vars(list(part[["done"]].coords)).to_zarr(
+            store, region=region, consolidated=False
+        )
 
 
 def _chunk_dataset(ds, lead, sl):
@@ -825,7 +866,6 @@ def _run(ds, keys, grid, chunks, chunk_size, definition, store, pool, scheduler,
                 ds = old.load()
     else:
         done = np.zeros(shape, bool)
-    dims = tuple(keys)
     todo = []
     for i, (lead, sl) in enumerate(chunks):
         if not done[(*lead, sl)].all():
@@ -847,17 +887,7 @@ def _run(ds, keys, grid, chunks, chunk_size, definition, store, pool, scheduler,
 
     def write(result: dict) -> None:
         lead, sl = chunks[result["chunk"]]
-        _fill(ds, lead, sl, result["metrics"])
-        if store is not None:
-            part = _chunk_dataset(ds, lead, sl)
-            region = _region(dims, lead, sl)
-            with _deferred_interrupt():
-                part.drop_vars(["done"]).drop_vars(list(part.coords)).to_zarr(
-                    store, region=region, consolidated=False
-                )
-                part[["done"]].drop_vars(list(part[["done"]].coords)).to_zarr(
-                    store, region=region, consolidated=False
-                )
+        write_chunk(ds, store, lead, sl, result["metrics"])
 
     t0 = time.perf_counter()
     n_done = 0
