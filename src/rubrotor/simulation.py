@@ -353,6 +353,38 @@ def _start_force(y: np.ndarray, cp: np.ndarray, orows) -> complex:
     return complex(fy, fz)
 
 
+def contact_parameters(shaft: Shaft, speed: float, contact: Contact | None) -> np.ndarray:
+    """The packed contact law the kernels take (:data:`rubrotor.core.contact.CP_FIELDS`).
+
+    Parameters
+    ----------
+    shaft : Shaft
+        The rotor (its radius is the default contact radius, m).
+    speed : float
+        Spin speed (rad/s); the surface speed is ``radius * speed`` (m/s).
+    contact : Contact or None
+        The contact; None packs an inactive law.
+
+    Returns
+    -------
+    ndarray
+    """
+    if contact is None:
+        return pack_contact(0, 0, 1.0, 0.0, 1.0, 0.0, 0, 0.0, 1.0)
+    radius = contact.radius if contact.radius is not None else shaft.diameter / 2
+    return pack_contact(
+        1,
+        contact.law_code,
+        contact.stiffness,
+        contact.damping,
+        contact.clearance,
+        contact.friction,
+        contact.sign_code,
+        radius * speed,
+        contact.friction_regularization,
+    )
+
+
 def _check_station(name: str, x: float, length: float) -> float:
     if not (0 < x < length):
         raise InputError(name, x, f"an axial position in (0, {length:g}) m")
@@ -450,23 +482,8 @@ def simulate_system(
     cdc = np.ascontiguousarray(rows_d[0])
     cvc = np.ascontiguousarray(rows_v[0])
 
-    if contact is not None:
-        radius = contact.radius if contact.radius is not None else shaft.diameter / 2
-        cp = pack_contact(
-            1,
-            contact.law_code,
-            contact.stiffness,
-            contact.damping,
-            contact.clearance,
-            contact.friction,
-            contact.sign_code,
-            radius * speed,
-            contact.friction_regularization,
-        )
-        gap = contact.clearance
-    else:
-        cp = pack_contact(0, 0, 1.0, 0.0, 1.0, 0.0, 0, 0.0, 1.0)
-        gap = None
+    cp = contact_parameters(shaft, speed, contact)
+    gap = contact.clearance if contact is not None else None
     max_disp = integrator.max_displacement
     if max_disp is None:
         max_disp = 1000 * gap if gap is not None else 0.1 * L
