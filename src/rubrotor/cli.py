@@ -403,6 +403,11 @@ def _sweep_args(parser: argparse.ArgumentParser) -> None:
         "down = decreasing, both = up and down sweeps (hysteresis)",
     )
     parser.add_argument(
+        "--lyapunov",
+        action="store_true",
+        help="estimate each point's largest Lyapunov exponent (chaotic = exponent > 0.02/rev)",
+    )
+    parser.add_argument(
         "--figure",
         metavar="F.png",
         help="bifurcation diagram (one key) or regime map (two keys)",
@@ -507,6 +512,7 @@ def _sweep_or_follow(scenario, vary: dict, args: argparse.Namespace, progress: b
             store=args.out,
             chunk_size=args.chunk_size,
             progress=progress,
+            lyapunov=args.lyapunov,
         )
     return sweep(
         scenario,
@@ -519,6 +525,7 @@ def _sweep_or_follow(scenario, vary: dict, args: argparse.Namespace, progress: b
         store=args.out,
         chunk_size=args.chunk_size,
         progress=progress,
+        lyapunov=args.lyapunov,
     )
 
 

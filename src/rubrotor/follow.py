@@ -80,7 +80,7 @@ def run_follow_chunk(task: dict) -> dict:
     task : dict
         ``{"scenario": dict form, "key": str, "values": [...] (chain order), "start":
         RotorState or None, "transient": T, "revolutions": R, "samples": N, "n": coordinates,
-        "chunk": i}``.
+        "lyapunov": bool, "chunk": i}``.
 
     Returns
     -------
@@ -100,7 +100,12 @@ def run_follow_chunk(task: dict) -> dict:
         try:
             sc = _point_scenario(base, [task["key"]], [value])
             m, state = simulate_point(
-                sc, task["transient"], task["revolutions"], task["samples"], start=state
+                sc,
+                task["transient"],
+                task["revolutions"],
+                task["samples"],
+                start=state,
+                lyapunov=task["lyapunov"],
             )
         except RubrotorError:  # e.g. a speed exactly at an undamped critical: not classified
             m, state = _empty_metrics(task["revolutions"] - task["transient"]), None
@@ -180,6 +185,7 @@ def _chains(ds, key, directions, chunk_size, definition, n) -> list[list[dict]]:
                     "revolutions": definition["revolutions"],
                     "samples": definition["samples_per_revolution"],
                     "n": n,
+                    "lyapunov": bool(definition.get("lyapunov", False)),
                 }
             )
             prev = None  # later tasks get their start from the task before them
@@ -232,6 +238,7 @@ def follow_sweep(
     store: str | os.PathLike | None = None,
     chunk_size: int | None = None,
     progress: bool = False,
+    lyapunov: bool = False,
 ):
     """State-carrying sweep of one scenario key, up, down or both (see the module docstring).
 
@@ -257,6 +264,8 @@ def follow_sweep(
         Points per written chunk (default about 1/8 of the values, 1 to 16).
     progress : bool
         Print a progress line to stderr after every chunk.
+    lyapunov : bool
+        Estimate every point's largest Lyapunov exponent (as :func:`rubrotor.sweep.sweep`).
 
     Returns
     -------
@@ -292,6 +301,8 @@ def follow_sweep(
     chunk_size = min(_int_arg("chunk_size", chunk_size, 1), arr.size)
     n = _follow_dimension(scenario, key, arr)
     definition = _definition(scenario, [key], [arr], t_rev, revs, n_rev) | {"follow": direction}
+    if lyapunov:
+        definition["lyapunov"] = True
     attrs = {
         "title": f"rubrotor follow sweep {scenario.name}".strip(),
         "scenario_name": scenario.name,
