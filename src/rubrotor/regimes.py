@@ -98,12 +98,12 @@ def impacts_per_revolution(events: np.ndarray, t0: float, t1: float, speed: floa
 
     Examples
     --------
-    >>> impacts_per_revolution(np.array([0.5, -0.7, 1.5, -1.7]), 0.0, 2.0, math.pi)
+    >>> impacts_per_revolution(np.array([0.5, -0.7, 1.5, -1.7]), 0.0, 4.0, math.pi)
     1.0
     """
     ev = np.asarray(events, float)
     onsets = np.count_nonzero((ev > 0) & (ev >= t0) & (ev < t1))
-    return onsets / ((t1 - t0) * speed / (2 * math.pi))
+    return float(onsets / ((t1 - t0) * speed / (2 * math.pi)))
 
 
 REGIMES = (
