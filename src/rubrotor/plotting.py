@@ -267,11 +267,8 @@ def _axis_label(ds, key: str) -> str:
     return f"{key} ({units})" if units and units != "1" else key
 
 
-_DIRECTION_STYLE = {"up": ("^", 3.0, -1), "down": ("v", 3.0, 1)}
-_DIRECTION_TEXT = {
-    "up": "up sweep (increasing, drawn left of the value)",
-    "down": "down sweep (decreasing, drawn right of the value)",
-}
+_DIRECTION_STYLE = {"up": ("^", 3.5, -1), "down": ("v", 3.5, 1)}
+_DIRECTION_TEXT = {"up": "up sweep (filled, left)", "down": "down sweep (hollow, right)"}
 
 
 def _direction_runs(ds1, x):
@@ -303,9 +300,9 @@ def bifurcation_figure(ds, key: str) -> Figure:
     contact station is a dot above the swept value, coloured by the point's regime (legend);
     a periodic orbit shows as ``k`` dots, a quasi-periodic or chaotic one as a vertical band.
     The clearance (when constant) is drawn as dashed lines at ``+-g``. A follow sweep
-    (:func:`rubrotor.follow.follow_sweep`, dimension ``direction``) is drawn with up triangles
-    shifted left of each value for the up sweep and down triangles shifted right for the down
-    sweep, so the two branches and their jumps are told apart.
+    (:func:`rubrotor.follow.follow_sweep`, dimension ``direction``) is drawn with filled up
+    triangles shifted left of each value for the up sweep and hollow down triangles shifted
+    right for the down sweep, so the two branches and their jumps are told apart.
 
     Parameters
     ----------
@@ -347,9 +344,10 @@ def bifurcation_figure(ds, key: str) -> Figure:
             for lab in present:
                 sel = labels == lab
                 xs = np.repeat(xd[sel], nrev)
+                face = "none" if marker == "v" else _regime_color(lab)
                 ax.plot(
                     xs, y[sel].ravel(), color=_regime_color(lab), marker=marker,
-                    markersize=size, linestyle="none", alpha=0.8,
+                    markersize=size, linestyle="none", alpha=0.8, markerfacecolor=face,
                 )  # fmt: skip
         if clearance is not None:
             for s in (1, -1):
@@ -370,7 +368,13 @@ def bifurcation_figure(ds, key: str) -> Figure:
     if "direction" in ds1.dims:
         for (_, _, (marker, _)), name in zip(runs, ds1["direction"].values, strict=True):
             text = _DIRECTION_TEXT[str(name)]
-            handles.append(Line2D([], [], color="0.2", marker=marker, linestyle="none", label=text))
+            face = "none" if marker == "v" else "0.2"
+            handles.append(
+                Line2D(
+                    [], [], color="0.2", marker=marker, markerfacecolor=face, linestyle="none",
+                    label=text,
+                )
+            )  # fmt: skip
     fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 4), fontsize=9)
     fig.suptitle(
         f"Bifurcation diagram: {ds.attrs.get('scenario_name', '')}\n"
