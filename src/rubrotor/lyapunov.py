@@ -27,8 +27,9 @@ step along the orbit, i.e. a contact force that is differentiable in the state:
   of the piecewise derivative; with a force jump at onset the saltation of the flow is not in
   the discrete map's derivative (use the Hertz law or ``c = 0`` for exponents).
 
-Units: exponents in 1/s (``exp(lambda t)`` growth); divide by ``Omega / (2 pi)`` for the
-growth per revolution.
+Units: exponents in 1/s (``exp(lambda t)`` growth); times ``2 pi / Omega`` they are the growth
+per revolution, which :func:`rubrotor.regimes.classify` compares with
+:data:`rubrotor.regimes.CHAOS_MARGIN_PER_REV` to label a motion chaotic.
 """
 
 from __future__ import annotations
@@ -40,13 +41,7 @@ import numpy as np
 
 from rubrotor.errors import InputError
 
-__all__ = ["LyapunovResult", "lyapunov_exponents", "CHAOS_MARGIN_PER_REV"]
-
-CHAOS_MARGIN_PER_REV = 0.02
-"""A motion is labelled chaotic only when its largest exponent exceeds this growth per
-revolution, ``lambda_1 2 pi / Omega > 0.02`` (a 2 % divergence per revolution), above the
-finite-time bias of a zero exponent (quasi-periodic motion) over the default averaging times
-(see :mod:`rubrotor.regimes`)."""
+__all__ = ["LyapunovResult", "lyapunov_exponents"]
 
 
 @dataclass(frozen=True)

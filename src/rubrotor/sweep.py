@@ -32,8 +32,6 @@ exactly on ``t = k 2 pi / Omega``), with ``P = v + i w`` (m) the contact-station
   the median nearest-neighbour distance: about 1 for points on a closed curve, about 2 for
   points filling an area (NaN with fewer than 64 points);
 * ``amplitude_ripple``: ``(max |P| - min |P|) / max |P|`` over the kept window;
-* ``regime`` (code) and ``period``, see below; ``status`` 1 when the run completed.
-
 * ``lyapunov_exponent`` (1/s): the largest Lyapunov exponent when the sweep is run with
   ``lyapunov=True`` (:func:`rubrotor.lyapunov.lyapunov_exponents` over ``K`` revolutions of
   512 fixed exponential steps each, started from the point's final state: the attractor the
@@ -724,7 +722,7 @@ def sweep(
         "transient_revolutions": t_rev,
         "revolutions": revs,
         "samples_per_revolution": n_rev,
-        "regime_rules": "see rubrotor.sweep module docstring",
+        "regime_rules": "see rubrotor.regimes module docstring",
         "scenario": getattr(scenario, "source", ""),
         "Conventions": "CF-1.8",
     }
