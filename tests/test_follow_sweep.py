@@ -34,7 +34,7 @@ from rubrotor.integrator import Integrator
 from rubrotor.model import modal_matrices
 from rubrotor.scenario import load_scenario
 from rubrotor.simulation import RotorState, simulate_scenario
-from rubrotor.sweep import regime_labels
+from rubrotor.sweep import open_sweep, regime_labels
 
 # hardening full annular rub coexisting with the no-contact orbit: a hysteresis loop
 HYST = one_mode(**{"contact.friction": 0.01, "contact.stiffness": 5e8})
@@ -203,9 +203,12 @@ def test_cli_follow_figure_and_errors(tmp_path, capsys):
     png = tmp_path / "bif.png"
     args = ["sweep", str(scen), "--vary", "speed.critical_multiple=1.3:1.7:5", "--follow", "both"]
     args += ["--out", str(tmp_path / "f.zarr"), "--figure", str(png), "--transient", "150"]
-    args += ["--revolutions", "180", "--samples", "32", "--workers", "2"]
+    args += ["--revolutions", "180", "--samples", "32", "--workers", "2", "--lyapunov"]
     assert main(args) == 0
     summary = json.loads(capsys.readouterr().out)
+    stored = open_sweep(tmp_path / "f.zarr")
+    assert stored["done"].values.all()
+    assert np.all(stored["lyapunov_exponent"].values < 0)  # stable orbits on both branches
     assert set(summary["regimes"]) == {"up", "down"}
     assert (
         summary["regimes"]["up"]["full annular rub"]

@@ -405,7 +405,7 @@ def _sweep_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--lyapunov",
         action="store_true",
-        help="estimate each point's largest Lyapunov exponent (chaotic = exponent > 0.02/rev)",
+        help="estimate each point's largest Lyapunov exponent (chaotic = exponent > 0.05/rev)",
     )
     parser.add_argument(
         "--figure",

@@ -38,7 +38,7 @@ exactly on ``t = k 2 pi / Omega``), with ``P = v + i w`` (m) the contact-station
   kept window shows), else NaN;
 * ``regime`` (code) and ``period``: :func:`rubrotor.regimes.classify` (the one definition of
   the regime labels, impacts per revolution and contact fraction, see
-  :mod:`rubrotor.regimes`); with an exponent, "chaotic" means ``lambda_1 2 pi / Omega > 0.02``;
+  :mod:`rubrotor.regimes`); with an exponent, "chaotic" means ``lambda_1 2 pi / Omega > 0.05``;
   ``status`` 1 when the run completed.
 """
 
