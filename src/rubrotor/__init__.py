@@ -9,7 +9,9 @@ The public surface, each name defined once in its own module:
 * simulation: :func:`simulate` (returns an ``xarray.Dataset``), :func:`converge`;
 * analysis: :func:`cwt`, :func:`scalogram`, :func:`full_spectrum`, :func:`amplitude_spectrum`,
   :func:`rub_indicators`;
-* parameter maps: ``rubrotor.sweep.sweep`` (its module imports zarr/dask lazily);
+* parameter maps: ``rubrotor.sweep.sweep`` (its module imports zarr/dask lazily),
+  state-carrying up/down sweeps ``rubrotor.follow.follow_sweep``; Lyapunov exponents:
+  :func:`lyapunov_exponents`; a start state: :class:`RotorState`;
 * results files: :func:`save_dataset`, :func:`load_dataset`.
 """
 
@@ -22,11 +24,12 @@ from rubrotor.api import critical_speeds, modes  # noqa: E402
 from rubrotor.errors import InputError, RubrotorError, ScenarioError  # noqa: E402
 from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance  # noqa: E402
 from rubrotor.integrator import Integrator  # noqa: E402
+from rubrotor.lyapunov import lyapunov_exponents  # noqa: E402
 from rubrotor.modal import campbell  # noqa: E402
 from rubrotor.model import Dimensionless, Shaft  # noqa: E402
 from rubrotor.results import load_dataset, save_dataset  # noqa: E402
 from rubrotor.scenario import Scenario, load_scenario  # noqa: E402
-from rubrotor.simulation import converge, simulate  # noqa: E402
+from rubrotor.simulation import RotorState, converge, simulate  # noqa: E402
 
 __all__ = [
     "__version__",
@@ -36,6 +39,7 @@ __all__ = [
     "Integrator",
     "ModalDamping",
     "RadialLoad",
+    "RotorState",
     "RubrotorError",
     "Scenario",
     "ScenarioError",
@@ -54,4 +58,5 @@ __all__ = [
     "amplitude_spectrum",
     "full_spectrum",
     "rub_indicators",
+    "lyapunov_exponents",
 ]

@@ -397,6 +397,17 @@ def _sweep_args(parser: argparse.ArgumentParser) -> None:
         "--scheduler", metavar="tcp://HOST:PORT", help="run on a Dask distributed scheduler"
     )
     parser.add_argument(
+        "--follow",
+        choices=("up", "down", "both"),
+        help="carry the state from point to point (one key): up = increasing values, "
+        "down = decreasing, both = up and down sweeps (hysteresis)",
+    )
+    parser.add_argument(
+        "--lyapunov",
+        action="store_true",
+        help="estimate each point's largest Lyapunov exponent (chaotic = exponent > 0.05/rev)",
+    )
+    parser.add_argument(
         "--figure",
         metavar="F.png",
         help="bifurcation diagram (one key) or regime map (two keys)",
@@ -411,7 +422,7 @@ def _sweep_args(parser: argparse.ArgumentParser) -> None:
 
 def _sweep_run(args: argparse.Namespace) -> int:
     from rubrotor.results import atomic_write
-    from rubrotor.sweep import parse_vary, regime_labels, sweep
+    from rubrotor.sweep import parse_vary, regime_labels
 
     vary = {}
     for text in args.vary:
@@ -433,19 +444,13 @@ def _sweep_run(args: argparse.Namespace) -> int:
         raise InputError("--netcdf", args.netcdf, "a file name ending in .nc")
     scenario = load_scenario(args.scenario)
     progress = sys.stderr.isatty() if args.progress is None else args.progress
+    if args.follow is not None:
+        if len(vary) != 1:
+            raise InputError("--follow", args.follow, "a sweep of one key (one --vary)")
+        if args.scheduler is not None:
+            raise InputError("--scheduler", args.scheduler, "no scheduler with --follow")
     try:
-        ds = sweep(
-            scenario,
-            vary,
-            transient_revolutions=args.transient,
-            revolutions=args.revolutions,
-            samples_per_revolution=args.samples,
-            workers=args.workers,
-            scheduler=args.scheduler,
-            store=args.out,
-            chunk_size=args.chunk_size,
-            progress=progress,
-        )
+        ds = _sweep_or_follow(scenario, vary, args, progress)
     except KeyboardInterrupt:
         print(
             f"rubrotor: interrupted; {args.out} holds every finished chunk: "
@@ -464,11 +469,10 @@ def _sweep_run(args: argparse.Namespace) -> int:
         else:
             fig = regime_map_figure(ds, keys[1], keys[0])
         _save_atomic(fig, Path(args.figure))
-    labels, counts = np.unique(regime_labels(ds), return_counts=True)
     summary = {
         "store": args.out,
         "points": int(ds["done"].size),
-        "regimes": {str(k): int(c) for k, c in zip(labels, counts, strict=True)},
+        "regimes": _regime_counts(ds, regime_labels),
         "incomplete_runs": int((ds["status"].values == 0).sum()),
     }
     if args.netcdf:
@@ -477,6 +481,52 @@ def _sweep_run(args: argparse.Namespace) -> int:
         summary["figure"] = args.figure
     _print_json(summary)
     return 0
+
+
+def _regime_counts(ds, regime_labels) -> dict:
+    """``{label: count}``; per direction ``{"up": {...}, "down": {...}}`` for a follow sweep."""
+    if "direction" in ds.dims:
+        return {
+            str(d): _regime_counts(ds.sel(direction=d), regime_labels)
+            for d in ds["direction"].values
+        }
+    labels, counts = np.unique(regime_labels(ds), return_counts=True)
+    return {str(k): int(c) for k, c in zip(labels, counts, strict=True)}
+
+
+def _sweep_or_follow(scenario, vary: dict, args: argparse.Namespace, progress: bool):
+    from rubrotor.follow import follow_sweep
+    from rubrotor.sweep import sweep
+
+    if args.follow is not None:
+        ((key, values),) = vary.items()
+        return follow_sweep(
+            scenario,
+            key,
+            values,
+            direction=args.follow,
+            transient_revolutions=args.transient,
+            revolutions=args.revolutions,
+            samples_per_revolution=args.samples,
+            workers=args.workers,
+            store=args.out,
+            chunk_size=args.chunk_size,
+            progress=progress,
+            lyapunov=args.lyapunov,
+        )
+    return sweep(
+        scenario,
+        vary,
+        transient_revolutions=args.transient,
+        revolutions=args.revolutions,
+        samples_per_revolution=args.samples,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        store=args.out,
+        chunk_size=args.chunk_size,
+        progress=progress,
+        lyapunov=args.lyapunov,
+    )
 
 
 COMMANDS: list[Command] = [

@@ -267,13 +267,42 @@ def _axis_label(ds, key: str) -> str:
     return f"{key} ({units})" if units and units != "1" else key
 
 
+_DIRECTION_STYLE = {"up": ("^", 3.5, -1), "down": ("v", 3.5, 1)}
+_DIRECTION_TEXT = {"up": "up sweep (filled, left)", "down": "down sweep (hollow, right)"}
+
+
+def _direction_runs(ds1, x):
+    """``[(dataset, x positions, (marker, size)), ...]``: one entry, or one per follow direction.
+
+    Up and down sweeps are drawn side by side, shifted by a fifth of the smallest spacing of
+    the values to the left (up) and right (down), with up and down triangles.
+    """
+    import numpy as np
+
+    if "direction" not in ds1.dims:
+        return [(ds1, x, (".", 1.5))]
+    step = float(np.min(np.diff(np.sort(x)))) if x.size > 1 else abs(float(x[0])) or 1.0
+    if _is_log_spaced(x):
+        shift = lambda s: x * np.exp(s * 0.2 * np.min(np.diff(np.log(x))))  # noqa: E731
+    else:
+        shift = lambda s: x + s * 0.2 * step  # noqa: E731
+    runs = []
+    for name in ds1["direction"].values:
+        marker, size, side = _DIRECTION_STYLE[str(name)]
+        runs.append((ds1.sel(direction=name), shift(side), (marker, size)))
+    return runs
+
+
 def bifurcation_figure(ds, key: str) -> Figure:
     """Bifurcation diagram of a sweep: Poincare samples of ``v`` and ``w`` against one key.
 
     Each kept once-per-revolution sample ``v(k 2 pi / Omega)`` (top) and ``w`` (bottom) at the
     contact station is a dot above the swept value, coloured by the point's regime (legend);
     a periodic orbit shows as ``k`` dots, a quasi-periodic or chaotic one as a vertical band.
-    The clearance (when constant) is drawn as dashed lines at ``+-g``.
+    The clearance (when constant) is drawn as dashed lines at ``+-g``. A follow sweep
+    (:func:`rubrotor.follow.follow_sweep`, dimension ``direction``) is drawn with filled up
+    triangles shifted left of each value for the up sweep and hollow down triangles shifted
+    right for the down sweep, so the two branches and their jumps are told apart.
 
     Parameters
     ----------
@@ -293,29 +322,33 @@ def bifurcation_figure(ds, key: str) -> Figure:
 
     if key not in ds.dims:
         raise ValueError(f"{key!r} is not a swept key of this Dataset ({list(ds['done'].dims)})")
-    others = [d for d in ds["done"].dims if d != key]
+    others = [d for d in ds["done"].dims if d not in (key, "direction")]
     for d in others:
         if ds.sizes[d] != 1:
             raise ValueError(f"select one value of {d!r} first (ds.isel({d}=i))")
     ds1 = ds.isel({d: 0 for d in others})
     x = ds1[key].values
-    labels = regime_labels(ds1)
+    runs = _direction_runs(ds1, x)
+    labels_all = np.concatenate([regime_labels(d).ravel() for d, _, _ in runs])
     fig = Figure(figsize=(10, 7), layout="constrained")
     axes = fig.subplots(2, 1, sharex=True)
     clearance = ds.attrs.get("clearance_m")
     if any(d.startswith(("contact.clearance", "shaft.length")) for d in ds["done"].dims):
         clearance = None
-    present = sorted(set(labels.tolist()), key=_label_order)
+    present = sorted(set(labels_all.tolist()), key=_label_order)
     nrev = ds1.sizes["revolution"]
     for ax, name, comp in ((axes[0], "poincare_v", "v"), (axes[1], "poincare_w", "w")):
-        y = ds1[name].values * 1e3  # mm
-        for lab in present:
-            sel = labels == lab
-            xs = np.repeat(x[sel], nrev)
-            ax.plot(
-                xs, y[sel].ravel(), color=_regime_color(lab), marker=".", markersize=1.5,
-                linestyle="none", alpha=0.8,
-            )  # fmt: skip
+        for dsd, xd, (marker, size) in runs:
+            labels = regime_labels(dsd)
+            y = dsd[name].values * 1e3  # mm
+            for lab in present:
+                sel = labels == lab
+                xs = np.repeat(xd[sel], nrev)
+                face = "none" if marker == "v" else _regime_color(lab)
+                ax.plot(
+                    xs, y[sel].ravel(), color=_regime_color(lab), marker=marker,
+                    markersize=size, linestyle="none", alpha=0.8, markerfacecolor=face,
+                )  # fmt: skip
         if clearance is not None:
             for s in (1, -1):
                 ax.axhline(s * clearance * 1e3, color="0.3", linestyle="--", linewidth=0.8)
@@ -332,6 +365,16 @@ def bifurcation_figure(ds, key: str) -> Figure:
         handles.append(
             Line2D([], [], color="0.3", linestyle="--", label=f"clearance {clearance * 1e3:.3g} mm")
         )
+    if "direction" in ds1.dims:
+        for (_, _, (marker, _)), name in zip(runs, ds1["direction"].values, strict=True):
+            text = _DIRECTION_TEXT[str(name)]
+            face = "none" if marker == "v" else "0.2"
+            handles.append(
+                Line2D(
+                    [], [], color="0.2", marker=marker, markerfacecolor=face, linestyle="none",
+                    label=text,
+                )
+            )  # fmt: skip
     fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 4), fontsize=9)
     fig.suptitle(
         f"Bifurcation diagram: {ds.attrs.get('scenario_name', '')}\n"

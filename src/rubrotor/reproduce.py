@@ -630,14 +630,9 @@ def _envelope(ds, clearance: float, block: int = 5) -> tuple[np.ndarray, np.ndar
 
 
 def _regime(m: dict) -> str:
-    if m["status"] != "complete":
-        return "diverged"
-    if m["contact_fraction"] == 0:
-        return "no contact"
-    if m["contact_fraction"] > 0.999:
-        return "full annular rub"
-    per = m["poincare"]["period"]
-    return "partial rub" + (f", period-{per}" if per else ", not periodic")
+    from rubrotor.regimes import case_regime
+
+    return case_regime(m)
 
 
 def _claims(metrics, spectral, fig6, band) -> list[dict]:

@@ -25,6 +25,7 @@ from rubrotor.model import Shaft, modal_matrices
 
 __all__ = [
     "ModalSystem",
+    "RotorState",
     "SimulationResult",
     "assemble",
     "simulate_system",
@@ -242,6 +243,32 @@ def assemble(shaft: Shaft, speed: float, damping: ModalDamping | None = None) ->
     )
 
 
+@dataclass(frozen=True)
+class RotorState:
+    """A physical state of the rotor, to start a simulation from (and returned at its end).
+
+    Carried in physical modal coordinates, not in the eigen-coordinates of one speed, so that a
+    state can start a run at another speed, clearance, unbalance ... (the eigen-basis and the
+    particular solution of the new run are applied to it by :func:`simulate_system`).
+
+    Attributes
+    ----------
+    q : ndarray, complex, shape (n,)
+        Generalised coordinates ``q = [P_1, (Psi_1), P_2, ...]`` in the order of
+        :attr:`ModalSystem.q_index`: modal deflections ``v + i w`` (m) and, for Timoshenko
+        shafts, modal rotations (rad).
+    qd : ndarray, complex, shape (n,)
+        Their time derivatives (m/s, rad/s).
+    phase : float
+        Angle of the unbalance at this state, ``Omega t`` reduced to ``[-pi, pi]`` (rad); 0 (to
+        rounding) at the end of a run of a whole number of revolutions.
+    """
+
+    q: np.ndarray
+    qd: np.ndarray
+    phase: float = 0.0
+
+
 @dataclass
 class SimulationResult:
     """Raw simulation output (SI units); see :func:`rubrotor.results.to_dataset`.
@@ -264,6 +291,8 @@ class SimulationResult:
         Integrator statistics.
     events : ndarray
         Contact onset (+t) and separation (-t) times (s).
+    final_state : RotorState or None
+        The state at the last sample (``None`` when the run did not complete).
     work : dict
         Work (J) of each force over the run when energy tracking was on.
     """
@@ -279,6 +308,88 @@ class SimulationResult:
     speed: float
     unbalance_force: complex
     unbalance_position: float
+    final_state: RotorState | None = None
+
+
+def _start_coordinates(sysm: ModalSystem, start: RotorState, load) -> np.ndarray:
+    """Unshifted eigen-coordinates ``y = V^-1 x`` of a start state, turned to unbalance phase 0.
+
+    The run starts with the unbalance at angle 0. A state taken at unbalance angle ``phi`` is
+    turned by ``exp(-i phi)`` (every complex coordinate): the isotropic rotor, the annular
+    stator and the rotating unbalance are invariant under that rotation, so the turned state
+    continues the same motion seen in a frame turned by ``-phi``. A constant radial load breaks
+    the symmetry, so with a load the state must be taken at angle 0 (whole revolutions).
+    """
+    n = sysm.q_index.size
+    q = np.asarray(start.q, dtype=complex)
+    qd = np.asarray(start.qd, dtype=complex)
+    if q.shape != (n,) or qd.shape != (n,) or not np.all(np.isfinite(q) & np.isfinite(qd)):
+        raise InputError("start", f"q, qd of shapes {q.shape}, {qd.shape}", f"finite ({n},) arrays")
+    turn = complex(math.cos(start.phase), -math.sin(start.phase))
+    has_load = load is not None and (load.force_y != 0 or load.force_z != 0)
+    if abs(turn - 1) > 1e-6:
+        if has_load:
+            raise InputError(
+                "start.phase", start.phase, "0 (a state after whole revolutions) with a load"
+            )
+        q, qd = q * turn, qd * turn
+    x = np.zeros(sysm.V.shape[0], complex)
+    x[sysm.q_index] = q
+    x[sysm.qd_index] = qd
+    return sysm.Vinv @ x
+
+
+def _state_of(sysm: ModalSystem, y_full: np.ndarray, phase: float) -> RotorState:
+    """The physical state of unshifted eigen-coordinates ``y_full``."""
+    x = sysm.V @ y_full
+    return RotorState(
+        q=x[sysm.q_index].copy(),
+        qd=x[sysm.qd_index].copy(),
+        phase=math.remainder(phase, 2 * math.pi),
+    )
+
+
+def _start_force(y: np.ndarray, cp: np.ndarray, orows) -> complex:
+    """Contact force (N) of the start state (the held force of the first exponential step)."""
+    from rubrotor.core.contact import contact_force
+
+    rows_d, rows_v, _, _, part_u, part_l, vel_z = orows[:7]
+    P = complex(rows_d[0] @ y + part_u[0] + part_l[0])
+    V = complex(rows_v[0] @ y + vel_z[0])
+    fy, fz, _, _ = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    return complex(fy, fz)
+
+
+def contact_parameters(shaft: Shaft, speed: float, contact: Contact | None) -> np.ndarray:
+    """The packed contact law the kernels take (:data:`rubrotor.core.contact.CP_FIELDS`).
+
+    Parameters
+    ----------
+    shaft : Shaft
+        The rotor (its radius is the default contact radius, m).
+    speed : float
+        Spin speed (rad/s); the surface speed is ``radius * speed`` (m/s).
+    contact : Contact or None
+        The contact; None packs an inactive law.
+
+    Returns
+    -------
+    ndarray
+    """
+    if contact is None:
+        return pack_contact(0, 0, 1.0, 0.0, 1.0, 0.0, 0, 0.0, 1.0)
+    radius = contact.radius if contact.radius is not None else shaft.diameter / 2
+    return pack_contact(
+        1,
+        contact.law_code,
+        contact.stiffness,
+        contact.damping,
+        contact.clearance,
+        contact.friction,
+        contact.sign_code,
+        radius * speed,
+        contact.friction_regularization,
+    )
 
 
 def _check_station(name: str, x: float, length: float) -> float:
@@ -300,8 +411,9 @@ def simulate_system(
     progress: bool | None = None,
     chunk_samples: int = 1 << 15,
     initial: str = "rest",
+    start: RotorState | None = None,
 ) -> SimulationResult:
-    """Simulate the rotor from rest or from its steady no-contact orbit.
+    """Simulate the rotor from rest, from its steady no-contact orbit or from a given state.
 
     Parameters
     ----------
@@ -328,11 +440,16 @@ def simulate_system(
         Samples computed per compiled call.
     initial : {"rest", "steady"}
         Initial state: at rest and undeflected (default), or on the steady no-contact orbit
-        (the particular solution of unbalance and load, exact in the modal model).
+        (the particular solution of unbalance and load, exact in the modal model). Ignored
+        when ``start`` is given.
+    start : RotorState, optional
+        Start from this physical state (e.g. the ``final_state`` of a run at a neighbouring
+        parameter value); see :class:`RotorState` for the unbalance angle.
 
     Returns
     -------
     SimulationResult
+        With ``final_state`` (:class:`RotorState`) when the run completed.
     """
     if initial not in INITIAL_STATES:
         raise InputError("initial.state", initial, " or ".join(f'"{x}"' for x in INITIAL_STATES))
@@ -383,23 +500,8 @@ def simulate_system(
     cdc = np.ascontiguousarray(rows_d[0])
     cvc = np.ascontiguousarray(rows_v[0])
 
-    if contact is not None:
-        radius = contact.radius if contact.radius is not None else shaft.diameter / 2
-        cp = pack_contact(
-            1,
-            contact.law_code,
-            contact.stiffness,
-            contact.damping,
-            contact.clearance,
-            contact.friction,
-            contact.sign_code,
-            radius * speed,
-            contact.friction_regularization,
-        )
-        gap = contact.clearance
-    else:
-        cp = pack_contact(0, 0, 1.0, 0.0, 1.0, 0.0, 0, 0.0, 1.0)
-        gap = None
+    cp = contact_parameters(shaft, speed, contact)
+    gap = contact.clearance if contact is not None else None
     max_disp = integrator.max_displacement
     if max_disp is None:
         max_disp = 1000 * gap if gap is not None else 0.1 * L
@@ -445,6 +547,12 @@ def simulate_system(
         np.ascontiguousarray(a, dtype=complex)
         for a in (rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c)
     )
+    f_start = 0j
+    if start is not None:
+        y = _start_coordinates(sysm, start, load)
+        if method == "exponential":
+            y = y - (y_u + y_l)
+        f_start = _start_force(y, cp, orows)
 
     if h_fixed is not None:
         n_steps = int(round(t_total / h_fixed))
@@ -465,12 +573,12 @@ def simulate_system(
 
     out = np.empty((n_channels(len(stations)), n_samples + 1))
     istate = np.zeros(5, np.int64)
-    cstate = np.array([0j, 1 + 0j, 0j])
+    cstate = np.array([f_start, 1 + 0j, 0j])
 
     def write0():
         from rubrotor.core.integrate import _write_sample
 
-        _write_sample(out, 0, y, 1 + 0j, 0j, cp, orows)
+        _write_sample(out, 0, y, 1 + 0j, f_start, cp, orows)
 
     write0()
 
@@ -624,6 +732,11 @@ def simulate_system(
         )
     else:
         stats["steps"] = int(istate[0])
+    final_state = None
+    if status == "complete":
+        t_end = done * sample_dt
+        y_full = y + y_u * cstate[1] + y_l if method == "exponential" else y
+        final_state = _state_of(sysm, y_full, speed * t_end)
     n_ev = min(int(istate[1]), EVENT_BUFFER)
     stats["contact_events"] = int(istate[1])
     work_d: dict = {}
@@ -663,6 +776,7 @@ def simulate_system(
         speed=speed,
         unbalance_force=fu0,
         unbalance_position=a_u,
+        final_state=final_state,
     )
 
 

@@ -15,9 +15,10 @@ exactly on ``t = k 2 pi / Omega``), with ``P = v + i w`` (m) the contact-station
 
 * ``poincare_v``, ``poincare_w`` (m): ``P(k 2 pi / Omega)`` for ``k = T .. R - 1``;
 * ``peak_normal_force``, ``rms_normal_force`` (N) (the RMS counts the time out of contact);
-* ``contact_fraction``: fraction of the kept samples with normal force > 0;
-* ``impacts_per_revolution``: contact onsets (``+t`` entries of the simulation's event list,
-  exact event times) in the kept window divided by ``K``;
+* ``contact_fraction``: fraction of the kept samples with normal force > 0
+  (:func:`rubrotor.regimes.contact_fraction`);
+* ``impacts_per_revolution``: contact onsets in the kept window per revolution
+  (:func:`rubrotor.regimes.impacts_per_revolution`, exact event times);
 * ``frequency`` (multiples of spin, signed: negative = backward whirl) and
   ``frequency_amplitude`` (m) of the 3 largest spectral peaks of ``P - mean(P)`` (periodic Hann
   window, the DC bin excluded, peak positions refined by a parabola through the log-magnitudes
@@ -31,28 +32,14 @@ exactly on ``t = k 2 pi / Omega``), with ``P = v + i w`` (m) the contact-station
   the median nearest-neighbour distance: about 1 for points on a closed curve, about 2 for
   points filling an area (NaN with fewer than 64 points);
 * ``amplitude_ripple``: ``(max |P| - min |P|) / max |P|`` over the kept window;
-* ``regime`` (code) and ``period``, see below; ``status`` 1 when the run completed.
-
-Regime labels, decided in this order by :func:`classify` (thresholds are its keyword arguments):
-
-0. ``"no contact"``: ``contact_fraction == 0`` (not one kept sample in contact).
-1. ``"full annular rub"``: ``contact_fraction >= 0.99`` and ``amplitude_ripple <= 0.05``
-   (in contact all the time with a nearly constant ``|P|``, whatever the whirl direction).
-2. ``"partial rub (period-k)"``: the smallest ``k`` in ``1 .. min(12, K // 2)`` such that the
-   Poincare points fall in ``k`` clusters: for each residue ``r`` the points ``r, r + k, ...``
-   are all within ``period_rtol * max |P|`` (``period_rtol = 1e-3``) of their mean. ``k`` is
-   stored in ``period`` (0 for every other label).
-3. ``"quasi-periodic"``: no period found, ``line_fraction >= 0.9`` (a line spectrum: the
-   incommensurate tones of a torus) and ``poincare_dimension <= 1.5`` (or NaN) (the Poincare
-   set fills a curve, not an area).
-4. ``"chaotic"``: no period found and either a broadband spectrum (``line_fraction < 0.9``) or a
-   Poincare set filling more than a curve (``poincare_dimension > 1.5``).
-5. ``"not classified"``: the run did not complete (diverged), or the point could not be
-   simulated at all (e.g. a speed exactly at an undamped critical speed); ``status`` is 0.
-
-The labels 2-4 apply to any contacting motion that is not a steady full annular rub; a motion
-in contact all the time but with a varying ``|P|`` is classified by its Poincare points too.
-No Lyapunov exponent is estimated.
+* ``lyapunov_exponent`` (1/s): the largest Lyapunov exponent when the sweep is run with
+  ``lyapunov=True`` (:func:`rubrotor.lyapunov.lyapunov_exponents` over ``K`` revolutions of
+  512 fixed exponential steps each, started from the point's final state: the attractor the
+  kept window shows), else NaN;
+* ``regime`` (code) and ``period``: :func:`rubrotor.regimes.classify` (the one definition of
+  the regime labels, impacts per revolution and contact fraction, see
+  :mod:`rubrotor.regimes`); with an exponent, "chaotic" means ``lambda_1 2 pi / Omega > 0.05``;
+  ``status`` 1 when the run completed.
 """
 
 from __future__ import annotations
@@ -70,6 +57,22 @@ from pathlib import Path
 import numpy as np
 
 from rubrotor.errors import InputError
+from rubrotor.regimes import (
+    CHAOTIC,
+    FULL,
+    NO_CONTACT,
+    PARTIAL,
+    QUASI,
+    REGIMES,
+    UNCLASSIFIED,
+    classify,
+    contact_fraction,
+    find_period,
+    impacts_per_revolution,
+    poincare_dimension,
+    regime_label,
+    regime_labels,
+)
 from rubrotor.scenario import key_unit
 
 __all__ = [
@@ -78,22 +81,20 @@ __all__ = [
     "parse_vary",
     "log_spaced",
     "classify",
+    "find_period",
+    "poincare_dimension",
+    "regime_label",
+    "CHAOTIC",
+    "FULL",
+    "NO_CONTACT",
+    "PARTIAL",
+    "QUASI",
+    "UNCLASSIFIED",
     "point_metrics",
     "regime_labels",
     "open_sweep",
 ]
 
-REGIMES = (
-    "no contact",
-    "partial rub",
-    "full annular rub",
-    "quasi-periodic",
-    "chaotic",
-    "not classified",
-)
-"""Regime names by code (code 1 is labelled ``"partial rub (period-k)"`` with its period)."""
-
-NO_CONTACT, PARTIAL, FULL, QUASI, CHAOTIC, UNCLASSIFIED = range(6)
 N_PEAKS = 3
 STORE_VERSION = 1
 
@@ -206,144 +207,6 @@ def _spectrum(p: np.ndarray, samples_per_rev: int, revs: int):
     return out_f, out_a, forward, line_fraction
 
 
-def poincare_dimension(z: np.ndarray, max_points: int = 1000) -> float:
-    """Correlation-dimension estimate of Poincare points ``z`` (complex), see the module doc.
-
-    ``D = log(C(8 d) / C(2 d)) / log 4`` where ``C(r)`` counts the pairs of points closer than
-    ``r`` and ``d`` is the median nearest-neighbour distance: about 1 for points on a curve,
-    about 2 for points filling an area. NaN with fewer than 64 points, coincident points or no
-    pair within ``2 d``. At most the first ``max_points`` points are used.
-    """
-    z = np.asarray(z, complex)[:max_points]
-    if z.size < 64:
-        return np.nan
-    dist = np.abs(z[:, None] - z[None, :])
-    np.fill_diagonal(dist, np.inf)
-    d = float(np.median(dist.min(axis=1)))
-    if not d > 0:
-        return np.nan
-    c1 = np.count_nonzero(dist < 2 * d)
-    c2 = np.count_nonzero(dist < 8 * d)
-    if c1 == 0:
-        return np.nan
-    return float(math.log(c2 / c1) / math.log(4.0))
-
-
-def find_period(z: np.ndarray, tol: float, max_period: int = 12) -> int:
-    """Smallest ``k`` such that the points ``z`` form ``k`` clusters of radius ``tol``; 0 if none.
-
-    Parameters
-    ----------
-    z : ndarray, complex
-        Poincare points in order (one per revolution).
-    tol : float
-        Largest distance of a point from the mean of its residue class ``j mod k`` (same unit
-        as ``z``).
-    max_period : int
-        Largest ``k`` tried; ``k <= len(z) // 2`` (every cluster seen at least twice).
-
-    Examples
-    --------
-    >>> find_period(np.array([1, -1, 1, -1, 1, -1], complex), 1e-9)
-    2
-    """
-    for k in range(1, min(max_period, z.size // 2) + 1):
-        ok = True
-        for r in range(k):
-            pts = z[r::k]
-            if np.max(np.abs(pts - pts.mean())) > tol:
-                ok = False
-                break
-        if ok:
-            return k
-    return 0
-
-
-def classify(
-    contact_fraction: float,
-    amplitude_ripple: float,
-    poincare: np.ndarray,
-    line_fraction: float,
-    dimension: float = np.nan,
-    *,
-    scale: float | None = None,
-    period_rtol: float = 1e-3,
-    max_period: int = 12,
-    full_contact: float = 0.99,
-    max_ripple: float = 0.05,
-    min_line_fraction: float = 0.9,
-    max_dimension: float = 1.5,
-) -> tuple[int, int]:
-    """Regime code and period of one point, by the rules of the module docstring.
-
-    Parameters
-    ----------
-    contact_fraction : float
-        Fraction of the kept time in contact (0..1).
-    amplitude_ripple : float
-        ``(max |P| - min |P|) / max |P|`` over the kept window.
-    poincare : ndarray, complex
-        Once-per-revolution samples of ``P = v + i w`` (m).
-    line_fraction : float
-        Share of the non-DC spectral power in the 10 largest lines (0..1).
-    dimension : float
-        Poincare set dimension estimate (:func:`poincare_dimension`); NaN to ignore.
-    scale : float, optional
-        Amplitude the period tolerance is relative to (m); default ``max |poincare|``.
-    period_rtol, max_period, full_contact, max_ripple, min_line_fraction, max_dimension
-        Thresholds, see the module docstring.
-
-    Returns
-    -------
-    code : int
-        Index into :data:`REGIMES`.
-    period : int
-        ``k`` for ``"partial rub (period-k)"``, else 0.
-
-    Examples
-    --------
-    >>> classify(0.0, 0.1, np.ones(10, complex), 1.0)
-    (0, 0)
-    >>> classify(0.3, 0.5, np.array([1, 2] * 10, complex), 1.0)
-    (1, 2)
-    """
-    z = np.asarray(poincare, complex)
-    if not np.isfinite(contact_fraction) or z.size == 0 or not np.all(np.isfinite(z)):
-        return UNCLASSIFIED, 0
-    if contact_fraction == 0:
-        return NO_CONTACT, 0
-    if contact_fraction >= full_contact and amplitude_ripple <= max_ripple:
-        return FULL, 0
-    s = float(np.max(np.abs(z))) if scale is None else scale
-    k = find_period(z, period_rtol * s, max_period)
-    if k:
-        return PARTIAL, k
-    curve = not (dimension > max_dimension)  # NaN counts as a curve
-    if line_fraction >= min_line_fraction and curve:
-        return QUASI, 0
-    return CHAOTIC, 0
-
-
-def regime_label(code: int, period: int = 0) -> str:
-    """Text label of a regime code (``"partial rub (period-2)"`` for code 1, period 2)."""
-    code = int(code)
-    if code == PARTIAL:
-        return f"partial rub (period-{int(period)})"
-    if 0 <= code < len(REGIMES):
-        return REGIMES[code]
-    return "not computed"
-
-
-def regime_labels(ds) -> np.ndarray:
-    """Text labels of a sweep Dataset's ``regime`` and ``period``, same shape (object array)."""
-    codes = np.asarray(ds["regime"].values)
-    periods = np.asarray(ds["period"].values)
-    out = np.empty(codes.shape, object)
-    for i in np.ndindex(codes.shape):
-        out[i] = regime_label(codes[i], periods[i]) if codes[i] >= 0 else "not computed"
-    return out
-
-
 def point_metrics(
     time: np.ndarray,
     p: np.ndarray,
@@ -354,6 +217,7 @@ def point_metrics(
     revolutions: int,
     samples_per_revolution: int,
     complete: bool = True,
+    lyapunov: float = np.nan,
 ) -> dict:
     """Reduce one simulation to the sweep's metrics (see the module docstring).
 
@@ -374,6 +238,8 @@ def point_metrics(
     complete : bool
         Whether the run completed; otherwise every metric is NaN and the regime
         ``"not classified"``.
+    lyapunov : float
+        Largest Lyapunov exponent (1/s), NaN when not computed.
 
     Returns
     -------
@@ -394,12 +260,11 @@ def point_metrics(
     out["poincare_w"] = z.imag.copy()
     out["peak_normal_force"] = float(fn.max())
     out["rms_normal_force"] = float(np.sqrt(np.mean(fn**2)))
-    cf = float(np.mean(fn > 0))
+    cf = contact_fraction(fn)
     out["contact_fraction"] = cf
     t0 = transient_revolutions * 2 * np.pi / speed
     t1 = revolutions * 2 * np.pi / speed
-    onsets = events[(events > 0) & (events >= t0) & (events < t1)]
-    out["impacts_per_revolution"] = onsets.size / k
+    out["impacts_per_revolution"] = impacts_per_revolution(events, t0, t1, speed)
     out["max_displacement"] = float(absp.max())
     ripple = float((absp.max() - absp.min()) / absp.max()) if absp.max() > 0 else 0.0
     out["amplitude_ripple"] = ripple
@@ -410,7 +275,11 @@ def point_metrics(
     out["line_fraction"] = lines
     dim = poincare_dimension(z)
     out["poincare_dimension"] = dim
-    code, period = classify(cf, ripple, z, lines, dim, scale=float(absp.max()))
+    out["lyapunov_exponent"] = lyapunov
+    per_rev = lyapunov * 2 * np.pi / speed
+    code, period = classify(
+        cf, ripple, z, lines, dim, lyapunov_per_rev=per_rev, scale=float(absp.max())
+    )
     out["regime"] = code
     out["period"] = period
     out["status"] = 1
@@ -433,6 +302,7 @@ _SCALARS = {
     "forward_share": ("f8", np.nan, "1", "share of non-DC spectral power in forward whirl"),
     "line_fraction": ("f8", np.nan, "1", "share of non-DC spectral power in the 10 largest lines"),
     "poincare_dimension": ("f8", np.nan, "1", "dimension estimate of the Poincare set"),
+    "lyapunov_exponent": ("f8", np.nan, "1/s", "largest Lyapunov exponent (NaN: not computed)"),
     "regime": ("i1", UNCLASSIFIED, "1", "rub regime code"),
     "period": ("i2", 0, "1", "period (revolutions) of a periodic partial rub, else 0"),
     "status": ("i1", 0, "1", "1 when the simulation completed"),
@@ -461,12 +331,35 @@ def _point_scenario(base, keys: Sequence[str], values: Sequence[float]):
 
 
 def simulate_point(
-    scenario, transient_revolutions: int, revolutions: int, samples_per_revolution: int
-) -> dict:
+    scenario,
+    transient_revolutions: int,
+    revolutions: int,
+    samples_per_revolution: int,
+    start=None,
+    lyapunov: bool = False,
+) -> tuple[dict, object]:
     """Simulate one scenario with the adaptive integrator and reduce it with :func:`point_metrics`.
 
     The scenario's ``[simulation]`` tolerances are kept (when adaptive); the length is
     ``revolutions`` and the output spacing ``2 pi / samples_per_revolution`` (rad of spin).
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The point's scenario.
+    transient_revolutions, revolutions, samples_per_revolution : int
+        ``T``, ``R`` and ``N`` of the module docstring.
+    start : rubrotor.simulation.RotorState, optional
+        State to start from (default rest).
+    lyapunov : bool
+        Also estimate the largest Lyapunov exponent (module docstring).
+
+    Returns
+    -------
+    metrics : dict
+        :func:`point_metrics` of the run.
+    final_state : rubrotor.simulation.RotorState or None
+        The state after ``R`` revolutions (None when the run did not complete).
     """
     from rubrotor.integrator import Integrator
     from rubrotor.simulation import simulate_scenario
@@ -478,9 +371,18 @@ def simulate_point(
     integ = Integrator(
         revolutions=revolutions, output_dtau=2 * math.pi / samples_per_revolution, **kw
     )
-    r = simulate_scenario(scenario, integ, progress=False)
+    r = simulate_scenario(scenario, integ, progress=False, start=start)
+    complete = r.status == "complete"
+    lam = np.nan
+    if lyapunov and complete:
+        from rubrotor.lyapunov import lyapunov_exponents
+
+        kept = revolutions - transient_revolutions
+        lam = float(
+            lyapunov_exponents(scenario, revolutions=kept, start=r.final_state).exponents[0]
+        )
     nst = len(r.stations)
-    return point_metrics(
+    metrics = point_metrics(
         r.time,
         r.channels[0] + 1j * r.channels[1],
         r.channels[6 * nst],
@@ -489,8 +391,10 @@ def simulate_point(
         transient_revolutions,
         revolutions,
         samples_per_revolution,
-        complete=r.status == "complete",
+        complete=complete,
+        lyapunov=lam,
     )
+    return metrics, r.final_state
 
 
 def run_chunk(task: dict) -> dict:
@@ -515,7 +419,13 @@ def run_chunk(task: dict) -> dict:
     for values in task["points"]:
         try:
             sc = _point_scenario(base, task["keys"], values)
-            m = simulate_point(sc, task["transient"], task["revolutions"], task["samples"])
+            m = simulate_point(
+                sc,
+                task["transient"],
+                task["revolutions"],
+                task["samples"],
+                lyapunov=task.get("lyapunov", False),
+            )[0]
         except RubrotorError:  # e.g. a speed exactly at an undamped critical: not classified
             m = _empty_metrics(task["revolutions"] - task["transient"])
         metrics.append(m)
@@ -603,6 +513,26 @@ def _fill(ds, lead, sl, metrics: list[dict]) -> None:
         for name, value in m.items():
             ds[name].values[idx] = value
         ds["done"].values[idx] = 1
+
+
+def write_chunk(ds, store, lead, sl, metrics: list[dict]) -> None:
+    """Fill one chunk of points into ``ds`` and, with a zarr ``store``, write it there.
+
+    The values are written before the ``done`` mask, both with SIGINT held, so that a store
+    never marks a point done whose values are not written.
+    """
+    _fill(ds, lead, sl, metrics)
+    if store is None:
+        return
+    part = _chunk_dataset(ds, lead, sl)
+    region = _region(ds["done"].dims, lead, sl)
+    with _deferred_interrupt():
+        part.drop_vars(["done"]).drop_vars(list(part.coords)).to_zarr(
+            store, region=region, consolidated=False
+        )
+        part[["done"]].drop_vars(list(part[["done"]].coords)).to_zarr(
+            store, region=region, consolidated=False
+        )
 
 
 def _chunk_dataset(ds, lead, sl):
@@ -723,6 +653,7 @@ def sweep(
     store: str | os.PathLike | None = None,
     chunk_size: int | None = None,
     progress: bool = False,
+    lyapunov: bool = False,
 ):
     """Simulate a scenario on a grid of scenario keys and reduce every point to rub metrics.
 
@@ -754,6 +685,9 @@ def sweep(
         between 1 and 32 (small chunks balance uneven points).
     progress : bool
         Print a progress line to stderr after every chunk.
+    lyapunov : bool
+        Estimate the largest Lyapunov exponent of every point (``lyapunov_exponent``, 1/s;
+        "chaotic" is then decided by it).
 
     Returns
     -------
@@ -779,6 +713,8 @@ def sweep(
     chunk_size = _int_arg("chunk_size", chunk_size, 1)
     chunk_size = min(chunk_size, shape[-1])
     definition = _definition(scenario, keys, grid, t_rev, revs, n_rev)
+    if lyapunov:
+        definition["lyapunov"] = True
     attrs = {
         "title": f"rubrotor sweep {scenario.name}".strip(),
         "scenario_name": scenario.name,
@@ -786,7 +722,7 @@ def sweep(
         "transient_revolutions": t_rev,
         "revolutions": revs,
         "samples_per_revolution": n_rev,
-        "regime_rules": "see rubrotor.sweep module docstring",
+        "regime_rules": "see rubrotor.regimes module docstring",
         "scenario": getattr(scenario, "source", ""),
         "Conventions": "CF-1.8",
     }
@@ -825,7 +761,6 @@ def _run(ds, keys, grid, chunks, chunk_size, definition, store, pool, scheduler,
                 ds = old.load()
     else:
         done = np.zeros(shape, bool)
-    dims = tuple(keys)
     todo = []
     for i, (lead, sl) in enumerate(chunks):
         if not done[(*lead, sl)].all():
@@ -842,22 +777,13 @@ def _run(ds, keys, grid, chunks, chunk_size, definition, store, pool, scheduler,
                     "transient": t_rev,
                     "revolutions": revs,
                     "samples": n_rev,
+                    "lyapunov": bool(definition.get("lyapunov", False)),
                 }
             )
 
     def write(result: dict) -> None:
         lead, sl = chunks[result["chunk"]]
-        _fill(ds, lead, sl, result["metrics"])
-        if store is not None:
-            part = _chunk_dataset(ds, lead, sl)
-            region = _region(dims, lead, sl)
-            with _deferred_interrupt():
-                part.drop_vars(["done"]).drop_vars(list(part.coords)).to_zarr(
-                    store, region=region, consolidated=False
-                )
-                part[["done"]].drop_vars(list(part[["done"]].coords)).to_zarr(
-                    store, region=region, consolidated=False
-                )
+        write_chunk(ds, store, lead, sl, result["metrics"])
 
     t0 = time.perf_counter()
     n_done = 0

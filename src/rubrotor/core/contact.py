@@ -9,7 +9,14 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["CP_FIELDS", "pack_contact", "contact_force", "contact_force_jac", "solve_contact"]
+__all__ = [
+    "CP_FIELDS",
+    "pack_contact",
+    "contact_force",
+    "contact_force_jac",
+    "contact_force_jac_exact",
+    "solve_contact",
+]
 
 CP_FIELDS = (
     "active",  # 1.0 when a contact law is present
@@ -241,3 +248,46 @@ def solve_contact(pd, ud, sd, sv, f0, cp, jac):
         if math.sqrt(dy * dy + dz * dz) <= 1e-13 * abs(F) + tol:
             return F, it, fn, ft
     return F, -1, fn, ft
+
+
+@njit(cache=True, inline="always")
+def contact_force_jac_exact(py, pz, uy, uz, cp, jac):
+    """Contact force and its exact Jacobian, the smoothed friction sign differentiated too.
+
+    As :func:`contact_force_jac` plus the term the quasi-Newton Jacobian leaves out: with the
+    physical sign the friction coefficient is ``mu s(v_s)``, ``s = v_s / sqrt(v_s^2 + v_r^2)``,
+    ``v_s = R Omega + t . u`` the sliding speed (``t = i n`` the tangent), so
+    ``dF = -f_n (J n) mu s'(v_s) dv_s`` with ``s' = v_r^2 / (v_s^2 + v_r^2)^1.5`` and
+    ``dv_s = t . du + u . (dt/dp) dp``. Used for tangent (variational) dynamics, where the
+    derivative must be the true one. Returns ``(fy, fz, fn, ft)``.
+    """
+    fy, fz, fn, ft = contact_force_jac(py, pz, uy, uz, cp, jac)
+    if fn == 0.0 or cp[6] != 0.0:
+        return fy, fz, fn, ft
+    d = math.sqrt(py * py + pz * pz)
+    ny = py / d
+    nz = pz / d
+    vs = cp[7] - nz * uy + ny * uz
+    vr2 = cp[8] * cp[8]
+    q = vs * vs + vr2
+    dsig = vr2 / (q * math.sqrt(q))
+    p11 = (1.0 - ny * ny) / d
+    p12 = -ny * nz / d
+    p22 = (1.0 - nz * nz) / d
+    # d v_s / d(py, pz, uy, uz); dn/dp = (I - n n^T) / d
+    d0 = -p12 * uy + p11 * uz
+    d1 = -p22 * uy + p12 * uz
+    d2 = -nz
+    d3 = ny
+    # dF / d(mu s) = -fn J n = fn (nz, -ny)
+    ay = fn * nz * cp[5] * dsig
+    az = -fn * ny * cp[5] * dsig
+    jac[0, 0] += ay * d0
+    jac[0, 1] += ay * d1
+    jac[0, 2] += ay * d2
+    jac[0, 3] += ay * d3
+    jac[1, 0] += az * d0
+    jac[1, 1] += az * d1
+    jac[1, 2] += az * d2
+    jac[1, 3] += az * d3
+    return fy, fz, fn, ft

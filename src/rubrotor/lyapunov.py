@@ -1,0 +1,195 @@
+"""Lyapunov exponents of the rubbing rotor from the compiled tangent dynamics.
+
+:func:`lyapunov_exponents` runs the fixed-step exponential integrator (the one of
+:func:`rubrotor.simulation.simulate_system` with ``dtau``) together with ``count`` tangent
+vectors propagated by the exact derivative of that step
+(:func:`rubrotor.core.tangent.expo_tangent`: the exponential propagator is linear, the
+implicit contact solve is differentiated by the implicit function theorem with the same
+Newton matrix), re-orthonormalised every few steps (Benettin et al., Meccanica 15, 1980). The
+exponents are those of the discrete map; they approach the flow's as the step shrinks.
+
+Why the tangent dynamics is well defined here. A Lyapunov exponent needs the derivative of the
+step along the orbit, i.e. a contact force that is differentiable in the state:
+
+* Friction: the Coulomb law's sign of the sliding speed is smoothed,
+  ``s(v) = v / sqrt(v^2 + v_r^2)`` with ``v_r = contact.friction_regularization`` (m/s): a
+  smooth function, so the friction force is differentiable in the velocity everywhere (with the
+  true sign function the derivative would not exist at stick). Its derivative is included
+  (:func:`rubrotor.core.contact.contact_force_jac_exact`), unlike the Newton solver's
+  quasi-Newton Jacobian.
+* Normal force: the Hertz law ``k eps^1.5 (1 + b eps')`` (Hunt-Crossley) is continuously
+  differentiable across contact onset: its derivative ``1.5 k eps^0.5 (...)`` tends to 0 as the
+  penetration ``eps -> 0``, the same value as out of contact, so the step map is C1 and its
+  Jacobian is continuous along an orbit that touches or leaves the stator. The linear law
+  ``k eps + c eps'`` is only Lipschitz (its derivative jumps by ``k`` at onset; with ``c > 0``
+  the force itself jumps): the step map is then piecewise smooth, its Jacobian exists except
+  on the grazing set (which an orbit crosses at isolated steps), and the exponents are those
+  of the piecewise derivative; with a force jump at onset the saltation of the flow is not in
+  the discrete map's derivative (use the Hertz law or ``c = 0`` for exponents).
+
+Units: exponents in 1/s (``exp(lambda t)`` growth); times ``2 pi / Omega`` they are the growth
+per revolution, which :func:`rubrotor.regimes.classify` compares with
+:data:`rubrotor.regimes.CHAOS_MARGIN_PER_REV` to label a motion chaotic.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rubrotor.errors import InputError
+
+__all__ = ["LyapunovResult", "lyapunov_exponents"]
+
+
+@dataclass(frozen=True)
+class LyapunovResult:
+    """Lyapunov exponents of one run.
+
+    Attributes
+    ----------
+    exponents : ndarray
+        The ``count`` largest exponents (1/s), in decreasing order.
+    per_revolution : ndarray
+        The same times the revolution period ``2 pi / Omega`` (dimensionless growth per rev).
+    averaging_time : float
+        Time over which the log growths were averaged (s).
+    step : float
+        Fixed step of the map (s).
+    status : str
+        ``"complete"`` or why it stopped (``"diverged"``, ``"contact solve failed"``,
+        ``"tangent vectors degenerate"``); exponents are NaN when not complete.
+    final_state : rubrotor.simulation.RotorState or None
+        The state at the end (None when not complete).
+    """
+
+    exponents: np.ndarray
+    per_revolution: np.ndarray
+    averaging_time: float
+    step: float
+    status: str
+    final_state: object = None
+
+
+_STATUS = {0: "complete", 1: "diverged", 2: "contact solve failed", 3: "tangent vectors degenerate"}
+
+
+def _setup(scenario, h: float):
+    """Modal system, step coefficients and start-independent parts of the tangent kernel."""
+    from rubrotor.simulation import _check_station, assemble, contact_parameters, phi_functions
+
+    sh, speed = scenario.shaft, float(scenario.speed)
+    L = sh.length
+    unb, contact, load = scenario.unbalance, scenario.contact, scenario.load
+    pos = lambda obj, name: _check_station(  # noqa: E731
+        f"{name}.position", obj.position if obj is not None and obj.position else L / 2, L
+    )
+    a_c, a_u, a_l = pos(contact, "contact"), pos(unb, "unbalance"), pos(load, "load")
+    sysm = assemble(sh, speed, scenario.damping)
+    lam = sysm.lam
+    beta_c = sysm.force_input(a_c)
+    fu0 = unb.magnitude * speed**2 * complex(math.cos(unb.phase), math.sin(unb.phase))
+    fl = complex(load.force_y, load.force_z) if load is not None else 0j
+    res = 1j * speed - lam
+    if np.min(np.abs(res) / np.abs(lam)) < 1e-9 and unb.magnitude > 0:
+        raise InputError("speed", speed, "a speed that is not exactly an undamped critical speed")
+    y_u = sysm.force_input(a_u) * fu0 / res
+    y_l = -sysm.force_input(a_l) * fl / lam
+    cdc = np.ascontiguousarray(sysm.displacement_row(a_c))
+    cvc = np.ascontiguousarray(sysm.velocity_row(a_c))
+    E = np.exp(lam * h)
+    p1, p2 = phi_functions(lam * h)
+    G0 = (h * p1 - h * p2) * beta_c
+    G1 = h * p2 * beta_c
+    part_c = complex(cdc @ y_u)
+    part = (part_c, complex(cdc @ y_l), 1j * speed * part_c)
+    cp = contact_parameters(sh, speed, contact)
+    return sysm, y_u, y_l, cdc, cvc, E, G0, G1, part, cp
+
+
+def lyapunov_exponents(
+    scenario,
+    *,
+    count: int = 1,
+    revolutions: int = 100,
+    transient_revolutions: int = 0,
+    steps_per_revolution: int = 512,
+    renorm_every: int = 8,
+    start=None,
+    seed: int = 0,
+) -> LyapunovResult:
+    """The ``count`` largest Lyapunov exponents of a scenario's motion (see module docstring).
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        Shaft, speed, unbalance, contact, load, damping.
+    count : int
+        Number of exponents, 1 .. ``2 ns`` (``ns`` complex modal state coordinates; the real
+        state dimension is ``2 ns``).
+    revolutions : int
+        Revolutions over which the log growths are averaged (>= 1).
+    transient_revolutions : int
+        Revolutions run first (state and tangent vectors) and not averaged (>= 0).
+    steps_per_revolution : int
+        Fixed steps per revolution (>= 16): the step is ``2 pi / (steps_per_revolution Omega)``.
+    renorm_every : int
+        Steps between re-orthonormalisations (>= 1).
+    start : rubrotor.simulation.RotorState, optional
+        Start state (default rest).
+    seed : int
+        Seed of the random initial tangent vectors.
+
+    Returns
+    -------
+    LyapunovResult
+    """
+    from rubrotor.core.tangent import expo_tangent, orthonormalise
+    from rubrotor.simulation import _start_coordinates, _start_force, _state_of
+
+    for name, v, lo in (
+        ("revolutions", revolutions, 1),
+        ("transient_revolutions", transient_revolutions, 0),
+        ("steps_per_revolution", steps_per_revolution, 16),
+        ("renorm_every", renorm_every, 1),
+        ("count", count, 1),
+    ):
+        if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
+            raise InputError(name, v, f"an integer >= {lo}")
+    speed = float(scenario.speed)
+    h = 2 * math.pi / (steps_per_revolution * speed)
+    sysm, y_u, y_l, cdc, cvc, E, G0, G1, part, cp = _setup(scenario, h)
+    ns = E.size
+    if count > 2 * ns:
+        raise InputError("count", count, f"at most {2 * ns} (the real state dimension)")
+    if start is None:
+        y = -(y_u + y_l)
+    else:
+        y = _start_coordinates(sysm, start, scenario.load) - (y_u + y_l)
+    y = np.ascontiguousarray(y, dtype=complex)
+    orows = (cdc[None, :], cvc[None, :], None, None, [part[0]], [part[1]], [part[2]])
+    cstate = np.array([_start_force(y, cp, orows), 1 + 0j, 0j])
+    istate = np.zeros(2, np.int64)
+    rng = np.random.default_rng(seed)
+    Q = rng.normal(size=(count, ns)) + 1j * rng.normal(size=(count, ns))
+    logs = np.zeros(count)
+    orthonormalise(Q, logs)
+    max_disp = 1000 * scenario.contact.clearance if scenario.contact else 0.1 * sysm.shaft.length
+    args = (E, G0, G1, complex(cdc @ G1), complex(cvc @ G1), cdc, cvc, cp, part, speed, h)
+    n_tr = transient_revolutions * steps_per_revolution
+    n_av = revolutions * steps_per_revolution
+    if n_tr:
+        expo_tangent(y, cstate, istate, n_tr, renorm_every, Q, logs, *args, max_disp)
+    logs[:] = 0.0
+    if istate[1] == 0:
+        expo_tangent(y, cstate, istate, n_av, renorm_every, Q, logs, *args, max_disp)
+    status = _STATUS[int(istate[1])]
+    t_av = n_av * h
+    if status != "complete":
+        nan = np.full(count, np.nan)
+        return LyapunovResult(nan, nan, t_av, h, status, None)
+    lam = np.sort(logs / t_av)[::-1]
+    final = _state_of(sysm, y + y_u * cstate[1] + y_l, speed * int(istate[0]) * h)
+    return LyapunovResult(lam, lam * 2 * math.pi / speed, t_av, h, status, final)
