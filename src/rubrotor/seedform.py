@@ -149,6 +149,21 @@ class SeedModalSystem:
     wavenumbers: np.ndarray
     cond: float = field(default=1.0)
 
+    @property
+    def q_index(self) -> np.ndarray:
+        """Slots of ``P`` and ``P''/w0^2`` of every mode in ``z``.
+
+        With :attr:`qd_index` (``P'/w0`` and ``P'''/w0^3``) they carry the whole of ``z`` in a
+        :class:`~rubrotor.simulation.RotorState`, so runs of the seed form can be continued.
+        """
+        n = self.V.shape[0]
+        return np.sort(np.concatenate([np.arange(0, n, 4), np.arange(2, n, 4)]))
+
+    @property
+    def qd_index(self) -> np.ndarray:
+        """Slots of ``P'/w0`` and ``P'''/w0^3`` of every mode in ``z`` (see :attr:`q_index`)."""
+        return self.q_index + 1
+
     def _row(self, position: float, slot: int, factor) -> np.ndarray:
         r = np.zeros(self.V.shape[0], complex)
         for i, k in enumerate(self.wavenumbers):
