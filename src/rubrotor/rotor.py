@@ -11,8 +11,8 @@ Assembly
 --------
 Nodes sit at every section boundary, disk, bearing and extra station (probes, contacts,
 forces); each section is then cut into elements no longer than its target length (its
-``elements`` count, else ``max_element_length``, else the default ``length / 30`` of the whole
-rotor). Shaft elements are :func:`rubrotor.elements.beam_element`; a disk adds
+``elements`` count, else ``max_element_length``, else the default of
+:meth:`Rotor.default_element_length`). Shaft elements are :func:`rubrotor.elements.beam_element`; a disk adds
 ``diag(m, m, Id, Id)`` to the mass and ``Ip [[0, 1], [-1, 0]]`` to the gyroscopic matrix on
 ``[psi_v, psi_w]`` of its node; a bearing becomes a :class:`rubrotor.linear.Support` on the
 deflections of its node; a ``pinned`` bearing fixes them (exact constraint).
@@ -42,13 +42,16 @@ __all__ = [
     "Rotor",
     "BEARING_KINDS",
     "COEFFICIENTS",
-    "DEFAULT_ELEMENTS",
+    "DEFAULT_TOLERANCE",
+    "DEFAULT_WAVENUMBER",
 ]
 
 BEARING_KINDS = ("bearing", "pinned")
 COEFFICIENTS = ("kyy", "kyz", "kzy", "kzz", "cyy", "cyz", "czy", "czz")
-DEFAULT_ELEMENTS = 30
-"""Default mesh: elements no longer than the rotor length over this number (see docs)."""
+DEFAULT_TOLERANCE = 1e-4
+"""Relative frequency error the default mesh aims at for the first five frequencies."""
+DEFAULT_WAVENUMBER = 11.0
+"""``k L`` of the highest bending wave the default mesh resolves (third free-free mode)."""
 
 _TOL = 1e-9  # m: two stations closer than this are one node
 
@@ -166,8 +169,8 @@ class Section:
         if not isinstance(self.material, Material):
             raise InputError("section.material", self.material, "a Material")
         n = self.elements
-        if n is not None and (isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 1000):
-            raise InputError("section.elements", n, "an integer in 1..1000")
+        if n is not None and (isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 10000):
+            raise InputError("section.elements", n, "an integer in 1..10000")
 
 
 @dataclass(frozen=True)
@@ -274,15 +277,21 @@ class Bearing:
     def __post_init__(self):
         _number("bearing.position", self.position, "m")
         if self.kind not in BEARING_KINDS:
-            raise InputError("bearing.kind", self.kind, " or ".join(f'"{k}"' for k in BEARING_KINDS))
+            raise InputError(
+                "bearing.kind", self.kind, " or ".join(f'"{k}"' for k in BEARING_KINDS)
+            )
         speeds = self._speeds()
         table = {c: self._column(c, speeds) for c in COEFFICIENTS}
         if self.kind == "pinned":
             for c, col in table.items():
                 if np.any(col != 0):
                     raise InputError(f"bearing.{c}", getattr(self, c), 'none with kind = "pinned"')
-        k = np.stack([[table["kyy"], table["kyz"]], [table["kzy"], table["kzz"]]]).transpose(2, 0, 1)
-        c = np.stack([[table["cyy"], table["cyz"]], [table["czy"], table["czz"]]]).transpose(2, 0, 1)
+        k = np.stack([[table["kyy"], table["kyz"]], [table["kzy"], table["kzz"]]]).transpose(
+            2, 0, 1
+        )
+        c = np.stack([[table["cyy"], table["cyz"]], [table["czy"], table["czz"]]]).transpose(
+            2, 0, 1
+        )
         object.__setattr__(self, "_table", (speeds, k, c))
 
     def _speeds(self) -> np.ndarray | None:
@@ -355,7 +364,7 @@ class Rotor:
         See :func:`rubrotor.model.shear_coefficient_value` (per section: its bore ratio).
     max_element_length : float, optional
         Longest element (m) for sections without ``elements``; default
-        ``L / DEFAULT_ELEMENTS``.
+        :meth:`default_element_length` of each section.
     stations : sequence of float
         Extra node positions (m), e.g. probes.
 
@@ -460,11 +469,53 @@ class Rotor:
             raise InputError(
                 "bearing",
                 len(self.bearings),
-                "supports at two or more stations that hold the rotor (kind = \"pinned\", or "
+                'supports at two or more stations that hold the rotor (kind = "pinned", or '
                 "kyy > 0 and kzz > 0); a rotor without supports has rigid-body modes",
             )
 
     # ---- mesh ------------------------------------------------------------------------------
+    def default_element_length(self, index: int) -> float:
+        """Default element length (m) of section ``index``, from a measured error model.
+
+        The relative error of a bending frequency of wavenumber ``k`` on elements of length
+        ``h`` is about ``(k h)^4 / 1440 + (k h)^2 s / 24`` with ``s = b / (1 + b)`` the shear
+        share of the strain energy, ``b = (k r0)^2 delta`` (``r0`` radius of gyration,
+        ``delta = E / (kappa G)``; second term for Timoshenko elements only, which converge as
+        ``h^2`` once ``h`` is below the diameter; both constants fitted on pinned uniform
+        shafts, see docs/model.md). The mesh keeps it below
+        :data:`DEFAULT_TOLERANCE` for the bending wave of frequency ``c (11/L)^2``, where
+        ``c = r0 sqrt(E/rho)`` is the length-weighted mean over the sections; in section ``i``
+        that wave has ``k = sqrt(omega / c_i)``.
+
+        Parameters
+        ----------
+        index : int
+            Section index (0 = leftmost).
+
+        Returns
+        -------
+        float
+            Element length (m).
+        """
+
+        def wave_constant(s: Section) -> float:
+            r0 = math.sqrt(s.diameter**2 + s.bore_diameter**2) / 4
+            return r0 * math.sqrt(s.material.youngs_modulus / s.material.density)
+
+        s = self.sections[index]
+        mean_c = sum(wave_constant(t) * t.length for t in self.sections) / self.length
+        omega = mean_c * (DEFAULT_WAVENUMBER / self.length) ** 2
+        k = math.sqrt(omega / wave_constant(s))
+        a = 0.0
+        if self.theory == "timoshenko":
+            r0 = math.sqrt(s.diameter**2 + s.bore_diameter**2) / 4
+            delta = s.material.youngs_modulus / (self._kappa(index) * s.material.G)
+            b = (k * r0) ** 2 * delta
+            a = b / (1 + b) / 24
+        # x = (k h)^2 solves x^2 / 1440 + a x = tol
+        x = 720 * (-a + math.sqrt(a * a + DEFAULT_TOLERANCE / 360))
+        return math.sqrt(x) / k
+
     def nodes(self, stations: Sequence[float] = ()) -> np.ndarray:
         """Node positions (m): section boundaries, disks, bearings, stations, then the mesh.
 
@@ -487,10 +538,12 @@ class Rotor:
         points = np.clip(np.sort(np.asarray(points, float)), 0.0, self.length)
         keep = np.concatenate([[True], np.diff(points) > _TOL])
         points = points[keep]
-        h_default = self.max_element_length or self.length / DEFAULT_ELEMENTS
         out = [0.0]
-        for s, a, b in zip(self.sections, bounds[:-1], bounds[1:], strict=True):
-            h = s.length / s.elements if s.elements else h_default
+        for i, (s, a, b) in enumerate(zip(self.sections, bounds[:-1], bounds[1:], strict=True)):
+            if s.elements:
+                h = s.length / s.elements
+            else:
+                h = self.max_element_length or self.default_element_length(i)
             inner = points[(points > a + _TOL) & (points < b - _TOL)]
             for x0, x1 in zip([a, *inner], [*inner, b], strict=True):
                 n = max(1, math.ceil((x1 - x0) / h - 1e-9))
