@@ -375,7 +375,7 @@ class Rotor:
     ...               bearings=[Bearing(0.0, kind="pinned"), Bearing(1.0, kind="pinned")])
     >>> system = rotor.linear_system()
     >>> len(rotor.nodes()), system.n_dof
-    (31, 120)
+    (53, 208)
     """
 
     sections: Sequence[Section]
