@@ -58,6 +58,13 @@ from rubrotor.forces import (
 from rubrotor.integrator import Integrator
 from rubrotor.modal import first_forward_critical
 from rubrotor.model import SHEAR_COEFFICIENTS, THEORIES, Dimensionless, Shaft
+from rubrotor.rotor import Rotor
+from rubrotor.scenario_rotor import (
+    ROTOR_TABLES,
+    build_rotor,
+    normalise_rotor_tables,
+    rotor_to_dict,
+)
 
 __all__ = [
     "Scenario",
@@ -271,9 +278,22 @@ def _normalise(mapping: Mapping) -> dict:
     if not isinstance(mapping, Mapping):
         raise _err("scenario", mapping, "a mapping of sections")
     out: dict = {}
+    general = any(t in mapping for t in ROTOR_TABLES)
+    if general:
+        if "shaft" in mapping:
+            raise _err(
+                "shaft / section",
+                "both",
+                "either [shaft] (the uniform continuous shaft) or [[section]] tables (a general "
+                "rotor), not both",
+            )
+        out.update(normalise_rotor_tables(mapping, _check_kind))
     for section, body in mapping.items():
+        if section in ROTOR_TABLES:
+            continue
         if section not in SCHEMA:
-            raise _err(str(section), "...", "one of the sections " + ", ".join(SCHEMA))
+            known = ", ".join([*SCHEMA, *ROTOR_TABLES])
+            raise _err(str(section), "...", "one of the sections " + known)
         if not isinstance(body, Mapping):
             raise _err(section, body, "a table of keys")
         allowed = SCHEMA[section]
@@ -285,11 +305,12 @@ def _normalise(mapping: Mapping) -> dict:
             sec[key] = _check_kind(name, value, allowed[key])
         out[section] = sec
     for section in _REQUIRED_SECTIONS:
-        if section not in out:
-            raise _err(section, None, f"a [{section}] section")
+        if section not in out and not (general and section == "shaft"):
+            what = "[shaft] section (or [[section]] tables)" if section == "shaft" else section
+            raise _err(section, None, f"a [{what}] section" if section != "shaft" else f"a {what}")
     for section, keys in _REQUIRED.items():
         for key in keys:
-            if key not in out.get(section, {}):
+            if section in out and key not in out[section]:
                 raise _err(f"{section}.{key}", None, "a value (this key is required)")
     for section, groups in ALTERNATIVES.items():
         if section not in out:
@@ -308,8 +329,17 @@ def _normalise(mapping: Mapping) -> dict:
     return out
 
 
-def _position(sec: dict, section: str, length: float) -> float:
-    """Resolve ``position`` / ``position_nd`` (default midspan) to m, checked in (0, L)."""
+def _position(sec: dict, section: str, span: Shaft | Rotor) -> float:
+    """Resolve ``position`` / ``position_nd`` to m: in (0, L) on a shaft (default midspan), in
+    [0, L] on a general rotor (required there)."""
+    length = span.length
+    if isinstance(span, Rotor):
+        if "position" not in sec:
+            raise _err(f"{section}.position", None, "a value (m) on a general rotor")
+        pos = float(sec["position"])
+        if not 0 <= pos <= length:
+            raise _err(f"{section}.position", sec["position"], f"in [0, {length:g}] m")
+        return pos
     if "position" in sec:
         name, value, pos = f"{section}.position", sec["position"], float(sec["position"])
     elif "position_nd" in sec:
@@ -420,7 +450,7 @@ def _build_unbalance(sec: dict, shaft: Shaft, speed: float) -> Unbalance:
         me = Dimensionless(shaft, speed).unbalance_si(float(sec["magnitude_nd"]))
     return Unbalance(
         magnitude=me,
-        position=_position(sec, "unbalance", shaft.length),
+        position=_position(sec, "unbalance", shaft),
         phase=math.radians(sec.get("phase_deg", 0.0)),
     )
 
@@ -429,7 +459,7 @@ def _build_load(sec: dict, shaft: Shaft) -> RadialLoad:
     return RadialLoad(
         force_y=sec.get("force_y", 0.0),
         force_z=sec.get("force_z", 0.0),
-        position=_position(sec, "load", shaft.length),
+        position=_position(sec, "load", shaft),
     )
 
 
@@ -484,7 +514,7 @@ def _build_contact(sec: dict, shaft: Shaft, speed: float) -> Contact:
         stiffness=stiffness,
         damping=damping,
         friction=sec.get("friction", 0.0),
-        position=_position(sec, "contact", shaft.length),
+        position=_position(sec, "contact", shaft),
         law=law,
         friction_sign=_choice(
             "contact.friction_sign", sec.get("friction_sign", "physical"), FRICTION_SIGNS
@@ -497,8 +527,9 @@ def _build_contact(sec: dict, shaft: Shaft, speed: float) -> Contact:
 def _build_simulation(sec: dict, shaft: Shaft, speed: float) -> Integrator:
     kwargs = dict(sec)
     if "probes" in kwargs:
+        lo = -1e-12 if isinstance(shaft, Rotor) else 0.0
         for p in kwargs["probes"]:
-            if not 0 < p < shaft.length:
+            if not lo < p < shaft.length - lo:
                 raise _err(
                     "simulation.probes", p, f"stations inside the shaft, in (0, {shaft.length:g}) m"
                 )
@@ -511,19 +542,23 @@ def _build_simulation(sec: dict, shaft: Shaft, speed: float) -> Integrator:
 
 def _build(spec: dict) -> dict:
     """Build every object of a normalised spec; InputErrors become ScenarioErrors."""
+    rotor = build_rotor(spec) if "section" in spec else None
+    if rotor is not None:
+        _check_general(spec)
     try:
-        shaft = _build_shaft(spec["shaft"])
-        speed, speed_spec = _resolve_speed(spec["speed"], shaft)
+        shaft = _build_shaft(spec["shaft"]) if rotor is None else None
+        span = shaft if rotor is None else rotor
+        speed, speed_spec = _resolve_speed(spec["speed"], span)
         sec = spec.get("unbalance")
-        unbalance = None if sec is None else _build_unbalance(sec, shaft, speed)
+        unbalance = None if sec is None else _build_unbalance(sec, span, speed)
         sec = spec.get("load")
-        load = None if sec is None else _build_load(sec, shaft)
+        load = None if sec is None else _build_load(sec, span)
         sec = spec.get("contact")
-        contact = None if sec is None else _build_contact(sec, shaft, speed)
+        contact = None if sec is None else _build_contact(sec, span, speed)
         sec = spec.get("damping")
         damping = ModalDamping() if sec is None else ModalDamping(_ratios(sec))
         sec = spec.get("simulation")
-        simulation = None if sec is None else _build_simulation(sec, shaft, speed)
+        simulation = None if sec is None else _build_simulation(sec, span, speed)
     except ScenarioError:
         raise
     except InputError as exc:
@@ -532,6 +567,7 @@ def _build(spec: dict) -> dict:
     return dict(
         name=meta.get("name", ""),
         shaft=shaft,
+        rotor=rotor,
         speed=speed,
         speed_spec=speed_spec,
         unbalance=unbalance,
@@ -540,6 +576,37 @@ def _build(spec: dict) -> dict:
         damping=damping,
         simulation=simulation,
     )
+
+
+_GENERAL_SPEEDS = ("rad_per_s", "rpm", "hz")
+
+
+def _check_general(spec: dict) -> None:
+    """Keys that need the uniform shaft's scales are not allowed with a general rotor."""
+    ((key, value),) = spec["speed"].items()
+    if key not in _GENERAL_SPEEDS:
+        raise _err(
+            f"speed.{key}",
+            value,
+            "speed.rad_per_s, speed.rpm or speed.hz for a general rotor (critical multiples "
+            "and the seed's dimensionless speed are defined for a uniform [shaft] only)",
+        )
+    for section in ("unbalance", "load", "contact"):
+        for k, v in spec.get(section, {}).items():
+            if k.endswith("_nd"):
+                raise _err(
+                    f"{section}.{k}",
+                    v,
+                    f"{section}.{k[:-3]} in SI units for a general rotor (the seed's "
+                    "dimensionless scales belong to a uniform [shaft])",
+                )
+    if "damping" in spec:
+        raise _err(
+            "damping",
+            spec["damping"],
+            "no [damping] section for a general rotor (modal damping ratios belong to the "
+            "continuous [shaft]; give bearing damping cyy ... czz)",
+        )
 
 
 def _ratios(sec: dict):
@@ -562,8 +629,8 @@ class Scenario:
     ----------
     name : str
         ``meta.name`` (or the file stem, for files without one).
-    shaft : Shaft
-        The rotor.
+    shaft : Shaft or None
+        The uniform continuous rotor (``[shaft]``), or None for a general rotor.
     speed : float
         Spin speed ``Omega`` (rad/s), resolved from ``speed_spec``.
     speed_spec : tuple
@@ -578,12 +645,14 @@ class Scenario:
         Modal damping ratios (zero when the section is absent).
     simulation : Integrator or None
         Integrator settings.
+    rotor : Rotor or None
+        The general finite-element rotor (``[[section]]`` tables), or None for a ``[shaft]``.
     source : str
         TOML text the scenario was read from (provenance); not compared by ``==``.
     """
 
     name: str
-    shaft: Shaft
+    shaft: Shaft | None
     speed: float
     speed_spec: tuple
     unbalance: Unbalance | None = None
@@ -591,6 +660,7 @@ class Scenario:
     contact: Contact | None = None
     damping: ModalDamping = field(default_factory=ModalDamping)
     simulation: Integrator | None = None
+    rotor: Rotor | None = None
     source: str = field(default="", compare=False, repr=False)
     _spec: dict | None = field(default=None, compare=False, repr=False)
 
@@ -647,6 +717,32 @@ class Scenario:
             sec[key] = value
         return scenario_from_dict(spec)
 
+    @property
+    def stations(self) -> tuple[float, ...]:
+        """Axial positions (m) of the unbalance, load, contact and probes, in that order."""
+        parts = (self.unbalance, self.load, self.contact)
+        out = [p.position for p in parts if p is not None]
+        probes = self.simulation.probes if self.simulation is not None else ()
+        return tuple(float(x) for x in out + list(probes))
+
+    def require_shaft(self, what: str) -> Shaft:
+        """The uniform shaft, or a ScenarioError saying ``what`` needs one.
+
+        Parameters
+        ----------
+        what : str
+            The verb that needs the continuous shaft, e.g. ``"time simulation"``.
+        """
+        if self.shaft is None:
+            raise ScenarioError(
+                "section",
+                "[[section]] tables",
+                f"a [shaft] scenario: {what} of a general rotor is not available yet "
+                "(its linear model: Rotor.linear_system(); modes and Campbell diagrams of "
+                "general rotors come from the linear analyses)",
+            )
+        return self.shaft
+
     def dimensionless(self) -> dict:
         """The seed's dimensionless groups of this scenario (seed eqs. 3-5, 10-16).
 
@@ -661,7 +757,7 @@ class Scenario:
             and ``"unbalance_force"`` ``m e Omega^2 L^2/(E I)``. With a load: ``"a_load"``,
             ``"load_y"``, ``"load_z"`` ``F L^2/(E I)``. With a step: ``"dtau"`` ``Omega dt``.
         """
-        s = self.shaft
+        s = self.require_shaft("the seed's dimensionless form")
         nd = Dimensionless(s, self.speed)
         out = {
             "r": s.slenderness,
@@ -739,6 +835,9 @@ def scenario_to_dict(scenario: Scenario, resolved: bool = False) -> dict:
 
 
 def _resolved_dict(sc: Scenario) -> dict:
+    if sc.rotor is not None:
+        out = {**rotor_to_dict(sc.rotor), "speed": {"rad_per_s": sc.speed}}
+        return _resolved_parts(sc, out)
     s = sc.shaft
     shaft = {
         "length": s.length,
@@ -756,6 +855,13 @@ def _resolved_dict(sc: Scenario) -> dict:
     else:
         shaft["poisson_ratio"] = s.poisson_ratio
     out: dict = {"shaft": shaft, "speed": {"rad_per_s": sc.speed}}
+    out = _resolved_parts(sc, out)
+    out["damping"] = {"ratio": list(sc.damping.ratios)}
+    return out
+
+
+def _resolved_parts(sc: Scenario, out: dict) -> dict:
+    """Add meta, unbalance, load, contact and simulation (resolved to SI) to ``out``."""
     if sc.name:
         out["meta"] = {"name": sc.name}
     if sc.unbalance is not None:
@@ -771,7 +877,6 @@ def _resolved_dict(sc: Scenario) -> dict:
     if sc.contact is not None:
         c = dataclasses.asdict(sc.contact)
         out["contact"] = {k: v for k, v in c.items() if v is not None}
-    out["damping"] = {"ratio": list(sc.damping.ratios)}
     if sc.simulation is not None:
         sim = dataclasses.asdict(sc.simulation)
         sim["probes"] = list(sim["probes"])
