@@ -459,3 +459,28 @@ def test_parts_reject(make, field):
     with pytest.raises(InputError) as err:
         make()
     assert err.value.field == field
+
+
+def test_cross_coupled_bearings_instability_onset():
+    """Jeffcott-like rotor: a light, nearly rigid shaft (shaft stiffness 1e4 x the bearings')
+    with a centred disk on two equal bearings with direct stiffness ``k/2``, damping ``c/2``
+    and cross-coupling ``kyz = -kzy = q/2``. The translational mode ``m s^2 + c s + k -+ i q``
+    loses stability at ``q = c sqrt(k / m)`` (closed form); the FE model's onset (root of the
+    largest real part, brentq) agrees to 1e-3."""
+    light = Material("light", STEEL.youngs_modulus, STEEL.density * 1e-9, poisson_ratio=0.3)
+    m, k, c = 10.0, 1e6, 200.0
+
+    def growth(q):
+        b = dict(kyy=k / 2, kzz=k / 2, kyz=q / 2, kzy=-q / 2, cyy=c / 2, czz=c / 2)
+        rotor = Rotor(
+            [Section(0.4, 0.2, light, elements=4)],
+            disks=[Disk(0.2, m, 0.0, 0.04)],  # conical mode (1000 rad/s) onsets later
+            bearings=[Bearing(0.0, **b), Bearing(0.4, **b)],
+        )
+        a, _ = rotor.linear_system().matrices(100.0).first_order()
+        return np.max(scipy.linalg.eigvals(a).real)
+
+    onset = c * math.sqrt(k / m)
+    assert growth(0.9 * onset) < 0 < growth(1.1 * onset)
+    q = scipy.optimize.brentq(growth, 0.9 * onset, 1.1 * onset, xtol=1e-6 * onset)
+    assert q == pytest.approx(onset, rel=1e-3)

@@ -30,6 +30,15 @@ converted exactly with :class:`rubrotor.model.Dimensionless`)::
 
 Positions default to midspan and are stored resolved, in m. Keys that need the speed
 (``magnitude_nd``, ``damping_nd``) are converted with the resolved speed.
+
+General rotor: instead of ``[shaft]`` (never with it), the tables ``[materials.NAME]``,
+``[[section]]``, ``[[disk]]``, ``[[bearing]]`` and ``[rotor]`` of
+:mod:`rubrotor.scenario_rotor` build :attr:`Scenario.rotor` (a :class:`rubrotor.rotor.Rotor`).
+Then ``[speed]`` takes ``rad_per_s``, ``rpm`` or ``hz`` only (``critical_multiple`` and
+``dimensionless`` are defined for the uniform shaft), positions of ``[unbalance]``, ``[load]``
+and ``[contact]`` are required and lie in ``[0, L]``, ``_nd`` keys and ``[damping]`` are
+rejected, and verbs that need the continuous shaft (time simulation, sweeps, the convergence
+study) raise :class:`ScenarioError` on field ``"section"`` (:meth:`Scenario.require_shaft`).
 """
 
 from __future__ import annotations
