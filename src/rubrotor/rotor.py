@@ -297,7 +297,7 @@ class Bearing:
     def _speeds(self) -> np.ndarray | None:
         if self.speeds is None:
             return None
-        if isinstance(self.speeds, str | bytes) or not isinstance(self.speeds, Sequence):
+        if isinstance(self.speeds, str | bytes) or np.ndim(self.speeds) != 1:
             raise InputError("bearing.speeds", self.speeds, "a list of speeds (rad/s)")
         s = np.array([_number("bearing.speeds", v, "rad/s") for v in self.speeds])
         if len(s) < 1 or np.any(s < 0) or np.any(np.diff(s) <= 0):
@@ -310,7 +310,7 @@ class Bearing:
         value = getattr(self, name)
         unit = "N/m" if name[0] == "k" else "N s/m"
         n = 1 if speeds is None else len(speeds)
-        if isinstance(value, Sequence) and not isinstance(value, str):
+        if not isinstance(value, str) and np.ndim(value) == 1:
             if speeds is None or len(value) != n:
                 raise InputError(
                     f"bearing.{name}", value, f"a number, or a list of {n} values with speeds"
@@ -392,9 +392,10 @@ class Rotor:
             object.__setattr__(self, name, tuple(getattr(self, name)))
         if not self.sections:
             raise InputError("section", (), "at least one shaft section")
-        for i, s in enumerate(self.sections):
-            if not isinstance(s, Section):
-                raise InputError(f"section[{i + 1}]", s, "a Section")
+        for name, kind in (("sections", Section), ("disks", Disk), ("bearings", Bearing)):
+            for i, item in enumerate(getattr(self, name)):
+                if not isinstance(item, kind):
+                    raise InputError(f"{name[:-1]}[{i + 1}]", item, f"a {kind.__name__}")
         if self.theory not in THEORIES:
             raise InputError("rotor.theory", self.theory, " or ".join(f'"{t}"' for t in THEORIES))
         if not isinstance(self.gyroscopic, bool):
