@@ -282,6 +282,11 @@ class Bearing:
             )
         speeds = self._speeds()
         table = {c: self._column(c, speeds) for c in COEFFICIENTS}
+        for c in COEFFICIENTS:  # store tables as tuples: comparable and hashable
+            if np.ndim(getattr(self, c)) == 1:
+                object.__setattr__(self, c, tuple(float(v) for v in table[c]))
+        if speeds is not None:
+            object.__setattr__(self, "speeds", tuple(float(v) for v in speeds))
         if self.kind == "pinned":
             for c, col in table.items():
                 if np.any(col != 0):
