@@ -103,6 +103,8 @@ def test_round_trip_and_with_changes():
     assert again.speed == pytest.approx(sc.speed) and again.unbalance == sc.unbalance
     faster = sc.with_changes(**{"speed.rad_per_s": 900.0})
     assert faster.speed == 900.0 and faster.rotor == sc.rotor
+    eb = sc.with_changes(**{"rotor.theory": "euler-bernoulli"})
+    assert eb.rotor.theory == "euler-bernoulli" and eb.rotor.sections == sc.rotor.sections
 
 
 def _edit(path: str, value):

@@ -69,6 +69,7 @@ from rubrotor.modal import first_forward_critical
 from rubrotor.model import SHEAR_COEFFICIENTS, THEORIES, Dimensionless, Shaft
 from rubrotor.rotor import Rotor
 from rubrotor.scenario_rotor import (
+    ROTOR_SCHEMA,
     ROTOR_TABLES,
     build_rotor,
     normalise_rotor_tables,
@@ -699,20 +700,21 @@ class Scenario:
         ('hz', 10.0)
         """
         spec = scenario_to_dict(self)
+        schema = {**SCHEMA, "rotor": ROTOR_SCHEMA["rotor"]} if self.rotor is not None else SCHEMA
         for dotted_key, value in dotted.items():
             section, _, key = dotted_key.partition(".")
-            if section not in SCHEMA:
-                raise _err(dotted_key, value, "a key 'section.key' of " + ", ".join(SCHEMA))
+            if section not in schema:
+                raise _err(dotted_key, value, "a key 'section.key' of " + ", ".join(schema))
             if not key:
                 if value is not None:
                     raise _err(dotted_key, value, "None (to remove the section) or 'section.key'")
                 spec.pop(section, None)
                 continue
-            if key not in SCHEMA[section]:
+            if key not in schema[section]:
                 raise _err(
                     dotted_key,
                     value,
-                    f"one of the keys {', '.join(SCHEMA[section])} of [{section}]",
+                    f"one of the keys {', '.join(schema[section])} of [{section}]",
                 )
             sec = spec.setdefault(section, {})
             if value is None:
