@@ -2,7 +2,8 @@
 
 The public surface, each name defined once in its own module:
 
-* model: :class:`Shaft`, :class:`Dimensionless`; forces: :class:`Unbalance`, :class:`Contact`,
+* model: :class:`Shaft`, :class:`Dimensionless`; general rotor: :class:`Rotor`, :class:`Section`,
+  :class:`Disk`, :class:`Bearing`, :class:`Material` (finite elements); forces: :class:`Unbalance`, :class:`Contact`,
   :class:`RadialLoad`, :class:`ModalDamping`; integration settings: :class:`Integrator`;
   scenarios: :func:`load_scenario`, :class:`Scenario`;
 * modal analysis: :func:`modes`, :func:`critical_speeds`, :func:`campbell`;
@@ -28,12 +29,18 @@ from rubrotor.lyapunov import lyapunov_exponents  # noqa: E402
 from rubrotor.modal import campbell  # noqa: E402
 from rubrotor.model import Dimensionless, Shaft  # noqa: E402
 from rubrotor.results import load_dataset, save_dataset  # noqa: E402
+from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section  # noqa: E402
 from rubrotor.scenario import Scenario, load_scenario  # noqa: E402
 from rubrotor.simulation import RotorState, converge, simulate  # noqa: E402
 
 __all__ = [
     "__version__",
+    "Bearing",
     "Contact",
+    "Disk",
+    "Material",
+    "Rotor",
+    "Section",
     "Dimensionless",
     "InputError",
     "Integrator",

@@ -15,7 +15,7 @@ __all__ = ["modes", "critical_speeds"]
 
 def _shaft_and_speed(obj) -> tuple[Shaft, float]:
     if isinstance(obj, Scenario):
-        return obj.shaft, obj.speed
+        return obj.require_shaft("this analysis"), obj.speed
     if isinstance(obj, Shaft):
         return obj, 0.0
     raise InputError("scenario_or_shaft", obj, "a Scenario or a Shaft")

@@ -216,10 +216,11 @@ def _campbell_run(args: argparse.Namespace) -> int:
     if fmt not in ("png", "pdf", "svg"):
         raise InputError("--out", args.out, "a file name ending in .png, .pdf or .svg")
     scenario = load_scenario(args.scenario)
-    fig = campbell_figure(scenario.shaft, speeds, operating_speed=scenario.speed)
+    shaft = scenario.require_shaft("the Campbell diagram")
+    fig = campbell_figure(shaft, speeds, operating_speed=scenario.speed)
     _save_atomic(fig, out)
     if args.json:
-        data = campbell(scenario.shaft, speeds)
+        data = campbell(shaft, speeds)
         curves = []
         for i, n in enumerate(data["n"]):
             for j, (branch, whirl) in enumerate(data["labels"]):
@@ -286,6 +287,7 @@ def _run_run(args: argparse.Namespace) -> int:
     from rubrotor.simulation import simulate
 
     scenario = load_scenario(args.scenario)
+    scenario.require_shaft("time simulation")
     integ = scenario.simulation
     if integ is None:
         raise InputError("simulation", None, "a [simulation] section in the scenario")

@@ -31,6 +31,15 @@ converted exactly with :class:`rubrotor.model.Dimensionless`)::
 
 Positions default to midspan and are stored resolved, in m. Keys that need the speed
 (``magnitude_nd``, ``damping_nd``) are converted with the resolved speed.
+
+General rotor: instead of ``[shaft]`` (never with it), the tables ``[materials.NAME]``,
+``[[section]]``, ``[[disk]]``, ``[[bearing]]`` and ``[rotor]`` of
+:mod:`rubrotor.scenario_rotor` build :attr:`Scenario.rotor` (a :class:`rubrotor.rotor.Rotor`).
+Then ``[speed]`` takes ``rad_per_s``, ``rpm`` or ``hz`` only (``critical_multiple`` and
+``dimensionless`` are defined for the uniform shaft), positions of ``[unbalance]``, ``[load]``
+and ``[contact]`` are required and lie in ``[0, L]``, ``_nd`` keys and ``[damping]`` are
+rejected, and verbs that need the continuous shaft (time simulation, sweeps, the convergence
+study) raise :class:`ScenarioError` on field ``"section"`` (:meth:`Scenario.require_shaft`).
 """
 
 from __future__ import annotations
@@ -59,6 +68,14 @@ from rubrotor.forces import (
 from rubrotor.integrator import Integrator
 from rubrotor.modal import first_forward_critical
 from rubrotor.model import FORMULATIONS, SHEAR_COEFFICIENTS, THEORIES, Dimensionless, Shaft
+from rubrotor.rotor import Rotor
+from rubrotor.scenario_rotor import (
+    ROTOR_SCHEMA,
+    ROTOR_TABLES,
+    build_rotor,
+    normalise_rotor_tables,
+    rotor_to_dict,
+)
 
 __all__ = [
     "Scenario",
@@ -274,9 +291,22 @@ def _normalise(mapping: Mapping) -> dict:
     if not isinstance(mapping, Mapping):
         raise _err("scenario", mapping, "a mapping of sections")
     out: dict = {}
+    general = any(t in mapping for t in ROTOR_TABLES)
+    if general:
+        if "shaft" in mapping:
+            raise _err(
+                "shaft / section",
+                "both",
+                "either [shaft] (the uniform continuous shaft) or [[section]] tables (a general "
+                "rotor), not both",
+            )
+        out.update(normalise_rotor_tables(mapping, _check_kind))
     for section, body in mapping.items():
+        if section in ROTOR_TABLES:
+            continue
         if section not in SCHEMA:
-            raise _err(str(section), "...", "one of the sections " + ", ".join(SCHEMA))
+            known = ", ".join([*SCHEMA, *ROTOR_TABLES])
+            raise _err(str(section), "...", "one of the sections " + known)
         if not isinstance(body, Mapping):
             raise _err(section, body, "a table of keys")
         allowed = SCHEMA[section]
@@ -288,11 +318,12 @@ def _normalise(mapping: Mapping) -> dict:
             sec[key] = _check_kind(name, value, allowed[key])
         out[section] = sec
     for section in _REQUIRED_SECTIONS:
-        if section not in out:
-            raise _err(section, None, f"a [{section}] section")
+        if section not in out and not (general and section == "shaft"):
+            what = "[shaft] section (or [[section]] tables)" if section == "shaft" else section
+            raise _err(section, None, f"a [{what}] section" if section != "shaft" else f"a {what}")
     for section, keys in _REQUIRED.items():
         for key in keys:
-            if key not in out.get(section, {}):
+            if section in out and key not in out[section]:
                 raise _err(f"{section}.{key}", None, "a value (this key is required)")
     for section, groups in ALTERNATIVES.items():
         if section not in out:
@@ -311,8 +342,17 @@ def _normalise(mapping: Mapping) -> dict:
     return out
 
 
-def _position(sec: dict, section: str, length: float) -> float:
-    """Resolve ``position`` / ``position_nd`` (default midspan) to m, checked in (0, L)."""
+def _position(sec: dict, section: str, span: Shaft | Rotor) -> float:
+    """Resolve ``position`` / ``position_nd`` to m: in (0, L) on a shaft (default midspan), in
+    [0, L] on a general rotor (required there)."""
+    length = span.length
+    if isinstance(span, Rotor):
+        if "position" not in sec:
+            raise _err(f"{section}.position", None, "a value (m) on a general rotor")
+        pos = float(sec["position"])
+        if not 0 <= pos <= length:
+            raise _err(f"{section}.position", sec["position"], f"in [0, {length:g}] m")
+        return pos
     if "position" in sec:
         name, value, pos = f"{section}.position", sec["position"], float(sec["position"])
     elif "position_nd" in sec:
@@ -433,7 +473,7 @@ def _build_unbalance(sec: dict, shaft: Shaft, speed: float) -> Unbalance:
         me = Dimensionless(shaft, speed).unbalance_si(float(sec["magnitude_nd"]))
     return Unbalance(
         magnitude=me,
-        position=_position(sec, "unbalance", shaft.length),
+        position=_position(sec, "unbalance", shaft),
         phase=math.radians(sec.get("phase_deg", 0.0)),
     )
 
@@ -442,7 +482,7 @@ def _build_load(sec: dict, shaft: Shaft) -> RadialLoad:
     return RadialLoad(
         force_y=sec.get("force_y", 0.0),
         force_z=sec.get("force_z", 0.0),
-        position=_position(sec, "load", shaft.length),
+        position=_position(sec, "load", shaft),
     )
 
 
@@ -497,7 +537,7 @@ def _build_contact(sec: dict, shaft: Shaft, speed: float) -> Contact:
         stiffness=stiffness,
         damping=damping,
         friction=sec.get("friction", 0.0),
-        position=_position(sec, "contact", shaft.length),
+        position=_position(sec, "contact", shaft),
         law=law,
         friction_sign=_choice(
             "contact.friction_sign", sec.get("friction_sign", "physical"), FRICTION_SIGNS
@@ -510,8 +550,9 @@ def _build_contact(sec: dict, shaft: Shaft, speed: float) -> Contact:
 def _build_simulation(sec: dict, shaft: Shaft, speed: float) -> Integrator:
     kwargs = dict(sec)
     if "probes" in kwargs:
+        lo = -1e-12 if isinstance(shaft, Rotor) else 0.0
         for p in kwargs["probes"]:
-            if not 0 < p < shaft.length:
+            if not lo < p < shaft.length - lo:
                 raise _err(
                     "simulation.probes", p, f"stations inside the shaft, in (0, {shaft.length:g}) m"
                 )
@@ -524,19 +565,23 @@ def _build_simulation(sec: dict, shaft: Shaft, speed: float) -> Integrator:
 
 def _build(spec: dict) -> dict:
     """Build every object of a normalised spec; InputErrors become ScenarioErrors."""
+    rotor = build_rotor(spec) if "section" in spec else None
+    if rotor is not None:
+        _check_general(spec)
     try:
-        shaft = _build_shaft(spec["shaft"])
-        speed, speed_spec = _resolve_speed(spec["speed"], shaft)
+        shaft = _build_shaft(spec["shaft"]) if rotor is None else None
+        span = shaft if rotor is None else rotor
+        speed, speed_spec = _resolve_speed(spec["speed"], span)
         sec = spec.get("unbalance")
-        unbalance = None if sec is None else _build_unbalance(sec, shaft, speed)
+        unbalance = None if sec is None else _build_unbalance(sec, span, speed)
         sec = spec.get("load")
-        load = None if sec is None else _build_load(sec, shaft)
+        load = None if sec is None else _build_load(sec, span)
         sec = spec.get("contact")
-        contact = None if sec is None else _build_contact(sec, shaft, speed)
+        contact = None if sec is None else _build_contact(sec, span, speed)
         sec = spec.get("damping")
         damping = ModalDamping() if sec is None else ModalDamping(_ratios(sec))
         sec = spec.get("simulation")
-        simulation = None if sec is None else _build_simulation(sec, shaft, speed)
+        simulation = None if sec is None else _build_simulation(sec, span, speed)
         initial = spec.get("initial", {}).get("state", "rest")
         _choice("initial.state", initial, ("rest", "steady"))
     except ScenarioError:
@@ -547,6 +592,7 @@ def _build(spec: dict) -> dict:
     return dict(
         name=meta.get("name", ""),
         shaft=shaft,
+        rotor=rotor,
         speed=speed,
         speed_spec=speed_spec,
         unbalance=unbalance,
@@ -556,6 +602,37 @@ def _build(spec: dict) -> dict:
         simulation=simulation,
         initial=initial,
     )
+
+
+_GENERAL_SPEEDS = ("rad_per_s", "rpm", "hz")
+
+
+def _check_general(spec: dict) -> None:
+    """Keys that need the uniform shaft's scales are not allowed with a general rotor."""
+    ((key, value),) = spec["speed"].items()
+    if key not in _GENERAL_SPEEDS:
+        raise _err(
+            f"speed.{key}",
+            value,
+            "speed.rad_per_s, speed.rpm or speed.hz for a general rotor (critical multiples "
+            "and the seed's dimensionless speed are defined for a uniform [shaft] only)",
+        )
+    for section in ("unbalance", "load", "contact"):
+        for k, v in spec.get(section, {}).items():
+            if k.endswith("_nd"):
+                raise _err(
+                    f"{section}.{k}",
+                    v,
+                    f"{section}.{k[:-3]} in SI units for a general rotor (the seed's "
+                    "dimensionless scales belong to a uniform [shaft])",
+                )
+    if "damping" in spec:
+        raise _err(
+            "damping",
+            spec["damping"],
+            "no [damping] section for a general rotor (modal damping ratios belong to the "
+            "continuous [shaft]; give bearing damping cyy ... czz)",
+        )
 
 
 def _ratios(sec: dict):
@@ -578,8 +655,8 @@ class Scenario:
     ----------
     name : str
         ``meta.name`` (or the file stem, for files without one).
-    shaft : Shaft
-        The rotor.
+    shaft : Shaft or None
+        The uniform continuous rotor (``[shaft]``), or None for a general rotor.
     speed : float
         Spin speed ``Omega`` (rad/s), resolved from ``speed_spec``.
     speed_spec : tuple
@@ -596,12 +673,14 @@ class Scenario:
         Integrator settings.
     initial : {"rest", "steady"}
         ``[initial] state``: start at rest (default) or on the steady no-contact orbit.
+    rotor : Rotor or None
+        The general finite-element rotor (``[[section]]`` tables), or None for a ``[shaft]``.
     source : str
         TOML text the scenario was read from (provenance); not compared by ``==``.
     """
 
     name: str
-    shaft: Shaft
+    shaft: Shaft | None
     speed: float
     speed_spec: tuple
     unbalance: Unbalance | None = None
@@ -610,6 +689,7 @@ class Scenario:
     damping: ModalDamping = field(default_factory=ModalDamping)
     simulation: Integrator | None = None
     initial: str = "rest"
+    rotor: Rotor | None = None
     source: str = field(default="", compare=False, repr=False)
     _spec: dict | None = field(default=None, compare=False, repr=False)
 
@@ -639,20 +719,21 @@ class Scenario:
         ('hz', 10.0)
         """
         spec = scenario_to_dict(self)
+        schema = {**SCHEMA, "rotor": ROTOR_SCHEMA["rotor"]} if self.rotor is not None else SCHEMA
         for dotted_key, value in dotted.items():
             section, _, key = dotted_key.partition(".")
-            if section not in SCHEMA:
-                raise _err(dotted_key, value, "a key 'section.key' of " + ", ".join(SCHEMA))
+            if section not in schema:
+                raise _err(dotted_key, value, "a key 'section.key' of " + ", ".join(schema))
             if not key:
                 if value is not None:
                     raise _err(dotted_key, value, "None (to remove the section) or 'section.key'")
                 spec.pop(section, None)
                 continue
-            if key not in SCHEMA[section]:
+            if key not in schema[section]:
                 raise _err(
                     dotted_key,
                     value,
-                    f"one of the keys {', '.join(SCHEMA[section])} of [{section}]",
+                    f"one of the keys {', '.join(schema[section])} of [{section}]",
                 )
             sec = spec.setdefault(section, {})
             if value is None:
@@ -665,6 +746,32 @@ class Scenario:
                             sec.pop(other, None)
             sec[key] = value
         return scenario_from_dict(spec)
+
+    @property
+    def stations(self) -> tuple[float, ...]:
+        """Axial positions (m) of the unbalance, load, contact and probes, in that order."""
+        parts = (self.unbalance, self.load, self.contact)
+        out = [p.position for p in parts if p is not None]
+        probes = self.simulation.probes if self.simulation is not None else ()
+        return tuple(float(x) for x in out + list(probes))
+
+    def require_shaft(self, what: str) -> Shaft:
+        """The uniform shaft, or a ScenarioError saying ``what`` needs one.
+
+        Parameters
+        ----------
+        what : str
+            The verb that needs the continuous shaft, e.g. ``"time simulation"``.
+        """
+        if self.shaft is None:
+            raise ScenarioError(
+                "section",
+                "[[section]] tables",
+                f"a [shaft] scenario: {what} of a general rotor is not available yet "
+                "(its linear model: Rotor.linear_system(); modes and Campbell diagrams of "
+                "general rotors come from the linear analyses)",
+            )
+        return self.shaft
 
     def dimensionless(self) -> dict:
         """The seed's dimensionless groups of this scenario (seed eqs. 3-5, 10-16).
@@ -680,7 +787,7 @@ class Scenario:
             and ``"unbalance_force"`` ``m e Omega^2 L^2/(E I)``. With a load: ``"a_load"``,
             ``"load_y"``, ``"load_z"`` ``F L^2/(E I)``. With a step: ``"dtau"`` ``Omega dt``.
         """
-        s = self.shaft
+        s = self.require_shaft("the seed's dimensionless form")
         nd = Dimensionless(s, self.speed)
         out = {
             "r": s.slenderness,
@@ -758,6 +865,9 @@ def scenario_to_dict(scenario: Scenario, resolved: bool = False) -> dict:
 
 
 def _resolved_dict(sc: Scenario) -> dict:
+    if sc.rotor is not None:
+        out = {**rotor_to_dict(sc.rotor), "speed": {"rad_per_s": sc.speed}}
+        return _resolved_parts(sc, out)
     s = sc.shaft
     shaft = {
         "length": s.length,
@@ -776,6 +886,13 @@ def _resolved_dict(sc: Scenario) -> dict:
     else:
         shaft["poisson_ratio"] = s.poisson_ratio
     out: dict = {"shaft": shaft, "speed": {"rad_per_s": sc.speed}}
+    out = _resolved_parts(sc, out)
+    out["damping"] = {"ratio": list(sc.damping.ratios)}
+    return out
+
+
+def _resolved_parts(sc: Scenario, out: dict) -> dict:
+    """Add meta, unbalance, load, contact and simulation (resolved to SI) to ``out``."""
     if sc.name:
         out["meta"] = {"name": sc.name}
     if sc.unbalance is not None:
@@ -791,7 +908,6 @@ def _resolved_dict(sc: Scenario) -> dict:
     if sc.contact is not None:
         c = dataclasses.asdict(sc.contact)
         out["contact"] = {k: v for k, v in c.items() if v is not None}
-    out["damping"] = {"ratio": list(sc.damping.ratios)}
     out["initial"] = {"state": sc.initial}
     if sc.simulation is not None:
         sim = dataclasses.asdict(sc.simulation)

@@ -887,6 +887,7 @@ def simulate(
     """
     from rubrotor.results import to_dataset
 
+    scenario.require_shaft("time simulation")
     integ = integrator or scenario.simulation
     if integ is None:
         raise InputError("simulation", None, "a [simulation] section (revolutions or duration)")
@@ -939,6 +940,7 @@ def converge(
     """
     import dataclasses
 
+    scenario.require_shaft("the convergence study")
     base = scenario.simulation or Integrator(revolutions=revolutions or 20)
     dtau = dtau or base.dtau or 1e-3
     revs = revolutions or base.revolutions or base.duration * scenario.speed / (2 * math.pi)

@@ -696,6 +696,7 @@ def sweep(
         variables as listed in the module docstring, plus ``done``; attributes hold the sweep
         definition (JSON) and the scenario text.
     """
+    scenario.require_shaft("a parameter sweep (time simulations)")
     keys, grid = _check_keys(scenario, vary)
     t_rev = _int_arg("transient_revolutions", transient_revolutions, 0)
     if revolutions is None:
