@@ -47,14 +47,31 @@ SHEAR_COEFFICIENTS = ("cowper", "hutchinson", "seed")
 FORMULATIONS = ("two-field", "seed-eq1")
 
 
+# Physically meaningful ranges of the shaft's inputs (SI). Outside them no machine exists and the
+# derived quantities (A, I, EI, rho A, ...) overflow or underflow double precision.
+PLAUSIBLE_RANGES = {
+    "m": (1e-6, 1e3),
+    "Pa": (1e3, 1e13),
+    "kg/m^3": (1e-3, 1e6),
+}
+
+
 def _finite_positive(field_name: str, value, unit: str, allow_zero: bool = False) -> float:
-    """Return ``value`` as float or raise :class:`InputError` naming ``field_name``."""
+    """Return ``value`` as float or raise :class:`InputError` naming ``field_name``.
+
+    Values must also lie in :data:`PLAUSIBLE_RANGES` of their unit (zero allowed where
+    ``allow_zero``).
+    """
     if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
         raise InputError(field_name, value, f"a number ({unit})")
     v = float(value)
+    lo, hi = PLAUSIBLE_RANGES.get(unit, (0.0, math.inf))
     if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
         cmp = ">= 0" if allow_zero else "> 0"
         raise InputError(field_name, value, f"a finite number {cmp} ({unit})")
+    if v != 0 and not lo <= v <= hi:
+        zero = "0 or " if allow_zero else ""
+        raise InputError(field_name, value, f"{zero}a number in [{lo:g}, {hi:g}] ({unit})")
     return v
 
 
@@ -108,7 +125,10 @@ def shear_coefficient_value(
         raise InputError(
             "shaft.shear_coefficient", kind, '"cowper", "hutchinson", "seed" or a number > 0'
         )
-    return _finite_positive("shaft.shear_coefficient", kind, "dimensionless")
+    kappa = _finite_positive("shaft.shear_coefficient", kind, "dimensionless")
+    if not 1e-3 <= kappa <= 10.0:
+        raise InputError("shaft.shear_coefficient", kind, "a number in [0.001, 10]")
+    return kappa
 
 
 @dataclass(frozen=True)

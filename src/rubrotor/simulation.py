@@ -392,6 +392,32 @@ def contact_parameters(shaft: Shaft, speed: float, contact: Contact | None) -> n
     )
 
 
+def _available_memory() -> int:
+    """Bytes of memory available to this process (MemAvailable; 8 GiB when unknown)."""
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 8 << 30
+
+
+def _check_output_size(nbytes: int, integrator: Integrator) -> None:
+    """Refuse, before it starts, a run whose saved samples cannot fit in half the free memory."""
+    limit = _available_memory() // 2
+    if nbytes > limit:
+        raise InputError(
+            "simulation.revolutions",
+            integrator.revolutions,
+            f"a run whose saved samples fit in memory: this one needs {nbytes / 2**30:.3g} GiB "
+            f"(limit {limit / 2**30:.3g} GiB); lower simulation.revolutions, or save fewer "
+            "samples with simulation.save_every / simulation.output_dtau, or a larger "
+            "simulation.dtau",
+        )
+
+
 def _check_station(name: str, x: float, length: float) -> float:
     if not (0 < x < length):
         raise InputError(name, x, f"an axial position in (0, {length:g}) m")
@@ -571,6 +597,7 @@ def simulate_system(
             "simulation.revolutions", integrator.revolutions, "a run long enough for one sample"
         )
 
+    _check_output_size(n_channels(len(stations)) * (n_samples + 1) * 8, integrator)
     out = np.empty((n_channels(len(stations)), n_samples + 1))
     istate = np.zeros(5, np.int64)
     cstate = np.array([f_start, 1 + 0j, 0j])
