@@ -57,7 +57,7 @@ PLAUSIBLE_RANGES = {
 
 
 def _finite_positive(field_name: str, value, unit: str, allow_zero: bool = False) -> float:
-    """Return ``value`` as float or raise :class:`InputError` naming ``field_name``.
+    """Return ``value`` as float or raise :class:`~rubrotor.InputError` naming ``field_name``.
 
     Values must also lie in :data:`PLAUSIBLE_RANGES` of their unit (zero allowed where
     ``allow_zero``).
@@ -152,7 +152,7 @@ class Shaft:
     bore_diameter : float
         Inner diameter (m), 0 for a solid shaft.
     shear_coefficient : {"cowper", "hutchinson", "seed"} or float
-        See :func:`shear_coefficient_value`. Default ``"cowper"``.
+        See :func:`rubrotor.model.shear_coefficient_value`. Default ``"cowper"``.
     theory : {"timoshenko", "rayleigh", "euler-bernoulli"}
         Beam theory. Default ``"timoshenko"``.
     gyroscopic : bool

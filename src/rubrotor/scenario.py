@@ -683,8 +683,8 @@ def _ratios(sec: dict):
 class Scenario:
     """A validated scenario: rotor, resolved spin speed, forces, contact and integrator.
 
-    Build it with :func:`load_scenario` or :func:`scenario_from_dict`; its dict form
-    (:func:`scenario_to_dict`) is what was given, so ``with_changes`` keeps the input form
+    Build it with :func:`load_scenario` or :func:`~rubrotor.scenario.scenario_from_dict`; its dict form
+    (:func:`~rubrotor.scenario.scenario_to_dict`) is what was given, so ``with_changes`` keeps the input form
     (e.g. a dimensionless clearance stays dimensionless when the speed changes).
 
     Attributes

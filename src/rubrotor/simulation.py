@@ -1,6 +1,6 @@
 """Time simulation of the rotor under unbalance with rotor-stator contact.
 
-:func:`simulate_system` is the array-level entry point (shaft, speed, forces, integrator); it
+:func:`~rubrotor.simulation.simulate_system` is the array-level entry point (shaft, speed, forces, integrator); it
 assembles and diagonalises the modal system, runs a compiled kernel from :mod:`rubrotor.core`
 in chunks (progress and Ctrl-C are handled between chunks, never per step) and returns a
 :class:`SimulationResult`. :func:`rubrotor.results.to_dataset` turns that into an xarray Dataset.
@@ -249,13 +249,13 @@ class RotorState:
 
     Carried in physical modal coordinates, not in the eigen-coordinates of one speed, so that a
     state can start a run at another speed, clearance, unbalance ... (the eigen-basis and the
-    particular solution of the new run are applied to it by :func:`simulate_system`).
+    particular solution of the new run are applied to it by :func:`~rubrotor.simulation.simulate_system`).
 
     Attributes
     ----------
     q : ndarray, complex, shape (n,)
         Generalised coordinates ``q = [P_1, (Psi_1), P_2, ...]`` in the order of
-        :attr:`ModalSystem.q_index`: modal deflections ``v + i w`` (m) and, for Timoshenko
+        ``rubrotor.simulation.ModalSystem.q_index``: modal deflections ``v + i w`` (m) and, for Timoshenko
         shafts, modal rotations (rad).
     qd : ndarray, complex, shape (n,)
         Their time derivatives (m/s, rad/s).
@@ -859,7 +859,7 @@ def scenario_parameters(scenario) -> dict:
 
 
 def simulate_scenario(scenario, integrator: Integrator, **kwargs) -> SimulationResult:
-    """:func:`simulate_system` on the parts of a scenario (raw arrays, no Dataset).
+    """:func:`~rubrotor.simulation.simulate_system` on the parts of a scenario (raw arrays, no Dataset).
 
     Parameters
     ----------
@@ -868,7 +868,7 @@ def simulate_scenario(scenario, integrator: Integrator, **kwargs) -> SimulationR
     integrator : Integrator
         How to integrate.
     **kwargs
-        ``track_energy``, ``progress``, ``chunk_samples`` of :func:`simulate_system`.
+        ``track_energy``, ``progress``, ``chunk_samples`` of :func:`~rubrotor.simulation.simulate_system`.
 
     Returns
     -------
