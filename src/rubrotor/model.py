@@ -51,8 +51,10 @@ FORMULATIONS = ("two-field", "seed-eq1")
 # derived quantities (A, I, EI, rho A, ...) overflow or underflow double precision.
 PLAUSIBLE_RANGES = {
     "m": (1e-6, 1e3),
-    "Pa": (1e3, 1e13),
-    "kg/m^3": (1e-3, 1e6),
+    "Pa": (1.0, 1e16),
+    "kg/m^3": (1e-12, 1e9),
+    "kg": (1e-12, 1e9),
+    "kg m^2": (1e-15, 1e9),
 }
 
 
@@ -126,8 +128,8 @@ def shear_coefficient_value(
             "shaft.shear_coefficient", kind, '"cowper", "hutchinson", "seed" or a number > 0'
         )
     kappa = _finite_positive("shaft.shear_coefficient", kind, "dimensionless")
-    if not 1e-3 <= kappa <= 10.0:
-        raise InputError("shaft.shear_coefficient", kind, "a number in [0.001, 10]")
+    if not 1e-6 <= kappa <= 1e9:
+        raise InputError("shaft.shear_coefficient", kind, "a number in [1e-06, 1e+09]")
     return kappa
 
 

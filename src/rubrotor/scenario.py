@@ -391,7 +391,7 @@ _RANGES_BY_UNIT = {
 _RANGES_BY_KEY = {
     "shaft.slenderness": (1e-6, 10.0),
     "shaft.shear_parameter": (1e-3, 1e6),
-    "shaft.shear_coefficient": (1e-3, 10.0),
+    "shaft.shear_coefficient": (1e-6, 1e9),
     "speed.critical_multiple": (1e-6, 1e3),
     "speed.dimensionless": (1e-9, 1e9),
 }
