@@ -1,0 +1,399 @@
+"""Compiled exponential stepper for a reduced linear rotor with several contacts (SI arrays).
+
+The linear part (rotor modes, flexible stators) is diagonal in complex coordinates ``y``::
+
+    y' = lam y + beta F(t),      F = [F_y1, F_z1, F_y2, F_z2, ...]  (N, force on the rotor)
+
+and each step ``h`` propagates it exactly with the contact force held linear over the step
+(first-order hold, second order in the force)::
+
+    y_{n+1} = e^{lam h} y_n + h (phi1 - phi2) beta F_n + h phi2 beta F_{n+1}
+
+with ``F_{n+1}`` solved implicitly: the contact displacement (relative to the stator centre) and
+velocity at ``t_{n+1}`` are ``p = p_pred + S_d F_{n+1}``, ``u = u_pred + S_v F_{n+1}`` with real
+``2 n_c x 2 n_c`` sensitivities (an anisotropic rotor couples ``F_y`` and ``F_z``; the residual
+flexibility of the dropped modes is part of ``S_d``, ``S_v``), and Newton solves
+``F = law(p(F), u(F))`` for all contacts together. When Newton fails the step is split in halves
+(down to ``h / 2^(levels-1)``) instead of stopping.
+
+Everything the kernel reads is grouped in named tuples built by :mod:`rubrotor.engine.driver`:
+``steps`` (per-level propagation coefficients), ``contacts`` (contact rows, laws) and ``outputs``
+(output rows). Status codes are named in :data:`STATUS_NAMES`.
+
+Saved channels per sample (``out[channel, sample]``): for each output station ``s`` (the rotor at
+each contact, then the probes) ``4 s + 0..3`` = v, w (m), v', w' (m/s); then per contact ``i``,
+from ``4 S + 8 i``: stator ``s_y, s_z`` (m), ``s_y', s_z'`` (m/s), force on the rotor ``F_y, F_z``
+(N), normal force (N), friction force along ``i n`` (N).
+"""
+
+import math
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from rubrotor.core.contact import contact_force, contact_force_jac
+
+__all__ = [
+    "Steps",
+    "Contacts",
+    "Outputs",
+    "OK",
+    "DIVERGED",
+    "NEWTON_FAILED",
+    "EVENT_BUFFER_FULL",
+    "STATUS_NAMES",
+    "I_STEP",
+    "I_EVENTS",
+    "I_STATUS",
+    "I_SUBSTEPS",
+    "I_NEWTON",
+    "CONTACT_CHANNELS",
+    "expo_fixed",
+]
+
+SAFE_FASTMATH = {"contract", "reassoc", "arcp", "nsz"}
+
+OK = 0
+DIVERGED = 1
+NEWTON_FAILED = 2
+EVENT_BUFFER_FULL = 3
+STATUS_NAMES = {
+    OK: "complete",
+    DIVERGED: "diverged",
+    NEWTON_FAILED: "contact solve failed at the finest sub-step",
+    EVENT_BUFFER_FULL: "event buffer full",
+}
+
+# slots of the integer state vector
+I_STEP, I_EVENTS, I_STATUS, I_SUBSTEPS, I_NEWTON = 0, 1, 2, 3, 4
+CONTACT_CHANNELS = 8
+
+Steps = namedtuple(
+    "Steps", ["E", "bG0", "bG1", "CdE", "CvE", "CdG0b", "CvG0b", "Sd", "Sv", "rot", "h"]
+)
+"""Per level ``l`` (step ``h_l = h_0 / 2^l``): ``E`` (L, ns) ``e^{lam h}``; ``bG0, bG1`` (L, ns, m)
+input columns of ``F_n`` and ``F_{n+1}``; ``CdE, CvE`` (L, m, ns) contact rows times ``E``;
+``CdG0b, CvG0b`` (L, m, m) real contact response to ``F_n``; ``Sd, Sv`` (L, m, m) real
+sensitivities to ``F_{n+1}``; ``rot`` (L,) ``e^{i Omega h}``; ``h`` (L,) steps (s)."""
+
+Contacts = namedtuple("Contacts", ["Cd", "Cv", "Rd", "Rv", "Pu", "Pv", "d0", "cp", "max_disp"])
+"""``Cd, Cv`` (m, ns) rows of relative displacement/velocity; ``Rd, Rv`` (m, m) residual
+feed-through; ``Pu, Pv`` (m,) unbalance phasors (``Re(Pu z)``); ``d0`` (m,) static relative
+displacement (m) minus stator offset; ``cp`` (nc, 10) packed laws; ``max_disp`` (m) divergence."""
+
+Outputs = namedtuple("Outputs", ["Od", "Ov", "ORd", "ORv", "OPu", "OPv", "Od0", "Sd", "Sv"])
+"""Output station rows (2 S, ns), their residual (2 S, m), unbalance phasors and static parts
+(2 S,); stator rows ``Sd, Sv`` (m, ns)."""
+
+
+@njit(cache=True, inline="always")
+def _cdot(row, y):
+    acc = 0j
+    for j in range(y.shape[0]):
+        acc += row[j] * y[j]
+    return acc
+
+
+@njit(cache=True)
+def _lu_solve(a, b):
+    """Solve ``a x = b`` in place (``b`` gets ``x``) by Gaussian elimination with pivoting."""
+    n = b.shape[0]
+    for k in range(n):
+        p = k
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > abs(a[p, k]):
+                p = i
+        if a[p, k] == 0.0:
+            return False
+        if p != k:
+            for j in range(n):
+                a[k, j], a[p, j] = a[p, j], a[k, j]
+            b[k], b[p] = b[p], b[k]
+        for i in range(k + 1, n):
+            f = a[i, k] / a[k, k]
+            for j in range(k, n):
+                a[i, j] -= f * a[k, j]
+            b[i] -= f * b[k]
+    for k in range(n - 1, -1, -1):
+        s = b[k]
+        for j in range(k + 1, n):
+            s -= a[k, j] * b[j]
+        b[k] = s / a[k, k]
+    return True
+
+
+@njit(cache=True)
+def _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u):
+    """Contact positions for forces ``F``, the laws' forces ``f`` and their Jacobian blocks."""
+    m = F.shape[0]
+    for r in range(m):
+        a = pd[r]
+        b = pv[r]
+        for c in range(m):
+            a += Sd[r, c] * F[c]
+            b += Sv[r, c] * F[c]
+        p[r] = a
+        u[r] = b
+    jac = np.empty((2, 4))
+    for i in range(cp.shape[0]):
+        k = 2 * i
+        fy, fz, fn[i], ft[i] = contact_force_jac(p[k], p[k + 1], u[k], u[k + 1], cp[i], jac)
+        f[k] = fy
+        f[k + 1] = fz
+        for a in range(2):
+            for b in range(2):
+                jp[k + a, b] = jac[a, b]
+                ju[k + a, b] = jac[a, 2 + b]
+
+
+@njit(cache=True)
+def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
+    """Solve ``F = law(pd + Sd F, pv + Sv F)`` for all contacts together.
+
+    ``pd``, ``pv`` (m, m/s) are the relative displacements and velocities the step gives without
+    new force, ``Sd``, ``Sv`` their real sensitivities (m/N, m/(s N)); ``F0`` a start (N). Newton
+    on the ``2 n_c`` real unknowns with step halving when the residual grows. ``F``, ``fn``,
+    ``ft`` receive the force (N) and each contact's normal and friction force (N). Returns the
+    iteration count, ``0`` when no contact closes, negative when Newton did not converge.
+    """
+    m = F.shape[0]
+    nc = cp.shape[0]
+    f = np.empty(m)
+    jp = np.zeros((m, 2))
+    ju = np.zeros((m, 2))
+    p = np.empty(m)
+    u = np.empty(m)
+    zero = np.zeros(m)
+    _eval(pd, pv, Sd, Sv, zero, cp, f, fn, ft, jp, ju, p, u)
+    closed = False
+    for i in range(nc):
+        if fn[i] != 0.0:
+            closed = True
+    if not closed:
+        for r in range(m):
+            F[r] = 0.0
+        return 0
+    scale = 0.0
+    for i in range(nc):
+        scale = max(scale, cp[i, 9])
+    tol = 1e-13 * scale
+    start = False
+    for r in range(m):
+        if F0[r] != 0.0:
+            start = True
+    for r in range(m):
+        F[r] = F0[r] if start else f[r]
+    last = np.zeros(m)
+    res = np.empty(m)
+    jr = np.empty((m, m))
+    rprev = 1e300
+    for it in range(1, 60):
+        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+        rn = 0.0
+        for r in range(m):
+            res[r] = F[r] - f[r]
+            rn += res[r] * res[r]
+        rn = math.sqrt(rn)
+        if rn > rprev and it > 1:
+            for r in range(m):
+                last[r] *= 0.5
+                F[r] += last[r]
+            rprev = 1e300
+            continue
+        if rn <= tol:
+            return it
+        # J = I - Jp Sd - Ju Sv (Jp, Ju block diagonal, 2x2 per contact)
+        for r in range(m):
+            k = 2 * (r // 2)
+            for c in range(m):
+                jr[r, c] = (1.0 if r == c else 0.0) - (
+                    jp[r, 0] * Sd[k, c] + jp[r, 1] * Sd[k + 1, c]
+                    + ju[r, 0] * Sv[k, c] + ju[r, 1] * Sv[k + 1, c]
+                )  # fmt: skip
+        if not _lu_solve(jr, res):
+            return -it
+        dn = 0.0
+        fnorm = 0.0
+        for r in range(m):
+            last[r] = res[r]
+            F[r] -= res[r]
+            dn += res[r] * res[r]
+            fnorm += F[r] * F[r]
+        rprev = rn
+        if math.sqrt(dn) <= 1e-13 * math.sqrt(fnorm) + tol:
+            _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+            return it
+    return -60
+
+
+@njit(cache=True)
+def _write(out, ys, idx, y, z, F, contacts, outputs):
+    """Write sample ``idx`` from the state ``y``, phasor ``z`` and contact forces ``F``."""
+    Od, Ov, ORd, ORv = outputs.Od, outputs.Ov, outputs.ORd, outputs.ORv
+    OPu, OPv, Od0 = outputs.OPu, outputs.OPv, outputs.Od0
+    nrow = Od.shape[0]
+    m = F.shape[0]
+    for r in range(nrow):
+        d = _cdot(Od[r], y).real + (OPu[r] * z).real + Od0[r]
+        v = _cdot(Ov[r], y).real + (OPv[r] * z).real
+        for c in range(m):
+            d += ORd[r, c] * F[c]
+            v += ORv[r, c] * F[c]
+        s, a = r // 2, r % 2
+        out[4 * s + a, idx] = d
+        out[4 * s + 2 + a, idx] = v
+    base = 2 * nrow
+    Cd, Cv, Rd, Rv = contacts.Cd, contacts.Cv, contacts.Rd, contacts.Rv
+    Pu, Pv, d0, cp = contacts.Pu, contacts.Pv, contacts.d0, contacts.cp
+    for i in range(cp.shape[0]):
+        b = base + 8 * i
+        pr = np.empty(2)
+        ur = np.empty(2)
+        for a in range(2):
+            k = 2 * i + a
+            out[b + a, idx] = _cdot(outputs.Sd[k], y).real
+            out[b + 2 + a, idx] = _cdot(outputs.Sv[k], y).real
+            out[b + 4 + a, idx] = F[k]
+            pr[a] = _cdot(Cd[k], y).real + (Pu[k] * z).real + d0[k]
+            ur[a] = _cdot(Cv[k], y).real + (Pv[k] * z).real
+            for c in range(m):
+                pr[a] += Rd[k, c] * F[c]
+                ur[a] += Rv[k, c] * F[c]
+        fy, fz, fn, ft = contact_force(pr[0], pr[1], ur[0], ur[1], cp[i])
+        out[b + 6, idx] = fn
+        out[b + 7, idx] = ft
+    if ys.shape[0] > 0:
+        for j in range(y.shape[0]):
+            ys[idx, j] = y[j]
+
+
+@njit(cache=True, fastmath=SAFE_FASTMATH)
+def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, ys, offset,
+               steps, contacts, outputs, omega, t0, events):  # fmt: skip
+    """Fixed steps ``h = steps.h[0]``, halved where the contact solve fails.
+
+    State in/out: ``y`` (ns,) complex modal coordinates (shifted by the static and unbalance
+    particular solutions), ``F``, ``Fp`` (m,) current and previous contact forces (N), ``dprev``
+    (nc,) last relative radial displacements (m), ``zt = [z]`` the unbalance phasor,
+    ``istate`` (I_* slots). ``stats = [h_prev]``. Writes samples ``out[:, offset:offset + n]``
+    every ``save_every`` steps and returns the number written; stops early on a status
+    (:data:`STATUS_NAMES`). ``events`` (cap, 2) collects ``[t, +/-(i + 1)]`` onsets (+) and
+    separations (-) of contact ``i``, located by linear interpolation of the radial gap.
+    """
+    E, bG0, bG1, CdE, CvE = steps.E, steps.bG0, steps.bG1, steps.CdE, steps.CvE
+    CdG0b, CvG0b, Sd, Sv, rot, hs = steps.CdG0b, steps.CvG0b, steps.Sd, steps.Sv, steps.rot, steps.h
+    Pu, Pv, d0, cp, max_disp = (contacts.Pu, contacts.Pv, contacts.d0, contacts.cp,
+                                contacts.max_disp)  # fmt: skip
+    ns = y.shape[0]
+    m = F.shape[0]
+    nc = cp.shape[0]
+    J = E.shape[0] - 1
+    full = 1 << J
+    pd = np.empty(m)
+    pv = np.empty(m)
+    Fn = np.zeros(m)
+    F0 = np.zeros(m)
+    fn = np.zeros(nc)
+    ft = np.zeros(nc)
+    z = zt[0]
+    h0 = hs[0]
+    hp = stats[0]
+    written = 0
+    cap = events.shape[0]
+    while written < n_samples:
+        if istate[I_EVENTS] + 2 * nc * full > cap:
+            istate[I_STATUS] = EVENT_BUFFER_FULL
+            break
+        step = istate[I_STEP]
+        pos = 0
+        lev = 0
+        while pos < full:
+            units = 1 << (J - lev)
+            zn = z * rot[lev]
+            loaded = False
+            for r in range(m):
+                if F[r] != 0.0:
+                    loaded = True
+            for r in range(m):
+                pd[r] = d0[r] + (Pu[r] * zn).real + _cdot(CdE[lev, r], y).real
+                pv[r] = (Pv[r] * zn).real + _cdot(CvE[lev, r], y).real
+                if loaded:
+                    for c in range(m):
+                        pd[r] += CdG0b[lev, r, c] * F[c]
+                        pv[r] += CvG0b[lev, r, c] * F[c]
+            h = hs[lev]
+            extrap = False
+            for r in range(m):
+                if F[r] != 0.0 and Fp[r] != 0.0:
+                    extrap = True
+            for r in range(m):
+                F0[r] = F[r] + (F[r] - Fp[r]) * (h / hp) if extrap else F[r]
+            it = solve_contacts(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft)
+            if it < 0:
+                if lev < J:
+                    lev += 1
+                    istate[I_SUBSTEPS] += 1
+                    continue
+                istate[I_STATUS] = NEWTON_FAILED
+                break
+            istate[I_NEWTON] += it
+            new = False
+            for r in range(m):
+                if Fn[r] != 0.0:
+                    new = True
+            if loaded or new:
+                for j in range(ns):
+                    acc = E[lev, j] * y[j]
+                    for c in range(m):
+                        acc += bG0[lev, j, c] * F[c] + bG1[lev, j, c] * Fn[c]
+                    y[j] = acc
+            else:
+                for j in range(ns):
+                    y[j] = E[lev, j] * y[j]
+            pos += units
+            t_new = t0 + (step + pos / full) * h0
+            bad = False
+            for i in range(nc):
+                a = pd[2 * i]
+                b = pd[2 * i + 1]
+                for c in range(m):
+                    a += Sd[lev, 2 * i, c] * Fn[c]
+                    b += Sd[lev, 2 * i + 1, c] * Fn[c]
+                d = math.sqrt(a * a + b * b)
+                if not (d <= max_disp):
+                    bad = True
+                was = F[2 * i] != 0.0 or F[2 * i + 1] != 0.0
+                now = Fn[2 * i] != 0.0 or Fn[2 * i + 1] != 0.0
+                if was != now and cp[i, 0] != 0.0:
+                    g = cp[i, 4]
+                    den = d - dprev[i]
+                    frac = (g - dprev[i]) / den if den != 0.0 else 1.0
+                    frac = min(max(frac, 0.0), 1.0)
+                    ne = istate[I_EVENTS]
+                    events[ne, 0] = t_new - (1.0 - frac) * h
+                    events[ne, 1] = (i + 1) if now else -(i + 1)
+                    istate[I_EVENTS] = ne + 1
+                dprev[i] = d
+            for r in range(m):
+                Fp[r] = F[r]
+                F[r] = Fn[r]
+            hp = h
+            z = zn
+            if bad:
+                istate[I_STATUS] = DIVERGED
+                break
+            if lev > 0 and pos % (2 * units) == 0:
+                lev -= 1
+        if istate[I_STATUS] != OK:
+            break
+        step += 1
+        istate[I_STEP] = step
+        tt = omega * (t0 + step * h0)
+        z = complex(math.cos(tt), math.sin(tt))
+        if step % save_every == 0:
+            _write(out, ys, offset + written, y, z, F, contacts, outputs)
+            written += 1
+    zt[0] = z
+    stats[0] = hp
+    return written

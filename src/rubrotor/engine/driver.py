@@ -1,0 +1,433 @@
+"""The general engine: any linear rotor, several contacts, flexible offset stators, gravity.
+
+:func:`simulate_general` reduces the rotor (:mod:`rubrotor.engine.reduce`), builds the plant
+(rotor modes plus stator modes, contact and output rows, the exact static and unbalance
+particular solutions of the FULL model), asks the stepper table :data:`STEPPERS` for the
+method's chunk function (each factory precomputes its coefficients once) and runs one shared
+chunk/progress/status loop. It returns a frozen :class:`EngineResult`; ``to_dataset()`` makes
+the xarray Dataset.
+
+State shift
+-----------
+The kernel integrates ``x~ = x - x_s - x_p(t)``: ``x_s = [K^-1 f_s, 0]`` the exact static
+deflection under gravity and constant loads, ``x_p = Re([Q, i Omega Q] e^{i Omega t})`` with
+``Q = (K - Omega^2 M + i Omega D)^-1 b_u`` the exact steady unbalance response (both of the full
+model, so they carry no truncation error); the reduced modes then only carry the transient and
+the contact response.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rubrotor.core.contact import pack_contact
+from rubrotor.core.engine import (
+    CONTACT_CHANNELS,
+    EVENT_BUFFER_FULL,
+    I_EVENTS,
+    I_NEWTON,
+    I_STATUS,
+    I_STEP,
+    I_SUBSTEPS,
+    OK,
+    STATUS_NAMES,
+    Contacts,
+    Outputs,
+    Steps,
+    expo_fixed,
+)
+from rubrotor.engine.model import RubStation, Run, static_load_vector, unbalance_phasor
+from rubrotor.engine.reduce import Modes, reduce_matrices
+from rubrotor.errors import InputError
+from rubrotor.simulation import phi_functions
+
+__all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "STEPPERS"]
+
+EVENT_BUFFER = 1 << 16
+EVENT_BUFFER_MAX = 1 << 26
+
+
+@dataclass(frozen=True)
+class Plant:
+    """The reduced rotor, its stators and every row the kernels read (SI)."""
+
+    lam: np.ndarray  # (ns,) rotor modes then stator modes
+    beta: np.ndarray  # (ns, m) modal input per N of contact force on the rotor
+    contacts: Contacts
+    outputs: Outputs
+    stations: np.ndarray  # output positions (m): contacts, then probes
+    y0: np.ndarray  # initial modal state
+    rotor: Modes
+    n_rotor: int
+    q_static: np.ndarray  # (n,) m or rad
+    q_unbalance: np.ndarray  # (n,) complex amplitude of the steady unbalance response
+    speed: float
+
+
+def _stator_modes(st: RubStation):
+    if st.stator is None:
+        return None
+    M, C, K = st.stator.matrices()
+    return reduce_matrices(M, C, K)
+
+
+def _particular(sm, b_u: np.ndarray, speed: float) -> np.ndarray:
+    dyn = sm.K - speed**2 * sm.M + 1j * speed * sm.damping
+    if not np.any(b_u):
+        return np.zeros(len(b_u), complex)
+    if np.linalg.cond(dyn) > 1e14:
+        raise InputError("speed", speed, "a speed off an undamped critical speed (add damping)")
+    return np.linalg.solve(dyn, b_u)
+
+
+def _initial(run: Run, modes: Modes, q_s, Q, speed) -> np.ndarray:
+    n = len(q_s)
+    x_s = np.concatenate([q_s, np.zeros(n)])
+    x_p = np.concatenate([Q.real, (1j * speed * Q).real])
+    if isinstance(run.initial, str):
+        shift = {"rest": -(x_s + x_p), "static": -x_p, "steady": np.zeros(2 * n)}[run.initial]
+    else:
+        x = np.asarray(run.initial, float)
+        if x.shape != (2 * n,):
+            raise InputError("initial.state", x.shape, f"a state [q, q'] of shape ({2 * n},)")
+        shift = x - x_s - x_p
+    return modes.project(shift)
+
+
+def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=(0.0, 0.0)):
+    """Reduce the rotor and assemble rows, particular solutions and initial state.
+
+    Parameters
+    ----------
+    system : rubrotor.linear.LinearSystem
+        The rotor.
+    run : Run
+        Speed (rad/s), reduction, initial state, probes (m).
+    stations : sequence of RubStation
+        Contact stations.
+    unbalances : sequence of rubrotor.forces.Unbalance
+        Unbalance planes (positions required, m; magnitudes kg m; phases rad).
+    loads : sequence of rubrotor.forces.RadialLoad
+        Constant point loads (N) at positions (m).
+    gravity : (float, float)
+        ``(g_y, g_z)`` (m/s^2) on the rotor's masses (not on the stators).
+
+    Returns
+    -------
+    Plant
+    """
+    speed = float(run.speed)
+    sm = system.matrices(speed)
+    modes = reduce_matrices(sm.M, sm.damping, sm.K, run.modes, run.cutoff)
+    Rq, Rv = (modes.Rq, modes.Rv) if run.residual else (0 * modes.Rq, 0 * modes.Rv)
+    nc = len(stations)
+    m = 2 * nc
+    Bc = [system.force_map(s.contact.position) for s in stations]
+    Bmat = np.hstack(Bc) if nc else np.zeros((sm.M.shape[0], 0))
+    st_modes = [_stator_modes(s) for s in stations]
+    nsr = modes.size
+    ns = nsr + sum(s.size for s in st_modes if s is not None)
+    lam = np.concatenate([modes.lam] + [s.lam for s in st_modes if s is not None])
+    beta = np.zeros((ns, m), complex)
+    beta[:nsr] = modes.input(Bmat)
+    Cd = np.zeros((m, ns), complex)
+    Cd[:, :nsr] = Bmat.T @ modes.Vq
+    Sd = np.zeros((m, ns), complex)
+    o = nsr
+    for i, sm_i in enumerate(st_modes):
+        if sm_i is None:
+            continue
+        k = sm_i.size
+        beta[o : o + k, 2 * i : 2 * i + 2] = sm_i.input(-np.eye(2))
+        Sd[2 * i : 2 * i + 2, o : o + k] = sm_i.Vq
+        o += k
+    Cd = Cd - Sd
+    b_u = np.zeros(sm.M.shape[0], complex)
+    for u in unbalances:
+        if u.position is None:
+            raise InputError("unbalance.position", None, "an axial position (m)")
+        b_u += unbalance_phasor(u, speed) * (system.force_map(u.position) @ np.array([1, -1j]))
+    Q = _particular(sm, b_u, speed)
+    q_s = modes.Kinv @ static_load_vector(system, tuple(loads), gravity)
+    offs = np.array([[s.offset_y, s.offset_z] for s in stations]).ravel()
+    Pu = Bmat.T @ Q
+    cps = np.array(
+        [
+            pack_contact(1, c.law_code, c.stiffness, c.damping, c.clearance, c.friction,
+                         c.sign_code, c.radius * speed, c.friction_regularization)
+            for c in (s.contact for s in stations)
+        ]  # fmt: skip
+    ).reshape(nc, 10)
+    max_d = run.max_displacement or (
+        1000 * max((s.contact.clearance for s in stations), default=0.0) or 0.1 * system.basis.length
+    )
+    contacts = Contacts(
+        Cd=np.ascontiguousarray(Cd), Cv=np.ascontiguousarray(Cd * lam[None, :]),
+        Rd=Bmat.T @ Rq @ Bmat, Rv=Bmat.T @ Rv @ Bmat, Pu=Pu, Pv=1j * speed * Pu,
+        d0=Bmat.T @ q_s - offs, cp=cps, max_disp=float(max_d),
+    )  # fmt: skip
+    positions = np.array([s.contact.position for s in stations] + list(run.probes), float)
+    orow = np.vstack([system.output_rows(x) for x in positions]) if len(positions) else None
+    if orow is None:
+        raise InputError("probes", run.probes, "at least one probe or contact station (m)")
+    Od = np.zeros((len(orow), ns), complex)
+    Od[:, :nsr] = orow @ modes.Vq
+    outputs = Outputs(
+        Od=Od, Ov=Od * lam[None, :], ORd=orow @ Rq @ Bmat, ORv=orow @ Rv @ Bmat,
+        OPu=orow @ Q, OPv=1j * speed * (orow @ Q), Od0=orow @ q_s,
+        Sd=np.ascontiguousarray(Sd), Sv=np.ascontiguousarray(Sd * lam[None, :]),
+    )  # fmt: skip
+    y0 = np.zeros(ns, complex)
+    y0[:nsr] = _initial(run, modes, q_s, Q, speed)
+    return Plant(lam, beta, contacts, outputs, positions, y0, modes, nsr, q_s, Q, speed)
+
+
+def _steps(plant: Plant, h0: float, levels: int) -> Steps:
+    """Per-level exponential coefficients for ``h_l = h0 / 2^l`` (first-order force hold)."""
+    hs = h0 / 2.0 ** np.arange(levels)
+    z = np.outer(hs, plant.lam)
+    p1, p2 = phi_functions(z.ravel())
+    p1, p2 = p1.reshape(z.shape), p2.reshape(z.shape)
+    E = np.exp(z)
+    G0 = hs[:, None] * (p1 - p2)
+    G1 = hs[:, None] * p2
+    beta = plant.beta
+    bG0 = G0[:, :, None] * beta[None]
+    bG1 = G1[:, :, None] * beta[None]
+    c = plant.contacts
+    CdE = c.Cd[None] * E[:, None, :]
+    CvE = c.Cv[None] * E[:, None, :]
+    return Steps(
+        E=E, bG0=bG0, bG1=bG1, CdE=CdE, CvE=CvE,
+        CdG0b=np.real(np.einsum("rj,ljc->lrc", c.Cd, bG0)),
+        CvG0b=np.real(np.einsum("rj,ljc->lrc", c.Cv, bG0)),
+        Sd=np.real(np.einsum("rj,ljc->lrc", c.Cd, bG1)) + c.Rd[None],
+        Sv=np.real(np.einsum("rj,ljc->lrc", c.Cv, bG1)) + c.Rv[None],
+        rot=np.exp(1j * plant.speed * hs), h=hs,
+    )  # fmt: skip
+
+
+@dataclass
+class _Chunks:
+    """Mutable run state shared by the loop and one stepper (not returned to users)."""
+
+    out: np.ndarray
+    ys: np.ndarray
+    events: np.ndarray
+    istate: np.ndarray = field(default_factory=lambda: np.zeros(5, np.int64))
+
+
+def _fixed_factory(plant: Plant, run: Run, state: _Chunks):
+    """Stepper ``"exponential"``: fixed steps, contact solve sub-steps where Newton fails."""
+    steps = _steps(plant, run.step, run.sublevels + 1)
+    m = plant.beta.shape[1]
+    y = plant.y0.copy()
+    F, Fp = np.zeros(m), np.zeros(m)
+    dprev = np.zeros(m // 2)
+    zt = np.ones(1, complex)
+    hp = np.array([run.step])
+
+    def chunk(offset: int, count: int) -> int:
+        return expo_fixed(y, F, Fp, dprev, zt, state.istate, hp, count, run.save_every,
+                          state.out, state.ys, offset, steps, plant.contacts, plant.outputs,
+                          plant.speed, 0.0, state.events)  # fmt: skip
+
+    def first_sample():
+        from rubrotor.core.engine import _write
+
+        _write(state.out, state.ys, 0, y, zt[0], F, plant.contacts, plant.outputs)
+
+    return chunk, first_sample, {"step_s": run.step, "min_step_s": run.step / 2**run.sublevels}
+
+
+STEPPERS = {"exponential": _fixed_factory}
+"""Method name -> factory ``(plant, run, state) -> (chunk, first_sample, stats)``."""
+
+
+@dataclass(frozen=True)
+class EngineResult:
+    """Output of :func:`simulate_general` (SI units, see :mod:`rubrotor.core.engine`).
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times (s).
+    stations : ndarray
+        Output positions (m): contact stations first, then probes.
+    n_contacts : int
+    channels : ndarray
+        ``(4 S + 8 n_c, T)`` saved channels.
+    events : ndarray
+        ``(n, 2)``: time (s), ``+/-(contact index + 1)`` for onset/separation.
+    states : ndarray
+        ``(T, ns)`` modal states when ``save_state`` was on, else empty.
+    status, message : str
+        ``"complete"`` or ``"partial"`` and why.
+    stats : dict
+    speed : float
+        rad/s.
+    """
+
+    time: np.ndarray
+    stations: np.ndarray
+    n_contacts: int
+    channels: np.ndarray
+    events: np.ndarray
+    states: np.ndarray
+    status: str
+    message: str
+    stats: dict
+    speed: float
+
+    def to_dataset(self):
+        """The results as an xarray Dataset (dims ``time``, ``station``, ``contact``, ``event``)."""
+        return _dataset(self)
+
+
+def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: float):
+    """Shared chunk loop: progress between chunks, Ctrl-C, event-buffer growth, status."""
+    done, t0, interrupted = 0, _time.perf_counter(), False
+    try:
+        while done < n_samples:
+            done += chunk(1 + done, min(1 << 14, n_samples - done))
+            st = int(state.istate[I_STATUS])
+            if st == EVENT_BUFFER_FULL and len(state.events) < EVENT_BUFFER_MAX:
+                state.events = np.concatenate([state.events, np.zeros_like(state.events)])
+                state.istate[I_STATUS] = OK
+                continue
+            if st != OK:
+                break
+            el = _time.perf_counter() - t0
+            if progress and el > 2.0:
+                print(f"\rrubrotor: {100 * done / n_samples:5.1f} %", end="", file=sys.stderr)
+    except KeyboardInterrupt:
+        interrupted = True
+    if progress and _time.perf_counter() - t0 > 2.0:
+        print(file=sys.stderr)
+    st = int(state.istate[I_STATUS])
+    msg = ""
+    if interrupted:
+        msg = f"interrupted by the user after t = {done * sample_dt:.6g} s"
+    elif st != OK:
+        msg = f"{STATUS_NAMES[st]} at t = {(done + 1) * sample_dt:.6g} s; data up to t = {done * sample_dt:.6g} s kept"
+    return done, msg, _time.perf_counter() - t0
+
+
+def simulate_general(
+    system,
+    run: Run,
+    stations=(),
+    unbalances=(),
+    loads=(),
+    gravity=(0.0, 0.0),
+    *,
+    method: str = "exponential",
+    progress: bool | None = None,
+) -> EngineResult:
+    """Simulate a linear rotor with rub at several stations (see the module docstring).
+
+    Parameters
+    ----------
+    system : rubrotor.linear.LinearSystem
+        The rotor.
+    run : Run
+        Speed (rad/s), duration (s), step (s), reduction, initial state, probes.
+    stations, unbalances, loads, gravity
+        As in :func:`build_plant`.
+    method : {"exponential"}
+        Stepper (:data:`STEPPERS`).
+    progress : bool, optional
+        Progress on stderr for long runs (default: when stderr is a terminal).
+
+    Returns
+    -------
+    EngineResult
+    """
+    if method not in STEPPERS:
+        raise InputError("simulation.method", method, " or ".join(f'"{k}"' for k in STEPPERS))
+    for i, s in enumerate(stations):
+        if not isinstance(s, RubStation):
+            raise InputError(f"contact[{i + 1}]", s, "a RubStation")
+    plant = build_plant(system, run, stations, unbalances, loads, gravity)
+    sample_dt = run.step * run.save_every
+    n_samples = int(math.floor(run.duration / sample_dt + 1e-9))
+    if n_samples < 1:
+        raise InputError("simulation.duration", run.duration, f">= one sample ({sample_dt:g} s)")
+    nst, nc = len(plant.stations), len(stations)
+    state = _Chunks(
+        out=np.empty((4 * nst + CONTACT_CHANNELS * nc, n_samples + 1)),
+        ys=np.zeros((n_samples + 1 if run.save_state else 0, plant.lam.size), complex),
+        events=np.zeros((EVENT_BUFFER, 2)),
+    )
+    chunk, first, stats = STEPPERS[method](plant, run, state)
+    first()
+    show = sys.stderr.isatty() if progress is None else progress
+    done, msg, wall = _loop(chunk, n_samples, state, show, sample_dt)
+    ist = state.istate
+    stats.update(
+        method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
+        eig_cond=plant.rotor.cond, steps=int(ist[I_STEP]), substeps=int(ist[I_SUBSTEPS]),
+        newton_iterations=int(ist[I_NEWTON]), contact_events=int(ist[I_EVENTS]), wall_s=wall,
+        residual=run.residual,
+    )  # fmt: skip
+    n_out = done + 1
+    return EngineResult(
+        time=np.arange(n_out) * sample_dt,
+        stations=plant.stations,
+        n_contacts=nc,
+        channels=state.out[:, :n_out],
+        events=state.events[: int(ist[I_EVENTS])].copy(),
+        states=state.ys[:n_out],
+        status="complete" if not msg else "partial",
+        message=msg,
+        stats=stats,
+        speed=plant.speed,
+    )
+
+
+_STATION = (("v", "m"), ("w", "m"), ("v_dot", "m/s"), ("w_dot", "m/s"))
+_CONTACT = (
+    ("stator_y", "m"), ("stator_z", "m"), ("stator_y_dot", "m/s"), ("stator_z_dot", "m/s"),
+    ("force_y", "N"), ("force_z", "N"), ("normal_force", "N"), ("friction_force", "N"),
+)  # fmt: skip
+
+
+def _dataset(res: EngineResult):
+    import xarray as xr
+
+    from rubrotor import __version__
+    from rubrotor.results import _jsonable
+
+    ch = res.channels
+    S = len(res.stations)
+    coords = {
+        "time": ("time", res.time, {"units": "s"}),
+        "tau": ("time", res.speed * res.time, {"units": "rad", "long_name": "Omega t"}),
+        "station": ("station", res.stations, {"units": "m", "long_name": "axial position"}),
+        "contact": ("contact", np.arange(res.n_contacts), {"long_name": "contact index"}),
+    }
+    data = {}
+    for k, (nm, unit) in enumerate(_STATION):
+        data[nm] = (("station", "time"), ch[[4 * s + k for s in range(S)]], {"units": unit})
+    for k, (nm, unit) in enumerate(_CONTACT):
+        rows = ch[[4 * S + 8 * i + k for i in range(res.n_contacts)]]
+        data[nm] = (("contact", "time"), rows, {"units": unit})
+    data["in_contact"] = (("contact", "time"), (data["normal_force"][1] > 0).astype(np.int8), {})
+    ev = res.events
+    data["event_time"] = ("event", ev[:, 0], {"units": "s"})
+    data["event_contact"] = ("event", np.abs(ev[:, 1]).astype(int) - 1, {})
+    data["event_kind"] = ("event", np.sign(ev[:, 1]).astype(np.int8), {"long_name": "+1 onset"})
+    attrs = {
+        "status": res.status,
+        "status_message": res.message,
+        "speed_rad_s": res.speed,
+        "integrator_stats": json.dumps(_jsonable(res.stats)),
+        "rubrotor_version": __version__,
+    }
+    return xr.Dataset(data, coords, attrs)
