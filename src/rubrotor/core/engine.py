@@ -48,6 +48,7 @@ __all__ = [
     "I_STATUS",
     "I_SUBSTEPS",
     "I_NEWTON",
+    "I_GRAZE",
     "CONTACT_CHANNELS",
     "expo_fixed",
 ]
@@ -66,7 +67,7 @@ STATUS_NAMES = {
 }
 
 # slots of the integer state vector
-I_STEP, I_EVENTS, I_STATUS, I_SUBSTEPS, I_NEWTON = 0, 1, 2, 3, 4
+I_STEP, I_EVENTS, I_STATUS, I_SUBSTEPS, I_NEWTON, I_GRAZE = 0, 1, 2, 3, 4, 5
 CONTACT_CHANNELS = 8
 
 Steps = namedtuple(
@@ -228,6 +229,50 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
 
 
 @njit(cache=True)
+def graze_contacts(pd, pv, Sd, Sv, cp, F, fn, ft):
+    """Set-valued closure when Newton has no solution to converge to (a law that jumps at zero
+    penetration, e.g. the linear law's dashpot): each contact in turn gets the fraction ``s`` of
+    its law's force at zero new force that puts it exactly on the clearance circle (bisection on
+    ``|p(s)| - g``), the complementarity solution ``eps = 0``, ``0 <= F_n <= c eps_dot``.
+    Returns 1 when every contact could be placed, else -1.
+    """
+    m = F.shape[0]
+    f = np.empty(m)
+    jp = np.zeros((m, 2))
+    ju = np.zeros((m, 2))
+    p = np.empty(m)
+    u = np.empty(m)
+    for r in range(m):
+        F[r] = 0.0
+    for i in range(cp.shape[0]):
+        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+        if fn[i] == 0.0:
+            continue
+        fy, fz = f[2 * i], f[2 * i + 1]
+        lo, hi = 0.0, 1.0
+        F[2 * i] = fy
+        F[2 * i + 1] = fz
+        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+        if math.sqrt(p[2 * i] ** 2 + p[2 * i + 1] ** 2) > cp[i, 4] and fn[i] != 0.0:
+            return -1
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            F[2 * i] = mid * fy
+            F[2 * i + 1] = mid * fz
+            _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+            if math.sqrt(p[2 * i] ** 2 + p[2 * i + 1] ** 2) > cp[i, 4]:
+                lo = mid
+            else:
+                hi = mid
+        F[2 * i] = hi * fy
+        F[2 * i + 1] = hi * fz
+    _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+    for i in range(cp.shape[0]):
+        fn[i] = math.sqrt(F[2 * i] ** 2 + F[2 * i + 1] ** 2) / math.sqrt(1.0 + cp[i, 5] ** 2)
+    return 1
+
+
+@njit(cache=True)
 def _write(out, ys, idx, y, z, F, contacts, outputs):
     """Write sample ``idx`` from the state ``y``, phasor ``z`` and contact forces ``F``."""
     Od, Ov, ORd, ORv = outputs.Od, outputs.Ov, outputs.ORd, outputs.ORv
@@ -330,6 +375,10 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
             for r in range(m):
                 F0[r] = F[r] + (F[r] - Fp[r]) * (h / hp) if extrap else F[r]
             it = solve_contacts(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft)
+            if it < 0 and lev == J:
+                it = graze_contacts(pd, pv, Sd[lev], Sv[lev], cp, Fn, fn, ft)
+                if it > 0:
+                    istate[I_GRAZE] += 1
             if it < 0:
                 if lev < J:
                     lev += 1

@@ -31,6 +31,7 @@ from rubrotor.core.engine import (
     CONTACT_CHANNELS,
     EVENT_BUFFER_FULL,
     I_EVENTS,
+    I_GRAZE,
     I_NEWTON,
     I_STATUS,
     I_STEP,
@@ -220,7 +221,7 @@ class _Chunks:
     out: np.ndarray
     ys: np.ndarray
     events: np.ndarray
-    istate: np.ndarray = field(default_factory=lambda: np.zeros(5, np.int64))
+    istate: np.ndarray = field(default_factory=lambda: np.zeros(6, np.int64))
 
 
 def _fixed_factory(plant: Plant, run: Run, state: _Chunks):
@@ -373,7 +374,7 @@ def simulate_general(
     stats.update(
         method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
         eig_cond=plant.rotor.cond, steps=int(ist[I_STEP]), substeps=int(ist[I_SUBSTEPS]),
-        newton_iterations=int(ist[I_NEWTON]), contact_events=int(ist[I_EVENTS]), wall_s=wall,
+        newton_iterations=int(ist[I_NEWTON]), grazing_closures=int(ist[I_GRAZE]), contact_events=int(ist[I_EVENTS]), wall_s=wall,
         residual=run.residual,
     )  # fmt: skip
     n_out = done + 1
