@@ -12,8 +12,18 @@ from rubrotor.core.contact import contact_force, pack_contact
 from rubrotor.engine.model import static_load_vector, unbalance_phasor
 
 
-def reference_run(system, run, stations, unbalances=(), loads=(), gravity=(0.0, 0.0),
-                  method="DOP853", rtol=1e-10, atol=1e-14, x0=None):
+def reference_run(
+    system,
+    run,
+    stations,
+    unbalances=(),
+    loads=(),
+    gravity=(0.0, 0.0),
+    method="DOP853",
+    rtol=1e-10,
+    atol=1e-14,
+    x0=None,
+):
     """Sample times (s), rotor displacement at each contact (nc, 2, T), stator (nc, 2, T)."""
     w = run.speed
     sm = system.matrices(w)
@@ -21,12 +31,28 @@ def reference_run(system, run, stations, unbalances=(), loads=(), gravity=(0.0, 
     n = M.shape[0]
     minv = np.linalg.inv(M)
     B = [system.force_map(s.contact.position) for s in stations]
-    b_u = sum((unbalance_phasor(u, w) * (system.force_map(u.position) @ np.array([1, -1j]))
-               for u in unbalances), np.zeros(n, complex))
+    b_u = sum(
+        (
+            unbalance_phasor(u, w) * (system.force_map(u.position) @ np.array([1, -1j]))
+            for u in unbalances
+        ),
+        np.zeros(n, complex),
+    )
     f_s = static_load_vector(system, tuple(loads), gravity)
-    cps = [pack_contact(1, s.contact.law_code, s.contact.stiffness, s.contact.damping,
-                        s.contact.clearance, s.contact.friction, s.contact.sign_code,
-                        s.contact.radius * w, s.contact.friction_regularization) for s in stations]
+    cps = [
+        pack_contact(
+            1,
+            s.contact.law_code,
+            s.contact.stiffness,
+            s.contact.damping,
+            s.contact.clearance,
+            s.contact.friction,
+            s.contact.sign_code,
+            s.contact.radius * w,
+            s.contact.friction_regularization,
+        )
+        for s in stations
+    ]
     nc = len(stations)
     flex = [s.stator is not None for s in stations]
     smat = [s.stator.matrices() if s.stator is not None else None for s in stations]
@@ -37,7 +63,7 @@ def reference_run(system, run, stations, unbalances=(), loads=(), gravity=(0.0, 
         o += 4 if f else 0
 
     def rhs(t, x):
-        q, qd = x[:n], x[n:2 * n]
+        q, qd = x[:n], x[n : 2 * n]
         f = f_s + np.real(b_u * np.exp(1j * w * t))
         dx = np.empty_like(x)
         for i, s in enumerate(stations):
@@ -45,18 +71,20 @@ def reference_run(system, run, stations, unbalances=(), loads=(), gravity=(0.0, 
             u = B[i].T @ qd
             if flex[i]:
                 k = so[i]
-                p = p - x[k:k + 2]
-                u = u - x[k + 2:k + 4]
+                p = p - x[k : k + 2]
+                u = u - x[k + 2 : k + 4]
             fy, fz, _, _ = contact_force(p[0], p[1], u[0], u[1], cps[i])
             fc = np.array([fy, fz])
             f = f + B[i] @ fc
             if flex[i]:
                 k = so[i]
                 ms, cs, ks = smat[i]
-                dx[k:k + 2] = x[k + 2:k + 4]
-                dx[k + 2:k + 4] = np.linalg.solve(ms, -fc - cs @ x[k + 2:k + 4] - ks @ x[k:k + 2])
+                dx[k : k + 2] = x[k + 2 : k + 4]
+                dx[k + 2 : k + 4] = np.linalg.solve(
+                    ms, -fc - cs @ x[k + 2 : k + 4] - ks @ x[k : k + 2]
+                )
         dx[:n] = qd
-        dx[n:2 * n] = minv @ (f - D @ qd - K @ q)
+        dx[n : 2 * n] = minv @ (f - D @ qd - K @ q)
         return dx
 
     if x0 is None:
@@ -67,14 +95,14 @@ def reference_run(system, run, stations, unbalances=(), loads=(), gravity=(0.0, 
         if run.initial == "steady":
             Q = np.linalg.solve(K - w**2 * M + 1j * w * D, b_u)
             x0[:n] += Q.real
-            x0[n:2 * n] = (1j * w * Q).real
+            x0[n : 2 * n] = (1j * w * Q).real
     dt = run.step * run.save_every
     nt = int(np.floor(run.duration / dt + 1e-9)) + 1
     t_eval = np.arange(nt) * dt
     sol = solve_ivp(rhs, (0, t_eval[-1]), x0, method=method, t_eval=t_eval, rtol=rtol, atol=atol)
     assert sol.success, sol.message
     rot = np.array([B[i].T @ sol.y[:n] for i in range(nc)])
-    st = np.array([sol.y[so[i]:so[i] + 2] if flex[i] else np.zeros((2, nt)) for i in range(nc)])
+    st = np.array([sol.y[so[i] : so[i] + 2] if flex[i] else np.zeros((2, nt)) for i in range(nc)])
     return t_eval, rot, st, sol
 
 

@@ -125,7 +125,7 @@ def _lu_solve(a, b):
 
 
 @njit(cache=True)
-def _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u):
+def _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac):
     """Contact positions for forces ``F``, the laws' forces ``f`` and their Jacobian blocks."""
     m = F.shape[0]
     for r in range(m):
@@ -136,7 +136,6 @@ def _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u):
             b += Sv[r, c] * F[c]
         p[r] = a
         u[r] = b
-    jac = np.empty((2, 4))
     for i in range(cp.shape[0]):
         k = 2 * i
         fy, fz, fn[i], ft[i] = contact_force_jac(p[k], p[k + 1], u[k], u[k + 1], cp[i], jac)
@@ -149,7 +148,15 @@ def _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u):
 
 
 @njit(cache=True)
-def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
+def workspace(m):
+    """Scratch arrays of :func:`solve_contacts` for ``m`` force components (allocated once)."""
+    v = np.zeros((6, m))
+    return (v[0], v[1], v[2], v[3], v[4], v[5], np.zeros((m, 2)), np.zeros((m, 2)),
+            np.zeros((m, m)), np.zeros((2, 4)))  # fmt: skip
+
+
+@njit(cache=True)
+def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft, work):
     """Solve ``F = law(pd + Sd F, pv + Sv F)`` for all contacts together.
 
     ``pd``, ``pv`` (m, m/s) are the relative displacements and velocities the step gives without
@@ -160,13 +167,9 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
     """
     m = F.shape[0]
     nc = cp.shape[0]
-    f = np.empty(m)
-    jp = np.zeros((m, 2))
-    ju = np.zeros((m, 2))
-    p = np.empty(m)
-    u = np.empty(m)
-    zero = np.zeros(m)
-    _eval(pd, pv, Sd, Sv, zero, cp, f, fn, ft, jp, ju, p, u)
+    f, p, u, zero, last, res = work[0], work[1], work[2], work[3], work[4], work[5]
+    jp, ju, jr, jac = work[6], work[7], work[8], work[9]
+    _eval(pd, pv, Sd, Sv, zero, cp, f, fn, ft, jp, ju, p, u, jac)
     closed = False
     for i in range(nc):
         if fn[i] != 0.0:
@@ -185,12 +188,11 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
             start = True
     for r in range(m):
         F[r] = F0[r] if start else f[r]
-    last = np.zeros(m)
-    res = np.empty(m)
-    jr = np.empty((m, m))
+    for r in range(m):
+        last[r] = 0.0
     rprev = 1e300
     for it in range(1, 60):
-        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
         rn = 0.0
         for r in range(m):
             res[r] = F[r] - f[r]
@@ -223,13 +225,13 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
             fnorm += F[r] * F[r]
         rprev = rn
         if math.sqrt(dn) <= 1e-13 * math.sqrt(fnorm) + tol:
-            _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+            _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
             return it
     return -60
 
 
 @njit(cache=True)
-def graze_contacts(pd, pv, Sd, Sv, cp, F, fn, ft):
+def graze_contacts(pd, pv, Sd, Sv, cp, F, fn, ft, work):
     """Set-valued closure when Newton has no solution to converge to (a law that jumps at zero
     penetration, e.g. the linear law's dashpot): each contact in turn gets the fraction ``s`` of
     its law's force at zero new force that puts it exactly on the clearance circle (bisection on
@@ -237,36 +239,33 @@ def graze_contacts(pd, pv, Sd, Sv, cp, F, fn, ft):
     Returns 1 when every contact could be placed, else -1.
     """
     m = F.shape[0]
-    f = np.empty(m)
-    jp = np.zeros((m, 2))
-    ju = np.zeros((m, 2))
-    p = np.empty(m)
-    u = np.empty(m)
+    f, p, u = work[0], work[1], work[2]
+    jp, ju, jac = work[6], work[7], work[9]
     for r in range(m):
         F[r] = 0.0
     for i in range(cp.shape[0]):
-        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
         if fn[i] == 0.0:
             continue
         fy, fz = f[2 * i], f[2 * i + 1]
         lo, hi = 0.0, 1.0
         F[2 * i] = fy
         F[2 * i + 1] = fz
-        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
         if math.sqrt(p[2 * i] ** 2 + p[2 * i + 1] ** 2) > cp[i, 4] and fn[i] != 0.0:
             return -1
         for _ in range(60):
             mid = 0.5 * (lo + hi)
             F[2 * i] = mid * fy
             F[2 * i + 1] = mid * fz
-            _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+            _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
             if math.sqrt(p[2 * i] ** 2 + p[2 * i + 1] ** 2) > cp[i, 4]:
                 lo = mid
             else:
                 hi = mid
         F[2 * i] = hi * fy
         F[2 * i + 1] = hi * fz
-    _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u)
+    _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
     for i in range(cp.shape[0]):
         fn[i] = math.sqrt(F[2 * i] ** 2 + F[2 * i + 1] ** 2) / math.sqrt(1.0 + cp[i, 5] ** 2)
     return 1
@@ -291,10 +290,10 @@ def _write(out, ys, idx, y, z, F, contacts, outputs):
     base = 2 * nrow
     Cd, Cv, Rd, Rv = contacts.Cd, contacts.Cv, contacts.Rd, contacts.Rv
     Pu, Pv, d0, cp = contacts.Pu, contacts.Pv, contacts.d0, contacts.cp
+    pr = np.empty(2)
+    ur = np.empty(2)
     for i in range(cp.shape[0]):
         b = base + 8 * i
-        pr = np.empty(2)
-        ur = np.empty(2)
         for a in range(2):
             k = 2 * i + a
             out[b + a, idx] = _cdot(outputs.Sd[k], y).real
@@ -341,6 +340,7 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
     F0 = np.zeros(m)
     fn = np.zeros(nc)
     ft = np.zeros(nc)
+    work = workspace(m)
     z = zt[0]
     h0 = hs[0]
     hp = stats[0]
@@ -374,9 +374,9 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                     extrap = True
             for r in range(m):
                 F0[r] = F[r] + (F[r] - Fp[r]) * (h / hp) if extrap else F[r]
-            it = solve_contacts(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft)
+            it = solve_contacts(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft, work)
             if it < 0 and lev == J:
-                it = graze_contacts(pd, pv, Sd[lev], Sv[lev], cp, Fn, fn, ft)
+                it = graze_contacts(pd, pv, Sd[lev], Sv[lev], cp, Fn, fn, ft, work)
                 if it > 0:
                     istate[I_GRAZE] += 1
             if it < 0:

@@ -160,13 +160,23 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     Pu = Bmat.T @ Q
     cps = np.array(
         [
-            pack_contact(1, c.law_code, c.stiffness, c.damping, c.clearance, c.friction,
-                         c.sign_code, c.radius * speed, c.friction_regularization)
+            pack_contact(
+                1,
+                c.law_code,
+                c.stiffness,
+                c.damping,
+                c.clearance,
+                c.friction,
+                c.sign_code,
+                c.radius * speed,
+                c.friction_regularization,
+            )
             for c in (s.contact for s in stations)
         ]  # fmt: skip
     ).reshape(nc, 10)
     max_d = run.max_displacement or (
-        1000 * max((s.contact.clearance for s in stations), default=0.0) or 0.1 * system.basis.length
+        1000 * max((s.contact.clearance for s in stations), default=0.0)
+        or 0.1 * system.basis.length
     )
     contacts = Contacts(
         Cd=np.ascontiguousarray(Cd), Cv=np.ascontiguousarray(Cd * lam[None, :]),

@@ -20,9 +20,7 @@ def _num(field: str, value, unit: str, minimum: float | None = None, strict=Fals
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
         raise InputError(field, value, f"a number ({unit})")
     v = float(value)
-    ok = math.isfinite(v) and (
-        minimum is None or (v > minimum if strict else v >= minimum)
-    )
+    ok = math.isfinite(v) and (minimum is None or (v > minimum if strict else v >= minimum))
     if not ok:
         bound = "" if minimum is None else f" {'>' if strict else '>='} {minimum:g}"
         raise InputError(field, value, f"a finite number{bound} ({unit})")
@@ -182,7 +180,9 @@ def static_load_vector(system, loads: tuple[RadialLoad, ...], gravity=(0.0, 0.0)
         labels = system.dof_labels
         if len(labels) != len(f):
             raise InputError("gravity", gravity, "a rotor with labelled DOFs (v@x, w@x)")
-        r = np.array([gy if s.startswith("v@") else gz if s.startswith("w@") else 0.0 for s in labels])
+        r = np.array(
+            [gy if s.startswith("v@") else gz if s.startswith("w@") else 0.0 for s in labels]
+        )
         f += system.M @ r
     f = f[system.free]
     for ld in loads:
