@@ -16,7 +16,7 @@ flexibility of the dropped modes is part of ``S_d``, ``S_v``), and Newton solves
 ``F = law(p(F), u(F))`` for all contacts together. When Newton fails the step is split in halves
 (down to ``h / 2^(levels-1)``) instead of stopping.
 
-Everything the kernel reads is grouped in named tuples built by :mod:`rubrotor.engine.driver`:
+Everything the kernel reads is grouped in named tuples (:mod:`rubrotor.engine.structs`):
 ``steps`` (per-level propagation coefficients), ``contacts`` (contact rows, laws) and ``outputs``
 (output rows). Status codes are named in :data:`STATUS_NAMES`.
 
@@ -27,7 +27,6 @@ from ``4 S + 8 i``: stator ``s_y, s_z`` (m), ``s_y', s_z'`` (m/s), force on the 
 """
 
 import math
-from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -35,9 +34,6 @@ from numba import njit
 from rubrotor.core.contact import contact_force, contact_force_jac
 
 __all__ = [
-    "Steps",
-    "Contacts",
-    "Outputs",
     "OK",
     "DIVERGED",
     "NEWTON_FAILED",
@@ -69,23 +65,6 @@ STATUS_NAMES = {
 # slots of the integer state vector
 I_STEP, I_EVENTS, I_STATUS, I_SUBSTEPS, I_NEWTON, I_GRAZE = 0, 1, 2, 3, 4, 5
 CONTACT_CHANNELS = 8
-
-Steps = namedtuple(
-    "Steps", ["E", "bG0", "bG1", "CdE", "CvE", "CdG0b", "CvG0b", "Sd", "Sv", "rot", "h"]
-)
-"""Per level ``l`` (step ``h_l = h_0 / 2^l``): ``E`` (L, ns) ``e^{lam h}``; ``bG0, bG1`` (L, ns, m)
-input columns of ``F_n`` and ``F_{n+1}``; ``CdE, CvE`` (L, m, ns) contact rows times ``E``;
-``CdG0b, CvG0b`` (L, m, m) real contact response to ``F_n``; ``Sd, Sv`` (L, m, m) real
-sensitivities to ``F_{n+1}``; ``rot`` (L,) ``e^{i Omega h}``; ``h`` (L,) steps (s)."""
-
-Contacts = namedtuple("Contacts", ["Cd", "Cv", "Rd", "Rv", "Pu", "Pv", "d0", "cp", "max_disp"])
-"""``Cd, Cv`` (m, ns) rows of relative displacement/velocity; ``Rd, Rv`` (m, m) residual
-feed-through; ``Pu, Pv`` (m,) unbalance phasors (``Re(Pu z)``); ``d0`` (m,) static relative
-displacement (m) minus stator offset; ``cp`` (nc, 10) packed laws; ``max_disp`` (m) divergence."""
-
-Outputs = namedtuple("Outputs", ["Od", "Ov", "ORd", "ORv", "OPu", "OPv", "Od0", "Sd", "Sv"])
-"""Output station rows (2 S, ns), their residual (2 S, m), unbalance phasors and static parts
-(2 S,); stator rows ``Sd, Sv`` (m, ns)."""
 
 
 @njit(cache=True, inline="always")

@@ -38,13 +38,11 @@ from rubrotor.core.engine import (
     I_SUBSTEPS,
     OK,
     STATUS_NAMES,
-    Contacts,
-    Outputs,
-    Steps,
     expo_fixed,
 )
 from rubrotor.engine.model import RubStation, Run, static_load_vector, unbalance_phasor
 from rubrotor.engine.reduce import Modes, reduce_matrices
+from rubrotor.engine.structs import Contacts, Outputs, Steps
 from rubrotor.errors import InputError
 from rubrotor.simulation import phi_functions
 

@@ -1,0 +1,26 @@
+"""Named structures the compiled engine kernels read (:mod:`rubrotor.core.engine`).
+
+They live outside ``rubrotor.core`` (which imports only numpy and numba); numba reads any
+named tuple of arrays by field name.
+"""
+
+from collections import namedtuple
+
+__all__ = ["Steps", "Contacts", "Outputs"]
+
+Steps = namedtuple(
+    "Steps", ["E", "bG0", "bG1", "CdE", "CvE", "CdG0b", "CvG0b", "Sd", "Sv", "rot", "h"]
+)
+"""Per level ``l`` (step ``h_l = h_0 / 2^l``): ``E`` (L, ns) ``e^{lam h}``; ``bG0, bG1`` (L, ns, m)
+input columns of ``F_n`` and ``F_{n+1}``; ``CdE, CvE`` (L, m, ns) contact rows times ``E``;
+``CdG0b, CvG0b`` (L, m, m) real contact response to ``F_n``; ``Sd, Sv`` (L, m, m) real
+sensitivities to ``F_{n+1}``; ``rot`` (L,) ``e^{i Omega h}``; ``h`` (L,) steps (s)."""
+
+Contacts = namedtuple("Contacts", ["Cd", "Cv", "Rd", "Rv", "Pu", "Pv", "d0", "cp", "max_disp"])
+"""``Cd, Cv`` (m, ns) rows of relative displacement/velocity; ``Rd, Rv`` (m, m) residual
+feed-through; ``Pu, Pv`` (m,) unbalance phasors (``Re(Pu z)``); ``d0`` (m,) static relative
+displacement (m) minus stator offset; ``cp`` (nc, 10) packed laws; ``max_disp`` (m) divergence."""
+
+Outputs = namedtuple("Outputs", ["Od", "Ov", "ORd", "ORv", "OPu", "OPv", "Od0", "Sd", "Sv"])
+"""Output station rows (2 S, ns), their residual (2 S, m), unbalance phasors and static parts
+(2 S,); stator rows ``Sd, Sv`` (m, ns)."""
