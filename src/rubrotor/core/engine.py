@@ -75,10 +75,27 @@ def _cdot(row, y):
     return acc
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def _rdot(row, y):
+    """``Re(row . y)`` without computing the imaginary part."""
+    acc = 0.0
+    for j in range(y.shape[0]):
+        acc += row[j].real * y[j].real - row[j].imag * y[j].imag
+    return acc
+
+
+@njit(cache=True, inline="always")
 def _lu_solve(a, b):
     """Solve ``a x = b`` in place (``b`` gets ``x``) by Gaussian elimination with pivoting."""
     n = b.shape[0]
+    if n == 2:
+        det = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
+        if det == 0.0:
+            return False
+        x0 = (a[1, 1] * b[0] - a[0, 1] * b[1]) / det
+        b[1] = (-a[1, 0] * b[0] + a[0, 0] * b[1]) / det
+        b[0] = x0
+        return True
     for k in range(n):
         p = k
         for i in range(k + 1, n):
@@ -103,7 +120,7 @@ def _lu_solve(a, b):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac):
     """Contact positions for forces ``F``, the laws' forces ``f`` and their Jacobian blocks."""
     m = F.shape[0]
@@ -134,7 +151,7 @@ def workspace(m):
             np.zeros((m, m)), np.zeros((2, 4)))  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft, work):
     """Solve ``F = law(pd + Sd F, pv + Sv F)`` for all contacts together.
 
@@ -148,23 +165,24 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft, work):
     nc = cp.shape[0]
     f, p, u, zero, last, res = work[0], work[1], work[2], work[3], work[4], work[5]
     jp, ju, jr, jac = work[6], work[7], work[8], work[9]
-    _eval(pd, pv, Sd, Sv, zero, cp, f, fn, ft, jp, ju, p, u, jac)
-    closed = False
-    for i in range(nc):
-        if fn[i] != 0.0:
-            closed = True
-    if not closed:
-        for r in range(m):
-            F[r] = 0.0
-        return 0
-    scale = 0.0
-    for i in range(nc):
-        scale = max(scale, cp[i, 9])
-    tol = 1e-13 * scale
     start = False
     for r in range(m):
         if F0[r] != 0.0:
             start = True
+    if not start:
+        _eval(pd, pv, Sd, Sv, zero, cp, f, fn, ft, jp, ju, p, u, jac)
+        closed = False
+        for i in range(nc):
+            if fn[i] != 0.0:
+                closed = True
+        if not closed:
+            for r in range(m):
+                F[r] = 0.0
+            return 0
+    scale = 0.0
+    for i in range(nc):
+        scale = max(scale, cp[i, 9])
+    tol = 1e-13 * scale
     for r in range(m):
         F[r] = F0[r] if start else f[r]
     for r in range(m):
@@ -204,7 +222,6 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft, work):
             fnorm += F[r] * F[r]
         rprev = rn
         if math.sqrt(dn) <= 1e-13 * math.sqrt(fnorm) + tol:
-            _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
             return it
     return -60
 
@@ -340,12 +357,10 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                 if F[r] != 0.0:
                     loaded = True
             for r in range(m):
-                pd[r] = d0[r] + (Pu[r] * zn).real + _cdot(CdE[lev, r], y).real
-                pv[r] = (Pv[r] * zn).real + _cdot(CvE[lev, r], y).real
+                pd[r] = d0[r] + (Pu[r] * zn).real + _rdot(CdE[lev, r], y)
                 if loaded:
                     for c in range(m):
                         pd[r] += CdG0b[lev, r, c] * F[c]
-                        pv[r] += CvG0b[lev, r, c] * F[c]
             h = hs[lev]
             extrap = False
             for r in range(m):
@@ -353,7 +368,21 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                     extrap = True
             for r in range(m):
                 F0[r] = F[r] + (F[r] - Fp[r]) * (h / hp) if extrap else F[r]
-            it = solve_contacts(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft, work)
+            free = True  # every contact inside its clearance without new force: F = 0 solves
+            for i in range(nc):
+                if pd[2 * i] ** 2 + pd[2 * i + 1] ** 2 > cp[i, 4] ** 2:
+                    free = False
+            if free:
+                it = 0
+                for r in range(m):
+                    Fn[r] = 0.0
+            else:
+                for r in range(m):
+                    pv[r] = (Pv[r] * zn).real + _rdot(CvE[lev, r], y)
+                    if loaded:
+                        for c in range(m):
+                            pv[r] += CvG0b[lev, r, c] * F[c]
+                it = solve_contacts(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft, work)
             if it < 0 and lev == J:
                 it = graze_contacts(pd, pv, Sd[lev], Sv[lev], cp, Fn, fn, ft, work)
                 if it > 0:
