@@ -31,7 +31,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import contact_force, contact_force_jac
+from rubrotor.core.contact import _law, contact_force
 
 __all__ = [
     "OK",
@@ -134,13 +134,19 @@ def _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac):
         u[r] = b
     for i in range(cp.shape[0]):
         k = 2 * i
-        fy, fz, fn[i], ft[i] = contact_force_jac(p[k], p[k + 1], u[k], u[k + 1], cp[i], jac)
-        f[k] = fy
-        f[k + 1] = fz
-        for a in range(2):
-            for b in range(2):
-                jp[k + a, b] = jac[a, b]
-                ju[k + a, b] = jac[a, 2 + b]
+        r = _law(p[k], p[k + 1], u[k], u[k + 1], cp[i])
+        f[k] = r[0]
+        f[k + 1] = r[1]
+        fn[i] = r[2]
+        ft[i] = r[3]
+        jp[k, 0] = r[4]
+        jp[k, 1] = r[5]
+        ju[k, 0] = r[6]
+        ju[k, 1] = r[7]
+        jp[k + 1, 0] = r[8]
+        jp[k + 1, 1] = r[9]
+        ju[k + 1, 0] = r[10]
+        ju[k + 1, 1] = r[11]
 
 
 @njit(cache=True)
