@@ -234,3 +234,29 @@ def test_energy_balance_closes_with_flexible_stator():
     print("energy residuals", res, "slope", slope)
     assert res[-1] < 1e-3
     assert slope > 0.8
+
+
+def test_event_buffer_grows_or_says_full(monkeypatch):
+    """A full event buffer is grown between chunks (same events as a large buffer); at its cap
+    the run stops partial with the named status instead of dropping events silently."""
+    import rubrotor.engine.driver as drv
+
+    base = _run(2e-5)
+    monkeypatch.setattr(drv, "EVENT_BUFFER", 520)
+    monkeypatch.setattr(drv, "EVENT_BUFFER_MAX", 1 << 20)
+    grown = _run(2e-5)
+    assert grown.status == "complete"
+    np.testing.assert_array_equal(grown.events, base.events)
+    monkeypatch.setattr(drv, "EVENT_BUFFER_MAX", 520)
+    capped = _run(2e-5)
+    assert capped.status == "partial" and "event buffer full" in capped.message
+    assert len(capped.events) < len(base.events)
+
+
+def test_divergence_is_reported():
+    """A displacement above ``max_displacement`` stops the run partial, named, data kept."""
+    system, stations, unb = general_case()
+    run = Run(speed=SPEED, duration=0.06, step=2e-5, initial="rest", max_displacement=1.05e-4)
+    res = simulate_general(system, run, stations, unb, gravity=GRAVITY, progress=False)
+    assert res.status == "partial" and res.message.startswith("diverged")
+    assert 1 < len(res.time) < 3000
