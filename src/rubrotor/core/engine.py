@@ -232,6 +232,67 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft, work):
     return -60
 
 
+@njit(cache=True, inline="always")
+def solve_one(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
+    """:func:`solve_contacts` for a single contact, on scalars (the common case, ~2x faster)."""
+    c = cp[0]
+    f0y, f0z = F0[0], F0[1]
+    if f0y == 0.0 and f0z == 0.0:
+        r = _law(pd[0], pd[1], pv[0], pv[1], c)
+        if r[2] == 0.0:
+            F[0] = 0.0
+            F[1] = 0.0
+            fn[0] = 0.0
+            ft[0] = 0.0
+            return 0
+        f0y, f0z = r[0], r[1]
+    s00, s01, s10, s11 = Sd[0, 0], Sd[0, 1], Sd[1, 0], Sd[1, 1]
+    v00, v01, v10, v11 = Sv[0, 0], Sv[0, 1], Sv[1, 0], Sv[1, 1]
+    tol = 1e-13 * c[9]
+    fy, fz = f0y, f0z
+    ly, lz = 0.0, 0.0
+    rprev = 1e300
+    for it in range(1, 60):
+        py = pd[0] + s00 * fy + s01 * fz
+        pz = pd[1] + s10 * fy + s11 * fz
+        uy = pv[0] + v00 * fy + v01 * fz
+        uz = pv[1] + v10 * fy + v11 * fz
+        r = _law(py, pz, uy, uz, c)
+        fn[0] = r[2]
+        ft[0] = r[3]
+        ry = fy - r[0]
+        rz = fz - r[1]
+        rn = math.sqrt(ry * ry + rz * rz)
+        if rn > rprev and it > 1:
+            ly *= 0.5
+            lz *= 0.5
+            fy += ly
+            fz += lz
+            rprev = 1e300
+            continue
+        if rn <= tol:
+            F[0] = fy
+            F[1] = fz
+            return it
+        a11 = 1.0 - (r[4] * s00 + r[5] * s10 + r[6] * v00 + r[7] * v10)
+        a12 = -(r[4] * s01 + r[5] * s11 + r[6] * v01 + r[7] * v11)
+        a21 = -(r[8] * s00 + r[9] * s10 + r[10] * v00 + r[11] * v10)
+        a22 = 1.0 - (r[8] * s01 + r[9] * s11 + r[10] * v01 + r[11] * v11)
+        det = a11 * a22 - a12 * a21
+        if det == 0.0:
+            return -it
+        ly = (a22 * ry - a12 * rz) / det
+        lz = (-a21 * ry + a11 * rz) / det
+        fy -= ly
+        fz -= lz
+        rprev = rn
+        if math.sqrt(ly * ly + lz * lz) <= 1e-13 * math.sqrt(fy * fy + fz * fz) + tol:
+            F[0] = fy
+            F[1] = fz
+            return it
+    return -60
+
+
 @njit(cache=True)
 def graze_contacts(pd, pv, Sd, Sv, cp, F, fn, ft, work):
     """Set-valued closure when Newton has no solution to converge to (a law that jumps at zero
@@ -327,7 +388,7 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
     (:data:`STATUS_NAMES`). ``events`` (cap, 2) collects ``[t, +/-(i + 1)]`` onsets (+) and
     separations (-) of contact ``i``, located by linear interpolation of the radial gap.
     """
-    E, bG0, bG1, CdE, CvE = steps.E, steps.bG0, steps.bG1, steps.CdE, steps.CvE
+    E, G0, G1, BT, CdE, CvE = steps.E, steps.G0, steps.G1, steps.BT, steps.CdE, steps.CvE
     CdG0b, CvG0b, Sd, Sv, rot, hs = steps.CdG0b, steps.CvG0b, steps.Sd, steps.Sv, steps.rot, steps.h
     Pu, Pv, d0, cp, max_disp = (contacts.Pu, contacts.Pv, contacts.d0, contacts.cp,
                                 contacts.max_disp)  # fmt: skip
@@ -343,6 +404,11 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
     fn = np.zeros(nc)
     ft = np.zeros(nc)
     work = workspace(m)
+    bF = np.zeros(ns, np.complex128)  # beta F_n, the modal input of the current force
+    bFn = np.zeros(ns, np.complex128)
+    for c in range(m):
+        for j in range(ns):
+            bF[j] += BT[c, j] * F[c]
     z = zt[0]
     h0 = hs[0]
     hp = stats[0]
@@ -388,7 +454,10 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                     if loaded:
                         for c in range(m):
                             pv[r] += CvG0b[lev, r, c] * F[c]
-                it = solve_contacts(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft, work)
+                if nc == 1:
+                    it = solve_one(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft)
+                else:
+                    it = solve_contacts(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft, work)
             if it < 0 and lev == J:
                 it = graze_contacts(pd, pv, Sd[lev], Sv[lev], cp, Fn, fn, ft, work)
                 if it > 0:
@@ -407,10 +476,16 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                     new = True
             if loaded or new:
                 for j in range(ns):
-                    acc = E[lev, j] * y[j]
-                    for c in range(m):
-                        acc += bG0[lev, j, c] * F[c] + bG1[lev, j, c] * Fn[c]
-                    y[j] = acc
+                    bFn[j] = 0j
+                for c in range(m):
+                    fc = Fn[c]
+                    if fc != 0.0:
+                        for j in range(ns):
+                            bFn[j] += BT[c, j] * fc
+                for j in range(ns):
+                    y[j] = E[lev, j] * y[j] + G0[lev, j] * bF[j] + G1[lev, j] * bFn[j]
+                for j in range(ns):
+                    bF[j] = bFn[j]
             else:
                 for j in range(ns):
                     y[j] = E[lev, j] * y[j]

@@ -213,7 +213,7 @@ def _steps(plant: Plant, h0: float, levels: int) -> Steps:
     CdE = c.Cd[None] * E[:, None, :]
     CvE = c.Cv[None] * E[:, None, :]
     return Steps(
-        E=E, bG0=bG0, bG1=bG1, CdE=CdE, CvE=CvE,
+        E=E, G0=G0, G1=G1, BT=np.ascontiguousarray(beta.T), CdE=CdE, CvE=CvE,
         CdG0b=np.real(np.einsum("rj,ljc->lrc", c.Cd, bG0)),
         CvG0b=np.real(np.einsum("rj,ljc->lrc", c.Cv, bG0)),
         Sd=np.real(np.einsum("rj,ljc->lrc", c.Cd, bG1)) + c.Rd[None],

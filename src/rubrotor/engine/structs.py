@@ -9,10 +9,10 @@ from collections import namedtuple
 __all__ = ["Steps", "Contacts", "Outputs"]
 
 Steps = namedtuple(
-    "Steps", ["E", "bG0", "bG1", "CdE", "CvE", "CdG0b", "CvG0b", "Sd", "Sv", "rot", "h"]
+    "Steps", ["E", "G0", "G1", "BT", "CdE", "CvE", "CdG0b", "CvG0b", "Sd", "Sv", "rot", "h"]
 )
-"""Per level ``l`` (step ``h_l = h_0 / 2^l``): ``E`` (L, ns) ``e^{lam h}``; ``bG0, bG1`` (L, ns, m)
-input columns of ``F_n`` and ``F_{n+1}``; ``CdE, CvE`` (L, m, ns) contact rows times ``E``;
+"""Per level ``l`` (step ``h_l = h_0 / 2^l``): ``E`` (L, ns) ``e^{lam h}``; ``G0, G1`` (L, ns)
+``h (phi1 - phi2)`` and ``h phi2`` (s); ``BT`` (m, ns) the modal input ``beta`` transposed; ``CdE, CvE`` (L, m, ns) contact rows times ``E``;
 ``CdG0b, CvG0b`` (L, m, m) real contact response to ``F_n``; ``Sd, Sv`` (L, m, m) real
 sensitivities to ``F_{n+1}``; ``rot`` (L,) ``e^{i Omega h}``; ``h`` (L,) steps (s)."""
 
