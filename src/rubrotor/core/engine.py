@@ -434,16 +434,30 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                     for c in range(m):
                         pd[r] += CdG0b[lev, r, c] * F[c]
             h = hs[lev]
+            free = True  # every contact inside its clearance without new force: F = 0 solves
+            for i in range(nc):
+                if not (pd[2 * i] ** 2 + pd[2 * i + 1] ** 2 <= cp[i, 4] ** 2):  # NaN: not free
+                    free = False
+            if free and not loaded:
+                # free flight: exact propagation only, no force, no event possible
+                for j in range(ns):
+                    y[j] = E[lev, j] * y[j]
+                for i in range(nc):
+                    dprev[i] = math.sqrt(pd[2 * i] ** 2 + pd[2 * i + 1] ** 2)
+                for r in range(m):
+                    Fp[r] = 0.0
+                hp = h
+                z = zn
+                pos += units
+                if lev > 0 and pos % (2 * units) == 0:
+                    lev -= 1
+                continue
             extrap = False
             for r in range(m):
                 if F[r] != 0.0 and Fp[r] != 0.0:
                     extrap = True
             for r in range(m):
                 F0[r] = F[r] + (F[r] - Fp[r]) * (h / hp) if extrap else F[r]
-            free = True  # every contact inside its clearance without new force: F = 0 solves
-            for i in range(nc):
-                if pd[2 * i] ** 2 + pd[2 * i + 1] ** 2 > cp[i, 4] ** 2:
-                    free = False
             if free:
                 it = 0
                 for r in range(m):
