@@ -405,7 +405,6 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
     ft = np.zeros(nc)
     work = workspace(m)
     bF = np.zeros(ns, np.complex128)  # beta F_n, the modal input of the current force
-    bFn = np.zeros(ns, np.complex128)
     for c in range(m):
         for j in range(ns):
             bF[j] += BT[c, j] * F[c]
@@ -489,17 +488,19 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                 if Fn[r] != 0.0:
                     new = True
             if loaded or new:
-                for j in range(ns):
-                    bFn[j] = 0j
-                for c in range(m):
-                    fc = Fn[c]
-                    if fc != 0.0:
-                        for j in range(ns):
-                            bFn[j] += BT[c, j] * fc
-                for j in range(ns):
-                    y[j] = E[lev, j] * y[j] + G0[lev, j] * bF[j] + G1[lev, j] * bFn[j]
-                for j in range(ns):
-                    bF[j] = bFn[j]
+                if m == 2:
+                    f0, f1 = Fn[0], Fn[1]
+                    for j in range(ns):
+                        b = BT[0, j] * f0 + BT[1, j] * f1
+                        y[j] = E[lev, j] * y[j] + G0[lev, j] * bF[j] + G1[lev, j] * b
+                        bF[j] = b
+                else:
+                    for j in range(ns):
+                        b = 0j
+                        for c in range(m):
+                            b += BT[c, j] * Fn[c]
+                        y[j] = E[lev, j] * y[j] + G0[lev, j] * bF[j] + G1[lev, j] * b
+                        bF[j] = b
             else:
                 for j in range(ns):
                     y[j] = E[lev, j] * y[j]
