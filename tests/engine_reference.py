@@ -26,14 +26,16 @@ def reference_run(
 ):
     """Sample times (s), rotor displacement at each contact (nc, 2, T), stator (nc, 2, T)."""
     w = run.speed
+    alpha = 0.0 if run.speed_end is None else (run.speed_end - w) / run.duration
     sm = system.matrices(w)
     M, D, K = sm.M, sm.damping, sm.K
+    C, G = sm.C, sm.G
     n = M.shape[0]
     minv = np.linalg.inv(M)
     B = [system.force_map(s.contact.position) for s in stations]
     b_u = sum(
         (
-            unbalance_phasor(u, w) * (system.force_map(u.position) @ np.array([1, -1j]))
+            unbalance_phasor(u, 1.0) * (system.force_map(u.position) @ np.array([1, -1j]))
             for u in unbalances
         ),
         np.zeros(n, complex),
@@ -64,7 +66,10 @@ def reference_run(
 
     def rhs(t, x):
         q, qd = x[:n], x[n : 2 * n]
-        f = f_s + np.real(b_u * np.exp(1j * w * t))
+        wt = w + alpha * t
+        th = w * t + 0.5 * alpha * t * t
+        f = f_s + np.real((wt**2 - 1j * alpha) * b_u * np.exp(1j * th))
+        Dt = C + wt * G
         dx = np.empty_like(x)
         for i, s in enumerate(stations):
             p = B[i].T @ q - np.array([s.offset_y, s.offset_z])
@@ -84,7 +89,7 @@ def reference_run(
                     ms, -fc - cs @ x[k + 2 : k + 4] - ks @ x[k : k + 2]
                 )
         dx[:n] = qd
-        dx[n : 2 * n] = minv @ (f - D @ qd - K @ q)
+        dx[n : 2 * n] = minv @ (f - Dt @ qd - K @ q)
         return dx
 
     if x0 is None:
@@ -93,7 +98,7 @@ def reference_run(
             qs = np.linalg.solve(K, f_s)
             x0[:n] = qs
         if run.initial == "steady":
-            Q = np.linalg.solve(K - w**2 * M + 1j * w * D, b_u)
+            Q = np.linalg.solve(K - w**2 * M + 1j * w * D, w**2 * b_u)
             x0[:n] += Q.real
             x0[n : 2 * n] = (1j * w * Q).real
     dt = run.step * run.save_every
@@ -103,4 +108,7 @@ def reference_run(
     assert sol.success, sol.message
     rot = np.array([B[i].T @ sol.y[:n] for i in range(nc)])
     st = np.array([sol.y[so[i] : so[i] + 2] if flex[i] else np.zeros((2, nt)) for i in range(nc)])
+    probes = [system.output_rows(x) for x in run.probes]
+    if probes:
+        return t_eval, np.array([r @ sol.y[:n] for r in probes]), st, sol
     return t_eval, rot, st, sol

@@ -375,9 +375,32 @@ def _write(out, ys, idx, y, z, F, contacts, outputs):
             ys[idx, j] = y[j]
 
 
+@njit(cache=True, inline="always")
+def _phi1(z):
+    if abs(z) < 1e-3:
+        return 1.0 + z * (0.5 + z / 6.0)
+    return (np.exp(z) - 1.0) / z
+
+
+@njit(cache=True)
+def _drive(dy, drive, t, h, E):
+    """Modal increment over ``[t, t + h]`` of the unbalance driven at a varying speed."""
+    tm = t + 0.5 * h
+    om = drive.omega0 + drive.alpha * tm
+    th = drive.omega0 * t + 0.5 * drive.alpha * t * t
+    amp = complex(om * om, -drive.alpha)
+    ep = amp * complex(math.cos(th), math.sin(th))
+    em = amp.conjugate() * complex(math.cos(th), -math.sin(th))
+    lam = drive.lam
+    for j in range(dy.shape[0]):
+        cp_ = h * E[j] * _phi1((1j * om - lam[j]) * h)
+        cm_ = h * E[j] * _phi1((-1j * om - lam[j]) * h)
+        dy[j] = ep * drive.Bp[j] * cp_ + em * drive.Bm[j] * cm_
+
+
 @njit(cache=True, fastmath=SAFE_FASTMATH)
 def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, ys, offset,
-               steps, contacts, outputs, omega, t0, events):  # fmt: skip
+               steps, contacts, outputs, omega, t0, events, drive):  # fmt: skip
     """Fixed steps ``h = steps.h[0]``, halved where the contact solve fails.
 
     State in/out: ``y`` (ns,) complex modal coordinates (shifted by the static and unbalance
@@ -387,6 +410,12 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
     every ``save_every`` steps and returns the number written; stops early on a status
     (:data:`STATUS_NAMES`). ``events`` (cap, 2) collects ``[t, +/-(i + 1)]`` onsets (+) and
     separations (-) of contact ``i``, located by linear interpolation of the radial gap.
+
+    ``drive`` (``Drive``): when ``drive.on``, the unbalance is an input instead of a particular
+    solution (speed varying as ``Omega = omega0 + alpha t``): over each step the force
+    ``Re((Omega^2 - i alpha) e^{i theta} b)`` enters each mode exactly for the frequency
+    ``Omega`` of the step's midpoint (``int_0^h e^{lam (h - s)} e^{i Omega s} ds =
+    h e^{lam h} phi1((i Omega - lam) h)``), its amplitude held at the midpoint value.
     """
     E, G0, G1, BT, CdE, CvE = steps.E, steps.G0, steps.G1, steps.BT, steps.CdE, steps.CvE
     CdG0b, CvG0b, Sd, Sv, rot, hs = steps.CdG0b, steps.CvG0b, steps.Sd, steps.Sv, steps.rot, steps.h
@@ -411,6 +440,10 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
     z = zt[0]
     h0 = hs[0]
     hp = stats[0]
+    dy = np.zeros(ns, np.complex128)  # drive increment of the step
+    drv = drive.on != 0.0
+    CdU = contacts.Cd
+    CvU = contacts.Cv
     written = 0
     cap = events.shape[0]
     while written < n_samples:
@@ -423,6 +456,8 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
         while pos < full:
             units = 1 << (J - lev)
             zn = z * rot[lev]
+            if drv:
+                _drive(dy, drive, t0 + (step + pos / full) * h0, hs[lev], E[lev])
             loaded = False
             for r in range(m):
                 if F[r] != 0.0:
@@ -432,6 +467,8 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                 if loaded:
                     for c in range(m):
                         pd[r] += CdG0b[lev, r, c] * F[c]
+                if drv:
+                    pd[r] += _rdot(CdU[r], dy)
             h = hs[lev]
             free = True  # every contact inside its clearance without new force: F = 0 solves
             for i in range(nc):
@@ -441,6 +478,9 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                 # free flight: exact propagation only, no force, no event possible
                 for j in range(ns):
                     y[j] = E[lev, j] * y[j]
+                if drv:
+                    for j in range(ns):
+                        y[j] += dy[j]
                 for i in range(nc):
                     dprev[i] = math.sqrt(pd[2 * i] ** 2 + pd[2 * i + 1] ** 2)
                 for r in range(m):
@@ -464,6 +504,8 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
             else:
                 for r in range(m):
                     pv[r] = (Pv[r] * zn).real + _rdot(CvE[lev, r], y)
+                    if drv:
+                        pv[r] += _rdot(CvU[r], dy)
                     if loaded:
                         for c in range(m):
                             pv[r] += CvG0b[lev, r, c] * F[c]
@@ -504,6 +546,9 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
             else:
                 for j in range(ns):
                     y[j] = E[lev, j] * y[j]
+            if drv:
+                for j in range(ns):
+                    y[j] += dy[j]
             pos += units
             t_new = t0 + (step + pos / full) * h0
             bad = False

@@ -18,6 +18,7 @@ the contact response.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import sys
@@ -42,7 +43,7 @@ from rubrotor.core.engine import (
 )
 from rubrotor.engine.model import RubStation, Run, static_load_vector, unbalance_phasor
 from rubrotor.engine.reduce import Modes, reduce_matrices
-from rubrotor.engine.structs import Contacts, Outputs, Steps
+from rubrotor.engine.structs import Contacts, Drive, Outputs, Steps
 from rubrotor.errors import InputError
 from rubrotor.simulation import phi_functions
 
@@ -67,6 +68,7 @@ class Plant:
     q_static: np.ndarray  # (n,) m or rad
     q_unbalance: np.ndarray  # (n,) complex amplitude of the steady unbalance response
     speed: float
+    Bmat: np.ndarray  # (n, m) force map of the contact forces
 
 
 def _stator_modes(st: RubStation):
@@ -194,7 +196,7 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     )  # fmt: skip
     y0 = np.zeros(ns, complex)
     y0[:nsr] = _initial(run, modes, q_s, Q, speed)
-    return Plant(lam, beta, contacts, outputs, positions, y0, modes, nsr, q_s, Q, speed)
+    return Plant(lam, beta, contacts, outputs, positions, y0, modes, nsr, q_s, Q, speed, Bmat)
 
 
 def _steps(plant: Plant, h0: float, levels: int) -> Steps:
@@ -232,31 +234,119 @@ class _Chunks:
     istate: np.ndarray = field(default_factory=lambda: np.zeros(6, np.int64))
 
 
-def _fixed_factory(plant: Plant, run: Run, state: _Chunks):
+@dataclass(frozen=True)
+class Problem:
+    """What is simulated besides the run settings (see :func:`build_plant`)."""
+
+    system: object
+    stations: tuple
+    unbalances: tuple
+    loads: tuple
+    gravity: tuple
+
+
+def _no_drive(ns: int) -> Drive:
+    z = np.zeros(ns, complex)
+    return Drive(z, z, z, 0.0, 0.0, 0.0)
+
+
+def _kernel_state(plant: Plant, run: Run):
+    m = plant.beta.shape[1]
+    return dict(y=plant.y0.copy(), F=np.zeros(m), Fp=np.zeros(m), dprev=np.zeros(m // 2),
+                zt=np.ones(1, complex), hp=np.array([run.step]))  # fmt: skip
+
+
+def _first_sample(state, k, plant):
+    from rubrotor.core.engine import _write
+
+    _write(state.out, state.ys, 0, k["y"], k["zt"][0], k["F"], plant.contacts, plant.outputs)
+
+
+def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     """Stepper ``"exponential"``: fixed steps, contact solve sub-steps where Newton fails."""
     steps = _steps(plant, run.step, run.sublevels + 1)
-    m = plant.beta.shape[1]
-    y = plant.y0.copy()
-    F, Fp = np.zeros(m), np.zeros(m)
-    dprev = np.zeros(m // 2)
-    zt = np.ones(1, complex)
-    hp = np.array([run.step])
+    k = _kernel_state(plant, run)
+    drive = _no_drive(plant.lam.size)
 
     def chunk(offset: int, count: int) -> int:
-        return expo_fixed(y, F, Fp, dprev, zt, state.istate, hp, count, run.save_every,
-                          state.out, state.ys, offset, steps, plant.contacts, plant.outputs,
-                          plant.speed, 0.0, state.events)  # fmt: skip
+        return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
+                          count, run.save_every, state.out, state.ys, offset, steps,
+                          plant.contacts, plant.outputs, plant.speed, 0.0, state.events,
+                          drive)  # fmt: skip
 
-    def first_sample():
-        from rubrotor.core.engine import _write
-
-        _write(state.out, state.ys, 0, y, zt[0], F, plant.contacts, plant.outputs)
-
-    return chunk, first_sample, {"step_s": run.step, "min_step_s": run.step / 2**run.sublevels}
+    stats = {"step_s": run.step, "min_step_s": run.step / 2**run.sublevels}
+    return chunk, lambda: _first_sample(state, k, plant), stats
 
 
-STEPPERS = {"exponential": _fixed_factory}
-"""Method name -> factory ``(plant, run, state) -> (chunk, first_sample, stats)``."""
+def _transfer(y, F, a: Plant, b: Plant) -> np.ndarray:
+    """Modal state on plant ``b`` of the physical state held by ``y`` on plant ``a``."""
+    n = a.q_static.size
+    ya = y[: a.n_rotor]
+    fq = a.Bmat @ F
+    q = np.real(a.rotor.Vq @ ya) + a.rotor.Rq @ fq + a.q_static
+    qd = np.real(a.rotor.Vq @ (a.rotor.lam * ya)) + a.rotor.Rv @ fq
+    x = np.concatenate([q - b.q_static - b.rotor.Rq @ fq, qd - b.rotor.Rv @ fq])
+    out = np.empty(b.lam.size, complex)
+    out[: b.n_rotor] = b.rotor.project(x)
+    out[b.n_rotor :] = y[a.n_rotor :]
+    assert x.size == 2 * n
+    return out
+
+
+def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
+    """Stepper for a speed varying linearly from ``run.speed`` to ``run.speed_end``.
+
+    The rotor is re-diagonalised at the mid-speed of each segment (speed change at most
+    ``run.speed_step``); the state is carried across as the physical state. The unbalance
+    (with its angular-acceleration term) is an exact modal input per step (``Drive``).
+    """
+    w0, w1 = run.speed, run.speed_end
+    alpha = (w1 - w0) / run.duration
+    n_seg = max(1, math.ceil(abs(w1 - w0) / run.speed_step))
+    dt = run.step * run.save_every
+    seg_samples = max(1, math.ceil(run.duration / dt / n_seg))
+    k = _kernel_state(plant, run)
+    cur = {"index": -1, "plant": plant}
+    b0 = np.zeros(problem.system.n_dof, complex)
+    for u in problem.unbalances:
+        b0 += unbalance_phasor(u, 1.0) * (problem.system.force_map(u.position) @ np.array([1, -1j]))
+
+    def segment(index: int):
+        t_mid = min((index + 0.5) * seg_samples * dt, run.duration)
+        w = w0 + alpha * t_mid
+        r = dataclasses.replace(run, speed=w, initial="static")
+        new = build_plant(problem.system, r, problem.stations, (), problem.loads, problem.gravity)
+        if cur["index"] >= 0:
+            k["y"] = _transfer(k["y"], k["F"], cur["plant"], new)
+        ub = np.zeros(new.lam.size, complex)
+        ub[: new.n_rotor] = new.rotor.U @ b0
+        u_conj = np.zeros(new.lam.size, complex)
+        u_conj[: new.n_rotor] = new.rotor.U @ b0.conj()
+        drive = Drive(new.lam, 0.5 * ub, 0.5 * u_conj, w0, alpha, 1.0)
+        cur.update(index=index, plant=new, steps=_steps(new, run.step, run.sublevels + 1),
+                   drive=drive)  # fmt: skip
+
+    segment(0)
+    k["y"] = cur["plant"].y0.copy() if run.initial == "static" else k["y"]
+
+    def chunk(offset: int, count: int) -> int:
+        index = (offset - 1) // seg_samples
+        if index != cur["index"]:
+            segment(index)
+        count = min(count, (index + 1) * seg_samples - (offset - 1))
+        p = cur["plant"]
+        return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
+                          count, run.save_every, state.out, state.ys, offset, cur["steps"],
+                          p.contacts, p.outputs, p.speed, 0.0, state.events,
+                          cur["drive"])  # fmt: skip
+
+    stats = {"step_s": run.step, "segments": n_seg, "speed_end_rad_s": w1,
+             "angular_acceleration_rad_s2": alpha}  # fmt: skip
+    return chunk, lambda: _first_sample(state, k, cur["plant"]), stats
+
+
+STEPPERS = {"exponential": _fixed_factory, "runup": _runup_factory}
+"""Method name -> factory ``(problem, plant, run, state) -> (chunk, first_sample, stats)``."""
 
 
 @dataclass(frozen=True)
@@ -350,7 +440,7 @@ def simulate_general(
     stations, unbalances, loads, gravity
         As in :func:`build_plant`.
     method : {"exponential"}
-        Stepper (:data:`STEPPERS`).
+        Stepper (:data:`STEPPERS`); ``"runup"`` is chosen when ``run.speed_end`` is set.
     progress : bool, optional
         Progress on stderr for long runs (default: when stderr is a terminal).
 
@@ -363,7 +453,16 @@ def simulate_general(
     for i, s in enumerate(stations):
         if not isinstance(s, RubStation):
             raise InputError(f"contact[{i + 1}]", s, "a RubStation")
-    plant = build_plant(system, run, stations, unbalances, loads, gravity)
+    problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity))
+    if run.speed_end is not None:
+        method = "runup"
+        if not isinstance(run.initial, str) or run.initial not in ("rest", "static"):
+            raise InputError(
+                "initial.state", run.initial, '"rest" or "static" with a speed profile'
+            )
+        plant = build_plant(system, run, stations, (), loads, gravity)
+    else:
+        plant = build_plant(system, run, stations, unbalances, loads, gravity)
     sample_dt = run.step * run.save_every
     n_samples = int(math.floor(run.duration / sample_dt + 1e-9))
     if n_samples < 1:
@@ -374,7 +473,7 @@ def simulate_general(
         ys=np.zeros((n_samples + 1 if run.save_state else 0, plant.lam.size), complex),
         events=np.zeros((EVENT_BUFFER, 2)),
     )
-    chunk, first, stats = STEPPERS[method](plant, run, state)
+    chunk, first, stats = STEPPERS[method](problem, plant, run, state)
     first()
     show = sys.stderr.isatty() if progress is None else progress
     done, msg, wall = _loop(chunk, n_samples, state, show, sample_dt)

@@ -132,6 +132,11 @@ class Run:
         Also keep the modal state at every sample (for energy checks and restarts).
     max_displacement : float, optional
         Divergence threshold on any contact's relative displacement (m); default 1000 clearances.
+    speed_end : float, optional
+        Run-up or coast-down: the speed varies linearly from ``speed`` to ``speed_end`` (rad/s)
+        over ``duration``.
+    speed_step : float, optional
+        Largest speed change (rad/s) between re-diagonalisations; default 1/200 of the range.
     """
 
     speed: float
@@ -146,8 +151,17 @@ class Run:
     sublevels: int = 8
     save_state: bool = False
     max_displacement: float | None = None
+    speed_end: float | None = None
+    speed_step: float | None = None
 
     def __post_init__(self):
+        if self.speed_end is not None:
+            _num("speed.to", self.speed_end, "rad/s", 0, True)
+            if self.speed_step is None:
+                object.__setattr__(
+                    self, "speed_step", abs(self.speed_end - self.speed) / 200 or 1.0
+                )
+            _num("speed.step", self.speed_step, "rad/s", 0, True)
         _num("speed", self.speed, "rad/s", 0, True)
         _num("simulation.duration", self.duration, "s", 0, True)
         _num("simulation.step", self.step, "s", 0, True)

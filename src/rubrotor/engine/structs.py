@@ -6,7 +6,7 @@ named tuple of arrays by field name.
 
 from collections import namedtuple
 
-__all__ = ["Steps", "Contacts", "Outputs"]
+__all__ = ["Steps", "Contacts", "Outputs", "Drive"]
 
 Steps = namedtuple(
     "Steps", ["E", "G0", "G1", "BT", "CdE", "CvE", "CdG0b", "CvG0b", "Sd", "Sv", "rot", "h"]
@@ -24,3 +24,8 @@ displacement (m) minus stator offset; ``cp`` (nc, 10) packed laws; ``max_disp`` 
 Outputs = namedtuple("Outputs", ["Od", "Ov", "ORd", "ORv", "OPu", "OPv", "Od0", "Sd", "Sv"])
 """Output station rows (2 S, ns), their residual (2 S, m), unbalance phasors and static parts
 (2 S,); stator rows ``Sd, Sv`` (m, ns)."""
+
+Drive = namedtuple("Drive", ["lam", "Bp", "Bm", "omega0", "alpha", "on"])
+"""Unbalance as an input at a varying speed ``Omega = omega0 + alpha t`` (rad/s, rad/s^2):
+``Bp = U b / 2``, ``Bm = U conj(b) / 2`` (ns,) with ``b`` the complex unbalance load per unit
+``Omega^2`` (kg m); ``lam`` (ns,) the modes; ``on`` 1.0 to use it."""
