@@ -324,3 +324,24 @@ def test_runup_peak_above_critical_coastdown_below():
         peaks.append(w0 + (w1 - w0) * res.time[late][np.argmax(env)])
     print("steady peak", wc, "run-up peak", peaks[0], "coast-down peak", peaks[1])
     assert peaks[0] > wc > peaks[1]
+
+
+def test_restart_from_final_state_continues_the_run():
+    """A run split in two, the second started from the first's ``final_state``, equals the
+    run done in one go (rigid offset stator, gravity, no unbalance so that the time origin
+    does not matter). Only the force hold of the first step after the restart differs."""
+    system, stations, _ = general_case()
+    stations = [dataclasses.replace(stations[0], stator=None)]
+    whole = Run(speed=SPEED, duration=0.04, step=2e-5, save_every=5, initial="rest")
+    one = simulate_general(system, whole, stations, gravity=GRAVITY, progress=False)
+    half = dataclasses.replace(whole, duration=0.02)
+    a = simulate_general(system, half, stations, gravity=GRAVITY, progress=False)
+    b = simulate_general(system, dataclasses.replace(half, initial=a.final_state), stations,
+                         gravity=GRAVITY, progress=False)  # fmt: skip
+    assert one.stats["contact_events"] > 0
+    n = len(a.time)
+    joined = np.concatenate([a.channels[:2], b.channels[:2, 1:]], axis=1)
+    err = np.max(np.abs(joined - one.channels[:2])) / np.max(np.abs(one.channels[:2]))
+    print("restart difference", err)
+    assert np.allclose(b.channels[:2, 0], a.channels[:2, -1], rtol=0, atol=1e-12)
+    assert err < 1e-3 and joined.shape[1] == 2 * n - 1

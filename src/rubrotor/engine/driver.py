@@ -256,6 +256,17 @@ def _kernel_state(plant: Plant, run: Run):
                 zt=np.ones(1, complex), hp=np.array([run.step]))  # fmt: skip
 
 
+def physical_state(plant: Plant, y: np.ndarray, F: np.ndarray, z: complex) -> np.ndarray:
+    """Total rotor state ``[q, q']`` (m, rad; m/s, rad/s) on the free DOFs from the modal
+    state ``y``, the contact forces ``F`` (N) and the unbalance phasor ``z``."""
+    yr = y[: plant.n_rotor]
+    fq = plant.Bmat @ F
+    Q = plant.q_unbalance * z
+    q = np.real(plant.rotor.Vq @ yr) + plant.rotor.Rq @ fq + plant.q_static + Q.real
+    qd = np.real(plant.rotor.Vq @ (plant.rotor.lam * yr)) + plant.rotor.Rv @ fq
+    return np.concatenate([q, qd + np.real(1j * plant.speed * Q)])
+
+
 def _first_sample(state, k, plant):
     from rubrotor.core.engine import _write
 
@@ -275,7 +286,11 @@ def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
                           drive)  # fmt: skip
 
     stats = {"step_s": run.step, "min_step_s": run.step / 2**run.sublevels}
-    return chunk, lambda: _first_sample(state, k, plant), stats
+
+    def final():
+        return physical_state(plant, k["y"], k["F"], k["zt"][0])
+
+    return chunk, lambda: _first_sample(state, k, plant), stats, final
 
 
 def _transfer(y, F, a: Plant, b: Plant) -> np.ndarray:
@@ -342,11 +357,15 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
 
     stats = {"step_s": run.step, "segments": n_seg, "speed_end_rad_s": w1,
              "angular_acceleration_rad_s2": alpha}  # fmt: skip
-    return chunk, lambda: _first_sample(state, k, cur["plant"]), stats
+
+    def final():
+        return physical_state(cur["plant"], k["y"], k["F"], 1.0)
+
+    return chunk, lambda: _first_sample(state, k, cur["plant"]), stats, final
 
 
 STEPPERS = {"exponential": _fixed_factory, "runup": _runup_factory}
-"""Method name -> factory ``(problem, plant, run, state) -> (chunk, first_sample, stats)``."""
+"""Method name -> factory ``(problem, plant, run, state) -> (chunk, first_sample, stats, final)``."""
 
 
 @dataclass(frozen=True)
@@ -370,7 +389,10 @@ class EngineResult:
         ``"complete"`` or ``"partial"`` and why.
     stats : dict
     speed : float
-        rad/s.
+        rad/s (the start speed of a run-up).
+    final_state : ndarray
+        Rotor state ``[q, q']`` on the free DOFs at the last completed step (SI): pass it as
+        ``Run(initial=...)`` to continue the run (a flexible stator restarts from rest).
     """
 
     time: np.ndarray
@@ -383,6 +405,7 @@ class EngineResult:
     message: str
     stats: dict
     speed: float
+    final_state: np.ndarray
 
     def to_dataset(self):
         """The results as an xarray Dataset (dims ``time``, ``station``, ``contact``, ``event``)."""
@@ -473,7 +496,7 @@ def simulate_general(
         ys=np.zeros((n_samples + 1 if run.save_state else 0, plant.lam.size), complex),
         events=np.zeros((EVENT_BUFFER, 2)),
     )
-    chunk, first, stats = STEPPERS[method](problem, plant, run, state)
+    chunk, first, stats, final = STEPPERS[method](problem, plant, run, state)
     first()
     show = sys.stderr.isatty() if progress is None else progress
     done, msg, wall = _loop(chunk, n_samples, state, show, sample_dt)
@@ -496,6 +519,7 @@ def simulate_general(
         message=msg,
         stats=stats,
         speed=plant.speed,
+        final_state=final(),
     )
 
 
