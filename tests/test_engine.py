@@ -345,3 +345,32 @@ def test_restart_from_final_state_continues_the_run():
     print("restart difference", err)
     assert np.allclose(b.channels[:2, 0], a.channels[:2, -1], rtol=0, atol=1e-12)
     assert err < 1e-3 and joined.shape[1] == 2 * n - 1
+
+
+def test_streamed_run_equals_in_memory_run(tmp_path):
+    """Streaming to netCDF in chunks of 300 samples writes the same samples, events and
+    status as the in-memory run, and the result itself keeps no samples."""
+    import xarray as xr
+
+    system, stations, unb = general_case()
+    run = Run(speed=SPEED, duration=0.06, step=2e-5, save_every=2, initial="rest")
+    mem = simulate_general(system, run, stations, unb, gravity=GRAVITY, progress=False)
+    path = tmp_path / "run.nc"
+    st = simulate_general(system, run, stations, unb, gravity=GRAVITY, progress=False,
+                          stream=str(path), chunk_samples=300)  # fmt: skip
+    assert st.channels.shape[1] == 0 and st.status == "complete"
+    ref = mem.to_dataset()
+    with xr.open_dataset(path) as ds:
+        for name in ("v", "w", "v_dot", "stator_y", "force_z", "normal_force"):
+            np.testing.assert_array_equal(ds[name].values, ref[name].values)
+        np.testing.assert_allclose(ds.time.values, ref.time.values, rtol=1e-15)
+        np.testing.assert_array_equal(ds.event_time.values, ref.event_time.values)
+        assert ds.attrs["status"] == "complete"
+
+
+def test_run_too_large_is_refused_before_it_starts():
+    """A run whose samples cannot fit in memory is refused, naming the keys to change."""
+    system, stations, unb = general_case()
+    run = Run(speed=SPEED, duration=1e7, step=1e-5, initial="rest")
+    with pytest.raises(InputError, match="simulation.save_every"):
+        simulate_general(system, run, stations, unb, progress=False)

@@ -43,8 +43,10 @@ from rubrotor.core.engine import (
 )
 from rubrotor.engine.model import RubStation, Run, static_load_vector, unbalance_phasor
 from rubrotor.engine.reduce import Modes, reduce_matrices
+from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
 from rubrotor.engine.structs import Contacts, Drive, Outputs, Steps
 from rubrotor.errors import InputError
+from rubrotor.results import _jsonable
 from rubrotor.simulation import phi_functions
 
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "STEPPERS"]
@@ -279,7 +281,7 @@ def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     k = _kernel_state(plant, run)
     drive = _no_drive(plant.lam.size)
 
-    def chunk(offset: int, count: int) -> int:
+    def chunk(offset: int, count: int, done: int) -> int:
         return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
                           count, run.save_every, state.out, state.ys, offset, steps,
                           plant.contacts, plant.outputs, plant.speed, 0.0, state.events,
@@ -344,11 +346,11 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     segment(0)
     k["y"] = cur["plant"].y0.copy() if run.initial == "static" else k["y"]
 
-    def chunk(offset: int, count: int) -> int:
-        index = (offset - 1) // seg_samples
+    def chunk(offset: int, count: int, done: int) -> int:
+        index = done // seg_samples
         if index != cur["index"]:
             segment(index)
-        count = min(count, (index + 1) * seg_samples - (offset - 1))
+        count = min(count, (index + 1) * seg_samples - done)
         p = cur["plant"]
         return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
                           count, run.save_every, state.out, state.ys, offset, cur["steps"],
@@ -412,12 +414,21 @@ class EngineResult:
         return _dataset(self)
 
 
-def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: float):
-    """Shared chunk loop: progress between chunks, Ctrl-C, event-buffer growth, status."""
+def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: float, sink=None):
+    """Shared chunk loop: progress between chunks, Ctrl-C, event-buffer growth, status.
+
+    Without ``sink`` the samples fill ``state.out`` in place; with one, every chunk is written
+    at the start of the (chunk-sized) buffer and handed to ``sink.write``.
+    """
     done, t0, interrupted = 0, _time.perf_counter(), False
+    width = state.out.shape[1] - 1
     try:
         while done < n_samples:
-            done += chunk(1 + done, min(1 << 14, n_samples - done))
+            offset = 1 if sink is not None else 1 + done
+            wrote = chunk(offset, min(width, n_samples - done), done)
+            if sink is not None:
+                sink.write(state.out[:, (0 if done == 0 else 1) : 1 + wrote])
+            done += wrote
             st = int(state.istate[I_STATUS])
             if st == EVENT_BUFFER_FULL and len(state.events) < EVENT_BUFFER_MAX:
                 state.events = np.concatenate([state.events, np.zeros_like(state.events)])
@@ -451,6 +462,8 @@ def simulate_general(
     *,
     method: str = "exponential",
     progress: bool | None = None,
+    stream: str | None = None,
+    chunk_samples: int = 1 << 14,
 ) -> EngineResult:
     """Simulate a linear rotor with rub at several stations (see the module docstring).
 
@@ -466,10 +479,21 @@ def simulate_general(
         Stepper (:data:`STEPPERS`); ``"runup"`` is chosen when ``run.speed_end`` is set.
     progress : bool, optional
         Progress on stderr for long runs (default: when stderr is a terminal).
+    stream : str, optional
+        Write the samples to this netCDF file chunk by chunk (bounded memory); the result then
+        holds no samples (``time`` and ``channels`` empty), only events, statistics and the final
+        state. Read it with :func:`rubrotor.results.load_dataset` or xarray.
+    chunk_samples : int
+        Samples per compiled call (and the buffer size when streaming).
 
     Returns
     -------
     EngineResult
+
+    Raises
+    ------
+    InputError
+        Bad input, or an output too large for memory (or disk when streamed), before running.
     """
     if method not in STEPPERS:
         raise InputError("simulation.method", method, " or ".join(f'"{k}"' for k in STEPPERS))
@@ -491,15 +515,32 @@ def simulate_general(
     if n_samples < 1:
         raise InputError("simulation.duration", run.duration, f">= one sample ({sample_dt:g} s)")
     nst, nc = len(plant.stations), len(stations)
+    nch = 4 * nst + CONTACT_CHANNELS * nc
+    check_size(n_samples + 1, nch, plant.lam.size if run.save_state else 0, stream)
+    width = min(chunk_samples, n_samples) if stream is not None else n_samples
     state = _Chunks(
-        out=np.empty((4 * nst + CONTACT_CHANNELS * nc, n_samples + 1)),
+        out=np.empty((nch, width + 1)),
         ys=np.zeros((n_samples + 1 if run.save_state else 0, plant.lam.size), complex),
         events=np.zeros((EVENT_BUFFER, 2)),
     )
     chunk, first, stats, final = STEPPERS[method](problem, plant, run, state)
     first()
     show = sys.stderr.isatty() if progress is None else progress
-    done, msg, wall = _loop(chunk, n_samples, state, show, sample_dt)
+    sink = None
+    if stream is not None:
+        sink = NetcdfSink(stream, plant.stations, nc, sample_dt, plant.speed)
+    if stream is None and chunk_samples < n_samples:
+        inner = chunk
+
+        def chunk(offset, count, done):  # the in-memory run still calls in bounded chunks
+            return inner(offset, min(count, chunk_samples), done)
+
+    try:
+        done, msg, wall = _loop(chunk, n_samples, state, show, sample_dt, sink)
+    except BaseException:
+        if sink is not None:
+            sink.close(np.zeros((0, 2)), {}, ok=False)
+        raise
     ist = state.istate
     stats.update(
         method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
@@ -508,14 +549,21 @@ def simulate_general(
         residual=run.residual,
     )  # fmt: skip
     n_out = done + 1
+    events = state.events[: int(ist[I_EVENTS])].copy()
+    status = "complete" if not msg else "partial"
+    if sink is not None:
+        sink.close(events, {"status": status, "status_message": msg, "speed_rad_s": plant.speed,
+                            "integrator_stats": json.dumps(_jsonable(stats))})  # fmt: skip
+        stats["stream"] = str(stream)
+        n_out = 0
     return EngineResult(
         time=np.arange(n_out) * sample_dt,
         stations=plant.stations,
         n_contacts=nc,
         channels=state.out[:, :n_out],
-        events=state.events[: int(ist[I_EVENTS])].copy(),
+        events=events,
         states=state.ys[:n_out],
-        status="complete" if not msg else "partial",
+        status=status,
         message=msg,
         stats=stats,
         speed=plant.speed,
@@ -523,18 +571,14 @@ def simulate_general(
     )
 
 
-_STATION = (("v", "m"), ("w", "m"), ("v_dot", "m/s"), ("w_dot", "m/s"))
-_CONTACT = (
-    ("stator_y", "m"), ("stator_z", "m"), ("stator_y_dot", "m/s"), ("stator_z_dot", "m/s"),
-    ("force_y", "N"), ("force_z", "N"), ("normal_force", "N"), ("friction_force", "N"),
-)  # fmt: skip
+_STATION = STATION_VARS
+_CONTACT = CONTACT_VARS
 
 
 def _dataset(res: EngineResult):
     import xarray as xr
 
     from rubrotor import __version__
-    from rubrotor.results import _jsonable
 
     ch = res.channels
     S = len(res.stations)
