@@ -45,6 +45,10 @@ __all__ = [
     "I_SUBSTEPS",
     "I_NEWTON",
     "I_GRAZE",
+    "I_ACCEPTED",
+    "I_REJECTED",
+    "I_LEVEL",
+    "N_ISTATE",
     "CONTACT_CHANNELS",
     "expo_fixed",
 ]
@@ -64,6 +68,8 @@ STATUS_NAMES = {
 
 # slots of the integer state vector
 I_STEP, I_EVENTS, I_STATUS, I_SUBSTEPS, I_NEWTON, I_GRAZE = 0, 1, 2, 3, 4, 5
+I_ACCEPTED, I_REJECTED, I_LEVEL = 6, 7, 8
+N_ISTATE = 9
 CONTACT_CHANNELS = 8
 
 
@@ -400,7 +406,7 @@ def _drive(dy, drive, t, h, E):
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
 def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, ys, offset,
-               steps, contacts, outputs, omega, t0, events, drive):  # fmt: skip
+               steps, contacts, outputs, omega, t0, events, drive, control):  # fmt: skip
     """Fixed steps ``h = steps.h[0]``, halved where the contact solve fails.
 
     State in/out: ``y`` (ns,) complex modal coordinates (shifted by the static and unbalance
@@ -416,6 +422,16 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
     ``Re((Omega^2 - i alpha) e^{i theta} b)`` enters each mode exactly for the frequency
     ``Omega`` of the step's midpoint (``int_0^h e^{lam (h - s)} e^{i Omega s} ds =
     h e^{lam h} phi1((i Omega - lam) h)``), its amplitude held at the midpoint value.
+
+    ``control`` (``Control``): when ``control.on``, steps are chosen by a local error estimate
+    (adaptive mode, one sample per base step ``h_0``): in contact with a force history, the
+    error of holding the force linear, ``|a_F| h^3 |F''| / 12`` in velocity and half that times
+    ``h`` in displacement (``a_F`` the direct acceleration per N, ``F''`` from the last three
+    forces); at onsets and separations the zero- against first-order-hold difference
+    ``errc |F_{n+1} - F_n|``, and every change of contact state is refined to the finest level
+    (onsets located to ``h_0 / 2^(levels-1)``). A step is rejected and halved when
+    ``max(e_d, e_v / Omega) > atol + rtol max(|p|, g)``; it doubles again after steps below 1/20
+    of that.
     """
     E, G0, G1, BT, CdE, CvE = steps.E, steps.G0, steps.G1, steps.BT, steps.CdE, steps.CvE
     CdG0b, CvG0b, Sd, Sv, rot, hs = steps.CdG0b, steps.CvG0b, steps.Sd, steps.Sv, steps.rot, steps.h
@@ -442,6 +458,10 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
     hp = stats[0]
     dy = np.zeros(ns, np.complex128)  # drive increment of the step
     drv = drive.on != 0.0
+    ctl = control.on != 0.0
+    gmin = 1e300
+    for i in range(nc):
+        gmin = min(gmin, cp[i, 4])
     CdU = contacts.Cd
     CvU = contacts.Cv
     written = 0
@@ -452,7 +472,7 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
             break
         step = istate[I_STEP]
         pos = 0
-        lev = 0
+        lev = istate[I_LEVEL] if ctl else 0
         while pos < full:
             units = 1 << (J - lev)
             zn = z * rot[lev]
@@ -488,6 +508,7 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                 hp = h
                 z = zn
                 pos += units
+                istate[I_ACCEPTED] += 1
                 if lev > 0 and pos % (2 * units) == 0:
                     lev -= 1
                 continue
@@ -529,6 +550,44 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
             for r in range(m):
                 if Fn[r] != 0.0:
                     new = True
+            err = 0.0
+            changed = False
+            if ctl:
+                pmax = 0.0
+                for i in range(nc):
+                    was = F[2 * i] != 0.0 or F[2 * i + 1] != 0.0
+                    now = Fn[2 * i] != 0.0 or Fn[2 * i + 1] != 0.0
+                    if was != now:
+                        changed = True
+                    a = pd[2 * i]
+                    b = pd[2 * i + 1]
+                    for c in range(m):
+                        a += Sd[lev, 2 * i, c] * Fn[c]
+                        b += Sd[lev, 2 * i + 1, c] * Fn[c]
+                    pmax = max(pmax, math.sqrt(a * a + b * b))
+                tol = control.atol + control.rtol * max(pmax, gmin)
+                hist = False
+                for r in range(m):
+                    if Fp[r] != 0.0:
+                        hist = True
+                if new and loaded and hist:
+                    f2 = 0.0
+                    for r in range(m):
+                        d2 = (Fn[r] - F[r]) / h - (F[r] - Fp[r]) / hp
+                        f2 += d2 * d2
+                    f2 = 2.0 * math.sqrt(f2) / (h + hp)
+                    e_v = control.a_f * h * h * h * f2 / 12.0
+                    err = max(0.5 * e_v * h, e_v / omega) / tol
+                else:
+                    dfn = 0.0
+                    for r in range(m):
+                        dfn += (Fn[r] - F[r]) ** 2
+                    err = control.errc[lev] * math.sqrt(dfn) / tol
+                if lev < J and (err > 1.0 or changed):
+                    lev += 1
+                    istate[I_REJECTED] += 1
+                    continue
+            istate[I_ACCEPTED] += 1
             if loaded or new:
                 if m == 2:
                     f0, f1 = Fn[0], Fn[1]
@@ -581,12 +640,13 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
             if bad:
                 istate[I_STATUS] = DIVERGED
                 break
-            if lev > 0 and pos % (2 * units) == 0:
+            if lev > 0 and pos % (2 * units) == 0 and (not ctl or (err < 0.05 and not changed)):
                 lev -= 1
         if istate[I_STATUS] != OK:
             break
         step += 1
         istate[I_STEP] = step
+        istate[I_LEVEL] = lev
         tt = omega * (t0 + step * h0)
         z = complex(math.cos(tt), math.sin(tt))
         if step % save_every == 0:

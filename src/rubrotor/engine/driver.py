@@ -31,12 +31,15 @@ from rubrotor.core.contact import pack_contact
 from rubrotor.core.engine import (
     CONTACT_CHANNELS,
     EVENT_BUFFER_FULL,
+    I_ACCEPTED,
     I_EVENTS,
     I_GRAZE,
     I_NEWTON,
+    I_REJECTED,
     I_STATUS,
     I_STEP,
     I_SUBSTEPS,
+    N_ISTATE,
     OK,
     STATUS_NAMES,
     expo_fixed,
@@ -44,13 +47,14 @@ from rubrotor.core.engine import (
 from rubrotor.engine.model import RubStation, Run, static_load_vector, unbalance_phasor
 from rubrotor.engine.reduce import Modes, reduce_matrices
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
-from rubrotor.engine.structs import Contacts, Drive, Outputs, Steps
+from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Steps
 from rubrotor.errors import InputError
 from rubrotor.results import _jsonable
 from rubrotor.simulation import phi_functions
 
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "STEPPERS"]
 
+ADAPTIVE_LEVELS = 21
 EVENT_BUFFER = 1 << 16
 EVENT_BUFFER_MAX = 1 << 26
 
@@ -233,7 +237,7 @@ class _Chunks:
     out: np.ndarray
     ys: np.ndarray
     events: np.ndarray
-    istate: np.ndarray = field(default_factory=lambda: np.zeros(6, np.int64))
+    istate: np.ndarray = field(default_factory=lambda: np.zeros(N_ISTATE, np.int64))
 
 
 @dataclass(frozen=True)
@@ -275,9 +279,22 @@ def _first_sample(state, k, plant):
     _write(state.out, state.ys, 0, k["y"], k["zt"][0], k["F"], plant.contacts, plant.outputs)
 
 
+def _control(plant: Plant, steps: Steps, run: Run) -> Control:
+    """Adaptive control constants (off for fixed steps)."""
+    if run.rtol is None:
+        return Control(0.0, 0.0, 0.0, 0.0, np.zeros(len(steps.h)))
+    c = plant.contacts
+    a_f = float(np.max(np.abs(np.real(c.Cv @ plant.beta)).sum(axis=1), initial=0.0))
+    errc = np.abs(steps.CdG0b).sum(axis=2).max(axis=1) if c.Cd.shape[0] else np.zeros(len(steps.h))
+    return Control(1.0, float(run.rtol), float(run.atol), a_f, np.ascontiguousarray(errc))
+
+
 def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
-    """Stepper ``"exponential"``: fixed steps, contact solve sub-steps where Newton fails."""
-    steps = _steps(plant, run.step, run.sublevels + 1)
+    """Stepper ``"exponential"``: fixed steps, contact solve sub-steps where Newton fails; with
+    ``run.rtol`` adaptive steps (dyadic subdivisions of the output spacing ``run.step``)."""
+    levels = run.sublevels + 1 if run.rtol is None else max(run.sublevels, ADAPTIVE_LEVELS - 1) + 1
+    steps = _steps(plant, run.step, levels)
+    control = _control(plant, steps, run)
     k = _kernel_state(plant, run)
     drive = _no_drive(plant.lam.size)
 
@@ -285,9 +302,9 @@ def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
         return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
                           count, run.save_every, state.out, state.ys, offset, steps,
                           plant.contacts, plant.outputs, plant.speed, 0.0, state.events,
-                          drive)  # fmt: skip
+                          drive, control)  # fmt: skip
 
-    stats = {"step_s": run.step, "min_step_s": run.step / 2**run.sublevels}
+    stats = {"step_s": run.step, "min_step_s": float(steps.h[-1]), "adaptive": run.rtol is not None}
 
     def final():
         return physical_state(plant, k["y"], k["F"], k["zt"][0])
@@ -340,8 +357,9 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
         u_conj = np.zeros(new.lam.size, complex)
         u_conj[: new.n_rotor] = new.rotor.U @ b0.conj()
         drive = Drive(new.lam, 0.5 * ub, 0.5 * u_conj, w0, alpha, 1.0)
-        cur.update(index=index, plant=new, steps=_steps(new, run.step, run.sublevels + 1),
-                   drive=drive)  # fmt: skip
+        steps = _steps(new, run.step, run.sublevels + 1)
+        cur.update(index=index, plant=new, steps=steps, drive=drive,
+                   control=Control(0.0, 0.0, 0.0, 0.0, np.zeros(len(steps.h))))  # fmt: skip
 
     segment(0)
     k["y"] = cur["plant"].y0.copy() if run.initial == "static" else k["y"]
@@ -355,7 +373,7 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
         return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
                           count, run.save_every, state.out, state.ys, offset, cur["steps"],
                           p.contacts, p.outputs, p.speed, 0.0, state.events,
-                          cur["drive"])  # fmt: skip
+                          cur["drive"], cur["control"])  # fmt: skip
 
     stats = {"step_s": run.step, "segments": n_seg, "speed_end_rad_s": w1,
              "angular_acceleration_rad_s2": alpha}  # fmt: skip
@@ -545,7 +563,8 @@ def simulate_general(
     stats.update(
         method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
         eig_cond=plant.rotor.cond, steps=int(ist[I_STEP]), substeps=int(ist[I_SUBSTEPS]),
-        newton_iterations=int(ist[I_NEWTON]), grazing_closures=int(ist[I_GRAZE]), contact_events=int(ist[I_EVENTS]), wall_s=wall,
+        newton_iterations=int(ist[I_NEWTON]), accepted_steps=int(ist[I_ACCEPTED]),
+        rejected_steps=int(ist[I_REJECTED]), grazing_closures=int(ist[I_GRAZE]), contact_events=int(ist[I_EVENTS]), wall_s=wall,
         residual=run.residual,
     )  # fmt: skip
     n_out = done + 1

@@ -137,6 +137,11 @@ class Run:
         over ``duration``.
     speed_step : float, optional
         Largest speed change (rad/s) between re-diagonalisations; default 1/200 of the range.
+    rtol : float, optional
+        Adaptive steps: relative tolerance of the local error; ``step`` is then the output
+        spacing (s), subdivided dyadically, and ``save_every`` must be 1.
+    atol : float
+        Absolute tolerance (m) of the adaptive steps.
     """
 
     speed: float
@@ -153,8 +158,15 @@ class Run:
     max_displacement: float | None = None
     speed_end: float | None = None
     speed_step: float | None = None
+    rtol: float | None = None
+    atol: float = 1e-10
 
     def __post_init__(self):
+        if self.rtol is not None:
+            _num("simulation.rtol", self.rtol, "1", 0, True)
+            _num("simulation.atol", self.atol, "m", 0, True)
+            if self.save_every != 1:
+                raise InputError("simulation.save_every", self.save_every, "1 with adaptive steps")
         if self.speed_end is not None:
             _num("speed.to", self.speed_end, "rad/s", 0, True)
             if self.speed_step is None:

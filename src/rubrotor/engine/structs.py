@@ -6,7 +6,7 @@ named tuple of arrays by field name.
 
 from collections import namedtuple
 
-__all__ = ["Steps", "Contacts", "Outputs", "Drive"]
+__all__ = ["Steps", "Contacts", "Outputs", "Drive", "Control"]
 
 Steps = namedtuple(
     "Steps", ["E", "G0", "G1", "BT", "CdE", "CvE", "CdG0b", "CvG0b", "Sd", "Sv", "rot", "h"]
@@ -29,3 +29,8 @@ Drive = namedtuple("Drive", ["lam", "Bp", "Bm", "omega0", "alpha", "on"])
 """Unbalance as an input at a varying speed ``Omega = omega0 + alpha t`` (rad/s, rad/s^2):
 ``Bp = U b / 2``, ``Bm = U conj(b) / 2`` (ns,) with ``b`` the complex unbalance load per unit
 ``Omega^2`` (kg m); ``lam`` (ns,) the modes; ``on`` 1.0 to use it."""
+
+Control = namedtuple("Control", ["on", "rtol", "atol", "a_f", "errc"])
+"""Adaptive step control: ``on`` (1.0 adaptive), ``rtol`` (1), ``atol`` (m), ``a_f`` the
+direct contact acceleration per N (m/(s^2 N)), ``errc`` (L,) displacement per N of a
+zero- against first-order hold at each level (m/N)."""
