@@ -243,12 +243,12 @@ def test_event_buffer_grows_or_says_full(monkeypatch):
     import rubrotor.engine.driver as drv
 
     base = _run(2e-5)
-    monkeypatch.setattr(drv, "EVENT_BUFFER", 520)
+    monkeypatch.setattr(drv, "EVENT_BUFFER", 140)
     monkeypatch.setattr(drv, "EVENT_BUFFER_MAX", 1 << 20)
     grown = _run(2e-5)
     assert grown.status == "complete"
     np.testing.assert_array_equal(grown.events, base.events)
-    monkeypatch.setattr(drv, "EVENT_BUFFER_MAX", 520)
+    monkeypatch.setattr(drv, "EVENT_BUFFER_MAX", 140)
     capped = _run(2e-5)
     assert capped.status == "partial" and "event buffer full" in capped.message
     assert len(capped.events) < len(base.events)

@@ -31,7 +31,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import _law, contact_force
+from rubrotor.core.contact import _law
 
 __all__ = [
     "OK",
@@ -49,6 +49,7 @@ __all__ = [
     "I_REJECTED",
     "I_LEVEL",
     "N_ISTATE",
+    "EVENT_MARGIN",
     "CONTACT_CHANNELS",
     "expo_fixed",
 ]
@@ -66,19 +67,15 @@ STATUS_NAMES = {
     EVENT_BUFFER_FULL: "event buffer full",
 }
 
+EVENT_MARGIN = 128
+"""Free event slots per contact required before a base step (more events in one step are
+counted, not stored, and stop the run with EVENT_BUFFER_FULL)."""
+
 # slots of the integer state vector
 I_STEP, I_EVENTS, I_STATUS, I_SUBSTEPS, I_NEWTON, I_GRAZE = 0, 1, 2, 3, 4, 5
 I_ACCEPTED, I_REJECTED, I_LEVEL = 6, 7, 8
 N_ISTATE = 9
 CONTACT_CHANNELS = 8
-
-
-@njit(cache=True, inline="always")
-def _cdot(row, y):
-    acc = 0j
-    for j in range(y.shape[0]):
-        acc += row[j] * y[j]
-    return acc
 
 
 @njit(cache=True, inline="always")
@@ -341,15 +338,16 @@ def graze_contacts(pd, pv, Sd, Sv, cp, F, fn, ft, work):
 
 
 @njit(cache=True)
-def _write(out, ys, idx, y, z, F, contacts, outputs):
-    """Write sample ``idx`` from the state ``y``, phasor ``z`` and contact forces ``F``."""
+def _write(out, ys, idx, y, z, F, fn, ft, contacts, outputs):
+    """Write sample ``idx`` from the state ``y``, phasor ``z``, contact forces ``F`` and the
+    normal and friction forces ``fn``, ``ft`` (N) of the last contact solve."""
     Od, Ov, ORd, ORv = outputs.Od, outputs.Ov, outputs.ORd, outputs.ORv
     OPu, OPv, Od0 = outputs.OPu, outputs.OPv, outputs.Od0
     nrow = Od.shape[0]
     m = F.shape[0]
     for r in range(nrow):
-        d = _cdot(Od[r], y).real + (OPu[r] * z).real + Od0[r]
-        v = _cdot(Ov[r], y).real + (OPv[r] * z).real
+        d = _rdot(Od[r], y) + (OPu[r] * z).real + Od0[r]
+        v = _rdot(Ov[r], y) + (OPv[r] * z).real
         for c in range(m):
             d += ORd[r, c] * F[c]
             v += ORv[r, c] * F[c]
@@ -357,25 +355,19 @@ def _write(out, ys, idx, y, z, F, contacts, outputs):
         out[4 * s + a, idx] = d
         out[4 * s + 2 + a, idx] = v
     base = 2 * nrow
-    Cd, Cv, Rd, Rv = contacts.Cd, contacts.Cv, contacts.Rd, contacts.Rv
-    Pu, Pv, d0, cp = contacts.Pu, contacts.Pv, contacts.d0, contacts.cp
-    pr = np.empty(2)
-    ur = np.empty(2)
-    for i in range(cp.shape[0]):
+    for i in range(fn.shape[0]):
         b = base + 8 * i
         for a in range(2):
             k = 2 * i + a
-            out[b + a, idx] = _cdot(outputs.Sd[k], y).real
-            out[b + 2 + a, idx] = _cdot(outputs.Sv[k], y).real
+            if outputs.flex[i] != 0.0:
+                out[b + a, idx] = _rdot(outputs.Sd[k], y)
+                out[b + 2 + a, idx] = _rdot(outputs.Sv[k], y)
+            else:
+                out[b + a, idx] = 0.0
+                out[b + 2 + a, idx] = 0.0
             out[b + 4 + a, idx] = F[k]
-            pr[a] = _cdot(Cd[k], y).real + (Pu[k] * z).real + d0[k]
-            ur[a] = _cdot(Cv[k], y).real + (Pv[k] * z).real
-            for c in range(m):
-                pr[a] += Rd[k, c] * F[c]
-                ur[a] += Rv[k, c] * F[c]
-        fy, fz, fn, ft = contact_force(pr[0], pr[1], ur[0], ur[1], cp[i])
-        out[b + 6, idx] = fn
-        out[b + 7, idx] = ft
+        out[b + 6, idx] = fn[i]
+        out[b + 7, idx] = ft[i]
     if ys.shape[0] > 0:
         for j in range(y.shape[0]):
             ys[idx, j] = y[j]
@@ -467,8 +459,8 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
     written = 0
     cap = events.shape[0]
     while written < n_samples:
-        if istate[I_EVENTS] + 2 * nc * full > cap:
-            istate[I_STATUS] = EVENT_BUFFER_FULL
+        if istate[I_EVENTS] + EVENT_MARGIN * nc > cap:
+            istate[I_STATUS] = EVENT_BUFFER_FULL  # the driver grows the buffer and resumes
             break
         step = istate[I_STEP]
         pos = 0
@@ -505,6 +497,9 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                     dprev[i] = math.sqrt(pd[2 * i] ** 2 + pd[2 * i + 1] ** 2)
                 for r in range(m):
                     Fp[r] = 0.0
+                for i in range(nc):
+                    fn[i] = 0.0
+                    ft[i] = 0.0
                 hp = h
                 z = zn
                 pos += units
@@ -522,6 +517,9 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                 it = 0
                 for r in range(m):
                     Fn[r] = 0.0
+                for i in range(nc):
+                    fn[i] = 0.0
+                    ft[i] = 0.0
             else:
                 for r in range(m):
                     pv[r] = (Pv[r] * zn).real + _rdot(CvE[lev, r], y)
@@ -628,8 +626,9 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                     frac = (g - dprev[i]) / den if den != 0.0 else 1.0
                     frac = min(max(frac, 0.0), 1.0)
                     ne = istate[I_EVENTS]
-                    events[ne, 0] = t_new - (1.0 - frac) * h
-                    events[ne, 1] = (i + 1) if now else -(i + 1)
+                    if ne < cap:  # beyond: counted, not stored; reported after the step
+                        events[ne, 0] = t_new - (1.0 - frac) * h
+                        events[ne, 1] = (i + 1) if now else -(i + 1)
                     istate[I_EVENTS] = ne + 1
                 dprev[i] = d
             for r in range(m):
@@ -647,10 +646,12 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
         step += 1
         istate[I_STEP] = step
         istate[I_LEVEL] = lev
+        if istate[I_EVENTS] > cap:
+            istate[I_STATUS] = EVENT_BUFFER_FULL  # events were lost: the driver stops
         tt = omega * (t0 + step * h0)
         z = complex(math.cos(tt), math.sin(tt))
         if step % save_every == 0:
-            _write(out, ys, offset + written, y, z, F, contacts, outputs)
+            _write(out, ys, offset + written, y, z, F, fn, ft, contacts, outputs)
             written += 1
     zt[0] = z
     stats[0] = hp

@@ -199,6 +199,7 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
         Od=Od, Ov=Od * lam[None, :], ORd=orow @ Rq @ Bmat, ORv=orow @ Rv @ Bmat,
         OPu=orow @ Q, OPv=1j * speed * (orow @ Q), Od0=orow @ q_s,
         Sd=np.ascontiguousarray(Sd), Sv=np.ascontiguousarray(Sd * lam[None, :]),
+        flex=np.array([float(s.stator is not None) for s in stations]),
     )  # fmt: skip
     y0 = np.zeros(ns, complex)
     y0[:nsr] = _initial(run, modes, q_s, Q, speed)
@@ -276,7 +277,9 @@ def physical_state(plant: Plant, y: np.ndarray, F: np.ndarray, z: complex) -> np
 def _first_sample(state, k, plant):
     from rubrotor.core.engine import _write
 
-    _write(state.out, state.ys, 0, k["y"], k["zt"][0], k["F"], plant.contacts, plant.outputs)
+    nc = len(plant.outputs.flex)
+    _write(state.out, state.ys, 0, k["y"], k["zt"][0], k["F"], np.zeros(nc), np.zeros(nc),
+           plant.contacts, plant.outputs)  # fmt: skip
 
 
 def _control(plant: Plant, steps: Steps, run: Run) -> Control:
@@ -448,7 +451,8 @@ def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: floa
                 sink.write(state.out[:, (0 if done == 0 else 1) : 1 + wrote])
             done += wrote
             st = int(state.istate[I_STATUS])
-            if st == EVENT_BUFFER_FULL and len(state.events) < EVENT_BUFFER_MAX:
+            lost = state.istate[I_EVENTS] > len(state.events)
+            if st == EVENT_BUFFER_FULL and not lost and len(state.events) < EVENT_BUFFER_MAX:
                 state.events = np.concatenate([state.events, np.zeros_like(state.events)])
                 state.istate[I_STATUS] = OK
                 continue
@@ -568,7 +572,7 @@ def simulate_general(
         residual=run.residual,
     )  # fmt: skip
     n_out = done + 1
-    events = state.events[: int(ist[I_EVENTS])].copy()
+    events = state.events[: min(int(ist[I_EVENTS]), len(state.events))].copy()
     status = "complete" if not msg else "partial"
     if sink is not None:
         sink.close(events, {"status": status, "status_message": msg, "speed_rad_s": plant.speed,

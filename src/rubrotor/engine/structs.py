@@ -21,9 +21,9 @@ Contacts = namedtuple("Contacts", ["Cd", "Cv", "Rd", "Rv", "Pu", "Pv", "d0", "cp
 feed-through; ``Pu, Pv`` (m,) unbalance phasors (``Re(Pu z)``); ``d0`` (m,) static relative
 displacement (m) minus stator offset; ``cp`` (nc, 10) packed laws; ``max_disp`` (m) divergence."""
 
-Outputs = namedtuple("Outputs", ["Od", "Ov", "ORd", "ORv", "OPu", "OPv", "Od0", "Sd", "Sv"])
+Outputs = namedtuple("Outputs", ["Od", "Ov", "ORd", "ORv", "OPu", "OPv", "Od0", "Sd", "Sv", "flex"])
 """Output station rows (2 S, ns), their residual (2 S, m), unbalance phasors and static parts
-(2 S,); stator rows ``Sd, Sv`` (m, ns)."""
+(2 S,); stator rows ``Sd, Sv`` (m, ns); ``flex`` (nc,) 1.0 for a flexible stator."""
 
 Drive = namedtuple("Drive", ["lam", "Bp", "Bm", "omega0", "alpha", "on"])
 """Unbalance as an input at a varying speed ``Omega = omega0 + alpha t`` (rad/s, rad/s^2):
