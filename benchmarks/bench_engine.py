@@ -2,6 +2,9 @@
 
 Run: ``python benchmarks/bench_engine.py [--reps 3]``. Prints, never asserts.
 
+0. Seed case 1 at default settings (adaptive, rtol 1e-6, default output spacing), 20 revolutions:
+   old adaptive kernel against the new one (the same step control; the new one has no quadratic
+   force hold yet).
 1. Seed case 1 (3 continuous modes, d(tau) = 0.001, 20 revolutions, every 32nd step saved) through
    the old complex-coordinate engine (rubrotor.simulation) and the general engine (the same shaft
    as a LinearSystem): median wall time per call, steps per second, ratio new/old; also with the
@@ -75,6 +78,31 @@ def seed_case(reps: int) -> None:
               f"steps/s, old kernel {steps / r_old.stats['wall_s']:.3g} steps/s")  # fmt: skip
 
 
+def seed_default(reps: int) -> None:
+    sc = load_scenario(SCEN)
+    w = sc.speed
+    integ = Integrator(revolutions=20)
+    H = integ.output_spacing(w)
+    system = continuous_system(sc.shaft)
+    stn = [RubStation(dataclasses.replace(sc.contact, radius=sc.shaft.diameter / 2))]
+    run = Run(speed=w, duration=integ.total_time(w), step=H, rtol=integ.rtol, atol=integ.atol)
+
+    def old():
+        return simulate_system(sc.shaft, w, integ, sc.unbalance, sc.contact, None, sc.damping,
+                               progress=False)  # fmt: skip
+
+    def new():
+        return simulate_general(system, run, stn, [sc.unbalance], progress=False)
+
+    old(), new()
+    t_old, r_old = _median(old, reps)
+    t_new, r_new = _median(new, reps)
+    print("seed case 1, default settings (adaptive rtol 1e-6), 20 rev")
+    print(f"  old {t_old * 1e3:.2f} ms ({r_old.stats['accepted_steps']} steps)  new "
+          f"{t_new * 1e3:.2f} ms ({r_new.stats['accepted_steps']} steps)  ratio new/old "
+          f"{t_new / t_old:.2f}")  # fmt: skip
+
+
 def general_rotor():
     steel = Material("steel", 211e9, 7810, poisson_ratio=0.3)
     rotor = Rotor(
@@ -114,5 +142,6 @@ if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("--reps", type=int, default=3)
     a = ap.parse_args()
+    seed_default(a.reps)
     seed_case(a.reps)
     modes_throughput(a.reps)
