@@ -407,3 +407,36 @@ def test_adaptive_onsets_located():
     assert len(on_a) == len(on_f) > 0
     print("onset differences (s)", np.abs(on_a - on_f).max())
     assert np.abs(on_a - on_f).max() < 0.01 * 1e-4  # 1 % of the output spacing
+
+
+def test_seed_case1_high_friction_fixed_step_goes_on_into_backward_whirl():
+    """Seed case 1 with friction 0.3 at d(tau) = 0.001: the old fixed-step run stops partial at
+    41 ms (Newton failed); the new one sub-steps (full Newton Jacobian including the friction
+    sign) and runs on into backward whirl: the full spectrum of v + i w at the contact peaks at
+    a negative frequency, the same one the adaptive run finds."""
+    from rubrotor.integrator import Integrator
+    from rubrotor.scenario import load_scenario
+    from rubrotor.simulation import simulate_system
+
+    sc = load_scenario(Path(__file__).parents[1] / "src/rubrotor/scenarios/seed_case1.toml")
+    con = dataclasses.replace(sc.contact, friction=0.3)
+    old = simulate_system(sc.shaft, sc.speed, Integrator(duration=0.08, dtau=1e-3, save_every=32),
+                          sc.unbalance, con, None, sc.damping, progress=False)  # fmt: skip
+    system = continuous_system(sc.shaft)
+    stn = [RubStation(dataclasses.replace(con, radius=sc.shaft.diameter / 2))]
+    fixed = Run(speed=sc.speed, duration=0.08, step=1e-3 / sc.speed, save_every=32)
+    H = Integrator(revolutions=1).output_spacing(sc.speed)
+    adaptive = Run(speed=sc.speed, duration=0.08, step=H, rtol=1e-6)
+    peaks = []
+    for run in (fixed, adaptive):
+        r = simulate_general(system, run, stn, [sc.unbalance], progress=False)
+        assert r.status == "complete", r.message
+        late = r.time > 0.05
+        p = (r.channels[0] + 1j * r.channels[1])[late]
+        spec = np.abs(np.fft.fft(p * np.hanning(p.size)))
+        f = np.fft.fftfreq(p.size, r.time[1] - r.time[0])
+        peaks.append(f[np.argmax(spec)])
+    print("old:", old.status, old.message, "whirl peaks (Hz)", peaks, "spin", sc.speed / 2 / np.pi)
+    assert old.status == "partial"
+    assert peaks[0] < 0 and peaks[1] < 0
+    assert abs(peaks[0] - peaks[1]) <= 2 / 0.03  # within two frequency bins

@@ -79,6 +79,35 @@ CONTACT_CHANNELS = 8
 
 
 @njit(cache=True, inline="always")
+def _law_jac(py, pz, uy, uz, cp):
+    """:func:`rubrotor.core.contact._law` with the derivative of the smoothed friction sign
+    added to its Jacobian (a full Newton Jacobian: near rolling, ``v_s ~ 0``, the sign is steep
+    and the quasi-Newton one of the law alone stalls). Same 12-tuple."""
+    r = _law(py, pz, uy, uz, cp)
+    fn = r[2]
+    if fn == 0.0 or cp[6] != 0.0 or cp[5] == 0.0:
+        return r
+    d = math.sqrt(py * py + pz * pz)
+    ny = py / d
+    nz = pz / d
+    vs = cp[7] - nz * uy + ny * uz
+    q = vs * vs + cp[8] * cp[8]
+    ds = cp[8] * cp[8] / (q * math.sqrt(q))  # d sigma / d v_s
+    # dF/dsigma = -fn mu J n = -fn mu (-nz, ny)
+    gy = fn * cp[5] * nz * ds
+    gz = -fn * cp[5] * ny * ds
+    p11 = (1.0 - ny * ny) / d
+    p12 = -ny * nz / d
+    p22 = (1.0 - nz * nz) / d
+    # dv_s/dp = -uy dnz/dp + uz dny/dp ; dv_s/du = (-nz, ny)
+    vpy = -uy * p12 + uz * p11
+    vpz = -uy * p22 + uz * p12
+    return (r[0], r[1], r[2], r[3],
+            r[4] + gy * vpy, r[5] + gy * vpz, r[6] - gy * nz, r[7] + gy * ny,
+            r[8] + gz * vpy, r[9] + gz * vpz, r[10] - gz * nz, r[11] + gz * ny)  # fmt: skip
+
+
+@njit(cache=True, inline="always")
 def _rdot(row, y):
     """``Re(row . y)`` without computing the imaginary part."""
     acc = 0.0
@@ -137,7 +166,7 @@ def _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac):
         u[r] = b
     for i in range(cp.shape[0]):
         k = 2 * i
-        r = _law(p[k], p[k + 1], u[k], u[k + 1], cp[i])
+        r = _law_jac(p[k], p[k + 1], u[k], u[k + 1], cp[i])
         f[k] = r[0]
         f[k + 1] = r[1]
         fn[i] = r[2]
@@ -260,7 +289,7 @@ def solve_one(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
         pz = pd[1] + s10 * fy + s11 * fz
         uy = pv[0] + v00 * fy + v01 * fz
         uz = pv[1] + v10 * fy + v11 * fz
-        r = _law(py, pz, uy, uz, c)
+        r = _law_jac(py, pz, uy, uz, c)
         fn[0] = r[2]
         ft[0] = r[3]
         ry = fy - r[0]

@@ -153,7 +153,7 @@ class Run:
     residual: bool = True
     initial: str | np.ndarray = "rest"
     probes: tuple = ()
-    sublevels: int = 8
+    sublevels: int = 20
     save_state: bool = False
     max_displacement: float | None = None
     speed_end: float | None = None
