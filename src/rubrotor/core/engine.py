@@ -91,6 +91,8 @@ def _law_jac(py, pz, uy, uz, cp):
     ny = py / d
     nz = pz / d
     vs = cp[7] - nz * uy + ny * uz
+    if vs * vs > 1e6 * cp[8] * cp[8]:
+        return r  # far from rolling: d sigma / d v_s < 1e-9 / v_r, negligible
     q = vs * vs + cp[8] * cp[8]
     ds = cp[8] * cp[8] / (q * math.sqrt(q))  # d sigma / d v_s
     # dF/dsigma = -fn mu J n = -fn mu (-nz, ny)
