@@ -2,7 +2,7 @@
 
 One element of length ``l`` joins two nodes with four DOFs each, ordered
 ``[v1, w1, psi_v1, psi_w1, v2, w2, psi_v2, psi_w2]`` (deflections in m, section rotations in
-rad; see :mod:`rubrotor.linear`). Because the rotations of both planes are taken with the same
+rad; see ``rubrotor.linear``). Because the rotations of both planes are taken with the same
 sign as the slopes (``psi_v ~ dv/dx``, ``psi_w ~ dw/dx``), both bending planes have the same
 4x4 matrices on ``[v1, psi1, v2, psi2]``; only the gyroscopic matrix couples them.
 

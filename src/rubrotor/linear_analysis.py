@@ -207,7 +207,7 @@ def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None)
     Parameters
     ----------
     system : LinearSystem
-        The rotor (see :mod:`rubrotor.linear`).
+        The rotor (see ``rubrotor.linear``).
     speed : float
         Spin speed ``Omega`` (rad/s), ``>= 0``.
     n : int, optional
