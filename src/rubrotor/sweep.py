@@ -863,15 +863,23 @@ def _execute(todo: list[dict], pool, scheduler: str | None) -> Iterator[dict]:
     if not todo:
         return
     if scheduler is not None:
-        yield from _execute_dask(todo, scheduler)
+        stamp = f"{os.getpid()}-{time.time_ns()}"
+        yield from _run_dask(
+            run_chunk, todo, scheduler, key=lambda t: f"rubrotor-sweep-{stamp}-{t['chunk']}"
+        )
         return
+    yield from _run_pool(run_chunk, todo, pool)
+
+
+def _run_pool(fn, tasks: Sequence, pool) -> Iterator:
+    """``fn(task)`` for every task, in process (``pool`` None) or on a process pool."""
     if pool is None:
-        for task in todo:
-            yield run_chunk(task)
+        for t in tasks:
+            yield fn(t)
         return
     from concurrent.futures import FIRST_COMPLETED, wait
 
-    pending = {pool.submit(run_chunk, task) for task in todo}
+    pending = {pool.submit(fn, t) for t in tasks}
     try:
         while pending:
             finished, pending = wait(pending, return_when=FIRST_COMPLETED)
@@ -882,7 +890,8 @@ def _execute(todo: list[dict], pool, scheduler: str | None) -> Iterator[dict]:
             fut.cancel()
 
 
-def _execute_dask(todo: list[dict], scheduler: str) -> Iterator[dict]:
+def _run_dask(fn, tasks: Sequence, scheduler: str, key=None) -> Iterator:
+    """``fn(task)`` for every task on a Dask cluster, results as they complete."""
     try:
         from distributed import Client, as_completed
     except ImportError:  # pragma: no cover - depends on the installation
@@ -895,13 +904,8 @@ def _execute_dask(todo: list[dict], scheduler: str) -> Iterator[dict]:
         raise InputError("scheduler", scheduler, f"a reachable Dask scheduler ({exc})") from None
     try:
         futures = [
-            client.submit(
-                run_chunk,
-                task,
-                key=f"rubrotor-sweep-{os.getpid()}-{time.time_ns()}-{task['chunk']}",
-                retries=2,
-            )
-            for task in todo
+            client.submit(fn, t, retries=2, **({"key": key(t)} if key else {"pure": False}))
+            for t in tasks
         ]
         for fut in as_completed(futures, loop=client.loop):
             yield fut.result()
@@ -951,39 +955,12 @@ def map_tasks(
     if not tasks:
         return
     if scheduler is not None:
-        try:
-            from distributed import Client, as_completed
-        except ImportError:  # pragma: no cover - depends on the installation
-            raise InputError("scheduler", scheduler, "dask[distributed] installed") from None
-        try:
-            client = Client(scheduler, timeout=20, set_as_default=False)
-        except OSError as exc:
-            raise InputError(
-                "scheduler", scheduler, f"a reachable Dask scheduler ({exc})"
-            ) from None
-        try:
-            futs = [client.submit(fn, t, pure=False, retries=2) for t in tasks]
-            for fut in as_completed(futs, loop=client.loop):
-                yield fut.result()
-                fut.release()
-        finally:
-            client.close()
+        yield from _run_dask(fn, tasks, scheduler)
         return
     n = _int_arg("workers", (os.cpu_count() or 1) if workers is None else workers, 1)
     pool = _local_pool(n, len(tasks))
     if pool is None:
-        for t in tasks:
-            yield fn(t)
+        yield from _run_pool(fn, tasks, None)
         return
-    from concurrent.futures import FIRST_COMPLETED, wait
-
     with pool:
-        pending = {pool.submit(fn, t) for t in tasks}
-        try:
-            while pending:
-                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-                for fut in finished:
-                    yield fut.result()
-        finally:
-            for fut in pending:
-                fut.cancel()
+        yield from _run_pool(fn, tasks, pool)
