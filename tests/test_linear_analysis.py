@@ -164,3 +164,71 @@ def test_bad_inputs_name_the_field():
         unbalance_response(_fe_rotor(), [10.0, 20.0], [(0.3, 1e-4, 0.0)], [2.0])
     with pytest.raises(InputError, match="rotor"):
         rubrotor.linear_system("not a rotor")
+
+
+class _Pivot:
+    """Rigid rotor pivoting at ``x = 0``: the deflection at ``x`` is ``x [psi_v, psi_w]``."""
+
+    length = 0.5
+
+    def rows(self, position: float) -> np.ndarray:
+        return float(position) * np.eye(2)
+
+
+def test_gyroscopic_anisotropic_rigid_rotor_frequencies_and_whirl():
+    """Rigid rotor tilting about a pivot (diametral inertia ``Id``, polar ``Ip``, tilt stiffness
+    ``ky != kz``): ``Id psi_v'' + Omega Ip psi_w' + ky psi_v = 0``,
+    ``Id psi_w'' - Omega Ip psi_v' + kz psi_w = 0``. With ``psi = (a, b) exp(i w t)`` the
+    characteristic equation, derived by hand, is ``(ky - Id w^2)(kz - Id w^2) = w^2 Omega^2 Ip^2``,
+    a quadratic in ``w^2``. The first row gives ``b/a = i (ky - Id w^2) / (w Omega Ip)``: the
+    lower root (below both ``ky/Id`` and ``kz/Id``) has ``b = i r a``, ``r > 0``, an orbit turning
+    from ``+v`` towards ``-w``: backward; the upper root (above both) is forward."""
+    i_d, i_p, ky, kz = 0.02, 0.03, 4e4, 9e4
+    system = LinearSystem(
+        M=np.diag([i_d, i_d]),
+        K=np.diag([ky, kz]),
+        C=np.zeros((2, 2)),
+        G=i_p * np.array([[0.0, 1.0], [-1.0, 0.0]]),
+        basis=_Pivot(),
+    )
+    for speed in (50.0, 800.0, 5000.0):
+        b = i_d * (ky + kz) + (speed * i_p) ** 2
+        disc = math.sqrt(b * b - 4 * i_d**2 * ky * kz)
+        ref = np.sqrt([(b - disc) / (2 * i_d**2), (b + disc) / (2 * i_d**2)]) / (2 * math.pi)
+        modes = damped_modes(system, speed).modes
+        np.testing.assert_allclose([m.frequency_hz for m in modes], ref, rtol=1e-12)
+        assert [m.whirl for m in modes] == ["backward", "forward"]
+
+
+def test_anisotropic_jeffcott_unbalance_orbit_is_backward_between_the_split_criticals():
+    """Undamped Jeffcott rotor on anisotropic supports with unbalance ``m e``: by hand,
+    ``m v'' + ky v = m e W^2 cos W t`` and ``m w'' + kz w = m e W^2 sin W t`` give
+    ``v = A cos W t``, ``w = B sin W t`` with ``A = m e W^2 / (ky - m W^2)``,
+    ``B = m e W^2 / (kz - m W^2)``; the orbit turns backward exactly where ``A B < 0``, between
+    ``sqrt(ky/m)`` and ``sqrt(kz/m)`` (the classic split-critical result)."""
+    m, ky, kz, me = 2.0, 8e4, 1.8e5, 1e-4
+    z = np.zeros((4, 4))
+    system = LinearSystem(
+        M=np.diag([m, m, 1.0, 1.0]),
+        K=z.copy(),
+        C=z.copy(),
+        G=z.copy(),
+        basis=NodalBasis(np.array([0.0])),
+        supports=(Support(dofs=(0, 1), k=np.diag([ky, kz])[None], c=np.zeros((1, 2, 2))),),
+        fixed=(2, 3),
+    )
+    speeds = np.linspace(51.0, 501.0, 91)
+    resp = unbalance_response(system, speeds, [(0.0, me, 0.0)], [0.0])
+    a = me * speeds**2 / (ky - m * speeds**2)
+    b = me * speeds**2 / (kz - m * speeds**2)
+    vw = resp.complex_response[:, 0, :]
+    np.testing.assert_allclose(vw[:, 0], a, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(vw[:, 1], -1j * b, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(resp.major[:, 0], np.maximum(abs(a), abs(b)), rtol=1e-12)
+    # orbit direction from the complex response: Im(conj(V) W) > 0 is backward
+    backward = np.imag(np.conj(vw[:, 0]) * vw[:, 1]) > 0
+    between = (speeds > math.sqrt(ky / m)) & (speeds < math.sqrt(kz / m))
+    assert between.any() and (~between).any()
+    np.testing.assert_array_equal(backward, between)
+    with pytest.raises(InputError, match="speeds"):  # undamped resonance: no steady state
+        unbalance_response(system, [math.sqrt(ky / m)], [(0.0, me, 0.0)], [0.0])

@@ -505,7 +505,12 @@ def unbalance_response(system: LinearSystem, speeds, unbalances, probes) -> Unba
         mx = system.matrices(float(w))
         dyn[i] = mx.K - w * w * mx.M + 1j * w * (mx.C + w * mx.G)
         rhs[i] = b * w * w
-    q = np.linalg.solve(dyn, rhs[..., None])[..., 0]
+    try:
+        q = np.linalg.solve(dyn, rhs[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        raise InputError(
+            "speeds", "a speed at an undamped resonance", "speeds off the undamped critical speeds"
+        ) from None
     resp = np.einsum("pcn,sn->spc", rows, q)
     v, w_ = resp[..., 0], resp[..., 1]
     # orbit semi-axes of v = Re(V e^{it}), w = Re(W e^{it}): |(V + i W)|/2 +- |(V - i W)|/2
