@@ -53,10 +53,14 @@ class BranchPoint:
 
 @dataclass(frozen=True)
 class Bifurcation:
-    """A located bifurcation: its ``type`` (one of :data:`BIFURCATIONS`) and key ``value``."""
+    """A located bifurcation: ``type`` (one of :data:`BIFURCATIONS`), key ``value``, radius.
+
+    ``max_radius_m`` (m) is interpolated between the two branch points that bracket it.
+    """
 
     type: str
     value: float
+    max_radius_m: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -92,6 +96,26 @@ class Branch:
             ],
             "bifurcations": [{"type": b.type, "value": b.value} for b in self.bifurcations],
         }
+
+    def dataset(self):
+        """The branch as an xarray Dataset (dimension ``point``; states, multipliers, radii)."""
+        import xarray as xr
+
+        mu = np.array([p.multipliers for p in self.points])
+        states = np.array([state_vector(p.state) for p in self.points])
+        return xr.Dataset(
+            {
+                "value": ("point", [p.value for p in self.points], {"long_name": self.key}),
+                "max_radius": ("point", [p.max_radius_m for p in self.points], {"units": "m"}),
+                "stable": ("point", np.array([p.stable for p in self.points], np.int8)),
+                "multipliers_real": (("point", "multiplier"), mu.real),
+                "multipliers_imag": (("point", "multiplier"), mu.imag),
+                "state": (("point", "state_component"), states, {"units": "m, m/s"}),
+                "bifurcation_value": ("bifurcation", [b.value for b in self.bifurcations]),
+                "bifurcation_type": ("bifurcation", [b.type for b in self.bifurcations]),
+            },
+            attrs={"key": self.key, "revolutions_per_period": self.k},
+        )
 
 
 class _Problem:
@@ -183,6 +207,12 @@ def _point(prob, z, jac) -> BranchPoint:
     return BranchPoint(float(p), vector_state(x), orbit.max_radius(), mu, bool(abs(mu[0]) < 1))
 
 
+def _radius(b: Bifurcation, p0: BranchPoint, p1: BranchPoint) -> Bifurcation:
+    w = 0.5 if p1.value == p0.value else (b.value - p0.value) / (p1.value - p0.value)
+    r = p0.max_radius_m + min(max(w, 0.0), 1.0) * (p1.max_radius_m - p0.max_radius_m)
+    return Bifurcation(b.type, b.value, float(r))
+
+
 def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None, k: int = 1,
                    steps: int = STEPS_PER_REVOLUTION, points: int = 200, ds: float = 0.02,
                    ds_max: float = 0.2, transient_revolutions: int = 100) -> Branch:  # fmt: skip
@@ -241,11 +271,15 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         z1, gz1, jac1, iters = out
         t1 = _tangent(gz1, t)
         sig1 = _tests(gz1, t1, jac1)
+        found = int(np.sum(sig1 != sig))
         for i, name in enumerate(BIFURCATIONS):
             if sig1[i] != sig[i]:
                 bifs.append(Bifurcation(name, _locate(prob, z, t, ds, i, sig)))
         z, t, sig = z1, t1, sig1
         pts.append(_point(prob, z, jac1))
+        bifs[len(bifs) - found :] = [
+            _radius(b, pts[-2], pts[-1]) for b in bifs[len(bifs) - found :]
+        ]
         if not lo <= pts[-1].value <= hi:
             break
         if iters <= 3:
