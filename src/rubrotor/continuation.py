@@ -15,8 +15,9 @@ Bifurcations, between consecutive points, from sign changes of test functions:
 * Neimark-Sacker: the number of complex multipliers outside the unit circle;
 * branch point: the determinant of the augmented Jacobian ``[G_z; t]``.
 
-Each is located by bisection on the arclength from the earlier point (predict, correct,
-evaluate), to a relative step of 1e-10.
+Each is located on the arclength from the earlier point (predict, correct, evaluate): a fold
+as the extremum of the key value (Brent's bounded search), the others by bisection of the test
+function to a relative step of 1e-10.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.optimize
 
 from rubrotor.errors import InputError
 from rubrotor.shooting import (
@@ -151,12 +153,23 @@ def _tangent(gz, previous):
 
 
 def _correct(prob, z_pred, t, tol=1e-11, max_iter=8):
-    """Newton on ``[G; t . (z - z_pred)]``; returns ``(z, gz, jac, iterations)`` or None."""
+    """Newton on ``[G; t . (z - z_pred)]``; returns ``(z, gz, jac, iterations)`` or None.
+
+    Converged when both the step and the scaled residual are below ``tol`` (relative): near a
+    non-smooth point the difference Jacobian is smeared and Newton only converges linearly, so
+    a small step alone does not mean a small error.
+    """
     z = z_pred.copy()
-    for it in range(1, max_iter + 1):
+    small_step = False
+    for it in range(max_iter + 1):
         try:
             g, gz, jac = prob.evaluate(z)
         except InputError:
+            return None
+        scale = max(1.0, np.linalg.norm(z))
+        if small_step and np.linalg.norm(g) < 0.01 * tol * scale:
+            return z, gz, jac, it
+        if it == max_iter:
             return None
         a = np.vstack([gz, t])
         rhs = -np.concatenate([g, [t @ (z - z_pred)]])
@@ -164,9 +177,7 @@ def _correct(prob, z_pred, t, tol=1e-11, max_iter=8):
         z = z + dz
         if not np.all(np.isfinite(z)):
             return None
-        if np.linalg.norm(dz) < tol * max(1.0, np.linalg.norm(z)):
-            g, gz, jac = prob.evaluate(z)
-            return z, gz, jac, it
+        small_step = np.linalg.norm(dz) < tol * scale
     return None
 
 
@@ -198,6 +209,24 @@ def _locate(prob, z0, t0, ds, index, signature0):
         if hi - lo < 1e-10 * abs(ds):
             break
     return float(p_best)
+
+
+def _locate_turn(prob, z0, t0, ds):
+    """The extremal key value along the arclength in ``[0, ds]`` from ``z0`` (a fold).
+
+    Brent's bounded search of ``p(s)``; also exact at the non-smooth turning point of contact
+    onset, where the finite-difference tangent is smeared over the difference increment.
+    """
+    sign = 1.0 if t0[-1] > 0 else -1.0
+
+    def minus_p(s):
+        out = _correct(prob, z0 + s * t0, t0, max_iter=60)
+        return np.inf if out is None else -sign * prob.unscale(out[0])[1]
+
+    res = scipy.optimize.minimize_scalar(
+        minus_p, bounds=(0.0, ds), method="bounded", options={"xatol": 1e-9 * abs(ds)}
+    )
+    return float(-sign * res.fun)
 
 
 def _point(prob, z, jac) -> BranchPoint:
@@ -274,7 +303,8 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         found = int(np.sum(sig1 != sig))
         for i, name in enumerate(BIFURCATIONS):
             if sig1[i] != sig[i]:
-                bifs.append(Bifurcation(name, _locate(prob, z, t, ds, i, sig)))
+                where = _locate_turn(prob, z, t, ds) if i == 0 else _locate(prob, z, t, ds, i, sig)
+                bifs.append(Bifurcation(name, where))
         z, t, sig = z1, t1, sig1
         pts.append(_point(prob, z, jac1))
         bifs[len(bifs) - found :] = [
