@@ -1143,3 +1143,71 @@ COMMANDS += [
         _stability_run,
     )
 ]
+
+
+# ---- continuation of periodic orbits ---------------------------------------------------------
+def _continue_args(parser: argparse.ArgumentParser) -> None:
+    _add_scenario(parser)
+    parser.add_argument("--vary", required=True, metavar="KEY=START:STOP", help="continued key")
+    parser.add_argument("--out", required=True, metavar="BRANCH.nc", help="branch (netCDF)")
+    parser.add_argument("--json", action="store_true", help="print points and bifurcations")
+    parser.add_argument("--figure", metavar="F.png", help="branch over a follow sweep")
+    parser.add_argument("--points", type=int, default=200, help="largest number of points")
+    parser.add_argument("--k", type=int, default=1, help="revolutions per period (default 1)")
+    parser.add_argument(
+        "--sweep-points", type=int, default=25, help="points of the figure's follow sweep"
+    )
+
+
+def _parse_range(text: str) -> tuple[str, float, float]:
+    key, sep, rng = text.partition("=")
+    parts = rng.split(":")
+    allowed = "KEY=START:STOP with finite START != STOP, e.g. speed.critical_multiple=1.8:1.2"
+    try:
+        start, stop = (float(v) for v in parts)
+    except ValueError:
+        raise InputError("--vary", text, allowed) from None
+    if not sep or not key.strip() or not (math.isfinite(start) and math.isfinite(stop)):
+        raise InputError("--vary", text, allowed)
+    if start == stop:
+        raise InputError("--vary", text, allowed)
+    return key.strip(), start, stop
+
+
+def _continue_run(args: argparse.Namespace) -> int:
+    from rubrotor.continuation import continue_orbit
+    from rubrotor.results import save_dataset
+
+    key, start, stop = _parse_range(args.vary)
+    if not args.out.endswith(".nc"):
+        raise InputError("--out", args.out, "a file name ending in .nc")
+    if not Path(args.out).resolve().parent.is_dir():
+        raise InputError("--out", args.out, "a file in an existing directory")
+    if args.figure is not None and Path(args.figure).suffix.lower() not in (".png", ".pdf", ".svg"):
+        raise InputError("--figure", args.figure, "a file name ending in .png, .pdf or .svg")
+    if args.points < 2:
+        raise InputError("--points", args.points, "an integer >= 2")
+    scenario = load_scenario(args.scenario)
+    scenario.with_changes(**{key: start})  # names a bad key before any work
+    branch = continue_orbit(scenario, key, start, stop, k=args.k, points=args.points)
+    save_dataset(branch.dataset(), args.out)
+    if args.figure is not None:
+        from rubrotor.follow import follow_sweep
+        from rubrotor.plotting import branch_figure
+
+        values = np.linspace(min(start, stop), max(start, stop), max(args.sweep_points, 2))
+        sweep = follow_sweep(scenario, key, values, direction="both", workers=2)
+        branch_figure(branch, sweep).savefig(args.figure, dpi=130)
+    if args.json:
+        _print_json(branch.summary())
+    return 0
+
+
+COMMANDS += [
+    Command(
+        "continue",
+        "pseudo-arclength continuation of a periodic orbit: branch, stability, bifurcations",
+        _continue_args,
+        _continue_run,
+    )
+]

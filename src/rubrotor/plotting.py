@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from rubrotor.modal import campbell, critical_speeds
 from rubrotor.model import Shaft
 
-__all__ = ["campbell_figure", "bifurcation_figure", "regime_map_figure"]
+__all__ = ["campbell_figure", "bifurcation_figure", "regime_map_figure", "branch_figure"]
 
 _WHIRL_COLOR = {"forward": "tab:blue", "backward": "tab:red"}
 _BRANCH_STYLE = {"bending": "-", "shear": "--"}
@@ -999,4 +1000,52 @@ def envelope_figure(envelopes: dict, *, title: str | None = None) -> Figure:
     fig.legend(fontsize=8, loc="outside right upper")
     if title:
         fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def branch_figure(branch, sweep=None) -> Figure:
+    """A continued branch (stable solid, unstable dashed, bifurcations marked) over a sweep.
+
+    Parameters
+    ----------
+    branch : rubrotor.continuation.Branch
+        The branch; largest orbit radius (m) against the continued key.
+    sweep : xarray.Dataset, optional
+        A state-carrying sweep (:func:`rubrotor.follow.follow_sweep`) of the same key: its
+        ``max_displacement`` (m) per direction, up as triangles, down as circles.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = Figure(figsize=(7.5, 4.8))
+    ax = fig.add_subplot()
+    x = np.array([p.value for p in branch.points])
+    r = np.array([p.max_radius_m for p in branch.points]) * 1e6
+    st = np.array([p.stable for p in branch.points])
+    edges = [0, *(np.flatnonzero(st[1:] != st[:-1]) + 1), x.size]
+    for a, b in zip(edges[:-1], edges[1:], strict=True):  # runs of equal stability
+        stop = min(b + 1, x.size)
+        ax.plot(x[a:stop], r[a:stop], "-" if st[a] else "--", color="C0", lw=1.6)
+    handles = [
+        Line2D([], [], color="C0", ls="-", label="continuation, stable"),
+        Line2D([], [], color="C0", ls="--", label="continuation, unstable"),
+    ]
+    if sweep is not None:
+        for d, marker, color in (("up", "^", "C2"), ("down", "o", "C3")):
+            if d in list(sweep["direction"].values):
+                y = sweep["max_displacement"].sel(direction=d).values * 1e6
+                ax.plot(sweep[branch.key].values, y, marker, color=color, mfc="none", ms=7)
+                handles.append(Line2D([], [], ls="", marker=marker, color=color, mfc="none",
+                                      label=f"follow sweep {d}"))  # fmt: skip
+    marks = {"fold": "s", "period-doubling": "D", "neimark-sacker": "*", "branch-point": "X"}
+    for b in branch.bifurcations:
+        ax.plot(b.value, b.max_radius_m * 1e6, marks[b.type], color="k", ms=8)
+    for t in sorted({b.type for b in branch.bifurcations}):
+        handles.append(Line2D([], [], ls="", marker=marks[t], color="k", label=t))
+    ax.set_xlabel(branch.key if sweep is None else _axis_label(sweep, branch.key))
+    ax.set_ylabel("largest orbit radius at contact station (um)")
+    ax.grid(alpha=0.3)
+    ax.legend(handles=handles, fontsize=8)
+    fig.tight_layout()
     return fig

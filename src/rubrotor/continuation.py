@@ -1,0 +1,317 @@
+"""Pseudo-arclength continuation of periodic orbits in any scenario key.
+
+Unknowns ``z = (x / s_x, p / s_p)``: the shooting state (see :mod:`rubrotor.shooting`) and the
+continued key's value, scaled by their magnitudes at the start so that the arclength weighs
+both alike. Residual ``G(x, p) = P(x; p) - x`` (the stroboscopic map at ``p``); tangent = null
+vector of ``[G_x s_x, G_p s_p]`` (SVD, oriented along the previous one); predictor
+``z + ds t``; corrector = Newton on ``[G; t . (z - z_pred)] = 0``; ``ds`` halves on failure
+and grows by 1.5 after a corrector of <= 3 iterations.
+
+Bifurcations, between consecutive points, from sign changes of test functions:
+
+* fold: the parameter component of the tangent (also the non-smooth turning point at contact
+  onset, where the no-contact and rub branches meet);
+* period doubling: the number of real multipliers below -1;
+* Neimark-Sacker: the number of complex multipliers outside the unit circle;
+* branch point: the determinant of the augmented Jacobian ``[G_z; t]``.
+
+Each is located on the arclength from the earlier point (predict, correct, evaluate): a fold
+as the extremum of the key value (Brent's bounded search), the others by bisection of the test
+function to a relative step of 1e-10.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.optimize
+
+from rubrotor.errors import InputError
+from rubrotor.shooting import (
+    STEPS_PER_REVOLUTION,
+    PeriodicOrbit,
+    monodromy,
+    multipliers_of,
+    shoot,
+    state_vector,
+    strobe,
+    vector_state,
+)
+
+BIFURCATIONS = ("fold", "period-doubling", "neimark-sacker", "branch-point")
+
+
+@dataclass(frozen=True)
+class BranchPoint:
+    """One point of a branch: key value, state, largest radius (m), multipliers, stability."""
+
+    value: float
+    state: object
+    max_radius_m: float
+    multipliers: np.ndarray
+    stable: bool
+
+
+@dataclass(frozen=True)
+class Bifurcation:
+    """A located bifurcation: ``type`` (one of :data:`BIFURCATIONS`), key ``value``, radius.
+
+    ``max_radius_m`` (m) is interpolated between the two branch points that bracket it.
+    """
+
+    type: str
+    value: float
+    max_radius_m: float = float("nan")
+
+
+@dataclass(frozen=True)
+class Branch:
+    """A continued branch of periodic orbits (the result of :func:`continue_orbit`).
+
+    Attributes
+    ----------
+    key : str
+        The continued scenario key.
+    k : int
+        Revolutions per period.
+    points : tuple of BranchPoint
+    bifurcations : tuple of Bifurcation
+    """
+
+    key: str
+    k: int
+    points: tuple
+    bifurcations: tuple
+
+    def summary(self) -> dict:
+        """The JSON summary of the CLI (values in the key's units, radii in m)."""
+        return {
+            "points": [
+                {
+                    "value": p.value,
+                    "max_radius_m": p.max_radius_m,
+                    "stable": p.stable,
+                    "multipliers_abs_max": float(np.max(np.abs(p.multipliers))),
+                }
+                for p in self.points
+            ],
+            "bifurcations": [{"type": b.type, "value": b.value} for b in self.bifurcations],
+        }
+
+    def dataset(self):
+        """The branch as an xarray Dataset (dimension ``point``; states, multipliers, radii)."""
+        import xarray as xr
+
+        mu = np.array([p.multipliers for p in self.points])
+        states = np.array([state_vector(p.state) for p in self.points])
+        return xr.Dataset(
+            {
+                "value": ("point", [p.value for p in self.points], {"long_name": self.key}),
+                "max_radius": ("point", [p.max_radius_m for p in self.points], {"units": "m"}),
+                "stable": ("point", np.array([p.stable for p in self.points], np.int8)),
+                "multipliers_real": (("point", "multiplier"), mu.real),
+                "multipliers_imag": (("point", "multiplier"), mu.imag),
+                "state": (("point", "state_component"), states, {"units": "m, m/s"}),
+                "bifurcation_value": ("bifurcation", [b.value for b in self.bifurcations]),
+                "bifurcation_type": ("bifurcation", [b.type for b in self.bifurcations]),
+            },
+            attrs={"key": self.key, "revolutions_per_period": self.k},
+        )
+
+
+class _Problem:
+    """Residual and Jacobian of the continuation in scaled unknowns."""
+
+    def __init__(self, scenario, key, k, steps, sx, sp):
+        self.scenario, self.key, self.k, self.steps = scenario, key, k, steps
+        self.sx, self.sp = sx, sp
+
+    def at(self, p):
+        return self.scenario.with_changes(**{self.key: float(p)})
+
+    def unscale(self, z):
+        return z[:-1] * self.sx, z[-1] * self.sp
+
+    def evaluate(self, z):
+        """Scaled ``G / s_x``, its Jacobian in ``z`` and the monodromy matrix at ``z``."""
+        x, p = self.unscale(z)
+        px, jac = monodromy(self.at(p), x, self.k, self.steps)
+        h = 1e-6 * abs(p)
+        up = strobe(self.at(p + h), x, self.k, self.steps)
+        gp = (up - strobe(self.at(p - h), x, self.k, self.steps)) / (2 * h)
+        gx = (jac - np.eye(x.size)) * self.sx / self.sx[:, None]
+        gz = np.column_stack([gx, gp * self.sp / self.sx])
+        return (px - x) / self.sx, gz, jac
+
+
+def _tangent(gz, previous):
+    t = np.linalg.svd(gz)[2][-1]
+    if previous is not None and t @ previous < 0:
+        t = -t
+    return t
+
+
+def _correct(prob, z_pred, t, tol=1e-11, max_iter=8):
+    """Newton on ``[G; t . (z - z_pred)]``; returns ``(z, gz, jac, iterations)`` or None.
+
+    Converged when both the step and the scaled residual are below ``tol`` (relative): near a
+    non-smooth point the difference Jacobian is smeared and Newton only converges linearly, so
+    a small step alone does not mean a small error.
+    """
+    z = z_pred.copy()
+    small_step = False
+    for it in range(max_iter + 1):
+        try:
+            g, gz, jac = prob.evaluate(z)
+        except InputError:
+            return None
+        scale = max(1.0, np.linalg.norm(z))
+        if small_step and np.linalg.norm(g) < 0.01 * tol * scale:
+            return z, gz, jac, it
+        if it == max_iter:
+            return None
+        a = np.vstack([gz, t])
+        rhs = -np.concatenate([g, [t @ (z - z_pred)]])
+        dz = np.linalg.solve(a, rhs)
+        z = z + dz
+        if not np.all(np.isfinite(z)):
+            return None
+        small_step = np.linalg.norm(dz) < tol * scale
+    return None
+
+
+def _tests(gz, t, jac):
+    """Test functions: (t_p, #real mu < -1, #complex |mu| > 1, sign det [G_z; t])."""
+    mu = np.linalg.eigvals(jac)
+    real = np.abs(mu.imag) < 1e-9 * np.maximum(np.abs(mu), 1e-300)
+    pd = int(np.sum(real & (mu.real < -1)))
+    ns = int(np.sum(~real & (np.abs(mu) > 1)))
+    return np.array([np.sign(t[-1]), pd, ns, np.sign(np.linalg.det(np.vstack([gz, t])))])
+
+
+def _locate(prob, z0, t0, ds, index, signature0):
+    """Bisection on the arclength from ``z0`` for the change of test ``index``; returns ``p``."""
+    lo, hi = 0.0, ds
+    p_best = prob.unscale(z0)[1]
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        out = _correct(prob, z0 + mid * t0, t0)
+        if out is None:
+            break
+        z, gz, jac, _ = out
+        sig = _tests(gz, _tangent(gz, t0), jac)
+        p_best = prob.unscale(z)[1]
+        if sig[index] == signature0[index]:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-10 * abs(ds):
+            break
+    return float(p_best)
+
+
+def _locate_turn(prob, z0, t0, ds):
+    """The extremal key value along the arclength in ``[0, ds]`` from ``z0`` (a fold).
+
+    Brent's bounded search of ``p(s)``; also exact at the non-smooth turning point of contact
+    onset, where the finite-difference tangent is smeared over the difference increment.
+    """
+    sign = 1.0 if t0[-1] > 0 else -1.0
+
+    def minus_p(s):
+        out = _correct(prob, z0 + s * t0, t0, max_iter=60)
+        return np.inf if out is None else -sign * prob.unscale(out[0])[1]
+
+    res = scipy.optimize.minimize_scalar(
+        minus_p, bounds=(0.0, ds), method="bounded", options={"xatol": 1e-9 * abs(ds)}
+    )
+    return float(-sign * res.fun)
+
+
+def _point(prob, z, jac) -> BranchPoint:
+    x, p = prob.unscale(z)
+    mu = multipliers_of(jac)
+    orbit = PeriodicOrbit(prob.at(p), vector_state(x), prob.k, 0.0, mu, True, 0.0, 0, prob.steps)
+    return BranchPoint(float(p), vector_state(x), orbit.max_radius(), mu, bool(abs(mu[0]) < 1))
+
+
+def _radius(b: Bifurcation, p0: BranchPoint, p1: BranchPoint) -> Bifurcation:
+    w = 0.5 if p1.value == p0.value else (b.value - p0.value) / (p1.value - p0.value)
+    r = p0.max_radius_m + min(max(w, 0.0), 1.0) * (p1.max_radius_m - p0.max_radius_m)
+    return Bifurcation(b.type, b.value, float(r))
+
+
+def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None, k: int = 1,
+                   steps: int = STEPS_PER_REVOLUTION, points: int = 200, ds: float = 0.02,
+                   ds_max: float = 0.2, transient_revolutions: int = 100) -> Branch:  # fmt: skip
+    """Continue a periodic orbit of ``k`` revolutions in ``key`` from ``start`` towards ``stop``.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The base scenario.
+    key : str
+        Numeric scenario key (``"section.key"``), e.g. ``"speed.critical_multiple"``.
+    start, stop : float
+        Range of the key (its units); the branch starts at ``start`` and ends when it leaves
+        the closed range or after ``points`` points.
+    guess : RotorState, optional
+        Guess of the first orbit (default: ``transient_revolutions`` from the steady
+        no-contact orbit).
+    k, steps
+        Revolutions per period and fixed steps per revolution of the map.
+    points : int
+        Largest number of branch points.
+    ds, ds_max : float
+        First and largest arclength step (scaled units, dimensionless).
+    transient_revolutions : int
+        Revolutions from the guess before the first Newton shooting.
+
+    Returns
+    -------
+    Branch
+    """
+    if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
+        raise InputError("--vary", f"{start}:{stop}", "START:STOP with finite START != STOP")
+    if isinstance(points, bool) or not isinstance(points, int) or points < 2:
+        raise InputError("points", points, "an integer >= 2")
+    sc0 = scenario.with_changes(**{key: float(start)})
+    orbit = shoot(sc0, guess, k, steps=steps, transient_revolutions=transient_revolutions)
+    x0 = state_vector(orbit.state)
+    sx = np.full(x0.size, max(np.max(np.abs(x0[: x0.size // 2])), 1e-12))
+    sx[x0.size // 2 :] = sx[0] * sc0.speed
+    prob = _Problem(scenario, key, k, steps, sx, abs(start))
+    z = np.concatenate([x0 / sx, [start / abs(start)]])
+    g, gz, jac = prob.evaluate(z)
+    t = _tangent(gz, None)
+    if t[-1] * (stop - start) < 0:
+        t = -t
+    lo, hi = min(start, stop), max(start, stop)
+    pts, bifs = [_point(prob, z, jac)], []
+    sig = _tests(gz, t, jac)
+    while len(pts) < points:
+        out = _correct(prob, z + ds * t, t)
+        if out is None:
+            ds *= 0.5
+            if ds < 1e-8:
+                break
+            continue
+        z1, gz1, jac1, iters = out
+        t1 = _tangent(gz1, t)
+        sig1 = _tests(gz1, t1, jac1)
+        found = int(np.sum(sig1 != sig))
+        for i, name in enumerate(BIFURCATIONS):
+            if sig1[i] != sig[i]:
+                where = _locate_turn(prob, z, t, ds) if i == 0 else _locate(prob, z, t, ds, i, sig)
+                bifs.append(Bifurcation(name, where))
+        z, t, sig = z1, t1, sig1
+        pts.append(_point(prob, z, jac1))
+        bifs[len(bifs) - found :] = [
+            _radius(b, pts[-2], pts[-1]) for b in bifs[len(bifs) - found :]
+        ]
+        if not lo <= pts[-1].value <= hi:
+            break
+        if iters <= 3:
+            ds = min(1.5 * ds, ds_max)
+    return Branch(key, k, tuple(pts), tuple(bifs))
