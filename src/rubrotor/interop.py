@@ -131,7 +131,9 @@ def from_ross(rotor, speeds=None) -> LinearSystem:
     idx, sign = ross_dof_map(len(nodes), int(rotor.number_dof))
     full = int(rotor.ndof)
     if full != int(rotor.number_dof) * len(nodes):
-        raise InputError("rotor.ndof", full, f"{rotor.number_dof} x {len(nodes)} nodes (no extra DOFs)")
+        raise InputError(
+            "rotor.ndof", full, f"{rotor.number_dof} x {len(nodes)} nodes (no extra DOFs)"
+        )
     t = np.zeros((full, len(idx)))
     t[idx, np.arange(len(idx))] = sign
 
