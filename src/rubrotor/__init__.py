@@ -21,7 +21,7 @@ __version__ = "0.1.0"
 from rubrotor.analysis.indicators import rub_indicators  # noqa: E402
 from rubrotor.analysis.spectra import amplitude_spectrum, full_spectrum  # noqa: E402
 from rubrotor.analysis.wavelet import cwt, scalogram  # noqa: E402
-from rubrotor.api import critical_speeds, modes  # noqa: E402
+from rubrotor.api import critical_speeds, damped_modes, linear_system, modes  # noqa: E402
 from rubrotor.errors import InputError, RubrotorError, ScenarioError  # noqa: E402
 from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance  # noqa: E402
 from rubrotor.integrator import Integrator  # noqa: E402
@@ -59,6 +59,8 @@ __all__ = [
     "load_dataset",
     "load_scenario",
     "modes",
+    "damped_modes",
+    "linear_system",
     "save_dataset",
     "simulate",
     "cwt",

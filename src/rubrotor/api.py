@@ -1,16 +1,20 @@
-"""Verbs of the modal analysis that take either a :class:`~rubrotor.scenario.Scenario` or a bare
-:class:`~rubrotor.model.Shaft`.
+"""Verbs of the modal analysis that take a :class:`~rubrotor.scenario.Scenario`, a bare
+:class:`~rubrotor.model.Shaft`, a general :class:`~rubrotor.rotor.Rotor` or any
+:class:`~rubrotor.linear.LinearSystem`.
 """
 
 from __future__ import annotations
 
 from rubrotor.errors import InputError
+from rubrotor.linear import LinearSystem
+from rubrotor.linear_analysis import DampedModes
+from rubrotor.linear_analysis import damped_modes as _damped_modes
 from rubrotor.modal import CriticalSpeed, Mode, natural_frequencies
 from rubrotor.modal import critical_speeds as _critical_speeds
 from rubrotor.model import Shaft
 from rubrotor.scenario import Scenario
 
-__all__ = ["modes", "critical_speeds"]
+__all__ = ["modes", "critical_speeds", "linear_system", "damped_modes"]
 
 
 def _shaft_and_speed(obj) -> tuple[Shaft, float]:
@@ -64,3 +68,52 @@ def critical_speeds(scenario_or_shaft: Scenario | Shaft) -> list[CriticalSpeed]:
     """
     shaft, _ = _shaft_and_speed(scenario_or_shaft)
     return _critical_speeds(shaft)
+
+
+def linear_system(obj) -> LinearSystem:
+    """The :class:`~rubrotor.linear.LinearSystem` of a scenario, rotor, shaft or system.
+
+    Parameters
+    ----------
+    obj : Scenario, Rotor, Shaft or LinearSystem
+        A general rotor is meshed with a node at each of the scenario's stations (unbalance,
+        load, contact and probe positions); a continuous shaft keeps its exact modal model.
+
+    Returns
+    -------
+    LinearSystem
+    """
+    from rubrotor.engine.continuous import continuous_system
+    from rubrotor.rotor import Rotor
+
+    if isinstance(obj, LinearSystem):
+        return obj
+    if isinstance(obj, Scenario):
+        if obj.rotor is not None:
+            return obj.rotor.linear_system(obj.stations)
+        return continuous_system(obj.shaft)
+    if isinstance(obj, Rotor):
+        return obj.linear_system(())
+    if isinstance(obj, Shaft):
+        return continuous_system(obj)
+    raise InputError("rotor", obj, "a Scenario, Rotor, Shaft or LinearSystem")
+
+
+def damped_modes(obj, speed: float | None = None, n: int | None = None) -> DampedModes:
+    """Damped modes (frequency, damping ratio, log dec, whirl, shape) of any rotor at a speed.
+
+    Parameters
+    ----------
+    obj : Scenario, Rotor, Shaft or LinearSystem
+        The rotor (see :func:`linear_system`).
+    speed : float, optional
+        Spin speed (rad/s); default the scenario's, or 0.
+    n : int, optional
+        Keep the ``n`` lowest modes (default all).
+
+    Returns
+    -------
+    DampedModes
+    """
+    default = obj.speed if isinstance(obj, Scenario) else 0.0
+    return _damped_modes(linear_system(obj), default if speed is None else speed, n)

@@ -88,6 +88,8 @@ def _modes_run(args: argparse.Namespace) -> int:
     speed = scenario.speed if args.speed is None else args.speed
     if not math.isfinite(speed) or speed < 0:
         raise InputError("--speed", args.speed, "a finite spin speed >= 0 (rad/s)")
+    if scenario.rotor is not None:
+        return _general_modes(scenario, speed, args.json)
     result = modes(scenario, speed)
     if args.json:
         _print_json(
@@ -109,16 +111,81 @@ def _modes_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _general_modes(scenario, speed: float, as_json: bool) -> int:
+    """Damped modes of a general rotor: JSON, or a table."""
+    from rubrotor.api import damped_modes
+
+    result = damped_modes(scenario, speed)
+    if as_json:
+        _print_json(result.to_dict())
+        return 0
+    print(f"{scenario.name}: damped modes at {speed:.6g} rad/s ({speed / TWO_PI:.6g} Hz)")
+    rows = [
+        [
+            str(m.index),
+            f"{m.frequency_hz:.3f}",
+            f"{m.damping_ratio:.4g}",
+            f"{m.log_dec:.4g}",
+            m.whirl,
+        ]
+        for m in result.modes[:20]
+    ]
+    print(_table(["mode", "frequency (Hz)", "damping ratio", "log dec", "whirl"], rows))
+    return 0
+
+
+def _general_critical(scenario, as_json: bool, max_speed: float | None) -> int:
+    """Critical speeds (1X crossings) and the stability threshold of a general rotor."""
+    from rubrotor.api import linear_system
+    from rubrotor.linear_analysis import linear_critical_speeds, stability_threshold
+
+    top = max_speed if max_speed is not None else max(3.0 * scenario.speed, 100.0)
+    system = linear_system(scenario)
+    crit = linear_critical_speeds(system, top, n=8)
+    threshold = stability_threshold(system, top, n=8)
+    if as_json:
+        _print_json(
+            {
+                "max_speed_rad_s": top,
+                "critical_speeds": [
+                    {"index": c.index, "whirl": c.whirl, "speed_rad_s": c.speed_rad_s} for c in crit
+                ],
+                "stability_threshold_rad_s": threshold,
+            }
+        )
+        return 0
+    print(f"{scenario.name}: critical speeds up to {top:.6g} rad/s (damped frequency = spin)")
+    rows = [[str(c.index), c.whirl, f"{c.speed_rad_s:.2f}", f"{c.speed_rpm:.0f}"] for c in crit]
+    print(_table(["mode", "whirl", "speed (rad/s)", "speed (rpm)"], rows))
+    print(
+        "stability threshold: "
+        + (f"{threshold:.6g} rad/s" if threshold is not None else f"none up to {top:.6g} rad/s")
+    )
+    return 0
+
+
 # ---- critical ----------------------------------------------------------------------------------
 def _critical_args(parser: argparse.ArgumentParser) -> None:
     _add_scenario(parser)
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    parser.add_argument(
+        "--max-speed",
+        type=float,
+        metavar="RAD_PER_S",
+        help="general rotors: search up to this speed (default 3 x the scenario's speed)",
+    )
 
 
 def _critical_run(args: argparse.Namespace) -> int:
     from rubrotor.api import critical_speeds
 
     scenario = load_scenario(args.scenario)
+    if scenario.rotor is not None:
+        if args.max_speed is not None and not (
+            math.isfinite(args.max_speed) and args.max_speed > 0
+        ):
+            raise InputError("--max-speed", args.max_speed, "a finite speed > 0 (rad/s)")
+        return _general_critical(scenario, args.json, args.max_speed)
     result = critical_speeds(scenario)
     if args.json:
         _print_json(
@@ -216,6 +283,8 @@ def _campbell_run(args: argparse.Namespace) -> int:
     if fmt not in ("png", "pdf", "svg"):
         raise InputError("--out", args.out, "a file name ending in .png, .pdf or .svg")
     scenario = load_scenario(args.scenario)
+    if scenario.rotor is not None:
+        return _general_campbell(scenario, speeds, out, args.json)
     shaft = scenario.require_shaft("the Campbell diagram")
     fig = campbell_figure(shaft, speeds, operating_speed=scenario.speed)
     _save_atomic(fig, out)
@@ -237,6 +306,32 @@ def _campbell_run(args: argparse.Namespace) -> int:
                 "speed_rad_s": data["speed_rad_s"].tolist(),
                 "operating_speed_rad_s": scenario.speed,
                 "modes": curves,
+                "figure": str(out),
+            }
+        )
+    else:
+        print(f"wrote {out}")
+    return 0
+
+
+def _general_campbell(scenario, speeds, out: Path, as_json: bool) -> int:
+    """Campbell diagram with stability (log dec in colour) of a general rotor."""
+    from rubrotor.api import linear_system
+    from rubrotor.linear_analysis import campbell_data, linear_critical_speeds
+    from rubrotor.plotting_linear import campbell_stability_figure
+
+    system = linear_system(scenario)
+    data = campbell_data(system, speeds, n=8)
+    crit = linear_critical_speeds(system, float(speeds[-1]), n=8) if speeds[-1] > 0 else []
+    title = f"Campbell diagram: {scenario.name}"
+    _save_atomic(campbell_stability_figure(data, crit, scenario.speed, title), out)
+    if as_json:
+        _print_json(
+            {
+                "speed_rad_s": data.speeds.tolist(),
+                "frequency_hz": data.frequency_hz.tolist(),
+                "log_dec": data.log_dec.tolist(),
+                "whirl": data.whirl.tolist(),
                 "figure": str(out),
             }
         )

@@ -236,7 +236,7 @@ class Contact:
         object.__setattr__(
             self,
             "clearance",
-            _number("contact.clearance", self.clearance, "m", minimum=0, strict=True),
+            _number("contact.clearance", self.clearance, "m", minimum=0, strict=True, maximum=1e3),
         )
         unit_k = "N/m^1.5" if self.law == "hertz" else "N/m"
         unit_c = "s/m" if self.law == "hertz" else "N s/m"

@@ -3,7 +3,7 @@
 :func:`lyapunov_exponents` runs the fixed-step exponential integrator (the one of
 :func:`rubrotor.simulation.simulate_system` with ``dtau``) together with ``count`` tangent
 vectors propagated by the exact derivative of that step
-(:func:`rubrotor.core.tangent.expo_tangent`: the exponential propagator is linear, the
+(``rubrotor.core.tangent.expo_tangent``: the exponential propagator is linear, the
 implicit contact solve is differentiated by the implicit function theorem with the same
 Newton matrix), re-orthonormalised every few steps (Benettin et al., Meccanica 15, 1980). The
 exponents are those of the discrete map; they approach the flow's as the step shrinks.
@@ -15,7 +15,7 @@ step along the orbit, i.e. a contact force that is differentiable in the state:
   ``s(v) = v / sqrt(v^2 + v_r^2)`` with ``v_r = contact.friction_regularization`` (m/s): a
   smooth function, so the friction force is differentiable in the velocity everywhere (with the
   true sign function the derivative would not exist at stick). Its derivative is included
-  (:func:`rubrotor.core.contact.contact_force_jac_exact`), unlike the Newton solver's
+  (``rubrotor.core.contact.contact_force_jac_exact``), unlike the Newton solver's
   quasi-Newton Jacobian.
 * Normal force: the Hertz law ``k eps^1.5 (1 + b eps')`` (Hunt-Crossley) is continuously
   differentiable across contact onset: its derivative ``1.5 k eps^0.5 (...)`` tends to 0 as the

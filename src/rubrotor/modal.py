@@ -11,7 +11,7 @@ Two independent routes give the whirl frequencies of each mode ``n`` at spin ``O
 
   solved as a polynomial (companion roots) and polished by Newton's method;
 * **assembled modal matrices** (:func:`whirl_frequencies_eig`): eigenvalues ``lambda = i w`` of the
-  generalized state-space problem built from ``M``, ``G``, ``K`` of :mod:`rubrotor.model`.
+  generalized state-space problem built from ``M``, ``G``, ``K`` of ``rubrotor.model``.
 
 ``w > 0`` is forward whirl, ``w < 0`` backward. For Timoshenko, of the two roots of one sign the
 smaller in magnitude is the bending branch, the larger the shear (second) branch.

@@ -47,14 +47,33 @@ SHEAR_COEFFICIENTS = ("cowper", "hutchinson", "seed")
 FORMULATIONS = ("two-field", "seed-eq1")
 
 
+# Physically meaningful ranges of the shaft's inputs (SI). Outside them no machine exists and the
+# derived quantities (A, I, EI, rho A, ...) overflow or underflow double precision.
+PLAUSIBLE_RANGES = {
+    "m": (1e-6, 1e3),
+    "Pa": (1.0, 1e16),
+    "kg/m^3": (1e-12, 1e9),
+    "kg": (1e-12, 1e9),
+    "kg m^2": (1e-15, 1e9),
+}
+
+
 def _finite_positive(field_name: str, value, unit: str, allow_zero: bool = False) -> float:
-    """Return ``value`` as float or raise :class:`InputError` naming ``field_name``."""
+    """Return ``value`` as float or raise :class:`~rubrotor.InputError` naming ``field_name``.
+
+    Values must also lie in :data:`PLAUSIBLE_RANGES` of their unit (zero allowed where
+    ``allow_zero``).
+    """
     if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
         raise InputError(field_name, value, f"a number ({unit})")
     v = float(value)
+    lo, hi = PLAUSIBLE_RANGES.get(unit, (0.0, math.inf))
     if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
         cmp = ">= 0" if allow_zero else "> 0"
         raise InputError(field_name, value, f"a finite number {cmp} ({unit})")
+    if v != 0 and not lo <= v <= hi:
+        zero = "0 or " if allow_zero else ""
+        raise InputError(field_name, value, f"{zero}a number in [{lo:g}, {hi:g}] ({unit})")
     return v
 
 
@@ -108,7 +127,10 @@ def shear_coefficient_value(
         raise InputError(
             "shaft.shear_coefficient", kind, '"cowper", "hutchinson", "seed" or a number > 0'
         )
-    return _finite_positive("shaft.shear_coefficient", kind, "dimensionless")
+    kappa = _finite_positive("shaft.shear_coefficient", kind, "dimensionless")
+    if not 1e-6 <= kappa <= 1e9:
+        raise InputError("shaft.shear_coefficient", kind, "a number in [1e-06, 1e+09]")
+    return kappa
 
 
 @dataclass(frozen=True)
@@ -132,7 +154,7 @@ class Shaft:
     bore_diameter : float
         Inner diameter (m), 0 for a solid shaft.
     shear_coefficient : {"cowper", "hutchinson", "seed"} or float
-        See :func:`shear_coefficient_value`. Default ``"cowper"``.
+        See :func:`rubrotor.model.shear_coefficient_value`. Default ``"cowper"``.
     theory : {"timoshenko", "rayleigh", "euler-bernoulli"}
         Beam theory. Default ``"timoshenko"``.
     gyroscopic : bool

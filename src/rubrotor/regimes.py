@@ -14,20 +14,21 @@ contact-station deflection):
 
 Regime labels, decided in this order by :func:`classify`:
 
-0. ``"no contact"``: ``contact_fraction == 0``.
-1. ``"full annular rub"``: ``contact_fraction >= 0.99`` and ``amplitude_ripple <= 0.05`` (in
+- ``"no contact"``: ``contact_fraction == 0``.
+- ``"full annular rub"``: ``contact_fraction >= 0.99`` and ``amplitude_ripple <= 0.05`` (in
    contact all the time with a nearly constant ``|P|``, whatever the whirl direction).
-2. ``"partial rub (period-k)"``: a Poincare period ``k`` in ``1 .. min(12, K // 2)`` is found.
-3. ``"quasi-periodic"`` / 4. ``"chaotic"``: no period found. When the largest Lyapunov exponent
+- ``"partial rub (period-k)"``: a Poincare period ``k`` in ``1 .. min(12, K // 2)`` is found.
+- ``"quasi-periodic"`` / ``"chaotic"``: no period found. When the largest Lyapunov exponent
    ``lambda_1`` (1/s, :func:`rubrotor.lyapunov.lyapunov_exponents`) is known, the motion is
    chaotic exactly when its growth per revolution ``lambda_1 2 pi / Omega`` exceeds
    :data:`CHAOS_MARGIN_PER_REV` (0.05, a 5 % divergence per revolution), else quasi-periodic.
    The margin stands above the finite-time estimates of the zero exponent of a torus: measured
    0.002 .. 0.015 per revolution on quasi-periodic rub motions (undamped seed case 1; a
-   one-mode rotor past its annular-rub branch) averaged over 100 .. 200 revolutions. Without an exponent the older spectral rule decides: quasi-periodic when
+   one-mode rotor past its annular-rub branch) averaged over 100 .. 200 revolutions. Without
+   an exponent the older spectral rule decides: quasi-periodic when
    ``line_fraction >= 0.9`` (a line spectrum) and ``poincare_dimension <= 1.5`` (or NaN),
    otherwise chaotic.
-5. ``"not classified"``: the run did not complete or could not be simulated.
+- ``"not classified"``: the run did not complete or could not be simulated.
 """
 
 from __future__ import annotations
@@ -85,7 +86,7 @@ def impacts_per_revolution(events: np.ndarray, t0: float, t1: float, speed: floa
     ----------
     events : ndarray
         Contact onset ``+t`` and separation ``-t`` times (s), as
-        :attr:`rubrotor.simulation.SimulationResult.events` (a Dataset's ``event_time`` times
+        ``rubrotor.simulation.SimulationResult.events`` (a Dataset's ``event_time`` times
         ``event_kind``).
     t0, t1 : float
         Window (s), ``t1 > t0``.

@@ -172,9 +172,9 @@ def case_metrics(ds, clearance: float | None) -> dict:
     -------
     dict
         ``status``, ``contact_fraction`` (share of late samples in contact),
-        ``max_orbit_over_clearance`` (max |P|/g), ``max_orbit_m``, ``max_normal_force_N``,
+        ``max_orbit_over_clearance`` (``max |P| / g``), ``max_orbit_m``, ``max_normal_force_N``,
         ``mean_normal_force_N``, ``impacts_per_rev`` (contact onsets per revolution),
-        ``poincare`` (see :func:`poincare_period`), ``revolutions`` (simulated).
+        ``poincare`` (see ``poincare_period``), ``revolutions`` (simulated).
     """
     tau = ds["tau"].values
     late = tau >= tau[-1] / 2

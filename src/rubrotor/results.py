@@ -198,7 +198,7 @@ def save_dataset(ds: xr.Dataset, path: str | os.PathLike) -> Path:
 
 
 def load_dataset(path: str | os.PathLike) -> xr.Dataset:
-    """Load a results Dataset saved by :func:`save_dataset` (fully into memory).
+    """Load a results Dataset saved by :func:`~rubrotor.save_dataset` (fully into memory).
 
     Parameters
     ----------

@@ -489,7 +489,7 @@ class Rotor:
         ``delta = E / (kappa G)``; second term for Timoshenko elements only, which converge as
         ``h^2`` once ``h`` is below the diameter; both constants fitted on pinned uniform
         shafts, see docs/model.md). The mesh keeps it below
-        :data:`DEFAULT_TOLERANCE` for the bending wave of frequency ``c (11/L)^2``, where
+        :data:`rubrotor.rotor.DEFAULT_TOLERANCE` for the bending wave of frequency ``c (11/L)^2``, where
         ``c = r0 sqrt(E/rho)`` is the length-weighted mean over the sections; in section ``i``
         that wave has ``k = sqrt(omega / c_i)``.
 

@@ -67,7 +67,14 @@ from rubrotor.forces import (
 )
 from rubrotor.integrator import Integrator
 from rubrotor.modal import first_forward_critical
-from rubrotor.model import FORMULATIONS, SHEAR_COEFFICIENTS, THEORIES, Dimensionless, Shaft
+from rubrotor.model import (
+    FORMULATIONS,
+    PLAUSIBLE_RANGES,
+    SHEAR_COEFFICIENTS,
+    THEORIES,
+    Dimensionless,
+    Shaft,
+)
 from rubrotor.rotor import Rotor
 from rubrotor.scenario_rotor import (
     ROTOR_SCHEMA,
@@ -372,10 +379,33 @@ def _choice(name: str, value: str, options) -> str:
     return value
 
 
+# Meaningful ranges of keys (SI), by unit or by key; outside them no machine exists and derived
+# quantities overflow double precision (a value of 1e300 must be refused, not crash).
+_RANGES_BY_UNIT = {
+    **PLAUSIBLE_RANGES,
+    "m": (1e-9, 1e3),
+    "rad/s": (1e-6, 1e7),
+    "rev/min": (1e-5, 1e8),
+    "rev/s": (1e-7, 2e6),
+}
+_RANGES_BY_KEY = {
+    "shaft.slenderness": (1e-6, 10.0),
+    "shaft.shear_parameter": (1e-3, 1e6),
+    "shaft.shear_coefficient": (1e-6, 1e9),
+    "speed.critical_multiple": (1e-6, 1e3),
+    "speed.dimensionless": (1e-9, 1e9),
+}
+SPEED_RANGE = _RANGES_BY_UNIT["rad/s"]
+
+
 def _positive(name: str, value, unit: str, allow_zero: bool = False) -> float:
     v = float(value)
     if v < 0 or (v == 0 and not allow_zero):
         raise _err(name, value, f"a number {'>=' if allow_zero else '>'} 0 ({unit})")
+    lo, hi = _RANGES_BY_KEY.get(name, _RANGES_BY_UNIT.get(unit, (0.0, math.inf)))
+    if v != 0 and not lo <= v <= hi:
+        zero = "0 or " if allow_zero else ""
+        raise _err(name, value, f"{zero}a number in [{lo:g}, {hi:g}] ({unit})")
     return v
 
 
@@ -456,6 +486,12 @@ def _resolve_speed(sec: dict, shaft: Shaft) -> tuple[float, tuple]:
         om = v * first_forward_critical(shaft)
     else:
         om = Dimensionless.speed_from_parameter(shaft, v)
+    if om != 0 and not SPEED_RANGE[0] <= om <= SPEED_RANGE[1]:
+        raise _err(
+            name,
+            value,
+            f"a value giving a spin speed in [{SPEED_RANGE[0]:g}, {SPEED_RANGE[1]:g}] rad/s",
+        )
     return om, (key, value)
 
 
@@ -647,8 +683,8 @@ def _ratios(sec: dict):
 class Scenario:
     """A validated scenario: rotor, resolved spin speed, forces, contact and integrator.
 
-    Build it with :func:`load_scenario` or :func:`scenario_from_dict`; its dict form
-    (:func:`scenario_to_dict`) is what was given, so ``with_changes`` keeps the input form
+    Build it with :func:`load_scenario` or :func:`~rubrotor.scenario.scenario_from_dict`; its dict form
+    (:func:`~rubrotor.scenario.scenario_to_dict`) is what was given, so ``with_changes`` keeps the input form
     (e.g. a dimensionless clearance stays dimensionless when the speed changes).
 
     Attributes

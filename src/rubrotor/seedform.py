@@ -1,12 +1,12 @@
 """The seed's single-equation Timoshenko form (seed eq. 1, eqs. 4-5), modally expanded.
 
 Selected with ``[shaft] formulation = "seed-eq1"`` (``Shaft(formulation="seed-eq1")``); the
-default ``"two-field"`` is :mod:`rubrotor.model`. This is a reproduction switch, not physics:
+default ``"two-field"`` is ``rubrotor.model``. This is a reproduction switch, not physics:
 eq. (1) puts the point forces on the right-hand side of the equation obtained by eliminating the
 section rotation, which drops the derivatives of the load (model-notes section 2, 6).
 
 Per mode ``n`` (``k = n pi / L``, deflection ``p = sin(k x) P(t)``, ``P = v + i w``), projecting
-eq. (1) on ``sin(k x)`` and keeping the ``L/2`` scaling of :mod:`rubrotor.model`::
+eq. (1) on ``sin(k x)`` and keeping the ``L/2`` scaling of ``rubrotor.model``::
 
     c4 P'''' + c3 P''' + c2 P'' + c1 P' + c0 P = sin(k a) F
 
@@ -72,7 +72,7 @@ def two_field_determinant(shaft: Shaft, n: int, speed: float, C=None) -> np.ndar
     speed : float
         Spin speed ``Omega`` (rad/s).
     C : ndarray, shape (2, 2), optional
-        Modal damping matrix of the mode (as :func:`rubrotor.simulation.assemble` builds it).
+        Modal damping matrix of the mode (as ``rubrotor.simulation.assemble`` builds it).
 
     Returns
     -------
@@ -133,7 +133,7 @@ def seed_coefficients(shaft: Shaft, n: int, speed: float, C=None) -> np.ndarray:
 class SeedModalSystem:
     """The seed form in diagonal coordinates; same interface as the two-field ``ModalSystem``.
 
-    State per mode ``z = [P, P'/w0, P''/w0^2, P'''/w0^3]`` (``w0`` in :attr:`scales`, rad/s),
+    State per mode ``z = [P, P'/w0, P''/w0^2, P'''/w0^3]`` (``w0`` in ``scales``, rad/s),
     ``z = V y``, ``y' = lam y + beta(a) F``. ``M``, ``K``, ``C`` and the index arrays of the
     two-field system have no meaning here (the form has no mechanical energy); energy tracking
     is refused for it.
@@ -184,7 +184,7 @@ class SeedModalSystem:
         return self._row(position, 1, self.scales) @ self.V
 
     def energy(self, y: np.ndarray) -> float:
-        """Not defined for the seed form: raises :class:`InputError`."""
+        """Not defined for the seed form: raises :class:`~rubrotor.InputError`."""
         raise InputError(
             "track_energy", True, 'shaft.formulation = "two-field" (the seed form has no energy)'
         )

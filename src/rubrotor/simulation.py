@@ -1,6 +1,6 @@
 """Time simulation of the rotor under unbalance with rotor-stator contact.
 
-:func:`simulate_system` is the array-level entry point (shaft, speed, forces, integrator); it
+:func:`~rubrotor.simulation.simulate_system` is the array-level entry point (shaft, speed, forces, integrator); it
 assembles and diagonalises the modal system, runs a compiled kernel from :mod:`rubrotor.core`
 in chunks (progress and Ctrl-C are handled between chunks, never per step) and returns a
 :class:`SimulationResult`. :func:`rubrotor.results.to_dataset` turns that into an xarray Dataset.
@@ -249,13 +249,13 @@ class RotorState:
 
     Carried in physical modal coordinates, not in the eigen-coordinates of one speed, so that a
     state can start a run at another speed, clearance, unbalance ... (the eigen-basis and the
-    particular solution of the new run are applied to it by :func:`simulate_system`).
+    particular solution of the new run are applied to it by :func:`~rubrotor.simulation.simulate_system`).
 
     Attributes
     ----------
     q : ndarray, complex, shape (n,)
         Generalised coordinates ``q = [P_1, (Psi_1), P_2, ...]`` in the order of
-        :attr:`ModalSystem.q_index`: modal deflections ``v + i w`` (m) and, for Timoshenko
+        ``rubrotor.simulation.ModalSystem.q_index``: modal deflections ``v + i w`` (m) and, for Timoshenko
         shafts, modal rotations (rad).
     qd : ndarray, complex, shape (n,)
         Their time derivatives (m/s, rad/s).
@@ -390,6 +390,32 @@ def contact_parameters(shaft: Shaft, speed: float, contact: Contact | None) -> n
         radius * speed,
         contact.friction_regularization,
     )
+
+
+def _available_memory() -> int:
+    """Bytes of memory available to this process (MemAvailable; 8 GiB when unknown)."""
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 8 << 30
+
+
+def _check_output_size(nbytes: int, integrator: Integrator) -> None:
+    """Refuse, before it starts, a run whose saved samples cannot fit in half the free memory."""
+    limit = _available_memory() // 2
+    if nbytes > limit:
+        raise InputError(
+            "simulation.revolutions",
+            integrator.revolutions,
+            f"a run whose saved samples fit in memory: this one needs {nbytes / 2**30:.3g} GiB "
+            f"(limit {limit / 2**30:.3g} GiB); lower simulation.revolutions, or save fewer "
+            "samples with simulation.save_every / simulation.output_dtau, or a larger "
+            "simulation.dtau",
+        )
 
 
 def _check_station(name: str, x: float, length: float) -> float:
@@ -571,6 +597,7 @@ def simulate_system(
             "simulation.revolutions", integrator.revolutions, "a run long enough for one sample"
         )
 
+    _check_output_size(n_channels(len(stations)) * (n_samples + 1) * 8, integrator)
     out = np.empty((n_channels(len(stations)), n_samples + 1))
     istate = np.zeros(5, np.int64)
     cstate = np.array([f_start, 1 + 0j, 0j])
@@ -832,7 +859,7 @@ def scenario_parameters(scenario) -> dict:
 
 
 def simulate_scenario(scenario, integrator: Integrator, **kwargs) -> SimulationResult:
-    """:func:`simulate_system` on the parts of a scenario (raw arrays, no Dataset).
+    """:func:`~rubrotor.simulation.simulate_system` on the parts of a scenario (raw arrays, no Dataset).
 
     Parameters
     ----------
@@ -841,7 +868,7 @@ def simulate_scenario(scenario, integrator: Integrator, **kwargs) -> SimulationR
     integrator : Integrator
         How to integrate.
     **kwargs
-        ``track_energy``, ``progress``, ``chunk_samples`` of :func:`simulate_system`.
+        ``track_energy``, ``progress``, ``chunk_samples`` of :func:`~rubrotor.simulation.simulate_system`.
 
     Returns
     -------

@@ -8,7 +8,7 @@ Hunt-Crossley damping ``k_h eps0^1.5 b_h`` (N s/m), the geometric term of the no
 with the position (``F_n0 / (g + eps0)``) and the friction ``mu`` times all of these along the
 tangent; the derivative of the smoothed friction sign is neglected (the surface speed
 ``R Omega`` dominates the sliding velocity). The perturbation obeys ``y' = lam y + beta dF`` in
-the diagonal coordinates of the shaft (:func:`rubrotor.simulation.assemble`), with ``dF`` a real-
+the diagonal coordinates of the shaft (``rubrotor.simulation.assemble``), with ``dF`` a real-
 linear (not complex-linear) function of ``P`` and ``P'``; the eigenvalues are those of the real
 ``2 ns x 2 ns`` matrix. A complex pair ``s, conj(s)`` of that matrix is one whirl motion; its
 signed frequency is ``+Im s`` when the forward (``exp(+i w t)``) part of ``P`` dominates the

@@ -628,7 +628,7 @@ def _open_or_create(store, template, definition: dict):
             )
         return done
     template.attrs["sweep_definition"] = text
-    template.to_zarr(path, mode="w-", consolidated=False)
+    template.to_zarr(path, mode="w-", consolidated=True, zarr_format=2)
     return np.zeros(template["done"].shape, bool)
 
 
@@ -702,6 +702,18 @@ def sweep(
     if revolutions is None:
         sim = scenario.simulation
         revolutions = int(sim.revolutions) if sim is not None and sim.revolutions else t_rev + 200
+    if (
+        isinstance(revolutions, int | np.integer)
+        and not isinstance(revolutions, bool)
+        and revolutions < t_rev + 2
+    ):
+        raise InputError(
+            "revolutions",
+            revolutions,
+            f"an integer >= {t_rev + 2}: the transient_revolutions (--transient) = {t_rev} "
+            "discarded plus 2 kept; lower --transient or raise --revolutions "
+            "(or simulation.revolutions in the scenario)",
+        )
     revs = _int_arg("revolutions", revolutions, t_rev + 2)
     n_rev = _int_arg("samples_per_revolution", samples_per_revolution, 8)
     shape = tuple(a.size for a in grid)

@@ -598,14 +598,14 @@ def cwt(
         Sampling frequency (Hz), > 0.
     frequencies : array_like, shape (n_frequencies,)
         Analysis frequencies (Hz), each in the open interval (0, fs/2); e.g. from
-        :func:`log_frequencies`.  Row ``j`` uses the scale ``s_j = fs*omega0/(2*pi*f_j)`` samples.
+        :func:`~rubrotor.analysis.wavelet.log_frequencies`.  Row ``j`` uses the scale ``s_j = fs*omega0/(2*pi*f_j)`` samples.
     omega0 : float, optional
         Morlet centre angular frequency (rad per unit dimensionless time), >= 5; default 6.
         Relative bandwidth of every row is ``1/omega0`` (Gaussian standard deviation / f).
     normalization : {"l1", "l2"}, optional
         ``"l1"`` (default, seed eq. 18, ``(1/s) psi(t/s)``): a tone of amplitude A reads
         ``|W| = A`` at its own scale.  ``"l2"``: unit-energy wavelets ``(1/sqrt(s)) psi(t/s)``
-        with ``psi`` normalized to unit energy (s in samples); |W| of a tone grows like
+        with ``psi`` normalized to unit energy (s in samples); ``|W|`` of a tone grows like
         ``sqrt(s)`` and its peak over scales sits 1.35 % below the tone frequency (omega0 = 6).
     padding : {"symmetric", "periodic", "zero"}, optional
         Edge handling, see the module notes.  Default ``"symmetric"`` (whole-signal mirror of

@@ -9,7 +9,7 @@ eigen-coordinates ``y`` (complex, ``ns``; real dimension ``2 ns``)::
 with ``F_k = f(P_k, V_k)`` the contact force of the state ``y_k`` (``P_k = cd . y_k + ...``,
 ``V_k = cv . y_k + ...``). Its exact derivative: ``dF_k = J_k (dP_k, dV_k)`` with ``J_k`` the
 2 x 4 real Jacobian of the force at state ``k`` (friction-sign derivative included,
-:func:`rubrotor.core.contact.contact_force_jac_exact`), and, by the implicit function theorem
+``rubrotor.core.contact.contact_force_jac_exact``), and, by the implicit function theorem
 on the contact equation, ``(I - J_{k+1} S) dF_{k+1} = J_{k+1} (dpd, dud)`` where ``S`` maps
 ``dF`` to ``(sd dF, sv dF)``: the matrix ``I - J S`` is the Newton matrix of the contact
 solve. Then ``dy_{k+1} = E dy_k + G0 dF_k + G1 dF_{k+1}``. Tangent vectors are propagated with

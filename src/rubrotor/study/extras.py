@@ -104,11 +104,7 @@ def run_extras(
         ``seed_form`` (metrics, spectral, claims, fig6, abm comparison), ``stability``,
         ``growth_curves``, ``detection``, ``robustness`` (None without ``full``), ``timing_s``.
     """
-    from rubrotor import plotting
-    from rubrotor.analysis.wavelet import cwt_binned
-    from rubrotor.reproduce import CASES
-    from rubrotor.study import detection, robustness, seedform_study
-    from rubrotor.study.claims import case_numbers, evaluate_claims, fig6_numbers, seed_scenarios
+    from rubrotor.study import detection, robustness
 
     t0 = time.perf_counter() if t0 is None else t0
     xs = EXTRA_QUICK if quick else EXTRA_DEFAULT
@@ -118,97 +114,16 @@ def run_extras(
     _progress(
         "the seed's equations (seed-eq1): cases 1-3 and no contact, engine and ABM", t0, quiet
     )
-    runs = seedform_study.run_cases(scen, xs.seed_revolutions, save_every, xs.abm_revolutions)
-    res = runs["results"]
-    metrics, spectral = case_numbers(res, scen, entries, band)
-    f6 = seed_scenarios()
-    f6_rev = 5 if quick else 20
-    s_t, d_t = seedform_study.fig6_seed(f6["fig6_t"], f6_rev)
-    from rubrotor.integrator import Integrator
-    from rubrotor.simulation import simulate
-
-    d_e = simulate(
-        f6["fig6_e"],
-        integrator=Integrator(revolutions=f6_rev, dtau=1e-3, save_every=16),
-        progress=False,
-    )
-    fig6 = fig6_numbers(s_t, f6["fig6_e"], d_t, d_e, f6_rev)
-    claims = evaluate_claims(metrics, spectral, fig6, band)
-    maps = {}
-    for key, _stem, title in CASES:
-        a = res[key]["v_ddot"].values
-        if a.size > 64:
-            maps[f"seed eq. 1: {title}"] = cwt_binned(
-                a, spectral[key]["fs_hz"], freqs, min(500, a.size)
-            )
-    _savefig(
-        plotting.scalogram_map_figure(
-            maps,
-            modes=entries,
-            spin_hz=spin_hz,
-            title="Seed eq. (1) form: CWT of the horizontal acceleration (max |W| per time bin)",
-        ),
-        out / "fig7_cwt_maps_seed_eq1.png",
-    )
-    last = {}
-    for key, _stem, _title in CASES:
-        last[key] = _last_part_peak(res[key])
+    seed_form = _seed_form_part(out, scen, xs, entries, band, freqs, spin_hz, save_every, quick)
     _progress(f"seed-eq1 with {xs.strong_factor:g} x the unbalance", t0, quiet)
-    strong_scen = {
-        k: sc.with_changes(**{"unbalance.magnitude": sc.unbalance.magnitude * xs.strong_factor})
-        for k, sc in scen.items()
-    }
-    s_runs = seedform_study.run_cases(
-        strong_scen, xs.seed_revolutions, save_every, xs.abm_revolutions
+    seed_form["strong"] = _strong_part(
+        out, scen, xs, entries, band, freqs, spin_hz, save_every, seed_form["fig6"]
     )
-    s_metrics, s_spectral = case_numbers(s_runs["results"], strong_scen, entries, band)
-    s_claims = evaluate_claims(s_metrics, s_spectral, fig6, band)
-    s_maps = {}
-    for key, _stem, title in CASES:
-        d = s_runs["results"][key]
-        a = d["v_ddot"].values
-        c = strong_scen[key].contact
-        if c is not None:  # up to the first time |P| exceeds 10 g: the onset, not the blow-up
-            big = np.flatnonzero(np.hypot(d["v"].values, d["w"].values) > 10 * c.clearance)
-            a = a[: big[0]] if big.size else a
-        if a.size > 64:
-            s_maps[f"seed eq. 1, x{xs.strong_factor:g}: {title}"] = cwt_binned(
-                a, s_spectral[key]["fs_hz"], freqs, min(500, a.size)
-            )
-    _savefig(
-        plotting.scalogram_map_figure(
-            s_maps,
-            modes=entries,
-            spin_hz=spin_hz,
-            title=f"Seed eq. (1) form, {xs.strong_factor:g} x the unbalance: CWT of the horizontal "
-            "acceleration (contact runs up to |P| = 10 g)",
-        ),
-        out / "fig7_cwt_maps_seed_eq1_strong.png",
-    )
-    strong = {
-        "unbalance_factor": xs.strong_factor,
-        "unbalance_kg_m": strong_scen["case1"].unbalance.magnitude,
-        "cases": {
-            k: s_metrics[k]
-            | {"spectral": s_spectral[k], "last_third": _last_part_peak(s_runs["results"][k])}
-            for k, _, _ in CASES
-        },
-        "abm": s_runs["abm"],
-        "claims": s_claims,
-    }
     timing["seed_form"] = time.perf_counter() - t
 
     t = time.perf_counter()
     _progress("linear stability of a pressed contact, both formulations", t0, quiet)
-    base = scen["case1"]
-    table = seedform_study.stability_table(base)
-    curves = seedform_study.growth_curves(base, n=xs.curve_points)
-    from rubrotor.stability import contact_stability
-
-    damped = contact_stability(
-        base.with_changes(**{"damping.ratio": 1e-3}), 1e-4, formulation="two-field", modes=1
-    )
-    _savefig(seedform_study.growth_figure(curves), out / "stability_growth.png")
+    stability = _stability_part(out, scen["case1"], xs)
     timing["stability"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -226,17 +141,137 @@ def run_extras(
         timing["robustness"] = time.perf_counter() - t
 
     return {
-        "seed_form": {
-            "settings": asdict(xs),
-            "cases": {
-                k: metrics[k] | {"spectral": spectral[k], "last_third": last[k]}
-                for k, _, _ in CASES
-            },
-            "abm": runs["abm"],
-            "fig6": fig6,
-            "claims": claims,
-            "strong": strong,
+        "seed_form": seed_form,
+        **stability,
+        "detection": det,
+        "robustness": rob,
+        "timing_s": timing,
+    }
+
+
+def _cwt_maps(results: dict, spectral: dict, freqs, label: str, clip=None) -> dict:
+    """Binned CWT maps of each case's horizontal acceleration (``clip(key, ds, a)`` cuts it)."""
+    from rubrotor.analysis.wavelet import cwt_binned
+    from rubrotor.reproduce import CASES
+
+    maps = {}
+    for key, _stem, title in CASES:
+        a = results[key]["v_ddot"].values
+        if clip is not None:
+            a = clip(key, results[key], a)
+        if a.size > 64:
+            maps[f"{label}: {title}"] = cwt_binned(
+                a, spectral[key]["fs_hz"], freqs, min(500, a.size)
+            )
+    return maps
+
+
+def _save_maps(out: Path, maps: dict, entries, spin_hz: float, title: str, name: str) -> None:
+    from rubrotor import plotting
+
+    fig = plotting.scalogram_map_figure(maps, modes=entries, spin_hz=spin_hz, title=title)
+    _savefig(fig, out / name)
+
+
+def _seed_form_part(out, scen, xs, entries, band, freqs, spin_hz, save_every, quick) -> dict:
+    """Cases 1-3 and no contact under the seed's equations (engine and ABM), Fig. 6, claims."""
+    from rubrotor.integrator import Integrator
+    from rubrotor.reproduce import CASES
+    from rubrotor.simulation import simulate
+    from rubrotor.study import seedform_study
+    from rubrotor.study.claims import case_numbers, evaluate_claims, fig6_numbers, seed_scenarios
+
+    runs = seedform_study.run_cases(scen, xs.seed_revolutions, save_every, xs.abm_revolutions)
+    res = runs["results"]
+    metrics, spectral = case_numbers(res, scen, entries, band)
+    f6 = seed_scenarios()
+    f6_rev = 5 if quick else 20
+    s_t, d_t = seedform_study.fig6_seed(f6["fig6_t"], f6_rev)
+    d_e = simulate(
+        f6["fig6_e"],
+        integrator=Integrator(revolutions=f6_rev, dtau=1e-3, save_every=16),
+        progress=False,
+    )
+    fig6 = fig6_numbers(s_t, f6["fig6_e"], d_t, d_e, f6_rev)
+    _save_maps(
+        out,
+        _cwt_maps(res, spectral, freqs, "seed eq. 1"),
+        entries,
+        spin_hz,
+        "Seed eq. (1) form: CWT of the horizontal acceleration (max |W| per time bin)",
+        "fig7_cwt_maps_seed_eq1.png",
+    )
+    return {
+        "settings": asdict(xs),
+        "cases": {
+            k: metrics[k] | {"spectral": spectral[k], "last_third": _last_part_peak(res[k])}
+            for k, _, _ in CASES
         },
+        "abm": runs["abm"],
+        "fig6": fig6,
+        "claims": evaluate_claims(metrics, spectral, fig6, band),
+    }
+
+
+def _strong_part(out, scen, xs, entries, band, freqs, spin_hz, save_every, fig6) -> dict:
+    """The seed's equations with ``xs.strong_factor`` times the unbalance."""
+    from rubrotor.reproduce import CASES
+    from rubrotor.study import seedform_study
+    from rubrotor.study.claims import case_numbers, evaluate_claims
+
+    strong_scen = {
+        k: sc.with_changes(**{"unbalance.magnitude": sc.unbalance.magnitude * xs.strong_factor})
+        for k, sc in scen.items()
+    }
+    s_runs = seedform_study.run_cases(
+        strong_scen, xs.seed_revolutions, save_every, xs.abm_revolutions
+    )
+    s_metrics, s_spectral = case_numbers(s_runs["results"], strong_scen, entries, band)
+
+    def onset(key, d, a):  # up to the first time |P| exceeds 10 g: the onset, not the blow-up
+        c = strong_scen[key].contact
+        if c is None:
+            return a
+        big = np.flatnonzero(np.hypot(d["v"].values, d["w"].values) > 10 * c.clearance)
+        return a[: big[0]] if big.size else a
+
+    maps = _cwt_maps(
+        s_runs["results"], s_spectral, freqs, f"seed eq. 1, x{xs.strong_factor:g}", onset
+    )
+    _save_maps(
+        out,
+        maps,
+        entries,
+        spin_hz,
+        f"Seed eq. (1) form, {xs.strong_factor:g} x the unbalance: CWT of the horizontal "
+        "acceleration (contact runs up to |P| = 10 g)",
+        "fig7_cwt_maps_seed_eq1_strong.png",
+    )
+    return {
+        "unbalance_factor": xs.strong_factor,
+        "unbalance_kg_m": strong_scen["case1"].unbalance.magnitude,
+        "cases": {
+            k: s_metrics[k]
+            | {"spectral": s_spectral[k], "last_third": _last_part_peak(s_runs["results"][k])}
+            for k, _, _ in CASES
+        },
+        "abm": s_runs["abm"],
+        "claims": evaluate_claims(s_metrics, s_spectral, fig6, band),
+    }
+
+
+def _stability_part(out: Path, base, xs) -> dict:
+    """Pressed-contact stability table, growth-rate curves (figure) and the damped friction case."""
+    from rubrotor.stability import contact_stability
+    from rubrotor.study import seedform_study
+
+    table = seedform_study.stability_table(base)
+    curves = seedform_study.growth_curves(base, n=xs.curve_points)
+    damped = contact_stability(
+        base.with_changes(**{"damping.ratio": 1e-3}), 1e-4, formulation="two-field", modes=1
+    )
+    _savefig(seedform_study.growth_figure(curves), out / "stability_growth.png")
+    return {
         "stability": table,
         "growth_curves": {
             "bh_nd": curves["bh_nd"].tolist(),
@@ -248,9 +283,6 @@ def run_extras(
             "growth_per_s": damped.max_growth_rate,
             "frequency_hz": damped.dominant_frequency_hz,
         },
-        "detection": det,
-        "robustness": rob,
-        "timing_s": timing,
     }
 
 

@@ -1,0 +1,114 @@
+"""Sphinx configuration of the rubrotor documentation site.
+
+Build (warnings are errors, cross-references nitpicky)::
+
+    python -m pip install -e ".[docs]"
+    python -m sphinx -W -n --keep-going -b html docs docs/_build/html
+
+Intersphinx inventories of NumPy, SciPy, xarray and matplotlib are fetched only when
+``RUBROTOR_DOCS_INTERSPHINX=1`` (the build machines of this project have no web access); without
+them, references into those projects are accepted unresolved (``nitpick_ignore_regex`` below),
+while every reference into rubrotor itself must resolve.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "src"))
+sys.path.insert(0, str(Path(__file__).parent))
+
+import rubrotor  # noqa: E402
+
+project = "rubrotor"
+author = "rubrotor developers"
+copyright = "2026, rubrotor developers"  # noqa: A001 - Sphinx's name
+version = release = rubrotor.__version__
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.intersphinx",
+    "sphinx.ext.mathjax",
+    "numpydoc",
+    "myst_parser",
+    "sphinx_gallery.gen_gallery",
+]
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+exclude_patterns = ["_build", "auto_examples/*.ipynb", "auto_examples/*.py", "**/*.zip"]
+myst_heading_anchors = 3
+
+autosummary_generate = True
+templates_path = ["_templates"]
+autosummary_ignore_module_all = False
+autodoc_typehints = "none"
+autodoc_default_options = {"members": True, "inherited-members": False}
+numpydoc_show_class_members = False
+numpydoc_xref_param_type = False
+numpydoc_validation_checks: set[str] = set()
+
+intersphinx_mapping = (
+    {
+        "python": ("https://docs.python.org/3", None),
+        "numpy": ("https://numpy.org/doc/stable", None),
+        "scipy": ("https://docs.scipy.org/doc/scipy", None),
+        "xarray": ("https://docs.xarray.dev/en/stable", None),
+        "matplotlib": ("https://matplotlib.org/stable", None),
+    }
+    if os.environ.get("RUBROTOR_DOCS_INTERSPHINX") == "1"
+    else {}
+)
+nitpicky = True
+nitpick_ignore_regex = [
+    # other projects' objects: resolved by intersphinx where it is enabled (see above)
+    (r"py:.*", r"(numpy|np|scipy|xarray|xr|matplotlib|dask|distributed|zarr|pathlib|os)\..*"),
+    (r"py:.*", r"(ndarray|Dataset|DataArray|Figure|Axes|Path|PathLike|Mapping|Sequence)"),
+    # builtins named in signatures and numpydoc type fields
+    (r"py:.*", r"(int|float|complex|str|bool|dict|list|tuple|callable|None|object|optional)"),
+]
+
+html_theme = "pydata_sphinx_theme"
+html_title = f"rubrotor {release}"
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+    "footer_start": ["copyright"],
+}
+html_static_path: list[str] = []
+
+sphinx_gallery_conf = {
+    "image_scrapers": ("matplotlib", "gallery_scraper.package_figures"),
+    "examples_dirs": str(ROOT / "examples"),
+    "gallery_dirs": "auto_examples",
+    "filename_pattern": r"/plot_",
+    "download_all_examples": False,
+    "remove_config_comments": True,
+    "within_subsection_order": "FileNameSortKey",
+}
+
+
+def _schema_table() -> str:
+    """Markdown table of every scenario key: section, key, kind and unit (from the code's tables)."""
+    from rubrotor.scenario import KEY_UNITS, SCHEMA
+    from rubrotor.scenario_rotor import ROTOR_SCHEMA
+
+    rows = ["| section | key | kind | unit |", "|---|---|---|---|"]
+    for schema in (SCHEMA, ROTOR_SCHEMA):
+        for section, keys in schema.items():
+            for key, kind in keys.items():
+                unit = KEY_UNITS.get(f"{section}.{key}", "")
+                if not unit and kind in ("number", "int", "number|list", "list"):
+                    unit = "1" if key.endswith("_nd") else ""
+                rows.append(f"| `{section}` | `{key}` | {kind} | {unit or '-'} |")
+    return "\n".join(rows) + "\n"
+
+
+_generated = Path(__file__).parent / "_generated"
+_generated.mkdir(exist_ok=True)
+_text = _schema_table()
+_target = _generated / "schema.md"
+if not _target.exists() or _target.read_text() != _text:
+    _target.write_text(_text)

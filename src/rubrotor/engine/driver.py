@@ -1,0 +1,632 @@
+"""The general engine: any linear rotor, several contacts, flexible offset stators, gravity.
+
+:func:`simulate_general` reduces the rotor (:mod:`rubrotor.engine.reduce`), builds the plant
+(rotor modes plus stator modes, contact and output rows, the exact static and unbalance
+particular solutions of the FULL model), asks the stepper table :data:`STEPPERS` for the
+method's chunk function (each factory precomputes its coefficients once) and runs one shared
+chunk/progress/status loop. It returns a frozen :class:`EngineResult`; ``to_dataset()`` makes
+the xarray Dataset.
+
+State shift
+-----------
+The kernel integrates ``x~ = x - x_s - x_p(t)``: ``x_s = [K^-1 f_s, 0]`` the exact static
+deflection under gravity and constant loads, ``x_p = Re([Q, i Omega Q] e^{i Omega t})`` with
+``Q = (K - Omega^2 M + i Omega D)^-1 b_u`` the exact steady unbalance response (both of the full
+model, so they carry no truncation error); the reduced modes then only carry the transient and
+the contact response.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import sys
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rubrotor.core.contact import pack_contact
+from rubrotor.core.engine import (
+    CONTACT_CHANNELS,
+    EVENT_BUFFER_FULL,
+    I_ACCEPTED,
+    I_EVENTS,
+    I_GRAZE,
+    I_NEWTON,
+    I_REJECTED,
+    I_STATUS,
+    I_STEP,
+    I_SUBSTEPS,
+    N_ISTATE,
+    OK,
+    STATUS_NAMES,
+    expo_fixed,
+)
+from rubrotor.engine.model import RubStation, Run, static_load_vector, unbalance_phasor
+from rubrotor.engine.reduce import Modes, reduce_matrices
+from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
+from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Steps
+from rubrotor.errors import InputError
+from rubrotor.results import _jsonable
+from rubrotor.simulation import phi_functions
+
+__all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "STEPPERS"]
+
+ADAPTIVE_LEVELS = 21
+EVENT_BUFFER = 1 << 16
+EVENT_BUFFER_MAX = 1 << 26
+
+
+@dataclass(frozen=True)
+class Plant:
+    """The reduced rotor, its stators and every row the kernels read (SI)."""
+
+    lam: np.ndarray  # (ns,) rotor modes then stator modes
+    beta: np.ndarray  # (ns, m) modal input per N of contact force on the rotor
+    contacts: Contacts
+    outputs: Outputs
+    stations: np.ndarray  # output positions (m): contacts, then probes
+    y0: np.ndarray  # initial modal state
+    rotor: Modes
+    n_rotor: int
+    q_static: np.ndarray  # (n,) m or rad
+    q_unbalance: np.ndarray  # (n,) complex amplitude of the steady unbalance response
+    speed: float
+    Bmat: np.ndarray  # (n, m) force map of the contact forces
+
+
+def _stator_modes(st: RubStation):
+    if st.stator is None:
+        return None
+    M, C, K = st.stator.matrices()
+    return reduce_matrices(M, C, K)
+
+
+def _particular(sm, b_u: np.ndarray, speed: float) -> np.ndarray:
+    dyn = sm.K - speed**2 * sm.M + 1j * speed * sm.damping
+    if not np.any(b_u):
+        return np.zeros(len(b_u), complex)
+    if np.linalg.cond(dyn) > 1e14:
+        raise InputError("speed", speed, "a speed off an undamped critical speed (add damping)")
+    return np.linalg.solve(dyn, b_u)
+
+
+def _initial(run: Run, modes: Modes, q_s, Q, speed) -> np.ndarray:
+    n = len(q_s)
+    x_s = np.concatenate([q_s, np.zeros(n)])
+    x_p = np.concatenate([Q.real, (1j * speed * Q).real])
+    if isinstance(run.initial, str):
+        shift = {"rest": -(x_s + x_p), "static": -x_p, "steady": np.zeros(2 * n)}[run.initial]
+    else:
+        x = np.asarray(run.initial, float)
+        if x.shape != (2 * n,):
+            raise InputError("initial.state", x.shape, f"a state [q, q'] of shape ({2 * n},)")
+        shift = x - x_s - x_p
+    return modes.project(shift)
+
+
+def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=(0.0, 0.0)):
+    """Reduce the rotor and assemble rows, particular solutions and initial state.
+
+    Parameters
+    ----------
+    system : rubrotor.linear.LinearSystem
+        The rotor.
+    run : Run
+        Speed (rad/s), reduction, initial state, probes (m).
+    stations : sequence of RubStation
+        Contact stations.
+    unbalances : sequence of rubrotor.forces.Unbalance
+        Unbalance planes (positions required, m; magnitudes kg m; phases rad).
+    loads : sequence of rubrotor.forces.RadialLoad
+        Constant point loads (N) at positions (m).
+    gravity : (float, float)
+        ``(g_y, g_z)`` (m/s^2) on the rotor's masses (not on the stators).
+
+    Returns
+    -------
+    Plant
+    """
+    speed = float(run.speed)
+    sm = system.matrices(speed)
+    modes = reduce_matrices(sm.M, sm.damping, sm.K, run.modes, run.cutoff)
+    Rq, Rv = (modes.Rq, modes.Rv) if run.residual else (0 * modes.Rq, 0 * modes.Rv)
+    nc = len(stations)
+    m = 2 * nc
+    Bc = [system.force_map(s.contact.position) for s in stations]
+    Bmat = np.hstack(Bc) if nc else np.zeros((sm.M.shape[0], 0))
+    st_modes = [_stator_modes(s) for s in stations]
+    nsr = modes.size
+    ns = nsr + sum(s.size for s in st_modes if s is not None)
+    lam = np.concatenate([modes.lam] + [s.lam for s in st_modes if s is not None])
+    beta = np.zeros((ns, m), complex)
+    beta[:nsr] = modes.input(Bmat)
+    Cd = np.zeros((m, ns), complex)
+    Cd[:, :nsr] = Bmat.T @ modes.Vq
+    Sd = np.zeros((m, ns), complex)
+    o = nsr
+    for i, sm_i in enumerate(st_modes):
+        if sm_i is None:
+            continue
+        k = sm_i.size
+        beta[o : o + k, 2 * i : 2 * i + 2] = sm_i.input(-np.eye(2))
+        Sd[2 * i : 2 * i + 2, o : o + k] = sm_i.Vq
+        o += k
+    Cd = Cd - Sd
+    b_u = np.zeros(sm.M.shape[0], complex)
+    for u in unbalances:
+        if u.position is None:
+            raise InputError("unbalance.position", None, "an axial position (m)")
+        b_u += unbalance_phasor(u, speed) * (system.force_map(u.position) @ np.array([1, -1j]))
+    Q = _particular(sm, b_u, speed)
+    q_s = modes.Kinv @ static_load_vector(system, tuple(loads), gravity)
+    offs = np.array([[s.offset_y, s.offset_z] for s in stations]).ravel()
+    Pu = Bmat.T @ Q
+    cps = np.array(
+        [
+            pack_contact(
+                1,
+                c.law_code,
+                c.stiffness,
+                c.damping,
+                c.clearance,
+                c.friction,
+                c.sign_code,
+                c.radius * speed,
+                c.friction_regularization,
+            )
+            for c in (s.contact for s in stations)
+        ]  # fmt: skip
+    ).reshape(nc, 10)
+    max_d = run.max_displacement or (
+        1000 * max((s.contact.clearance for s in stations), default=0.0)
+        or 0.1 * system.basis.length
+    )
+    contacts = Contacts(
+        Cd=np.ascontiguousarray(Cd), Cv=np.ascontiguousarray(Cd * lam[None, :]),
+        Rd=Bmat.T @ Rq @ Bmat, Rv=Bmat.T @ Rv @ Bmat, Pu=Pu, Pv=1j * speed * Pu,
+        d0=Bmat.T @ q_s - offs, cp=cps, max_disp=float(max_d),
+    )  # fmt: skip
+    positions = np.array([s.contact.position for s in stations] + list(run.probes), float)
+    orow = np.vstack([system.output_rows(x) for x in positions]) if len(positions) else None
+    if orow is None:
+        raise InputError("probes", run.probes, "at least one probe or contact station (m)")
+    Od = np.zeros((len(orow), ns), complex)
+    Od[:, :nsr] = orow @ modes.Vq
+    outputs = Outputs(
+        Od=Od, Ov=Od * lam[None, :], ORd=orow @ Rq @ Bmat, ORv=orow @ Rv @ Bmat,
+        OPu=orow @ Q, OPv=1j * speed * (orow @ Q), Od0=orow @ q_s,
+        Sd=np.ascontiguousarray(Sd), Sv=np.ascontiguousarray(Sd * lam[None, :]),
+        flex=np.array([float(s.stator is not None) for s in stations]),
+    )  # fmt: skip
+    y0 = np.zeros(ns, complex)
+    y0[:nsr] = _initial(run, modes, q_s, Q, speed)
+    return Plant(lam, beta, contacts, outputs, positions, y0, modes, nsr, q_s, Q, speed, Bmat)
+
+
+def _steps(plant: Plant, h0: float, levels: int) -> Steps:
+    """Per-level exponential coefficients for ``h_l = h0 / 2^l`` (first-order force hold)."""
+    hs = h0 / 2.0 ** np.arange(levels)
+    z = np.outer(hs, plant.lam)
+    p1, p2 = phi_functions(z.ravel())
+    p1, p2 = p1.reshape(z.shape), p2.reshape(z.shape)
+    E = np.exp(z)
+    G0 = hs[:, None] * (p1 - p2)
+    G1 = hs[:, None] * p2
+    beta = plant.beta
+    bG0 = G0[:, :, None] * beta[None]
+    bG1 = G1[:, :, None] * beta[None]
+    c = plant.contacts
+    CdE = c.Cd[None] * E[:, None, :]
+    CvE = c.Cv[None] * E[:, None, :]
+    return Steps(
+        E=E, G0=G0, G1=G1, BT=np.ascontiguousarray(beta.T), CdE=CdE, CvE=CvE,
+        CdG0b=np.real(np.einsum("rj,ljc->lrc", c.Cd, bG0)),
+        CvG0b=np.real(np.einsum("rj,ljc->lrc", c.Cv, bG0)),
+        Sd=np.real(np.einsum("rj,ljc->lrc", c.Cd, bG1)) + c.Rd[None],
+        Sv=np.real(np.einsum("rj,ljc->lrc", c.Cv, bG1)) + c.Rv[None],
+        rot=np.exp(1j * plant.speed * hs), h=hs,
+    )  # fmt: skip
+
+
+@dataclass
+class _Chunks:
+    """Mutable run state shared by the loop and one stepper (not returned to users)."""
+
+    out: np.ndarray
+    ys: np.ndarray
+    events: np.ndarray
+    istate: np.ndarray = field(default_factory=lambda: np.zeros(N_ISTATE, np.int64))
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What is simulated besides the run settings (see :func:`build_plant`)."""
+
+    system: object
+    stations: tuple
+    unbalances: tuple
+    loads: tuple
+    gravity: tuple
+
+
+def _no_drive(ns: int) -> Drive:
+    z = np.zeros(ns, complex)
+    return Drive(z, z, z, 0.0, 0.0, 0.0)
+
+
+def _kernel_state(plant: Plant, run: Run):
+    m = plant.beta.shape[1]
+    return dict(y=plant.y0.copy(), F=np.zeros(m), Fp=np.zeros(m), dprev=np.zeros(m // 2),
+                zt=np.ones(1, complex), hp=np.array([run.step]))  # fmt: skip
+
+
+def physical_state(plant: Plant, y: np.ndarray, F: np.ndarray, z: complex) -> np.ndarray:
+    """Total rotor state ``[q, q']`` (m, rad; m/s, rad/s) on the free DOFs from the modal
+    state ``y``, the contact forces ``F`` (N) and the unbalance phasor ``z``."""
+    yr = y[: plant.n_rotor]
+    fq = plant.Bmat @ F
+    Q = plant.q_unbalance * z
+    q = np.real(plant.rotor.Vq @ yr) + plant.rotor.Rq @ fq + plant.q_static + Q.real
+    qd = np.real(plant.rotor.Vq @ (plant.rotor.lam * yr)) + plant.rotor.Rv @ fq
+    return np.concatenate([q, qd + np.real(1j * plant.speed * Q)])
+
+
+def _first_sample(state, k, plant):
+    from rubrotor.core.engine import _write
+
+    nc = len(plant.outputs.flex)
+    _write(state.out, state.ys, 0, k["y"], k["zt"][0], k["F"], np.zeros(nc), np.zeros(nc),
+           plant.contacts, plant.outputs)  # fmt: skip
+
+
+def _control(plant: Plant, steps: Steps, run: Run) -> Control:
+    """Adaptive control constants (off for fixed steps)."""
+    if run.rtol is None:
+        return Control(0.0, 0.0, 0.0, 0.0, np.zeros(len(steps.h)))
+    c = plant.contacts
+    a_f = float(np.max(np.abs(np.real(c.Cv @ plant.beta)).sum(axis=1), initial=0.0))
+    errc = np.abs(steps.CdG0b).sum(axis=2).max(axis=1) if c.Cd.shape[0] else np.zeros(len(steps.h))
+    return Control(1.0, float(run.rtol), float(run.atol), a_f, np.ascontiguousarray(errc))
+
+
+def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
+    """Stepper ``"exponential"``: fixed steps, contact solve sub-steps where Newton fails; with
+    ``run.rtol`` adaptive steps (dyadic subdivisions of the output spacing ``run.step``)."""
+    levels = run.sublevels + 1 if run.rtol is None else max(run.sublevels, ADAPTIVE_LEVELS - 1) + 1
+    steps = _steps(plant, run.step, levels)
+    control = _control(plant, steps, run)
+    k = _kernel_state(plant, run)
+    drive = _no_drive(plant.lam.size)
+
+    def chunk(offset: int, count: int, done: int) -> int:
+        return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
+                          count, run.save_every, state.out, state.ys, offset, steps,
+                          plant.contacts, plant.outputs, plant.speed, 0.0, state.events,
+                          drive, control)  # fmt: skip
+
+    stats = {"step_s": run.step, "min_step_s": float(steps.h[-1]), "adaptive": run.rtol is not None}
+
+    def final():
+        return physical_state(plant, k["y"], k["F"], k["zt"][0])
+
+    return chunk, lambda: _first_sample(state, k, plant), stats, final
+
+
+def _transfer(y, F, a: Plant, b: Plant) -> np.ndarray:
+    """Modal state on plant ``b`` of the physical state held by ``y`` on plant ``a``."""
+    n = a.q_static.size
+    ya = y[: a.n_rotor]
+    fq = a.Bmat @ F
+    q = np.real(a.rotor.Vq @ ya) + a.rotor.Rq @ fq + a.q_static
+    qd = np.real(a.rotor.Vq @ (a.rotor.lam * ya)) + a.rotor.Rv @ fq
+    x = np.concatenate([q - b.q_static - b.rotor.Rq @ fq, qd - b.rotor.Rv @ fq])
+    out = np.empty(b.lam.size, complex)
+    out[: b.n_rotor] = b.rotor.project(x)
+    out[b.n_rotor :] = y[a.n_rotor :]
+    assert x.size == 2 * n
+    return out
+
+
+def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
+    """Stepper for a speed varying linearly from ``run.speed`` to ``run.speed_end``.
+
+    The rotor is re-diagonalised at the mid-speed of each segment (speed change at most
+    ``run.speed_step``); the state is carried across as the physical state. The unbalance
+    (with its angular-acceleration term) is an exact modal input per step (``Drive``).
+    """
+    w0, w1 = run.speed, run.speed_end
+    alpha = (w1 - w0) / run.duration
+    n_seg = max(1, math.ceil(abs(w1 - w0) / run.speed_step))
+    dt = run.step * run.save_every
+    seg_samples = max(1, math.ceil(run.duration / dt / n_seg))
+    k = _kernel_state(plant, run)
+    cur = {"index": -1, "plant": plant}
+    b0 = np.zeros(problem.system.n_dof, complex)
+    for u in problem.unbalances:
+        b0 += unbalance_phasor(u, 1.0) * (problem.system.force_map(u.position) @ np.array([1, -1j]))
+
+    def segment(index: int):
+        t_mid = min((index + 0.5) * seg_samples * dt, run.duration)
+        w = w0 + alpha * t_mid
+        r = dataclasses.replace(run, speed=w, initial="static")
+        new = build_plant(problem.system, r, problem.stations, (), problem.loads, problem.gravity)
+        if cur["index"] >= 0:
+            k["y"] = _transfer(k["y"], k["F"], cur["plant"], new)
+        ub = np.zeros(new.lam.size, complex)
+        ub[: new.n_rotor] = new.rotor.U @ b0
+        u_conj = np.zeros(new.lam.size, complex)
+        u_conj[: new.n_rotor] = new.rotor.U @ b0.conj()
+        drive = Drive(new.lam, 0.5 * ub, 0.5 * u_conj, w0, alpha, 1.0)
+        steps = _steps(new, run.step, run.sublevels + 1)
+        cur.update(index=index, plant=new, steps=steps, drive=drive,
+                   control=Control(0.0, 0.0, 0.0, 0.0, np.zeros(len(steps.h))))  # fmt: skip
+
+    segment(0)
+    k["y"] = cur["plant"].y0.copy() if run.initial == "static" else k["y"]
+
+    def chunk(offset: int, count: int, done: int) -> int:
+        index = done // seg_samples
+        if index != cur["index"]:
+            segment(index)
+        count = min(count, (index + 1) * seg_samples - done)
+        p = cur["plant"]
+        return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
+                          count, run.save_every, state.out, state.ys, offset, cur["steps"],
+                          p.contacts, p.outputs, p.speed, 0.0, state.events,
+                          cur["drive"], cur["control"])  # fmt: skip
+
+    stats = {"step_s": run.step, "segments": n_seg, "speed_end_rad_s": w1,
+             "angular_acceleration_rad_s2": alpha}  # fmt: skip
+
+    def final():
+        return physical_state(cur["plant"], k["y"], k["F"], 1.0)
+
+    return chunk, lambda: _first_sample(state, k, cur["plant"]), stats, final
+
+
+STEPPERS = {"exponential": _fixed_factory, "runup": _runup_factory}
+"""Method name -> factory ``(problem, plant, run, state) -> (chunk, first_sample, stats, final)``."""
+
+
+@dataclass(frozen=True)
+class EngineResult:
+    """Output of :func:`simulate_general` (SI units, see :mod:`rubrotor.core.engine`).
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times (s).
+    stations : ndarray
+        Output positions (m): contact stations first, then probes.
+    n_contacts : int
+    channels : ndarray
+        ``(4 S + 8 n_c, T)`` saved channels.
+    events : ndarray
+        ``(n, 2)``: time (s), ``+/-(contact index + 1)`` for onset/separation.
+    states : ndarray
+        ``(T, ns)`` modal states when ``save_state`` was on, else empty.
+    status, message : str
+        ``"complete"`` or ``"partial"`` and why.
+    stats : dict
+    speed : float
+        rad/s (the start speed of a run-up).
+    final_state : ndarray
+        Rotor state ``[q, q']`` on the free DOFs at the last completed step (SI): pass it as
+        ``Run(initial=...)`` to continue the run (a flexible stator restarts from rest).
+    """
+
+    time: np.ndarray
+    stations: np.ndarray
+    n_contacts: int
+    channels: np.ndarray
+    events: np.ndarray
+    states: np.ndarray
+    status: str
+    message: str
+    stats: dict
+    speed: float
+    final_state: np.ndarray
+
+    def to_dataset(self):
+        """The results as an xarray Dataset (dims ``time``, ``station``, ``contact``, ``event``)."""
+        return _dataset(self)
+
+
+def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: float, sink=None):
+    """Shared chunk loop: progress between chunks, Ctrl-C, event-buffer growth, status.
+
+    Without ``sink`` the samples fill ``state.out`` in place; with one, every chunk is written
+    at the start of the (chunk-sized) buffer and handed to ``sink.write``.
+    """
+    done, t0, interrupted = 0, _time.perf_counter(), False
+    width = state.out.shape[1] - 1
+    try:
+        while done < n_samples:
+            offset = 1 if sink is not None else 1 + done
+            wrote = chunk(offset, min(width, n_samples - done), done)
+            if sink is not None:
+                sink.write(state.out[:, (0 if done == 0 else 1) : 1 + wrote])
+            done += wrote
+            st = int(state.istate[I_STATUS])
+            lost = state.istate[I_EVENTS] > len(state.events)
+            if st == EVENT_BUFFER_FULL and not lost and len(state.events) < EVENT_BUFFER_MAX:
+                state.events = np.concatenate([state.events, np.zeros_like(state.events)])
+                state.istate[I_STATUS] = OK
+                continue
+            if st != OK:
+                break
+            el = _time.perf_counter() - t0
+            if progress and el > 2.0:
+                print(f"\rrubrotor: {100 * done / n_samples:5.1f} %", end="", file=sys.stderr)
+    except KeyboardInterrupt:
+        interrupted = True
+    if progress and _time.perf_counter() - t0 > 2.0:
+        print(file=sys.stderr)
+    st = int(state.istate[I_STATUS])
+    msg = ""
+    if interrupted:
+        msg = f"interrupted by the user after t = {done * sample_dt:.6g} s"
+    elif st != OK:
+        msg = f"{STATUS_NAMES[st]} at t = {(done + 1) * sample_dt:.6g} s; data up to t = {done * sample_dt:.6g} s kept"
+    return done, msg, _time.perf_counter() - t0
+
+
+def simulate_general(
+    system,
+    run: Run,
+    stations=(),
+    unbalances=(),
+    loads=(),
+    gravity=(0.0, 0.0),
+    *,
+    method: str = "exponential",
+    progress: bool | None = None,
+    stream: str | None = None,
+    chunk_samples: int = 1 << 14,
+) -> EngineResult:
+    """Simulate a linear rotor with rub at several stations (see the module docstring).
+
+    Parameters
+    ----------
+    system : rubrotor.linear.LinearSystem
+        The rotor.
+    run : Run
+        Speed (rad/s), duration (s), step (s), reduction, initial state, probes.
+    stations, unbalances, loads, gravity
+        As in :func:`build_plant`.
+    method : {"exponential"}
+        Stepper (:data:`STEPPERS`); ``"runup"`` is chosen when ``run.speed_end`` is set.
+    progress : bool, optional
+        Progress on stderr for long runs (default: when stderr is a terminal).
+    stream : str, optional
+        Write the samples to this netCDF file chunk by chunk (bounded memory); the result then
+        holds no samples (``time`` and ``channels`` empty), only events, statistics and the final
+        state. Read it with :func:`rubrotor.results.load_dataset` or xarray.
+    chunk_samples : int
+        Samples per compiled call (and the buffer size when streaming).
+
+    Returns
+    -------
+    EngineResult
+
+    Raises
+    ------
+    InputError
+        Bad input, or an output too large for memory (or disk when streamed), before running.
+    """
+    if method not in STEPPERS:
+        raise InputError("simulation.method", method, " or ".join(f'"{k}"' for k in STEPPERS))
+    for i, s in enumerate(stations):
+        if not isinstance(s, RubStation):
+            raise InputError(f"contact[{i + 1}]", s, "a RubStation")
+    problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity))
+    if run.speed_end is not None:
+        method = "runup"
+        if not isinstance(run.initial, str) or run.initial not in ("rest", "static"):
+            raise InputError(
+                "initial.state", run.initial, '"rest" or "static" with a speed profile'
+            )
+        plant = build_plant(system, run, stations, (), loads, gravity)
+    else:
+        plant = build_plant(system, run, stations, unbalances, loads, gravity)
+    sample_dt = run.step * run.save_every
+    n_samples = int(math.floor(run.duration / sample_dt + 1e-9))
+    if n_samples < 1:
+        raise InputError("simulation.duration", run.duration, f">= one sample ({sample_dt:g} s)")
+    nst, nc = len(plant.stations), len(stations)
+    nch = 4 * nst + CONTACT_CHANNELS * nc
+    check_size(n_samples + 1, nch, plant.lam.size if run.save_state else 0, stream)
+    width = min(chunk_samples, n_samples) if stream is not None else n_samples
+    state = _Chunks(
+        out=np.empty((nch, width + 1)),
+        ys=np.zeros((n_samples + 1 if run.save_state else 0, plant.lam.size), complex),
+        events=np.zeros((EVENT_BUFFER, 2)),
+    )
+    chunk, first, stats, final = STEPPERS[method](problem, plant, run, state)
+    first()
+    show = sys.stderr.isatty() if progress is None else progress
+    sink = None
+    if stream is not None:
+        sink = NetcdfSink(stream, plant.stations, nc, sample_dt, plant.speed)
+    if stream is None and chunk_samples < n_samples:
+        inner = chunk
+
+        def chunk(offset, count, done):  # the in-memory run still calls in bounded chunks
+            return inner(offset, min(count, chunk_samples), done)
+
+    try:
+        done, msg, wall = _loop(chunk, n_samples, state, show, sample_dt, sink)
+    except BaseException:
+        if sink is not None:
+            sink.close(np.zeros((0, 2)), {}, ok=False)
+        raise
+    ist = state.istate
+    stats.update(
+        method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
+        eig_cond=plant.rotor.cond, steps=int(ist[I_STEP]), substeps=int(ist[I_SUBSTEPS]),
+        newton_iterations=int(ist[I_NEWTON]), accepted_steps=int(ist[I_ACCEPTED]),
+        rejected_steps=int(ist[I_REJECTED]), grazing_closures=int(ist[I_GRAZE]), contact_events=int(ist[I_EVENTS]), wall_s=wall,
+        residual=run.residual,
+    )  # fmt: skip
+    n_out = done + 1
+    events = state.events[: min(int(ist[I_EVENTS]), len(state.events))].copy()
+    status = "complete" if not msg else "partial"
+    if sink is not None:
+        sink.close(events, {"status": status, "status_message": msg, "speed_rad_s": plant.speed,
+                            "integrator_stats": json.dumps(_jsonable(stats))})  # fmt: skip
+        stats["stream"] = str(stream)
+        n_out = 0
+    return EngineResult(
+        time=np.arange(n_out) * sample_dt,
+        stations=plant.stations,
+        n_contacts=nc,
+        channels=state.out[:, :n_out],
+        events=events,
+        states=state.ys[:n_out],
+        status=status,
+        message=msg,
+        stats=stats,
+        speed=plant.speed,
+        final_state=final(),
+    )
+
+
+_STATION = STATION_VARS
+_CONTACT = CONTACT_VARS
+
+
+def _dataset(res: EngineResult):
+    import xarray as xr
+
+    from rubrotor import __version__
+
+    ch = res.channels
+    S = len(res.stations)
+    coords = {
+        "time": ("time", res.time, {"units": "s"}),
+        "tau": ("time", res.speed * res.time, {"units": "rad", "long_name": "Omega t"}),
+        "station": ("station", res.stations, {"units": "m", "long_name": "axial position"}),
+        "contact": ("contact", np.arange(res.n_contacts), {"long_name": "contact index"}),
+    }
+    data = {}
+    for k, (nm, unit) in enumerate(_STATION):
+        data[nm] = (("station", "time"), ch[[4 * s + k for s in range(S)]], {"units": unit})
+    for k, (nm, unit) in enumerate(_CONTACT):
+        rows = ch[[4 * S + 8 * i + k for i in range(res.n_contacts)]]
+        data[nm] = (("contact", "time"), rows, {"units": unit})
+    data["in_contact"] = (("contact", "time"), (data["normal_force"][1] > 0).astype(np.int8), {})
+    ev = res.events
+    data["event_time"] = ("event", ev[:, 0], {"units": "s"})
+    data["event_contact"] = ("event", np.abs(ev[:, 1]).astype(int) - 1, {})
+    data["event_kind"] = ("event", np.sign(ev[:, 1]).astype(np.int8), {"long_name": "+1 onset"})
+    attrs = {
+        "status": res.status,
+        "status_message": res.message,
+        "speed_rad_s": res.speed,
+        "integrator_stats": json.dumps(_jsonable(res.stats)),
+        "rubrotor_version": __version__,
+    }
+    return xr.Dataset(data, coords, attrs)

@@ -1,0 +1,36 @@
+"""Named structures the compiled engine kernels read (:mod:`rubrotor.core.engine`).
+
+They live outside ``rubrotor.core`` (which imports only numpy and numba); numba reads any
+named tuple of arrays by field name.
+"""
+
+from collections import namedtuple
+
+__all__ = ["Steps", "Contacts", "Outputs", "Drive", "Control"]
+
+Steps = namedtuple(
+    "Steps", ["E", "G0", "G1", "BT", "CdE", "CvE", "CdG0b", "CvG0b", "Sd", "Sv", "rot", "h"]
+)
+"""Per level ``l`` (step ``h_l = h_0 / 2^l``): ``E`` (L, ns) ``e^{lam h}``; ``G0, G1`` (L, ns)
+``h (phi1 - phi2)`` and ``h phi2`` (s); ``BT`` (m, ns) the modal input ``beta`` transposed; ``CdE, CvE`` (L, m, ns) contact rows times ``E``;
+``CdG0b, CvG0b`` (L, m, m) real contact response to ``F_n``; ``Sd, Sv`` (L, m, m) real
+sensitivities to ``F_{n+1}``; ``rot`` (L,) ``e^{i Omega h}``; ``h`` (L,) steps (s)."""
+
+Contacts = namedtuple("Contacts", ["Cd", "Cv", "Rd", "Rv", "Pu", "Pv", "d0", "cp", "max_disp"])
+"""``Cd, Cv`` (m, ns) rows of relative displacement/velocity; ``Rd, Rv`` (m, m) residual
+feed-through; ``Pu, Pv`` (m,) unbalance phasors (``Re(Pu z)``); ``d0`` (m,) static relative
+displacement (m) minus stator offset; ``cp`` (nc, 10) packed laws; ``max_disp`` (m) divergence."""
+
+Outputs = namedtuple("Outputs", ["Od", "Ov", "ORd", "ORv", "OPu", "OPv", "Od0", "Sd", "Sv", "flex"])
+"""Output station rows (2 S, ns), their residual (2 S, m), unbalance phasors and static parts
+(2 S,); stator rows ``Sd, Sv`` (m, ns); ``flex`` (nc,) 1.0 for a flexible stator."""
+
+Drive = namedtuple("Drive", ["lam", "Bp", "Bm", "omega0", "alpha", "on"])
+"""Unbalance as an input at a varying speed ``Omega = omega0 + alpha t`` (rad/s, rad/s^2):
+``Bp = U b / 2``, ``Bm = U conj(b) / 2`` (ns,) with ``b`` the complex unbalance load per unit
+``Omega^2`` (kg m); ``lam`` (ns,) the modes; ``on`` 1.0 to use it."""
+
+Control = namedtuple("Control", ["on", "rtol", "atol", "a_f", "errc"])
+"""Adaptive step control: ``on`` (1.0 adaptive), ``rtol`` (1), ``atol`` (m), ``a_f`` the
+direct contact acceleration per N (m/(s^2 N)), ``errc`` (L,) displacement per N of a
+zero- against first-order hold at each level (m/N)."""

@@ -1,0 +1,525 @@
+"""Linear rotordynamics of any :class:`~rubrotor.linear.LinearSystem`: damped modes and their whirl,
+Campbell diagrams with stability, critical speeds, the stability threshold and the unbalance
+response in the frequency domain.
+
+Conventions
+-----------
+The state ``x = [q, q']`` obeys ``x' = A(Omega) x`` (see :meth:`rubrotor.linear.SystemMatrices.first_order`).
+An eigenvalue ``lambda = -zeta omega_n + i omega_d`` with ``omega_d > 0`` is one physical mode:
+
+* frequency ``f = omega_d / (2 pi)`` (Hz, the damped natural frequency);
+* damping ratio ``zeta = -Re(lambda) / |lambda|`` (negative when the mode grows);
+* logarithmic decrement ``delta = -2 pi Re(lambda) / Im(lambda)``.
+
+Overdamped (real) eigenvalues are not modes and are left out. Eigenvalues come in conjugate
+pairs; only the ``Im > 0`` member is kept, so at zero speed an isotropic rotor's two equal
+frequencies (one per plane) are two modes, and stay two modes as the speed splits them.
+
+Whirl: a mode shape gives at each station the complex deflections ``V``, ``W``; the orbit
+``v + i w`` turns from ``+v`` towards ``+w`` (forward, the spin direction) when
+``Im(conj(V) W) < 0``. A mode is ``"forward"`` or ``"backward"`` when every station with a
+significant, non-flat orbit turns that way, ``"mixed"`` otherwise (anisotropic supports). Within a
+cluster of equal eigenvalues (isotropic rotor at rest) the shapes are first rotated into the
+combinations of extreme whirl (the eigenvectors of the 2x2 Hermitian "whirl" form), so that the
+pair is reported as one forward and one backward circular mode, as the limit of a slowly spinning
+rotor.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+import scipy.optimize
+import scipy.sparse.linalg
+
+from rubrotor.errors import InputError
+from rubrotor.linear import LinearSystem, NodalBasis
+
+__all__ = [
+    "DampedMode",
+    "DampedModes",
+    "CampbellData",
+    "LinearCritical",
+    "UnbalanceResponse",
+    "damped_modes",
+    "campbell_data",
+    "linear_critical_speeds",
+    "stability_threshold",
+    "unbalance_response",
+]
+
+TWO_PI = 2 * math.pi
+
+
+@dataclass(frozen=True)
+class DampedMode:
+    """One damped mode at one speed.
+
+    Attributes
+    ----------
+    index : int
+        1-based rank by frequency.
+    frequency_hz : float
+        Damped natural frequency (Hz).
+    damping_ratio : float
+        ``zeta`` (dimensionless; < 0 when the mode grows).
+    log_dec : float
+        Logarithmic decrement (dimensionless; < 0 when the mode grows).
+    whirl : str
+        ``"forward"``, ``"backward"`` or ``"mixed"``.
+    eigenvalue : complex
+        ``lambda`` (1/s).
+    shape : ndarray, complex
+        Mode shape on all DOFs of the system (fixed DOFs zero), normalised to unit largest
+        deflection (m per unit modal amplitude).
+    """
+
+    index: int
+    frequency_hz: float
+    damping_ratio: float
+    log_dec: float
+    whirl: str
+    eigenvalue: complex
+    shape: np.ndarray
+
+    @property
+    def stable(self) -> bool:
+        """True when the mode decays (``Re(lambda) < 0``)."""
+        return self.eigenvalue.real < 0
+
+
+@dataclass(frozen=True)
+class DampedModes:
+    """The damped modes of a rotor at one speed (``speed_rad_s``, rad/s), sorted by frequency."""
+
+    speed_rad_s: float
+    modes: tuple[DampedMode, ...]
+
+    def to_dict(self) -> dict:
+        """The JSON form printed by ``rubrotor modes --json`` for a general rotor."""
+        return {
+            "speed_rad_s": self.speed_rad_s,
+            "modes": [
+                {
+                    "index": m.index,
+                    "frequency_hz": m.frequency_hz,
+                    "damping_ratio": m.damping_ratio,
+                    "log_dec": m.log_dec,
+                    "whirl": m.whirl,
+                }
+                for m in self.modes
+            ],
+        }
+
+
+def _check_speed(name: str, speed) -> float:
+    if isinstance(speed, bool) or not isinstance(speed, int | float | np.integer | np.floating):
+        raise InputError(name, speed, "a spin speed (rad/s)")
+    if not (math.isfinite(speed) and speed >= 0):
+        raise InputError(name, speed, "a finite spin speed >= 0 (rad/s)")
+    return float(speed)
+
+
+def _stations(system: LinearSystem) -> np.ndarray:
+    """``(2 S, n_full)`` rows giving ``V``, ``W`` at the stations whirl is judged at."""
+    basis = system.basis
+    if isinstance(basis, NodalBasis):
+        xs = basis.nodes
+    else:
+        xs = np.linspace(0.0, basis.length, 23)[1:-1]
+    return np.vstack([basis.rows(float(x)) for x in xs])
+
+
+def _whirl_form(rows: np.ndarray, shapes: np.ndarray) -> np.ndarray:
+    """Per station and shape, ``Im(conj(V) W)`` (``(S, k)``) and ``|V|^2 + |W|^2``."""
+    d = rows @ shapes
+    v, w = d[0::2], d[1::2]
+    return np.imag(np.conj(v) * w), np.abs(v) ** 2 + np.abs(w) ** 2
+
+
+def _circularise(rows: np.ndarray, shapes: np.ndarray) -> np.ndarray:
+    """Rotate a cluster of equal-eigenvalue shapes into the combinations of extreme whirl."""
+    d = rows @ shapes
+    v, w = d[0::2], d[1::2]
+    h = (np.conj(v).T @ w - np.conj(w).T @ v) / 2j  # Hermitian whirl form
+    _, u = np.linalg.eigh(h)
+    return shapes @ u
+
+
+def _whirl_label(spin: np.ndarray, amp: np.ndarray) -> str:
+    big = amp > 1e-4 * amp.max()
+    turning = big & (np.abs(spin) > 1e-6 * amp)
+    if not turning.any():
+        return "mixed"
+    s = spin[turning]
+    if np.all(s < 0):
+        return "forward"
+    if np.all(s > 0):
+        return "backward"
+    return "mixed"
+
+
+def _eig_nearest_zero(mx, k: int):
+    """The ``k`` eigenvalues of ``A`` nearest zero and their eigenvectors, by shift-invert Arnoldi.
+
+    ``A^-1 [x1; x2] = [-K^-1 (M x2 + D x1); x1]`` (``D = C + Omega G``) needs one LU
+    factorisation of ``K`` (half the size of ``A``) and no inverse of ``M``.
+    """
+    n = mx.M.shape[0]
+    lu = scipy.linalg.lu_factor(mx.K, check_finite=False)
+    m, d = mx.M, mx.damping
+
+    def inverse(x):
+        x1, x2 = x[:n], x[n:]
+        return np.concatenate([-scipy.linalg.lu_solve(lu, m @ x2 + d @ x1, check_finite=False), x1])
+
+    op = scipy.sparse.linalg.LinearOperator((2 * n, 2 * n), matvec=inverse, dtype=float)
+    mu, vec = scipy.sparse.linalg.eigs(op, k=k, which="LM", tol=1e-13)
+    return 1.0 / mu, vec
+
+
+def _eig(system: LinearSystem, speed: float, n: int | None = None):
+    """Eigenvalues with ``Im > 0`` (sorted) and the ``q`` part of their eigenvectors.
+
+    With ``n`` given on a large system, shift-invert Arnoldi (ARPACK) finds the ``4 n``
+    eigenvalues nearest zero from one LU factorisation of ``A`` instead of a dense solve of all
+    ``2 N``; the tests check it against the dense route.
+    """
+    mx = system.matrices(speed)
+    size = 2 * system.n_dof
+    if n is not None and size > 16 * n:
+        lam, vec = _eig_nearest_zero(mx, 4 * n)
+    else:
+        a, _ = mx.first_order()
+        lam, vec = scipy.linalg.eig(a, overwrite_a=True, check_finite=False)
+    keep = lam.imag > 1e-9 * np.abs(lam)
+    lam, vec = lam[keep], vec[: system.n_dof, keep]
+    order = np.argsort(lam.imag)
+    return lam[order], vec[:, order]
+
+
+def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None) -> DampedModes:
+    """Damped modes of a linear rotor at one spin speed.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor (see :mod:`rubrotor.linear`).
+    speed : float
+        Spin speed ``Omega`` (rad/s), ``>= 0``.
+    n : int, optional
+        Keep the ``n`` lowest modes (default: all).
+
+    Returns
+    -------
+    DampedModes
+        Frequencies (Hz), damping ratios, logarithmic decrements, whirl and shapes, sorted by
+        frequency.
+
+    Examples
+    --------
+    A 2-DOF Jeffcott rotor (mass 1 kg, stiffness 1e4 N/m in both directions):
+
+    >>> import numpy as np
+    >>> from rubrotor.linear import LinearSystem, NodalBasis
+    >>> m = np.diag([1.0, 1.0, 1e-6, 1e-6])
+    >>> k = np.diag([1e4, 1e4, 1.0, 1.0])
+    >>> z = np.zeros((4, 4))
+    >>> jeff = LinearSystem(M=m, K=k, C=z, G=z, basis=NodalBasis(np.array([0.0])))
+    >>> [round(md.frequency_hz, 4) for md in damped_modes(jeff, 0.0, n=2).modes]
+    [15.9155, 15.9155]
+    """
+    speed = _check_speed("speed", speed)
+    if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
+        raise InputError("n", n, "a number of modes >= 1")
+    lam, vec = _eig(system, speed, n)
+    full = np.zeros((len(system.M), vec.shape[1]), complex)
+    full[system.free] = vec
+    rows = _stations(system)
+    i = 0
+    while i < len(lam):  # clusters of equal eigenvalues: circular combinations
+        j = i + 1
+        while j < len(lam) and abs(lam[j] - lam[i]) <= 1e-7 * abs(lam[i]):
+            j += 1
+        if j - i > 1:
+            full[:, i:j] = _circularise(rows, full[:, i:j])
+        i = j
+    spin, amp = _whirl_form(rows, full)
+    count = len(lam) if n is None else min(n, len(lam))
+    modes = []
+    for k in range(count):
+        shape = full[:, k]
+        defl = rows @ shape
+        shape = shape / defl[np.argmax(np.abs(defl))]
+        lk = complex(lam[k])
+        modes.append(
+            DampedMode(
+                index=k + 1,
+                frequency_hz=lk.imag / TWO_PI,
+                damping_ratio=-lk.real / abs(lk),
+                log_dec=-TWO_PI * lk.real / lk.imag,
+                whirl=_whirl_label(spin[:, k], amp[:, k]),
+                eigenvalue=lk,
+                shape=shape,
+            )
+        )
+    return DampedModes(speed_rad_s=speed, modes=tuple(modes))
+
+
+def _speed_array(name: str, speeds) -> np.ndarray:
+    s = np.asarray(speeds, dtype=float)
+    if s.ndim != 1 or s.size < 2 or not np.all(np.isfinite(s)) or np.any(s < 0):
+        raise InputError(name, speeds, "at least 2 finite spin speeds >= 0 (rad/s)")
+    if np.any(np.diff(s) <= 0):
+        raise InputError(name, speeds, "increasing spin speeds (rad/s)")
+    return s
+
+
+@dataclass(frozen=True)
+class CampbellData:
+    """Campbell diagram with stability: mode ``j`` (sorted by frequency at each speed).
+
+    Attributes
+    ----------
+    speeds : ndarray, shape (S,)
+        Spin speeds (rad/s).
+    frequency_hz, log_dec : ndarray, shape (S, n)
+        Damped natural frequency (Hz) and logarithmic decrement of the ``n`` lowest modes.
+    whirl : ndarray of str, shape (S, n)
+        ``"forward"``, ``"backward"`` or ``"mixed"``.
+    """
+
+    speeds: np.ndarray
+    frequency_hz: np.ndarray
+    log_dec: np.ndarray
+    whirl: np.ndarray
+
+
+def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
+    """Frequencies, logarithmic decrements and whirl of the ``n`` lowest modes over ``speeds``.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor.
+    speeds : array_like
+        Increasing spin speeds (rad/s).
+    n : int
+        Number of modes (the lowest at each speed; branches are sorted by frequency, so two
+        crossing branches swap rows at their crossing).
+
+    Returns
+    -------
+    CampbellData
+    """
+    s = _speed_array("speeds", speeds)
+    f = np.full((s.size, n), np.nan)
+    ld = np.full((s.size, n), np.nan)
+    wh = np.full((s.size, n), "", dtype=object)
+    for i, w in enumerate(s):
+        dm = damped_modes(system, float(w), n=n).modes
+        for j, m in enumerate(dm):
+            f[i, j], ld[i, j], wh[i, j] = m.frequency_hz, m.log_dec, m.whirl
+    return CampbellData(speeds=s, frequency_hz=f, log_dec=ld, whirl=wh)
+
+
+@dataclass(frozen=True)
+class LinearCritical:
+    """A critical speed: mode ``index`` (by frequency) crosses ``harmonic`` times the spin.
+
+    Attributes
+    ----------
+    index : int
+        Mode rank by frequency at the crossing.
+    whirl : str
+        Whirl of the mode at the crossing.
+    harmonic : float
+        The excitation order (1 for unbalance).
+    speed_rad_s : float
+        Spin speed (rad/s).
+    """
+
+    index: int
+    whirl: str
+    harmonic: float
+    speed_rad_s: float
+
+    @property
+    def speed_rpm(self) -> float:
+        """The speed in rev/min."""
+        return self.speed_rad_s * 60 / TWO_PI
+
+
+def linear_critical_speeds(
+    system: LinearSystem, max_speed: float, n: int = 6, harmonic: float = 1.0, points: int = 200
+) -> list[LinearCritical]:
+    """Speeds where a mode's damped frequency equals ``harmonic`` times the spin.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor.
+    max_speed : float
+        Upper end of the search (rad/s), > 0.
+    n : int
+        Modes searched (the lowest ``n``).
+    harmonic : float
+        Excitation order (> 0).
+    points : int
+        Scan points before the roots are refined by ``brentq`` (to 1e-10 relative).
+
+    Returns
+    -------
+    list of LinearCritical
+        Sorted by speed.
+    """
+    max_speed = _check_speed("max_speed", max_speed)
+    if max_speed <= 0 or not harmonic > 0:
+        raise InputError("max_speed / harmonic", (max_speed, harmonic), "values > 0")
+    grid = np.linspace(0.0, max_speed, points)
+    data = campbell_data(system, grid, n=n)
+    out = []
+    for j in range(n):
+        g = TWO_PI * data.frequency_hz[:, j] - harmonic * grid
+        for i in np.flatnonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0):
+
+            def h(w, j=j):
+                m = damped_modes(system, w, n=n).modes[j]
+                return TWO_PI * m.frequency_hz - harmonic * w
+
+            w = scipy.optimize.brentq(h, grid[i], grid[i + 1], xtol=1e-12, rtol=1e-10)
+            whirl = damped_modes(system, w, n=n).modes[j].whirl
+            out.append(LinearCritical(j + 1, whirl, float(harmonic), float(w)))
+    return sorted(out, key=lambda c: c.speed_rad_s)
+
+
+def stability_threshold(
+    system: LinearSystem, max_speed: float, n: int | None = None, points: int = 200
+) -> float | None:
+    """The lowest speed (rad/s) where a mode's damping ratio crosses zero, or None up to
+    ``max_speed``.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor (cross-coupled bearings or seals make thresholds).
+    max_speed : float
+        Upper end of the search (rad/s), > 0.
+    n : int, optional
+        Modes considered (default all).
+    points : int
+        Scan points; the crossing is refined by ``brentq`` to 1e-10 relative.
+
+    Returns
+    -------
+    float or None
+        The threshold speed (rad/s); 0.0 when the rotor is already unstable at rest.
+    """
+    max_speed = _check_speed("max_speed", max_speed)
+
+    def least(w):
+        return min(m.damping_ratio for m in damped_modes(system, w, n=n).modes)
+
+    if least(0.0) < 0:
+        return 0.0
+    grid = np.linspace(0.0, max_speed, points)
+    prev = grid[0]
+    for w in grid[1:]:
+        if least(float(w)) < 0:
+            return float(scipy.optimize.brentq(least, prev, float(w), xtol=1e-12, rtol=1e-10))
+        prev = float(w)
+    return None
+
+
+@dataclass(frozen=True)
+class UnbalanceResponse:
+    """Steady synchronous response to unbalance at probe positions.
+
+    Attributes
+    ----------
+    speeds : ndarray, shape (S,)
+        Spin speeds (rad/s).
+    probes : ndarray, shape (P,)
+        Probe positions (m).
+    amplitude : ndarray, shape (S, P, 2)
+        Amplitude of ``v`` and ``w`` (m).
+    phase : ndarray, shape (S, P, 2)
+        Phase of ``v`` and ``w`` (rad): ``v(t) = amplitude cos(Omega t + phase)``.
+    major : ndarray, shape (S, P)
+        Major semi-axis of the orbit (m).
+    complex_response : ndarray, shape (S, P, 2), complex
+        ``V``, ``W`` with ``v(t) = Re(V exp(i Omega t))`` (m).
+    """
+
+    speeds: np.ndarray
+    probes: np.ndarray
+    amplitude: np.ndarray
+    phase: np.ndarray
+    major: np.ndarray
+    complex_response: np.ndarray
+
+
+def unbalance_response(system: LinearSystem, speeds, unbalances, probes) -> UnbalanceResponse:
+    """Steady response to rotating unbalance, solved in the frequency domain.
+
+    Each unbalance ``(position m, magnitude kg m, phase rad)`` is a force
+    ``F_y + i F_z = m e Omega^2 exp(i (Omega t + phase))`` turning with the spin. On the real DOFs
+    ``f(t) = Re(Fc exp(i Omega t))`` with ``Fc = B(x) [1, -i] m e Omega^2 exp(i phase)``, and the
+    response ``q = Re(Q exp(i Omega t))`` solves
+    ``(K(Omega) - Omega^2 M + i Omega (C(Omega) + Omega G)) Q = Fc`` at each speed (one batched
+    dense solve).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor.
+    speeds : array_like
+        Increasing spin speeds (rad/s), > 0.
+    unbalances : sequence of (float, float, float)
+        ``(position m, magnitude kg m, phase rad)`` per plane.
+    probes : sequence of float
+        Probe positions (m).
+
+    Returns
+    -------
+    UnbalanceResponse
+    """
+    s = _speed_array("speeds", speeds)
+    if not unbalances:
+        raise InputError("unbalances", unbalances, "at least one (position m, kg m, rad) plane")
+    b = np.zeros(system.n_dof, complex)
+    for pos, me, ph in unbalances:
+        if not (math.isfinite(me) and me >= 0 and math.isfinite(ph)):
+            raise InputError("unbalance", (pos, me, ph), "magnitude >= 0 (kg m), finite phase")
+        b += system.force_map(pos) @ np.array([1.0, -1j]) * me * np.exp(1j * ph)
+    rows = np.stack([system.output_rows(p) for p in probes]) if len(probes) else None
+    if rows is None:
+        raise InputError("probes", probes, "at least one probe position (m)")
+    n = system.n_dof
+    dyn = np.empty((s.size, n, n), complex)
+    rhs = np.empty((s.size, n), complex)
+    for i, w in enumerate(s):
+        mx = system.matrices(float(w))
+        dyn[i] = mx.K - w * w * mx.M + 1j * w * (mx.C + w * mx.G)
+        rhs[i] = b * w * w
+    try:
+        q = np.linalg.solve(dyn, rhs[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        raise InputError(
+            "speeds", "a speed at an undamped resonance", "speeds off the undamped critical speeds"
+        ) from None
+    resp = np.einsum("pcn,sn->spc", rows, q)
+    v, w_ = resp[..., 0], resp[..., 1]
+    # orbit semi-axes of v = Re(V e^{it}), w = Re(W e^{it}): |(V + i W)|/2 +- |(V - i W)|/2
+    major = 0.5 * (np.abs(v + 1j * w_) + np.abs(v - 1j * w_))
+    return UnbalanceResponse(
+        speeds=s,
+        probes=np.asarray(probes, float),
+        amplitude=np.abs(resp),
+        phase=np.angle(resp),
+        major=major,
+        complex_response=resp,
+    )

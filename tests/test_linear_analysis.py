@@ -1,0 +1,234 @@
+"""Linear analyses of any rotor, each against an independent reference (named per test)."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.integrate
+import scipy.linalg
+
+import rubrotor
+from rubrotor.cli import main
+from rubrotor.errors import InputError
+from rubrotor.linear import LinearSystem, NodalBasis, Support
+from rubrotor.linear_analysis import (
+    campbell_data,
+    damped_modes,
+    linear_critical_speeds,
+    stability_threshold,
+    unbalance_response,
+)
+from rubrotor.modal import natural_frequencies
+
+SCEN = Path(rubrotor.__file__).parent / "scenarios"
+
+
+def jeffcott(m=2.0, k=8e4, c=20.0, a=0.0, speeds=(0.0, 1e4)) -> LinearSystem:
+    """A rigid-disk Jeffcott rotor: one node, rotations fixed, cross-coupling ``q = a Omega``."""
+    s = np.asarray(speeds, float)
+    kk = np.array([[[k, a * w], [-a * w, k]] for w in s])
+    cc = np.array([[[c, 0.0], [0.0, c]] for _ in s])
+    z = np.zeros((4, 4))
+    return LinearSystem(
+        M=np.diag([m, m, 1.0, 1.0]),
+        K=z.copy(),
+        C=z.copy(),
+        G=z.copy(),
+        basis=NodalBasis(np.array([0.0])),
+        supports=(Support(dofs=(0, 1), k=kk, c=cc, speeds=s),),
+        fixed=(2, 3),
+    )
+
+
+def test_cross_coupled_instability_onset_closed_form():
+    """Reference: m z'' + c z' + (k - i q) z = 0 loses stability when q = c sqrt(k/m); with
+    q = a Omega the threshold is Omega* = c sqrt(k/m) / a (derived in the module docstring)."""
+    m, k, c, a = 2.0, 8e4, 20.0, 0.5
+    exact = c * math.sqrt(k / m) / a
+    found = stability_threshold(jeffcott(m, k, c, a), max_speed=3 * exact)
+    assert found == pytest.approx(exact, rel=1e-8)
+    assert stability_threshold(jeffcott(m, k, c, 0.0), max_speed=3 * exact) is None
+
+
+def test_continuous_shaft_equals_the_polynomial_route():
+    """Reference: rubrotor.modal (roots of the per-mode characteristic polynomial), an
+    independent route from the real first-order eigenproblem used here."""
+    sc = rubrotor.load_scenario(SCEN / "seed_rotor.toml")
+    system = rubrotor.linear_system(sc)
+    for speed in (0.0, 10000.0):
+        ours = damped_modes(system, speed).modes
+        ref = sorted(natural_frequencies(sc.shaft, speed), key=lambda m: m.frequency_hz)
+        assert len(ours) == len(ref)
+        got = np.array([m.frequency_hz for m in ours])
+        want = np.array([m.frequency_hz for m in ref])
+        np.testing.assert_allclose(got, want, rtol=1e-10)
+        if speed > 0:  # whirl labels agree with the polynomial route's
+            assert [m.whirl for m in ours] == [m.whirl for m in ref]
+        else:  # isotropic at rest: each frequency twice, one forward and one backward
+            assert all(ours[2 * i].frequency_hz == pytest.approx(ours[2 * i + 1].frequency_hz)
+                       for i in range(len(ours) // 2))  # fmt: skip
+            assert {ours[0].whirl, ours[1].whirl} == {"forward", "backward"}
+
+
+def test_arnoldi_route_equals_dense_route():
+    """Reference: the dense eigenproblem of all 2N eigenvalues (scipy.linalg.eig)."""
+    sc = rubrotor.load_scenario(SCEN / "general_rotor.toml")
+    system = rubrotor.linear_system(sc)
+    for speed in (0.0, 700.0):
+        few = damped_modes(system, speed, n=8).modes
+        allm = damped_modes(system, speed).modes[:8]
+        np.testing.assert_allclose(
+            [m.eigenvalue for m in few], [m.eigenvalue for m in allm], rtol=1e-9
+        )
+        assert [m.whirl for m in few] == [m.whirl for m in allm]
+
+
+def test_centred_jeffcott_disk_frequency_and_critical_speed():
+    """Reference: the undamped Jeffcott rotor's frequency sqrt(k/m) for every speed, so its 1X
+    critical speed is sqrt(k/m) (forward whirl) and its backward critical does not exist."""
+    m, k = 2.0, 8e4
+    system = jeffcott(m, k, c=0.0)
+    data = campbell_data(system, np.linspace(0, 400, 5), n=2)
+    np.testing.assert_allclose(data.frequency_hz, math.sqrt(k / m) / (2 * math.pi), rtol=1e-12)
+    crit = linear_critical_speeds(system, 400.0, n=2)
+    assert [c.speed_rad_s for c in crit] == pytest.approx([math.sqrt(k / m)] * 2, rel=1e-9)
+
+
+def _fe_rotor() -> LinearSystem:
+    sec = rubrotor.Section(length=0.6, diameter=0.04, material=rubrotor.Material(
+        name="steel", youngs_modulus=211e9, poisson_ratio=0.3, density=7810), elements=6)  # fmt: skip
+    bearings = (
+        rubrotor.Bearing(position=0.0, kyy=3e6, kzz=5e6, kyz=4e5, kzy=-2e5, cyy=400.0, czz=600.0),
+        rubrotor.Bearing(position=0.6, kyy=3e6, kzz=5e6, cyy=400.0, czz=600.0),
+    )
+    disk = rubrotor.Disk(position=0.3, mass=4.0, polar_inertia=0.02, diametral_inertia=0.011)
+    return rubrotor.Rotor(sections=(sec,), disks=(disk,), bearings=bearings).linear_system(())
+
+
+def test_unbalance_response_is_the_steady_state_of_the_time_integration():
+    """References: (1) the first-order form solved as (i W I - A) x = b, a second algebraic
+    route; (2) SciPy DOP853 (rtol 1e-11) integrating the equations of motion from the predicted
+    state for three periods stays on the predicted orbit."""
+    system = _fe_rotor()
+    w, me, ph, x_u = 500.0, 1e-4, 0.7, 0.3
+    resp = unbalance_response(system, [w, w + 1.0], [(x_u, me, ph)], [0.3, 0.15])
+    mx = system.matrices(w)
+    a, minv = mx.first_order()
+    n = system.n_dof
+    fc = system.force_map(x_u) @ np.array([1.0, -1j]) * me * w * w * np.exp(1j * ph)
+    x = np.linalg.solve(1j * w * np.eye(2 * n) - a, np.concatenate([np.zeros(n), minv @ fc]))
+    v_route2 = system.output_rows(0.3) @ x[:n]
+    np.testing.assert_allclose(resp.complex_response[0, 0], v_route2, rtol=1e-9)
+
+    def rhs(t, y):
+        return a @ y + np.concatenate([np.zeros(n), minv @ np.real(fc * np.exp(1j * w * t))])
+
+    period = 2 * math.pi / w
+    sol = scipy.integrate.solve_ivp(
+        rhs, (0, 3 * period), np.real(x), method="DOP853", rtol=1e-11, atol=1e-16,
+        t_eval=np.linspace(0, 3 * period, 31),
+    )  # fmt: skip
+    rows = system.output_rows(0.3)
+    sim = rows @ sol.y[:n]
+    pred = np.real(resp.complex_response[0, 0][:, None] * np.exp(1j * w * sol.t))
+    assert np.max(np.abs(sim - pred)) < 1e-7 * np.max(np.abs(pred))
+    assert resp.major[0, 0] >= resp.amplitude[0, 0].max() - 1e-18
+
+
+def test_general_rotor_modes_json(capsys):
+    """``rubrotor modes --json`` prints the schema of the issue for a general rotor."""
+    assert main(["modes", str(SCEN / "general_rotor.toml"), "--speed", "300", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["speed_rad_s"] == 300.0
+    freqs = [m["frequency_hz"] for m in out["modes"]]
+    assert freqs == sorted(freqs) and [m["index"] for m in out["modes"]][:3] == [1, 2, 3]
+    for m in out["modes"]:
+        assert set(m) == {"index", "frequency_hz", "damping_ratio", "log_dec", "whirl"}
+        assert m["whirl"] in ("forward", "backward", "mixed")
+        assert m["log_dec"] == pytest.approx(
+            2 * math.pi * m["damping_ratio"] / math.sqrt(1 - m["damping_ratio"] ** 2), rel=1e-9
+        )
+
+
+def test_bad_inputs_name_the_field():
+    system = jeffcott()
+    with pytest.raises(InputError, match="speed"):
+        damped_modes(system, -1.0)
+    with pytest.raises(InputError, match="speeds"):
+        campbell_data(system, [1.0])
+    with pytest.raises(InputError, match="position"):
+        unbalance_response(_fe_rotor(), [10.0, 20.0], [(0.3, 1e-4, 0.0)], [2.0])
+    with pytest.raises(InputError, match="rotor"):
+        rubrotor.linear_system("not a rotor")
+
+
+class _Pivot:
+    """Rigid rotor pivoting at ``x = 0``: the deflection at ``x`` is ``x [psi_v, psi_w]``."""
+
+    length = 0.5
+
+    def rows(self, position: float) -> np.ndarray:
+        return float(position) * np.eye(2)
+
+
+def test_gyroscopic_anisotropic_rigid_rotor_frequencies_and_whirl():
+    """Rigid rotor tilting about a pivot (diametral inertia ``Id``, polar ``Ip``, tilt stiffness
+    ``ky != kz``): ``Id psi_v'' + Omega Ip psi_w' + ky psi_v = 0``,
+    ``Id psi_w'' - Omega Ip psi_v' + kz psi_w = 0``. With ``psi = (a, b) exp(i w t)`` the
+    characteristic equation, derived by hand, is ``(ky - Id w^2)(kz - Id w^2) = w^2 Omega^2 Ip^2``,
+    a quadratic in ``w^2``. The first row gives ``b/a = i (ky - Id w^2) / (w Omega Ip)``: the
+    lower root (below both ``ky/Id`` and ``kz/Id``) has ``b = i r a``, ``r > 0``, an orbit turning
+    from ``+v`` towards ``-w``: backward; the upper root (above both) is forward."""
+    i_d, i_p, ky, kz = 0.02, 0.03, 4e4, 9e4
+    system = LinearSystem(
+        M=np.diag([i_d, i_d]),
+        K=np.diag([ky, kz]),
+        C=np.zeros((2, 2)),
+        G=i_p * np.array([[0.0, 1.0], [-1.0, 0.0]]),
+        basis=_Pivot(),
+    )
+    for speed in (50.0, 800.0, 5000.0):
+        b = i_d * (ky + kz) + (speed * i_p) ** 2
+        disc = math.sqrt(b * b - 4 * i_d**2 * ky * kz)
+        ref = np.sqrt([(b - disc) / (2 * i_d**2), (b + disc) / (2 * i_d**2)]) / (2 * math.pi)
+        modes = damped_modes(system, speed).modes
+        np.testing.assert_allclose([m.frequency_hz for m in modes], ref, rtol=1e-12)
+        assert [m.whirl for m in modes] == ["backward", "forward"]
+
+
+def test_anisotropic_jeffcott_unbalance_orbit_is_backward_between_the_split_criticals():
+    """Undamped Jeffcott rotor on anisotropic supports with unbalance ``m e``: by hand,
+    ``m v'' + ky v = m e W^2 cos W t`` and ``m w'' + kz w = m e W^2 sin W t`` give
+    ``v = A cos W t``, ``w = B sin W t`` with ``A = m e W^2 / (ky - m W^2)``,
+    ``B = m e W^2 / (kz - m W^2)``; the orbit turns backward exactly where ``A B < 0``, between
+    ``sqrt(ky/m)`` and ``sqrt(kz/m)`` (the classic split-critical result)."""
+    m, ky, kz, me = 2.0, 8e4, 1.8e5, 1e-4
+    z = np.zeros((4, 4))
+    system = LinearSystem(
+        M=np.diag([m, m, 1.0, 1.0]),
+        K=z.copy(),
+        C=z.copy(),
+        G=z.copy(),
+        basis=NodalBasis(np.array([0.0])),
+        supports=(Support(dofs=(0, 1), k=np.diag([ky, kz])[None], c=np.zeros((1, 2, 2))),),
+        fixed=(2, 3),
+    )
+    speeds = np.linspace(51.0, 501.0, 91)
+    resp = unbalance_response(system, speeds, [(0.0, me, 0.0)], [0.0])
+    a = me * speeds**2 / (ky - m * speeds**2)
+    b = me * speeds**2 / (kz - m * speeds**2)
+    vw = resp.complex_response[:, 0, :]
+    np.testing.assert_allclose(vw[:, 0], a, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(vw[:, 1], -1j * b, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(resp.major[:, 0], np.maximum(abs(a), abs(b)), rtol=1e-12)
+    # orbit direction from the complex response: Im(conj(V) W) > 0 is backward
+    backward = np.imag(np.conj(vw[:, 0]) * vw[:, 1]) > 0
+    between = (speeds > math.sqrt(ky / m)) & (speeds < math.sqrt(kz / m))
+    assert between.any() and (~between).any()
+    np.testing.assert_array_equal(backward, between)
+    with pytest.raises(InputError, match="speeds"):  # undamped resonance: no steady state
+        unbalance_response(system, [math.sqrt(ky / m)], [(0.0, me, 0.0)], [0.0])
