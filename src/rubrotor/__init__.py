@@ -25,6 +25,7 @@ from rubrotor.api import critical_speeds, damped_modes, linear_system, modes  # 
 from rubrotor.errors import InputError, RubrotorError, ScenarioError  # noqa: E402
 from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance  # noqa: E402
 from rubrotor.integrator import Integrator  # noqa: E402
+from rubrotor.interop import from_ross  # noqa: E402
 from rubrotor.lyapunov import lyapunov_exponents  # noqa: E402
 from rubrotor.modal import campbell  # noqa: E402
 from rubrotor.model import Dimensionless, Shaft  # noqa: E402
@@ -68,4 +69,5 @@ __all__ = [
     "full_spectrum",
     "rub_indicators",
     "lyapunov_exponents",
+    "from_ross",
 ]
