@@ -76,7 +76,7 @@ def scenario_json_schema() -> dict:
     Returns
     -------
     dict
-        The schema, ready for :func:`json.dumps`.
+        The schema, ready for ``json.dumps``.
     """
     props = {
         name: _table(name, keys, _REQUIRED.get(name, ()), ALTERNATIVES.get(name, ()))
