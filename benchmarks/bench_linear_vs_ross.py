@@ -16,9 +16,9 @@ from __future__ import annotations
 import contextlib
 import io
 import statistics
-from sys import argv
 import time
 import warnings
+from sys import argv
 
 import numpy as np
 import scipy.linalg as sl
@@ -87,7 +87,7 @@ def our_unbalance(sys, node_pos, speeds):
 
 def run_case(name, r):
     """Print the frequency difference and the three timings for one ROSS rotor."""
-    lin = from_ross(r)
+    sys = from_ross(r)
     print(f"\n== {name}: {len(r.nodes_pos)} nodes, {sys.n_dof} lateral DOFs (ROSS {r.ndof})")
     speed = 500.0
     t_ross, modal = median_time(
