@@ -1,13 +1,14 @@
 """rubrotor linear analyses vs ROSS on ROSS's own rotors, imported with ``rubrotor.from_ross``.
 
-Run: ``PYTHONPATH=src /work/venvs/ross23/bin/python benchmarks/bench_linear_vs_ross.py`` (a venv
+Run: ``PYTHONPATH=src /work/venvs/ross23/bin/python benchmarks/bench_linear_vs_ross.py [example] [60]`` (a venv
 with ``pip install "rubrotor[ross]"``). Ours and ROSS in one process, medians of 3 repetitions.
 
 Rotors: ``ross.rotor_example()`` and a 60-element hollow steel rotor with two disks and
 anisotropic, cross-coupled, damped bearings built in ROSS. Ours is the same model (``from_ross``),
 so the frequency differences measure the import and the eigen-solvers, not the elements.
-Our side here is plain SciPy on ``LinearSystem.matrices(speed)`` (dense ``eigvals`` of the
-first-order matrix; one complex solve per speed for the unbalance response).
+Our side is timed twice: plain SciPy on ``LinearSystem.matrices(speed)`` (dense ``eigvals`` of
+the first-order matrix; one complex solve per speed) and rubrotor's own ``damped_modes``,
+``campbell_data`` and ``unbalance_response`` (which also classify whirl and damping).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import io
 import statistics
 import time
 import warnings
+from sys import argv
 
 import numpy as np
 import scipy.linalg as sl
@@ -26,6 +28,7 @@ with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
     import ross
 
 from rubrotor.interop import from_ross
+from rubrotor.linear_analysis import campbell_data, damped_modes, unbalance_response
 
 warnings.simplefilter("ignore")
 
@@ -101,24 +104,41 @@ def run_case(name, r):
     print(
         f"  one modal analysis: ROSS {t_ross * 1e3:.1f} ms, ours {t_ours * 1e3:.2f} ms, ratio {t_ross / t_ours:.1f}x"
     )
-    speeds = np.linspace(0, 1000, 200)
-    t_rc, _ = median_time(
-        lambda r=r: r.run_campbell(speeds, frequencies=6), reps=1 if r.ndof > 100 else 3
+    t_dm, dm = median_time(lambda sys=sys: damped_modes(sys, speed, n=8))
+    f_dm = np.array([m.frequency_hz for m in dm.modes]) * 2 * np.pi
+    diff_dm = max(np.min(np.abs(wd - f)) / f for f in f_dm)
+    print(
+        f"  damped_modes (n=8): {t_dm * 1e3:.2f} ms, ratio {t_ross / t_dm:.1f}x; freq. diff {diff_dm:.2e}"
     )
+    speeds = np.linspace(0, 1000, 200)
+    if r.ndof > 100:  # ROSS needs ~13 s per speed here: time 4 speeds once, scale to 200
+        t4, _ = median_time(lambda r=r: r.run_campbell(speeds[::50], frequencies=6), reps=1)
+        t_rc = t4 * 50
+        print(f"  ROSS Campbell EXTRAPOLATED: 4 speeds took {t4:.1f} s, x50")
+    else:
+        t_rc, _ = median_time(lambda r=r: r.run_campbell(speeds, frequencies=6))
     t_oc, _ = median_time(lambda sys=sys: our_campbell(sys, speeds))
     print(f"  Campbell 200 speeds: ROSS {t_rc:.2f} s, ours {t_oc:.3f} s, ratio {t_rc / t_oc:.1f}x")
+    t_cd, _ = median_time(lambda sys=sys: campbell_data(sys, speeds, n=6))
+    print(f"  campbell_data (n=6): {t_cd:.3f} s, ratio {t_rc / t_cd:.1f}x")
     n = r.disk_elements[0].n
     sp = np.linspace(1, 1000, 500)
     t_ru, _ = median_time(lambda r=r: r.run_unbalance_response(n, 1e-3, 0.0, sp))
     t_ou, _ = median_time(lambda sys=sys: our_unbalance(sys, float(r.nodes_pos[n]), sp))
     print(f"  unbalance 500 speeds: ROSS {t_ru:.2f} s, ours {t_ou:.3f} s, ratio {t_ru / t_ou:.1f}x")
+    x = float(r.nodes_pos[n])
+    t_ur, _ = median_time(lambda sys=sys: unbalance_response(sys, sp, [(x, 1e-3, 0.0)], [x]))
+    print(f"  unbalance_response: {t_ur:.3f} s, ratio {t_ru / t_ur:.1f}x")
 
 
 def main():
     print(f"ROSS {ross.__version__}; numpy {np.__version__}")
-    print("our side: plain scipy.linalg.eigvals / numpy.linalg.solve on LinearSystem matrices")
-    run_case("rotor_example", ross.rotor_example())
-    run_case("60 elements, 2 disks, aniso", rotor_60())
+    print("ours: plain scipy.linalg.eigvals / numpy.linalg.solve, then rubrotor.linear_analysis")
+    which = argv[1:] or ["example", "60"]
+    if "example" in which:
+        run_case("rotor_example", ross.rotor_example())
+    if "60" in which:
+        run_case("60 elements, 2 disks, aniso", rotor_60())
 
 
 if __name__ == "__main__":
