@@ -1,0 +1,52 @@
+"""Continuation of the one-mode rotor's rub branch against a state-carrying sweep of its range.
+
+Run: ``PYTHONPATH=src python benchmarks/bench_continuation.py [POINTS] [REPEATS]``. Prints the
+median wall time of each (same process, side by side) and what each finds: the continuation's
+folds and stability against the closed form, the sweep's jumps (up: last rub point, down: last
+no-contact point). Numba compilation is excluded by a warm-up run of each.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import time
+from importlib import resources
+
+import numpy as np
+
+from rubrotor.continuation import continue_orbit
+from rubrotor.follow import follow_sweep
+from rubrotor.scenario import load_scenario
+from rubrotor.sweep import regime_labels
+
+KEY = "speed.critical_multiple"
+
+
+def main(points: int = 200, repeats: int = 3) -> None:
+    sc = load_scenario(resources.files("rubrotor") / "scenarios" / "one_mode_annular_rub.toml")
+    values = np.linspace(1.2, 1.8, points)
+    continue_orbit(sc, KEY, 1.8, 1.7, points=3)
+    follow_sweep(sc, KEY, values[:2], direction="both", workers=1)
+    t_c, t_s = [], []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        branch = continue_orbit(sc, KEY, 1.8, 1.2, points=points)
+        t_c.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        ds = follow_sweep(sc, KEY, values, direction="both", workers=1)
+        t_s.append(time.perf_counter() - t0)
+    c, s = statistics.median(t_c), statistics.median(t_s)
+    print(f"continuation, {len(branch.points)} points: {c:.2f} s (median of {repeats})")
+    print(f"follow sweep up+down, {points} values: {s:.2f} s; ratio sweep/continuation {s / c:.2f}")
+    print("continuation finds:", [(b.type, round(b.value, 7)) for b in branch.bifurcations])
+    print("  unstable points:", sum(not p.stable for p in branch.points))
+    labels = regime_labels(ds)
+    up = values[np.flatnonzero(labels[0] == "no contact")[0]]
+    down = values[np.flatnonzero(labels[1] == "full annular rub")[-1]]
+    print(f"sweep finds: up jump between {up - values[1] + values[0]:.5f} and {up:.5f}; "
+          f"down jump between {down:.5f} and {down + values[1] - values[0]:.5f}")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main(*(int(a) for a in sys.argv[1:3]))
