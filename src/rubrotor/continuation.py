@@ -167,7 +167,7 @@ def _correct(prob, z_pred, t, tol=1e-11, max_iter=8):
         except InputError:
             return None
         scale = max(1.0, np.linalg.norm(z))
-        if small_step and np.linalg.norm(g) < 0.01 * tol * scale:
+        if small_step and np.linalg.norm(g) < tol * scale:
             return z, gz, jac, it
         if it == max_iter:
             return None
@@ -220,11 +220,11 @@ def _locate_turn(prob, z0, t0, ds):
     sign = 1.0 if t0[-1] > 0 else -1.0
 
     def minus_p(s):
-        out = _correct(prob, z0 + s * t0, t0, max_iter=60)
+        out = _correct(prob, z0 + s * t0, t0, max_iter=20)
         return np.inf if out is None else -sign * prob.unscale(out[0])[1]
 
     res = scipy.optimize.minimize_scalar(
-        minus_p, bounds=(0.0, ds), method="bounded", options={"xatol": 1e-9 * abs(ds)}
+        minus_p, bounds=(0.0, ds), method="bounded", options={"xatol": 1e-7 * abs(ds)}
     )
     return float(-sign * res.fun)
 
