@@ -65,3 +65,13 @@ def test_wheel_carries_scenarios_templates_and_license(tmp_path):
         assert f"rubrotor/scenarios/{toml.name}" in names
     assert any(n.startswith("rubrotor/templates/") for n in names)
     assert any(n.endswith("LICENSE") for n in names)
+
+
+def test_follow_sweep_too_few_revolutions_names_the_transient_option():
+    """Follow sweeps share the sweep's run-length check (same message)."""
+    from rubrotor.errors import InputError
+    from rubrotor.follow import follow_sweep
+
+    sc = rubrotor.load_scenario(SCEN / "seed_case1.toml")
+    with pytest.raises(InputError, match="--transient"):
+        follow_sweep(sc, "speed.critical_multiple", [1.0, 1.1], revolutions=50)

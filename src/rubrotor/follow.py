@@ -280,6 +280,7 @@ def follow_sweep(
         _int_arg,
         _local_pool,
         _open_or_create,
+        run_lengths,
     )
 
     if direction not in DIRECTIONS:
@@ -287,11 +288,7 @@ def follow_sweep(
     directions = DIRECTIONS[direction]
     (key,), (arr,) = _check_keys(scenario, {key: values})
     arr = np.sort(arr)
-    t_rev = _int_arg("transient_revolutions", transient_revolutions, 0)
-    if revolutions is None:
-        sim = scenario.simulation
-        revolutions = int(sim.revolutions) if sim is not None and sim.revolutions else t_rev + 200
-    revs = _int_arg("revolutions", revolutions, t_rev + 2)
+    t_rev, revs = run_lengths(scenario, transient_revolutions, revolutions)
     n_rev = _int_arg("samples_per_revolution", samples_per_revolution, 8)
     if workers is None:
         workers = os.cpu_count() or 1

@@ -641,6 +641,31 @@ def _first_difference(old: dict, new: dict) -> str:
     return "definition"
 
 
+def run_lengths(scenario, transient_revolutions, revolutions) -> tuple[int, int]:
+    """Checked ``(transient, total)`` revolutions of a sweep point.
+
+    ``revolutions`` defaults to the scenario's ``simulation.revolutions`` or the transient plus
+    200; it must exceed the transient by at least 2, and the message says which option to change.
+    """
+    t_rev = _int_arg("transient_revolutions", transient_revolutions, 0)
+    if revolutions is None:
+        sim = scenario.simulation
+        revolutions = int(sim.revolutions) if sim is not None and sim.revolutions else t_rev + 200
+    if (
+        isinstance(revolutions, int | np.integer)
+        and not isinstance(revolutions, bool)
+        and revolutions < t_rev + 2
+    ):
+        raise InputError(
+            "revolutions",
+            revolutions,
+            f"an integer >= {t_rev + 2}: the transient_revolutions (--transient) = {t_rev} "
+            "discarded plus 2 kept; lower --transient or raise --revolutions "
+            "(or simulation.revolutions in the scenario)",
+        )
+    return t_rev, _int_arg("revolutions", revolutions, t_rev + 2)
+
+
 def sweep(
     scenario,
     vary: Mapping[str, Sequence[float]],
@@ -698,23 +723,7 @@ def sweep(
     """
     scenario.require_shaft("a parameter sweep (time simulations)")
     keys, grid = _check_keys(scenario, vary)
-    t_rev = _int_arg("transient_revolutions", transient_revolutions, 0)
-    if revolutions is None:
-        sim = scenario.simulation
-        revolutions = int(sim.revolutions) if sim is not None and sim.revolutions else t_rev + 200
-    if (
-        isinstance(revolutions, int | np.integer)
-        and not isinstance(revolutions, bool)
-        and revolutions < t_rev + 2
-    ):
-        raise InputError(
-            "revolutions",
-            revolutions,
-            f"an integer >= {t_rev + 2}: the transient_revolutions (--transient) = {t_rev} "
-            "discarded plus 2 kept; lower --transient or raise --revolutions "
-            "(or simulation.revolutions in the scenario)",
-        )
-    revs = _int_arg("revolutions", revolutions, t_rev + 2)
+    t_rev, revs = run_lengths(scenario, transient_revolutions, revolutions)
     n_rev = _int_arg("samples_per_revolution", samples_per_revolution, 8)
     shape = tuple(a.size for a in grid)
     n_points = int(np.prod(shape))
