@@ -35,6 +35,7 @@ import scipy.linalg
 import scipy.optimize
 import scipy.sparse.linalg
 
+from rubrotor.core.banded import OK, BandParts, refine_eigenpairs, unbalance_sweep
 from rubrotor.errors import InputError
 from rubrotor.linear import LinearSystem, NodalBasis
 
@@ -165,16 +166,17 @@ def _whirl_label(spin: np.ndarray, amp: np.ndarray) -> str:
 def _eig_nearest_zero(mx, k: int):
     """The ``k`` eigenvalues of ``A`` nearest zero and their eigenvectors, by shift-invert Arnoldi.
 
-    ``A^-1 [x1; x2] = [-K^-1 (M x2 + D x1); x1]`` (``D = C + Omega G``) needs one LU
-    factorisation of ``K`` (half the size of ``A``) and no inverse of ``M``.
+    ``A^-1 [x1; x2] = [-K^-1 (M x2 + D x1); x1]`` (``D = C + Omega G``) needs one sparse LU
+    factorisation of ``K`` (half the size of ``A``, banded for an FE rotor) and no inverse of
+    ``M``.
     """
     n = mx.M.shape[0]
-    lu = scipy.linalg.lu_factor(mx.K, check_finite=False)
-    m, d = mx.M, mx.damping
+    lu = scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(mx.K))
+    m, d = scipy.sparse.csr_matrix(mx.M), scipy.sparse.csr_matrix(mx.damping)
 
     def inverse(x):
         x1, x2 = x[:n], x[n:]
-        return np.concatenate([-scipy.linalg.lu_solve(lu, m @ x2 + d @ x1, check_finite=False), x1])
+        return np.concatenate([-lu.solve(m @ x2 + d @ x1), x1])
 
     op = scipy.sparse.linalg.LinearOperator((2 * n, 2 * n), matvec=inverse, dtype=float)
     mu, vec = scipy.sparse.linalg.eigs(op, k=k, which="LM", tol=1e-13)
@@ -184,14 +186,21 @@ def _eig_nearest_zero(mx, k: int):
 def _eig(system: LinearSystem, speed: float, n: int | None = None):
     """Eigenvalues with ``Im > 0`` (sorted) and the ``q`` part of their eigenvectors.
 
-    With ``n`` given on a large system, shift-invert Arnoldi (ARPACK) finds the ``4 n``
-    eigenvalues nearest zero from one LU factorisation of ``A`` instead of a dense solve of all
-    ``2 N``; the tests check it against the dense route.
+    With ``n`` given on a large system, shift-invert Arnoldi (ARPACK) finds the ``2 n + 8``
+    eigenvalues nearest zero (twice as many if overdamped ones crowd out oscillating ones)
+    from one sparse LU of ``K`` instead of a dense solve of all ``2 N``; the tests check it
+    against the dense route.
     """
     mx = system.matrices(speed)
     size = 2 * system.n_dof
+    lam = None
     if n is not None and size > 16 * n:
-        lam, vec = _eig_nearest_zero(mx, 4 * n)
+        k = 2 * n + 8
+        while lam is None or (
+            np.count_nonzero(lam.imag > 1e-9 * np.abs(lam)) < n and k < size // 2
+        ):
+            k = k if lam is None else 2 * k
+            lam, vec = _eig_nearest_zero(mx, k)
     else:
         a, _ = mx.first_order()
         lam, vec = scipy.linalg.eig(a, overwrite_a=True, check_finite=False)
@@ -301,6 +310,12 @@ class CampbellData:
 def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     """Frequencies, logarithmic decrements and whirl of the ``n`` lowest modes over ``speeds``.
 
+    Each eigenpair is exact (the same eigenvalues as :func:`damped_modes`, to ~1e-12): a
+    projection onto the rotor's lowest undamped modes gives starting values at every speed
+    (one batched small eigen-solve), which Newton's method on the full quadratic eigenproblem
+    refines with banded LU solves in one compiled loop (:func:`_refined_modes`). A speed where
+    Newton fails falls back to the dense route.
+
     Parameters
     ----------
     system : LinearSystem
@@ -316,14 +331,132 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     CampbellData
     """
     s = _speed_array("speeds", speeds)
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise InputError("n", n, "a number of modes >= 1")
+    lam, shapes, ok = _refined_modes(system, s, n)
     f = np.full((s.size, n), np.nan)
     ld = np.full((s.size, n), np.nan)
     wh = np.full((s.size, n), "", dtype=object)
-    for i, w in enumerate(s):
-        dm = damped_modes(system, float(w), n=n).modes
-        for j, m in enumerate(dm):
-            f[i, j], ld[i, j], wh[i, j] = m.frequency_hz, m.log_dec, m.whirl
+    good = ok & np.isfinite(lam)
+    f[good] = lam[good].imag / TWO_PI
+    ld[good] = -TWO_PI * lam[good].real / lam[good].imag
+    wh[good] = _whirl_labels(shapes)[good]
+    for i in np.flatnonzero(~ok.all(axis=1)):  # Newton failed somewhere: the dense route
+        f[i], ld[i], wh[i] = np.nan, np.nan, ""
+        for j, md in enumerate(damped_modes(system, float(s[i]), n=n).modes):
+            f[i, j], ld[i, j], wh[i, j] = md.frequency_hz, md.log_dec, md.whirl
     return CampbellData(speeds=s, frequency_hz=f, log_dec=ld, whirl=wh)
+
+
+def _ritz_basis(system: LinearSystem, parts: BandParts, speed: float, n: int) -> np.ndarray:
+    """A mass-orthonormal basis (N, m) for starting values: the ``n + 6`` lowest undamped modes
+    of ``(K_sym, M)`` at ``speed`` (rad/s) and the static deflections under unit forces at the
+    support DOFs (residual flexibility: supports carry the damping and cross-coupling); all
+    DOFs when that is not fewer."""
+    mx = system.matrices(speed)
+    size = mx.M.shape[0]
+    ks = (mx.K + mx.K.T) / 2
+    dofs = np.unique(parts.sup_row)
+    if n + 6 + dofs.size >= size:
+        _, phi = scipy.linalg.eigh(ks, mx.M, check_finite=False)
+        return phi
+    _, modes = scipy.linalg.eigh(ks, mx.M, subset_by_index=[0, n + 5], check_finite=False)
+    unit = np.zeros((size, dofs.size))
+    unit[dofs, np.arange(dofs.size)] = 1.0
+    span = np.hstack([modes, np.linalg.solve(ks, unit)])
+    _, z = scipy.linalg.eigh(span.T @ ks @ span, span.T @ mx.M @ span, check_finite=False)
+    return span @ z
+
+
+def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int):
+    """Starting eigenpairs at every speed from a projection onto :func:`_ritz_basis`.
+
+    The projected first-order problems of all speeds are solved in one batched
+    ``numpy.linalg.eig``. Returns ``lam0`` (S, n), NaN where fewer than ``n`` oscillating modes
+    were found, and ``vec0`` (S, n, N) on the free DOFs.
+    """
+    phi = _ritz_basis(system, parts, float(speeds[speeds.size // 2]), n)
+    size, m = phi.shape
+    f = np.ix_(system.free, system.free)
+    kr0, cr0, gr = (phi.T @ a[f] @ phi for a in (system.K, system.C, system.G))
+    mr_inv = np.linalg.inv(phi.T @ system.M[f] @ phi)
+    outer = phi[parts.sup_row][:, :, None] * phi[parts.sup_col][:, None, :]
+    kr = kr0 + np.einsum("sp,pij->sij", parts.sup_k, outer)
+    dr = cr0 + speeds[:, None, None] * gr + np.einsum("sp,pij->sij", parts.sup_c, outer)
+    a = np.zeros((speeds.size, 2 * m, 2 * m))
+    a[:, :m, m:] = np.eye(m)
+    a[:, m:, :m] = -mr_inv @ kr
+    a[:, m:, m:] = -mr_inv @ dr
+    lam, y = np.linalg.eig(a)
+    lam0 = np.full((speeds.size, n), np.nan + 0j)
+    vec0 = np.zeros((speeds.size, n, size), complex)
+    for i in range(speeds.size):
+        keep = np.flatnonzero(lam[i].imag > 1e-9 * np.abs(lam[i]))
+        keep = keep[np.argsort(lam[i, keep].imag)][:n]
+        lam0[i, : keep.size] = lam[i, keep]
+        vec0[i, : keep.size] = (phi @ y[i, :m, keep].T).T
+    return lam0, vec0
+
+
+def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
+    """Eigenvalues (S, n), shapes at the whirl stations (S, n, 2 stations) and a success mask.
+
+    Ritz starting values (:func:`_ritz_starts`) refined by Newton on the full banded quadratic
+    eigenproblem (:func:`rubrotor.core.banded.refine_eigenpairs`) until a step is below
+    ``1e-10 |lam|`` (quadratic convergence: the error after it is at rounding level); clusters of
+    equal eigenvalues get the shapes of extreme whirl (as in :func:`damped_modes`).
+    """
+    parts = _band_parts(system, speeds)
+    rows = _stations(system)[:, system.free].astype(complex)
+    lam = np.full((speeds.size, n), np.nan + 0j)
+    ok = np.zeros((speeds.size, n), bool)
+    shapes = np.zeros((speeds.size, n, rows.shape[0]), complex)
+    for c0 in range(0, speeds.size, 256):  # bounded memory for long sweeps
+        sl = slice(c0, min(c0 + 256, speeds.size))
+        sub = parts._replace(sup_k=parts.sup_k[sl], sup_c=parts.sup_c[sl])
+        lam0, vec0 = _ritz_starts(system, sub, speeds[sl], n)
+        found = np.isfinite(lam0)
+        lam0 = np.where(found, lam0, 1j)
+        lam[sl], shapes[sl], steps = refine_eigenpairs(sub, speeds[sl], lam0, vec0, 1e-10, 8, rows)
+        ok[sl] = (steps > 0) | ~found
+        lam[sl] = np.where(found, lam[sl], np.nan)
+    order = np.argsort(np.where(np.isfinite(lam), lam.imag, np.inf), axis=1)
+    lam = np.take_along_axis(lam, order, 1)
+    shapes = np.take_along_axis(shapes, order[:, :, None], 1)
+    eye = np.eye(rows.shape[0])
+    for i, j0, j1 in _clusters(lam):
+        shapes[i, j0:j1] = _circularise(eye, shapes[i, j0:j1].T).T
+    return lam, shapes, ok
+
+
+def _clusters(lam: np.ndarray):
+    """``(speed index, first, end)`` of each run of equal eigenvalues (within 1e-7) at a speed."""
+    close = np.abs(np.diff(lam, axis=1)) <= 1e-7 * np.abs(lam[:, 1:])
+    for i in np.flatnonzero(close.any(axis=1)):
+        j = 0
+        while j < lam.shape[1]:
+            k = j + 1
+            while k < lam.shape[1] and close[i, k - 1]:
+                k += 1
+            if k - j > 1:
+                yield i, j, k
+            j = k
+
+
+def _whirl_labels(shapes: np.ndarray) -> np.ndarray:
+    """``_whirl_label`` of every shape at once: ``shapes`` (..., 2 stations) as ``V, W`` pairs."""
+    v, w = shapes[..., 0::2], shapes[..., 1::2]
+    spin = np.imag(np.conj(v) * w)
+    amp = np.abs(v) ** 2 + np.abs(w) ** 2
+    big = amp > 1e-4 * amp.max(axis=-1, keepdims=True)
+    turning = big & (np.abs(spin) > 1e-6 * amp)
+    fwd = np.all(~turning | (spin < 0), axis=-1)
+    bwd = np.all(~turning | (spin > 0), axis=-1)
+    out = np.full(shapes.shape[:-1], "mixed", dtype=object)
+    any_turn = turning.any(axis=-1)
+    out[any_turn & fwd] = "forward"
+    out[any_turn & bwd] = "backward"
+    return out
 
 
 @dataclass(frozen=True)
@@ -462,64 +595,59 @@ class UnbalanceResponse:
     complex_response: np.ndarray
 
 
-def _solve_speeds(system: LinearSystem, speeds: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``Q`` (m) at each speed (rad/s): one exact LU solve of the dynamic stiffness per speed.
-
-    The speed-independent parts (``M``, ``G`` and the shaft's ``K``, ``C`` on the free DOFs) are
-    taken once; each speed adds only the supports' coefficients. An FE rotor couples
-    neighbouring nodes only, so its matrices are kept in LAPACK's band storage and solved by
-    banded LU (``zgbsv``, ``O(n b^2)``); a dense system (e.g. a modal one) is solved densely.
-    Memory stays one ``n x n`` matrix whatever the number of speeds.
-    """
-    free = system.free
+def _support_values(system: LinearSystem, speeds: np.ndarray):
+    """Support entries on the free DOFs: rows, columns and their ``k`` (N/m), ``c`` (N s/m) at
+    every speed (rad/s), interpolated as :meth:`Support.coefficients` does (clipped, linear)."""
     pos = np.full(len(system.M), -1)
-    pos[free] = np.arange(free.size)
-    f = np.ix_(free, free)
-    base = [system.M[f], system.G[f], system.K[f], system.C[f]]
-    pairs = []  # (free row, free column, support index, local row, local column)
-    for k, sup in enumerate(system.supports):
+    pos[system.free] = np.arange(system.free.size)
+    rows, cols, kv, cv = [], [], [], []
+    for sup in system.supports:
+        tab = sup.speeds if sup.speeds is not None and len(sup.speeds) > 1 else None
         for i, di in enumerate(sup.dofs):
             for j, dj in enumerate(sup.dofs):
-                if pos[di] >= 0 and pos[dj] >= 0:
-                    pairs.append((pos[di], pos[dj], k, i, j))
-    pr = np.array([p[:2] for p in pairs], int).reshape(-1, 2)
-    pattern = (np.abs(base[0]) + np.abs(base[1]) + np.abs(base[2]) + np.abs(base[3])) > 0
-    pattern[pr[:, 0], pr[:, 1]] = True
-    rows, cols = np.nonzero(pattern)
-    lower = int(max(0, (rows - cols).max(initial=0)))
-    upper = int(max(0, (cols - rows).max(initial=0)))
-    n = free.size
-    banded = lower + upper + 1 < max(n // 4, 1)
-    if banded:
-        base = [_to_band(m, lower, upper) for m in base]
-        at = (upper + pr[:, 0] - pr[:, 1], pr[:, 1])
-    else:
-        at = (pr[:, 0], pr[:, 1])
-    mm, gg, kk, cc = base
-    q = np.empty((speeds.size, n), complex)
-    for i, w in enumerate(speeds):
-        dyn = kk - w * w * mm + 1j * w * (cc + w * gg)
-        if pairs:
-            coef = [sup.coefficients(float(w)) for sup in system.supports]
-            add = np.array(
-                [coef[k][0][li, lj] + 1j * w * coef[k][1][li, lj] for *_, k, li, lj in pairs]
-            )
-            np.add.at(dyn, at, add)
-        if banded:
-            q[i] = scipy.linalg.solve_banded((lower, upper), dyn, b * w * w, check_finite=False)
-        else:
-            q[i] = np.linalg.solve(dyn, b * w * w)
-    return q
+                if pos[di] < 0 or pos[dj] < 0:
+                    continue
+                rows.append(pos[di])
+                cols.append(pos[dj])
+                for out, table in ((kv, sup.k), (cv, sup.c)):
+                    out.append(
+                        np.full(speeds.size, table[0, i, j])
+                        if tab is None
+                        else np.interp(speeds, tab, table[:, i, j])
+                    )
+    shape = (speeds.size, len(rows))
+    k = np.array(kv).T.reshape(shape) if kv else np.zeros(shape)
+    c = np.array(cv).T.reshape(shape) if cv else np.zeros(shape)
+    return np.array(rows, np.int64), np.array(cols, np.int64), k, c
+
+
+def _band_parts(system: LinearSystem, speeds: np.ndarray) -> BandParts:
+    """The rotor's matrices on the free DOFs in band storage, and its supports over ``speeds``.
+
+    An FE rotor couples neighbouring nodes only, so its bandwidth is a few DOFs and a banded
+    LU costs ``O(n b^2)``; a dense system (e.g. a modal one) is simply a band as wide as the
+    matrix.
+    """
+    f = np.ix_(system.free, system.free)
+    mats = [system.M[f], system.G[f], system.K[f], system.C[f]]
+    rows, cols, k, c = _support_values(system, speeds)
+    pattern = sum(np.abs(m) for m in mats) > 0
+    pattern[rows, cols] = True
+    r, cidx = np.nonzero(pattern)
+    kl = int(max(0, (r - cidx).max(initial=0)))
+    ku = int(max(0, (cidx - r).max(initial=0)))
+    m, g, kk, cc = (_to_band(a, kl, ku) for a in mats)
+    return BandParts(m, g, kk, cc, kl, ku, rows, cols, k, c)
 
 
 def _to_band(a: np.ndarray, lower: int, upper: int) -> np.ndarray:
-    """LAPACK band storage of ``a``: ``ab[upper + i - j, j] = a[i, j]``."""
+    """Compact band storage of ``a``, a column per row: ``ab[j, upper + i - j] = a[i, j]``."""
     n = a.shape[0]
     ab = np.zeros((lower + upper + 1, n), a.dtype)
     for k in range(-lower, upper + 1):
         j0 = max(k, 0)
         ab[upper - k, j0 : j0 + n - abs(k)] = np.diagonal(a, k)
-    return ab
+    return np.ascontiguousarray(ab.T)
 
 
 def unbalance_response(system: LinearSystem, speeds, unbalances, probes) -> UnbalanceResponse:
@@ -530,7 +658,7 @@ def unbalance_response(system: LinearSystem, speeds, unbalances, probes) -> Unba
     ``f(t) = Re(Fc exp(i Omega t))`` with ``Fc = B(x) [1, -i] m e Omega^2 exp(i phase)``, and the
     response ``q = Re(Q exp(i Omega t))`` solves
     ``(K(Omega) - Omega^2 M + i Omega (C(Omega) + Omega G)) Q = Fc`` at each speed (one exact LU
-    solve per speed, banded for FE rotors).
+    solve per speed, banded for FE rotors, all speeds in one compiled loop).
 
     Parameters
     ----------
@@ -555,16 +683,13 @@ def unbalance_response(system: LinearSystem, speeds, unbalances, probes) -> Unba
         if not (math.isfinite(me) and me >= 0 and math.isfinite(ph)):
             raise InputError("unbalance", (pos, me, ph), "magnitude >= 0 (kg m), finite phase")
         b += system.force_map(pos) @ np.array([1.0, -1j]) * me * np.exp(1j * ph)
-    rows = np.stack([system.output_rows(p) for p in probes]) if len(probes) else None
-    if rows is None:
+    if not len(probes):
         raise InputError("probes", probes, "at least one probe position (m)")
-    try:
-        q = _solve_speeds(system, s, b)
-    except np.linalg.LinAlgError:
-        raise InputError(
-            "speeds", "a speed at an undamped resonance", "speeds off the undamped critical speeds"
-        ) from None
-    resp = np.einsum("pcn,sn->spc", rows, q)
+    rows = np.concatenate([system.output_rows(p) for p in probes]).astype(complex)
+    out, status, at = unbalance_sweep(_band_parts(system, s), s, b, rows)
+    if status != OK:
+        raise InputError("speeds", float(s[at]), "speeds off the undamped critical speeds (rad/s)")
+    resp = out.reshape(s.size, len(probes), 2)
     v, w_ = resp[..., 0], resp[..., 1]
     # orbit semi-axes of v = Re(V e^{it}), w = Re(W e^{it}): |(V + i W)|/2 +- |(V - i W)|/2
     major = 0.5 * (np.abs(v + 1j * w_) + np.abs(v - 1j * w_))

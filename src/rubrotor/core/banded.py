@@ -1,0 +1,236 @@
+"""Compiled complex banded LU (partial pivoting) and the frequency sweeps built on it.
+
+Matrices are in LAPACK's band storage, transposed so that a matrix column is contiguous in
+memory: an ``n x n`` matrix with ``kl`` sub- and ``ku`` super-diagonals is held in ``ab`` of
+shape ``(n, 2 kl + ku + 1)`` with ``ab[j, kl + ku + i - j] = a[i, j]``; the first ``kl``
+entries of each column take the fill-in of pivoting (as LAPACK's ``zgbtrf``). The sweep kernels assemble the dynamic stiffness of a linear rotor
+at each speed from its real band parts and support coefficients (:class:`BandParts`), so a
+whole sweep is one call with no Python work per speed. Units are whatever the caller's
+matrices carry (SI in rubrotor).
+"""
+
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "BandParts",
+    "OK",
+    "SINGULAR",
+    "band_factor",
+    "band_solve",
+    "refine_eigenpairs",
+    "unbalance_sweep",
+]
+
+OK = 0
+SINGULAR = 1  # a zero pivot: the matrix is singular at this speed
+
+BandParts = namedtuple("BandParts", "m g k c kl ku sup_row sup_col sup_k sup_c")
+BandParts.__doc__ = """The speed-independent band parts of ``M, G, K, C`` and the support entries.
+
+m, g, k, c : ndarray, shape (n, kl + ku + 1)
+    Compact band storage (``a[i, j]`` at ``[j, ku + i - j]``) of mass (kg), gyroscopic per unit
+    spin (kg m^2), shaft stiffness (N/m) and shaft damping (N s/m) on the free DOFs.
+kl, ku : int
+    Numbers of sub- and super-diagonals.
+sup_row, sup_col : ndarray of int64, shape (P,)
+    Matrix row and column of each support entry.
+sup_k, sup_c : ndarray, shape (S, P)
+    Support stiffness (N/m) and damping (N s/m) of each entry at each speed of the sweep.
+"""
+
+
+@njit(cache=True, inline="always")
+def _abs1(z):
+    """``|Re z| + |Im z|``: LAPACK's cheap pivot magnitude (no square root)."""
+    return abs(z.real) + abs(z.imag)
+
+
+@njit(cache=True)
+def band_factor(ab, kl, ku, ipiv):
+    """LU-factorise ``ab`` in place with partial pivoting (``zgbtf2``); return OK or SINGULAR."""
+    n = ab.shape[0]
+    kv = kl + ku
+    ju = 0
+    for j in range(n):
+        km = min(kl, n - 1 - j)
+        jp = 0
+        best = _abs1(ab[j, kv])
+        for i in range(1, km + 1):
+            a = _abs1(ab[j, kv + i])
+            if a > best:
+                best, jp = a, i
+        ipiv[j] = j + jp
+        if best == 0.0:
+            return SINGULAR
+        ju = max(ju, min(j + ku + jp, n - 1))
+        if jp != 0:
+            for c in range(j, ju + 1):
+                t = ab[c, kv + jp + j - c]
+                ab[c, kv + jp + j - c] = ab[c, kv + j - c]
+                ab[c, kv + j - c] = t
+        piv = ab[j, kv]
+        for i in range(1, km + 1):
+            ab[j, kv + i] /= piv
+        for c in range(j + 1, ju + 1):
+            u = ab[c, kv + j - c]
+            if u != 0.0:
+                for i in range(1, km + 1):
+                    ab[c, kv + j + i - c] -= ab[j, kv + i] * u
+    return OK
+
+
+@njit(cache=True)
+def band_solve(ab, kl, ku, ipiv, b):
+    """Solve ``a x = b`` in place in ``b`` from the factors of :func:`band_factor`."""
+    n = ab.shape[0]
+    kv = kl + ku
+    for j in range(n):
+        p = ipiv[j]
+        if p != j:
+            t = b[p]
+            b[p] = b[j]
+            b[j] = t
+        km = min(kl, n - 1 - j)
+        for i in range(1, km + 1):
+            b[j + i] -= ab[j, kv + i] * b[j]
+    for j in range(n - 1, -1, -1):
+        b[j] /= ab[j, kv]
+        for i in range(1, min(kv, j) + 1):
+            b[j - i] -= ab[j, kv - i] * b[j]
+
+
+@njit(cache=True)
+def _assemble(parts, s, omega, lam, ab):
+    """``ab <- lam^2 M + lam (C + omega G + C_s) + K + K_s`` at sweep index ``s``.
+
+    ``omega`` is the spin speed (rad/s), ``lam`` the complex frequency (1/s): ``i omega`` for
+    the synchronous response, an eigenvalue for the modal problem.
+    """
+    kl, ku = parts.kl, parts.ku
+    lam2 = lam * lam
+    for j in range(ab.shape[0]):
+        for r in range(kl):
+            ab[j, r] = 0.0
+        for r in range(kl + ku + 1):
+            ab[j, kl + r] = (
+                lam2 * parts.m[j, r] + lam * (parts.c[j, r] + omega * parts.g[j, r]) + parts.k[j, r]
+            )
+    for p in range(parts.sup_row.size):
+        i, j = parts.sup_row[p], parts.sup_col[p]
+        ab[j, kl + ku + i - j] += parts.sup_k[s, p] + lam * parts.sup_c[s, p]
+
+
+@njit(cache=True)
+def unbalance_sweep(parts, speeds, rhs, out_rows):
+    """Synchronous response at every speed: ``out[s] = R Q`` with
+    ``(K - W^2 M + i W (C + W G)) Q = W^2 rhs`` (``W = speeds[s]``, rad/s).
+
+    Returns ``(out, status, index)``: ``out`` of shape ``(S, R)``; ``status`` OK, or SINGULAR
+    with the sweep ``index`` of the first singular speed (``out`` valid before it).
+    """
+    n = parts.m.shape[0]
+    kl, ku = parts.kl, parts.ku
+    ab = np.empty((n, 2 * kl + ku + 1), np.complex128)
+    ipiv = np.empty(n, np.int64)
+    x = np.empty(n, np.complex128)
+    out = np.zeros((speeds.size, out_rows.shape[0]), np.complex128)
+    for s in range(speeds.size):
+        w = speeds[s]
+        lam = 1j * w
+        _assemble(parts, s, w, lam, ab)
+        if band_factor(ab, kl, ku, ipiv) != OK:
+            return out, SINGULAR, s
+        for i in range(n):
+            x[i] = rhs[i] * w * w
+        band_solve(ab, kl, ku, ipiv, x)
+        for r in range(out_rows.shape[0]):
+            acc = 0j
+            for i in range(n):
+                acc += out_rows[r, i] * x[i]
+            out[s, r] = acc
+    return out, OK, -1
+
+
+@njit(cache=True)
+def _band_matvec(band, ku, x, scale, y):
+    """``y += scale * a @ x`` for ``a`` in compact band storage (``a[i, j]`` at ``[j, ku + i - j]``)."""
+    n = band.shape[0]
+    for j in range(n):
+        sx = scale * x[j]
+        for r in range(max(0, ku - j), min(band.shape[1], ku + n - j)):
+            y[j + r - ku] += band[j, r] * sx
+
+
+@njit(cache=True)
+def _derivative_apply(parts, s, omega, lam, x, y):
+    """``y <- T'(lam) x = (2 lam M + C + omega G + C_s) x`` at sweep index ``s``."""
+    y[:] = 0.0
+    _band_matvec(parts.m, parts.ku, x, 2.0 * lam, y)
+    _band_matvec(parts.c, parts.ku, x, 1.0 + 0j, y)
+    _band_matvec(parts.g, parts.ku, x, omega + 0j, y)
+    for p in range(parts.sup_row.size):
+        y[parts.sup_row[p]] += parts.sup_c[s, p] * x[parts.sup_col[p]]
+
+
+@njit(cache=True)
+def refine_eigenpairs(parts, speeds, lam, vec, tol, max_iter, out_rows):
+    """Newton's method on ``T(lam) x = 0``, ``c^H x = 1`` for the quadratic eigenproblem
+    ``T(lam) = lam^2 M + lam (C + W G + C_s) + K + K_s`` (``W = speeds[s]``, rad/s).
+
+    Each step solves ``T(lam) u = T'(lam) x`` by banded LU and sets ``lam <- lam - 1/(c^H u)``,
+    ``x <- u / (c^H u)`` (quadratic convergence; ``c = x0 / |x0|^2``). Starts from ``lam[s, j]``
+    (1/s) and ``vec[s, j]`` (free DOFs); stops when the step is below ``tol |lam|``.
+
+    Returns ``(lam, shapes, steps)``: refined eigenvalues ``(S, n)``; ``out_rows @ x`` of shape
+    ``(S, n, R)``; Newton steps taken, negative where ``max_iter`` passed without convergence.
+    """
+    n = parts.m.shape[0]
+    kl, ku = parts.kl, parts.ku
+    ns, nm = lam.shape
+    ab = np.empty((n, 2 * kl + ku + 1), np.complex128)
+    ipiv = np.empty(n, np.int64)
+    u = np.empty(n, np.complex128)
+    lam_out = lam.copy()
+    shapes = np.zeros((ns, nm, out_rows.shape[0]), np.complex128)
+    steps = np.zeros((ns, nm), np.int64)
+    for s in range(ns):
+        w = speeds[s]
+        for j in range(nm):
+            x = vec[s, j].copy()
+            c = x / np.vdot(x, x).real
+            lk = lam[s, j]
+            done = False
+            last = 0.0
+            for it in range(max_iter):
+                _assemble(parts, s, w, lk, ab)
+                if band_factor(ab, kl, ku, ipiv) != OK:
+                    done = True  # lam is an eigenvalue to working precision
+                    break
+                _derivative_apply(parts, s, w, lk, x, u)
+                band_solve(ab, kl, ku, ipiv, u)
+                d = np.vdot(c, u)
+                step = -1.0 / d
+                lk = lk + step
+                x = u / d
+                steps[s, j] = it + 1
+                size = abs(step)
+                # quadratic convergence: the next error is ~ size^3 / last^2; stop when either
+                # the step or that estimate is below tol |lam|
+                if size <= tol * abs(lk) or (
+                    it > 0 and size < 1e-3 * last and size**3 <= tol * 1e-3 * abs(lk) * last**2
+                ):
+                    done = True
+                    break
+                last = size
+            if not done:
+                steps[s, j] = -max_iter
+            lam_out[s, j] = lk
+            for r in range(out_rows.shape[0]):
+                acc = 0j
+                for i in range(n):
+                    acc += out_rows[r, i] * x[i]
+                shapes[s, j, r] = acc
+    return lam_out, shapes, steps
