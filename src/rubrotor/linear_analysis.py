@@ -35,7 +35,7 @@ import scipy.linalg
 import scipy.optimize
 import scipy.sparse.linalg
 
-from rubrotor.core.banded import OK, BandParts, refine_eigenpairs, unbalance_sweep
+from rubrotor.core.banded import OK, BandParts, Starts, refine_eigenpairs, unbalance_sweep
 from rubrotor.errors import InputError
 from rubrotor.linear import LinearSystem, NodalBasis
 
@@ -417,7 +417,8 @@ def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
         lam0, vec0 = _ritz_starts(system, sub, speeds[sl], n)
         found = np.isfinite(lam0)
         lam0 = np.where(found, lam0, 1j)
-        lam[sl], shapes[sl], steps = refine_eigenpairs(sub, speeds[sl], lam0, vec0, 1e-10, 8, rows)
+        ref = refine_eigenpairs(sub, speeds[sl], Starts(lam0, vec0), 1e-10, 8, rows)
+        lam[sl], shapes[sl], steps = ref.lam, ref.shapes, ref.steps
         ok[sl] = (steps > 0) | ~found
         lam[sl] = np.where(found, lam[sl], np.nan)
     order = np.argsort(np.where(np.isfinite(lam), lam.imag, np.inf), axis=1)

@@ -12,7 +12,7 @@ matrices carry (SI in rubrotor).
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 __all__ = [
     "BandParts",
@@ -20,6 +20,8 @@ __all__ = [
     "SINGULAR",
     "band_factor",
     "band_solve",
+    "Refined",
+    "Starts",
     "refine_eigenpairs",
     "unbalance_sweep",
 ]
@@ -28,6 +30,15 @@ OK = 0
 SINGULAR = 1  # a zero pivot: the matrix is singular at this speed
 
 BandParts = namedtuple("BandParts", "m g k c kl ku sup_row sup_col sup_k sup_c")
+Starts = namedtuple("Starts", "lam vec")
+Starts.__doc__ = """Starting eigenvalues ``lam`` (S, n) (1/s) and eigenvectors ``vec`` (S, n, N)."""
+
+Refined = namedtuple("Refined", "lam shapes steps")
+Refined.__doc__ = """Refined eigenvalues (S, n) (1/s), eigenvectors at output rows (S, n, R), and
+Newton steps (S, n), negative where the iteration did not converge."""
+
+_Work = namedtuple("_Work", "ab ipiv u")
+
 BandParts.__doc__ = """The speed-independent band parts of ``M, G, K, C`` and the support entries.
 
 m, g, k, c : ndarray, shape (n, kl + ku + 1)
@@ -123,34 +134,42 @@ def _assemble(parts, s, omega, lam, ab):
         ab[j, kl + ku + i - j] += parts.sup_k[s, p] + lam * parts.sup_c[s, p]
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def unbalance_sweep(parts, speeds, rhs, out_rows):
     """Synchronous response at every speed: ``out[s] = R Q`` with
     ``(K - W^2 M + i W (C + W G)) Q = W^2 rhs`` (``W = speeds[s]``, rad/s).
 
+    Speeds are shared among the numba threads in blocks (each with its own work arrays).
     Returns ``(out, status, index)``: ``out`` of shape ``(S, R)``; ``status`` OK, or SINGULAR
-    with the sweep ``index`` of the first singular speed (``out`` valid before it).
+    with the sweep ``index`` of the first singular speed.
     """
     n = parts.m.shape[0]
     kl, ku = parts.kl, parts.ku
-    ab = np.empty((n, 2 * kl + ku + 1), np.complex128)
-    ipiv = np.empty(n, np.int64)
-    x = np.empty(n, np.complex128)
-    out = np.zeros((speeds.size, out_rows.shape[0]), np.complex128)
-    for s in range(speeds.size):
-        w = speeds[s]
-        lam = 1j * w
-        _assemble(parts, s, w, lam, ab)
-        if band_factor(ab, kl, ku, ipiv) != OK:
-            return out, SINGULAR, s
-        for i in range(n):
-            x[i] = rhs[i] * w * w
-        band_solve(ab, kl, ku, ipiv, x)
-        for r in range(out_rows.shape[0]):
-            acc = 0j
+    ns = speeds.size
+    out = np.zeros((ns, out_rows.shape[0]), np.complex128)
+    bad = np.zeros(ns, np.bool_)
+    nblk = min(ns, 64)
+    for blk in prange(nblk):
+        ab = np.empty((n, 2 * kl + ku + 1), np.complex128)
+        ipiv = np.empty(n, np.int64)
+        x = np.empty(n, np.complex128)
+        for s in range(blk * ns // nblk, (blk + 1) * ns // nblk):
+            w = speeds[s]
+            _assemble(parts, s, w, 1j * w, ab)
+            if band_factor(ab, kl, ku, ipiv) != OK:
+                bad[s] = True
+                continue
             for i in range(n):
-                acc += out_rows[r, i] * x[i]
-            out[s, r] = acc
+                x[i] = rhs[i] * w * w
+            band_solve(ab, kl, ku, ipiv, x)
+            for r in range(out_rows.shape[0]):
+                acc = 0j
+                for i in range(n):
+                    acc += out_rows[r, i] * x[i]
+                out[s, r] = acc
+    for s in range(ns):
+        if bad[s]:
+            return out, SINGULAR, s
     return out, OK, -1
 
 
@@ -175,62 +194,69 @@ def _derivative_apply(parts, s, omega, lam, x, y):
         y[parts.sup_row[p]] += parts.sup_c[s, p] * x[parts.sup_col[p]]
 
 
-@njit(cache=True)
-def refine_eigenpairs(parts, speeds, lam, vec, tol, max_iter, out_rows):
+@njit(cache=True, parallel=True)
+def refine_eigenpairs(parts, speeds, starts, tol, max_iter, out_rows):
     """Newton's method on ``T(lam) x = 0``, ``c^H x = 1`` for the quadratic eigenproblem
     ``T(lam) = lam^2 M + lam (C + W G + C_s) + K + K_s`` (``W = speeds[s]``, rad/s).
 
     Each step solves ``T(lam) u = T'(lam) x`` by banded LU and sets ``lam <- lam - 1/(c^H u)``,
-    ``x <- u / (c^H u)`` (quadratic convergence; ``c = x0 / |x0|^2``). Starts from ``lam[s, j]``
-    (1/s) and ``vec[s, j]`` (free DOFs); stops when the step is below ``tol |lam|``.
+    ``x <- u / (c^H u)`` (quadratic convergence; ``c = x0 / |x0|^2``). Starts from
+    ``starts.lam[s, j]`` (1/s) and ``starts.vec[s, j]`` (free DOFs); stops when the step, or
+    the next error predicted from the last two steps, is below ``tol |lam|``. Speeds are shared
+    among the numba threads in blocks.
 
-    Returns ``(lam, shapes, steps)``: refined eigenvalues ``(S, n)``; ``out_rows @ x`` of shape
-    ``(S, n, R)``; Newton steps taken, negative where ``max_iter`` passed without convergence.
+    Returns :class:`Refined`: eigenvalues ``(S, n)``; ``out_rows @ x`` of shape ``(S, n, R)``;
+    Newton steps taken, negative where ``max_iter`` passed without convergence.
     """
     n = parts.m.shape[0]
-    kl, ku = parts.kl, parts.ku
-    ns, nm = lam.shape
-    ab = np.empty((n, 2 * kl + ku + 1), np.complex128)
-    ipiv = np.empty(n, np.int64)
-    u = np.empty(n, np.complex128)
-    lam_out = lam.copy()
+    ns, nm = starts.lam.shape
     shapes = np.zeros((ns, nm, out_rows.shape[0]), np.complex128)
-    steps = np.zeros((ns, nm), np.int64)
-    for s in range(ns):
-        w = speeds[s]
-        for j in range(nm):
-            x = vec[s, j].copy()
-            c = x / np.vdot(x, x).real
-            lk = lam[s, j]
-            done = False
-            last = 0.0
-            for it in range(max_iter):
-                _assemble(parts, s, w, lk, ab)
-                if band_factor(ab, kl, ku, ipiv) != OK:
-                    done = True  # lam is an eigenvalue to working precision
-                    break
-                _derivative_apply(parts, s, w, lk, x, u)
-                band_solve(ab, kl, ku, ipiv, u)
-                d = np.vdot(c, u)
-                step = -1.0 / d
-                lk = lk + step
-                x = u / d
-                steps[s, j] = it + 1
-                size = abs(step)
-                # quadratic convergence: the next error is ~ size^3 / last^2; stop when either
-                # the step or that estimate is below tol |lam|
-                if size <= tol * abs(lk) or (
-                    it > 0 and size < 1e-3 * last and size**3 <= tol * 1e-3 * abs(lk) * last**2
-                ):
-                    done = True
-                    break
-                last = size
-            if not done:
-                steps[s, j] = -max_iter
-            lam_out[s, j] = lk
-            for r in range(out_rows.shape[0]):
-                acc = 0j
-                for i in range(n):
-                    acc += out_rows[r, i] * x[i]
-                shapes[s, j, r] = acc
-    return lam_out, shapes, steps
+    out = Refined(starts.lam.copy(), shapes, np.zeros((ns, nm), np.int64))
+    nblk = min(ns, 64)
+    for blk in prange(nblk):
+        work = _Work(
+            np.empty((n, 2 * parts.kl + parts.ku + 1), np.complex128),
+            np.empty(n, np.int64),
+            np.empty(n, np.complex128),
+        )
+        for s in range(blk * ns // nblk, (blk + 1) * ns // nblk):
+            for j in range(nm):
+                x = _newton(parts, s, speeds[s], starts, j, tol, max_iter, work, out)
+                for r in range(out_rows.shape[0]):
+                    acc = 0j
+                    for i in range(n):
+                        acc += out_rows[r, i] * x[i]
+                    shapes[s, j, r] = acc
+    return out
+
+
+@njit(cache=True)
+def _newton(parts, s, w, starts, j, tol, max_iter, work, out):
+    """Newton iterations of :func:`refine_eigenpairs` for mode ``j`` at sweep index ``s``;
+    writes ``out.lam``, ``out.steps`` and returns the eigenvector."""
+    x = starts.vec[s, j].copy()
+    c = x / np.vdot(x, x).real
+    lk = starts.lam[s, j]
+    last = 0.0
+    out.steps[s, j] = -max_iter
+    for it in range(max_iter):
+        _assemble(parts, s, w, lk, work.ab)
+        if band_factor(work.ab, parts.kl, parts.ku, work.ipiv) != OK:
+            out.steps[s, j] = it + 1  # lk is an eigenvalue to working precision
+            break
+        _derivative_apply(parts, s, w, lk, x, work.u)
+        band_solve(work.ab, parts.kl, parts.ku, work.ipiv, work.u)
+        d = np.vdot(c, work.u)
+        step = -1.0 / d
+        lk = lk + step
+        x = work.u / d
+        size = abs(step)
+        # quadratic convergence: the next error is ~ size^3 / last^2
+        if size <= tol * abs(lk) or (
+            it > 0 and size < 1e-3 * last and size**3 <= tol * 1e-3 * abs(lk) * last**2
+        ):
+            out.steps[s, j] = it + 1
+            break
+        last = size
+    out.lam[s, j] = lk
+    return x
