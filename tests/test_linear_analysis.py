@@ -326,3 +326,21 @@ def test_campbell_equals_the_dense_eigen_solve(elements):
         np.testing.assert_allclose(data.log_dec[i], log_dec, rtol=1e-7, atol=1e-9)
         ref = [md.whirl for md in damped_modes(system, float(w), n=6).modes]
         assert list(data.whirl[i]) == ref
+
+
+def test_critically_damped_pair_is_not_a_mode():
+    """The shipped general rotor's damped bearings give a critically damped eigenvalue pair
+    (double real ``lam ~ -1878 1/s``) that rounding splits into ``-1878 +- 1e-3 i``: it must not
+    appear as a zero-frequency mode, so that the ARPACK route (n given) and the dense route
+    (all modes; reference) list the same modes in the same order at the speed where it
+    appeared, and the critical speeds are the same on every call."""
+    sc = rubrotor.load_scenario(SCEN / "general_rotor.toml")
+    system = rubrotor.linear_system(sc)
+    w = 378.76574661847303
+    sparse = damped_modes(system, w, n=4).modes
+    dense = damped_modes(system, w).modes[:4]
+    assert min(m.frequency_hz for m in dense) > 1.0
+    np.testing.assert_allclose(
+        [m.frequency_hz for m in sparse], [m.frequency_hz for m in dense], rtol=1e-9
+    )
+    assert [m.whirl for m in sparse] == [m.whirl for m in dense]

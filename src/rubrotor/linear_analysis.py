@@ -116,6 +116,15 @@ class DampedModes:
         }
 
 
+OSCILLATING = 1e-4
+"""A mode oscillates when ``Im(lam) > OSCILLATING |lam|`` (damping ratio below ``1 - 5e-9``).
+
+A critically damped pair of real eigenvalues (heavily damped bearings make them) splits under
+rounding into a complex pair with ``Im(lam) ~ sqrt(eps cond) |lam|`` (about ``1e-6 |lam|`` on
+the shipped general rotor): without a margin such a pair would appear, or not, as a spurious
+zero-frequency mode and shift the numbering of the others."""
+
+
 def _check_speed(name: str, speed) -> float:
     if isinstance(speed, bool) or not isinstance(speed, int | float | np.integer | np.floating):
         raise InputError(name, speed, "a spin speed (rad/s)")
@@ -197,14 +206,14 @@ def _eig(system: LinearSystem, speed: float, n: int | None = None):
     if n is not None and size > 16 * n:
         k = 2 * n + 8
         while lam is None or (
-            np.count_nonzero(lam.imag > 1e-9 * np.abs(lam)) < n and k < size // 2
+            np.count_nonzero(lam.imag > OSCILLATING * np.abs(lam)) < n and k < size // 2
         ):
             k = k if lam is None else 2 * k
             lam, vec = _eig_nearest_zero(mx, k)
     else:
         a, _ = mx.first_order()
         lam, vec = scipy.linalg.eig(a, overwrite_a=True, check_finite=False)
-    keep = lam.imag > 1e-9 * np.abs(lam)
+    keep = lam.imag > OSCILLATING * np.abs(lam)
     lam, vec = lam[keep], vec[: system.n_dof, keep]
     order = np.argsort(lam.imag)
     return lam[order], vec[:, order]
@@ -391,7 +400,7 @@ def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: 
     lam0 = np.full((speeds.size, n), np.nan + 0j)
     vec0 = np.zeros((speeds.size, n, size), complex)
     for i in range(speeds.size):
-        keep = np.flatnonzero(lam[i].imag > 1e-9 * np.abs(lam[i]))
+        keep = np.flatnonzero(lam[i].imag > OSCILLATING * np.abs(lam[i]))
         keep = keep[np.argsort(lam[i, keep].imag)][:n]
         lam0[i, : keep.size] = lam[i, keep]
         vec0[i, : keep.size] = (phi @ y[i, :m, keep].T).T
