@@ -7,7 +7,7 @@ disk, anisotropic cross-coupled bearings) at 6000 rpm, with ten times its balanc
 unbalance on the impeller (a blade lost its coating, say). A seal at the impeller (radius
 0.15 m, radial clearance 60 um) sits on a flexible casing (40 kg, 20 MN/m); gravity sags the
 shaft 45 um at the seal, so the whirl orbit rubs the bottom of the seal once per revolution:
-a partial rub. The general engine (:func:`rubrotor.engine.driver.simulate_general`) keeps the
+a partial rub. The general engine (``rubrotor.engine.driver.simulate_general``) keeps the
 modes below 3 kHz with the static correction of the dropped ones, solves the contact
 implicitly and starts on the steady no-contact orbit.
 """

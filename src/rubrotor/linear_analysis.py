@@ -322,8 +322,8 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     Each eigenpair is exact (the same eigenvalues as :func:`damped_modes`, to ~1e-12): a
     projection onto the rotor's lowest undamped modes gives starting values at every speed
     (one batched small eigen-solve), which Newton's method on the full quadratic eigenproblem
-    refines with banded LU solves in one compiled loop (:func:`_refined_modes`). A speed where
-    Newton fails falls back to the dense route.
+    refines with banded LU solves in one compiled loop. A speed where Newton fails falls back
+    to the dense route.
 
     Parameters
     ----------
