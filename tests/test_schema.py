@@ -35,9 +35,16 @@ def test_keys_are_unique_and_groups_name_existing_keys():
                 assert key_row(t.name, key)
 
 
+def _check(row, value):
+    """``check_value`` of one number; a list row gets a list of that one number."""
+    if row.kind == "list":
+        return check_value(row.dotted, [value], row)[0]
+    return check_value(row.dotted, value, row)
+
+
 def test_range_bounds_are_enforced_exactly():
     """At and just beyond each finite bound: closed bounds accept the bound, open ones refuse
-    it, and one ulp outside is refused (``math.nextafter``)."""
+    it, and one ulp outside is refused (``math.nextafter``), with the key named."""
     for row in KEYS:
         if row.kind not in ("number", "number|list", "list"):
             continue
@@ -50,12 +57,92 @@ def test_range_bounds_are_enforced_exactly():
             if not (bound == 0 and row.zero):
                 if exclusive:
                     with pytest.raises(ValueError):
-                        check_value(row.dotted, float(bound), row)
+                        _check(row, float(bound))
                 else:
-                    assert check_value(row.dotted, float(bound), row) == bound
+                    assert _check(row, float(bound)) == bound
             beyond = math.nextafter(float(bound), outward)
             if beyond == 0 and row.zero:
                 continue
             with pytest.raises(ValueError, match=row.dotted.replace(".", r"\.")):
-                check_value(row.dotted, beyond, row)
+                _check(row, beyond)
     assert allowed_text(key_row("shaft", "length")) == "a number in [1e-09, 1000] (m)"
+
+
+def _object_defaults() -> dict[str, dict]:
+    """Defaults of the model objects' own fields, the second source the table must agree with."""
+    import dataclasses
+
+    from rubrotor.forces import Contact, RadialLoad
+    from rubrotor.integrator import Integrator
+    from rubrotor.model import Shaft
+    from rubrotor.rotor import Bearing, Disk, Rotor, Section
+
+    classes = {
+        "shaft": Shaft,
+        "contact": Contact,
+        "load": RadialLoad,
+        "simulation": Integrator,
+        "rotor": Rotor,
+        "section": Section,
+        "disk": Disk,
+        "bearing": Bearing,
+    }
+    return {
+        table: {
+            f.name: f.default
+            for f in dataclasses.fields(cls)
+            # None and () (no probes) mean "not given": the table has no default for those
+            if f.default is not dataclasses.MISSING and f.default not in (None, ())
+        }
+        for table, cls in classes.items()
+    }
+
+
+def test_defaults_are_those_of_the_model_objects():
+    """A key's default in the table is the default of the field of the same name of the object
+    it builds (``Shaft.modes``, ``Integrator.rtol``, ``Bearing.kyy`` ...); every such field that
+    is also a key has its default in the table."""
+    import inspect
+
+    from rubrotor.forces import restitution_damping
+
+    objects = _object_defaults()
+    compared = 0
+    for row in KEYS:
+        fields = objects.get(row.table, {})
+        if row.key in fields and not row.required:
+            assert row.default == fields[row.key], row.dotted
+            compared += 1
+    assert compared >= 20
+    sig = inspect.signature(restitution_damping)
+    assert key_row("contact", "restitution_model").default == sig.parameters["model"].default
+    assert key_row("unbalance", "phase_deg").default == 0.0
+
+
+def test_views_are_generated_from_the_rows():
+    """SCHEMA, ROTOR_SCHEMA, KEY_UNITS, REQUIRED and ALTERNATIVES of the loader are the rows,
+    regrouped; the loader's module re-exports the same objects."""
+    import rubrotor.scenario as sc
+    import rubrotor.scenario_rotor as sr
+    from rubrotor import schema
+
+    assert sc.SCHEMA is schema.SCHEMA and sr.ROTOR_SCHEMA is schema.ROTOR_SCHEMA
+    assert sc.KEY_UNITS is schema.KEY_UNITS and sc.ALTERNATIVES is schema.ALTERNATIVES
+    flat = {f"{t}.{k}": kind for tables in (schema.SCHEMA, schema.ROTOR_SCHEMA)
+            for t, keys in tables.items() for k, kind in keys.items()}  # fmt: skip
+    assert flat == {k.dotted: k.kind for k in KEYS}
+    assert {k for k in flat if flat[k] not in ("str", "bool")} == set(schema.KEY_UNITS)
+    assert schema.key_unit("contact.clearance") == "m" and schema.key_unit("shaft.kappa") == "1"
+    assert schema.REQUIRED["shaft"] == ("length", "youngs_modulus", "density")
+
+
+def test_docs_table_has_one_row_per_key():
+    """The docs page's key table (docs/conf.py writes it at build time) lists every row once,
+    with its unit and what is allowed."""
+    from rubrotor.schema import markdown_table
+
+    lines = markdown_table().splitlines()[2:]
+    assert len(lines) == len(KEYS)
+    for line, row in zip(lines, KEYS, strict=True):
+        assert f"`{row.key}`" in line and row.table in line
+        assert allowed_text(row).replace("|", "\\|") in line

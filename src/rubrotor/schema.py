@@ -101,6 +101,9 @@ class Key:
         default depends on other keys, see the description).
     required : bool
         Whether the table must hold this key.
+    phrase : str
+        What errors say is allowed, when the generated text (:func:`allowed_text`) needs context
+        (e.g. ``"a station inside the shaft"``); the range is appended.
     """
 
     table: str
@@ -116,6 +119,7 @@ class Key:
     choices: tuple[str, ...] = ()
     default: bool | int | float | str | None = None
     required: bool = False
+    phrase: str = ""
 
     @property
     def dotted(self) -> str:
@@ -180,6 +184,7 @@ _INERTIA = _closed(1e-15, 1e9)  # kg m^2
 _NU = (-1.0, 0.5, True, True)
 _POS_ND = (0.0, 1.0, True, True)
 _STATION = (0.0, 1e3, False, False)  # m, refined against the rotor's length by the builder
+_INSIDE = "a station inside the shaft"
 
 _SHAFT = (
     _k(
@@ -309,8 +314,9 @@ _UNBALANCE = (
         "m",
         "Axial station (default midspan on a [shaft], required on a general rotor)",
         _STATION,
+        phrase=_INSIDE,
     ),
-    _k("unbalance", "position_nd", "number", "1", "Axial station a/L", _POS_ND),
+    _k("unbalance", "position_nd", "number", "1", "Axial station a/L", _POS_ND, phrase=_INSIDE),
     _k("unbalance", "phase_deg", "number", "deg", "Angular position of the unbalance", default=0.0),
 )
 _LOAD = (
@@ -323,8 +329,9 @@ _LOAD = (
         "m",
         "Axial station (default midspan on a [shaft], required on a general rotor)",
         _STATION,
+        phrase=_INSIDE,
     ),
-    _k("load", "position_nd", "number", "1", "Axial station a/L", _POS_ND),
+    _k("load", "position_nd", "number", "1", "Axial station a/L", _POS_ND, phrase=_INSIDE),
 )
 _CONTACT = (
     _k("contact", "law", "str", "", "Normal contact law", choices=CONTACT_LAWS, default="hertz"),
@@ -335,8 +342,9 @@ _CONTACT = (
         "m",
         "Axial station (default midspan on a [shaft], required on a general rotor)",
         _STATION,
+        phrase=_INSIDE,
     ),
-    _k("contact", "position_nd", "number", "1", "Axial station a/L", _POS_ND),
+    _k("contact", "position_nd", "number", "1", "Axial station a/L", _POS_ND, phrase=_INSIDE),
     _k("contact", "clearance", "number", "m", "Radial clearance g", _positive(1e3)),
     _k("contact", "clearance_nd", "number", "1", "Dimensionless clearance g/L", _positive()),
     _k(
@@ -362,6 +370,7 @@ _CONTACT = (
         "s/m (hertz) or N s/m (linear)",
         "Hunt-Crossley factor b_h (hertz) or dashpot c (linear)",
         _closed(0.0),
+        default=0.0,
     ),
     _k(
         "contact",
@@ -504,6 +513,7 @@ _SIMULATION = (
         "m",
         "Axial stations of extra displacement outputs",
         _STATION,
+        phrase="a list of stations inside the shaft",
     ),
     _k(
         "simulation",
@@ -747,6 +757,8 @@ def allowed_text(row: Key) -> str:
         "number|list": "a number or a non-empty list of numbers",
     }[row.kind]
     rng = range_text(row)
+    if row.phrase:
+        what = row.phrase + ","
     text = f"{'0 or ' if row.zero else ''}{what}{' ' + rng if rng else ''}"
     if row.unit not in ("", "1"):
         text += f" ({row.unit})"
@@ -816,13 +828,20 @@ def check_value(name: str, value, row: Key):
             raise ScenarioError(name, value, allowed_text(row))
         _number(name, row, value, value)
         return int(value)
-    if kind in ("list", "number|list") and not _is_number(value):
-        if not isinstance(value, list | tuple) or not value:
+    if kind == "list" or (kind == "number|list" and not _is_number(value)):
+        if not isinstance(value, list | tuple) or (kind == "number|list" and not value):
             raise ScenarioError(name, value, allowed_text(row))
         for v in value:
             _number(name, row, value, v)
         return list(value)
     return _number(name, row, value, value)
+
+
+def _toml(value) -> str:
+    """A default as it is written in a TOML file."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return f'"{value}"' if isinstance(value, str) else repr(value)
 
 
 def _cell(text: str) -> str:
@@ -848,7 +867,7 @@ def markdown_table() -> str:
             allowed = allowed_text(k) if k.kind != "bool" else "true or false"
             if k.required:
                 allowed += "; required"
-            default = "-" if k.default is None else f"`{k.default!r}`".replace("'", '"')
+            default = "-" if k.default is None else f"`{_toml(k.default)}`"
             cells = [f"`{head}`", f"`{k.key}`", k.kind, k.unit or "-", allowed, default]
             rows.append("| " + " | ".join(_cell(c) for c in [*cells, k.description]) + " |")
     return "\n".join(rows) + "\n"
