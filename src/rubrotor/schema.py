@@ -577,13 +577,14 @@ _DISK = (
         "width",
         "number",
         "m",
-        "Axial width (geometry form; overlap checks)",
+        "Axial width (required with the geometry form; used for overlap checks)",
         _LENGTH,
         zero=True,
+        default=0.0,
     ),
     _k("disk", "bore_diameter", "number", "m", "Bore diameter (geometry form)", _LENGTH, zero=True),
     _k("disk", "material", "str", "", "Label of a [materials.LABEL] table (geometry form)"),
-    _k("disk", "name", "str", "", "Label"),
+    _k("disk", "name", "str", "", "Label", default=""),
 )
 
 
@@ -621,7 +622,7 @@ _BEARING = (
         choices=BEARING_KINDS,
         default="bearing",
     ),
-    _k("bearing", "name", "str", "", "Label"),
+    _k("bearing", "name", "str", "", "Label", default=""),
 )
 _ROTOR = (
     _k("rotor", "theory", "str", "", "Beam theory", choices=THEORIES, default="timoshenko"),
