@@ -34,6 +34,44 @@ def test_shipped_file_is_the_generated_schema():
     assert json.loads(SCHEMA_FILE.read_text()) == scenario_json_schema()
 
 
+def test_table_or_array_form_accepts_both():
+    """A table that may be repeated (``[contact]`` or ``[[contact]]``, form ``"table|array"``)
+    validates as one table or as an array of them, with the same key rules."""
+    from rubrotor.schema import Table
+    from rubrotor.schema_export import _form
+
+    schema = _form(Table("contact", "table|array", "any", "a test table"))
+    check = jsonschema.Draft202012Validator(schema)
+    one = {"clearance": 1e-3, "stiffness": 1e9}
+    assert check.is_valid(one) and check.is_valid([one, one])
+    assert not check.is_valid({"clearance": -1.0}) and not check.is_valid([{"gap": 1.0}])
+
+
+def test_ranges_of_the_rows_are_in_the_schema(validator):
+    """Each numeric key of seed case 1 set one ulp beyond a bound of its row is refused by the
+    schema (the same bound the loader applies, checked in tests/test_schema.py)."""
+    import math
+
+    from rubrotor.schema import key_row
+
+    refused = 0
+    for section, body in _case1().items():
+        for key in body:
+            row = key_row(section, key)
+            if row.kind != "number":
+                continue
+            for bound, outward in ((row.minimum, -math.inf), (row.maximum, math.inf)):
+                if bound is None or (bound == 0 and row.zero):
+                    continue
+                d = _case1()
+                d[section][key] = math.nextafter(float(bound), outward)
+                if d[section][key] == 0 and row.zero:
+                    continue
+                assert not validator.is_valid(d), (section, key, d[section][key])
+                refused += 1
+    assert refused >= 10
+
+
 def test_every_key_of_the_validation_tables_is_in_the_schema():
     props = scenario_json_schema()["properties"]
     for section, keys in SCHEMA.items():
@@ -74,6 +112,22 @@ def _mutants():
     d = _case1()
     del d["speed"]
     out["no speed"] = d
+    for section, key, value in (
+        ("shaft", "diameter", 1e300),
+        ("shaft", "length", 0.0),
+        ("shaft", "modes", 0),
+        ("contact", "friction", -0.1),
+        ("contact", "law", "glue"),
+        ("contact", "friction_sign", 1.0),
+        ("damping", "ratio", [0.01, 1.0]),
+        ("simulation", "method", "rk4"),
+    ):
+        d = _case1()
+        d.setdefault(section, {})[key] = value
+        out[f"{section}.{key} = {value!r}"] = d
+    d = _case1()
+    d["disk"] = [{"position": 0.2, "mass": 1.0}]
+    out["general-rotor table with [shaft]"] = d
     return out
 
 

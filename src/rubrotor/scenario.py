@@ -9,7 +9,7 @@ the key (``"shaft.length"``), the value and what is allowed.
 
 Schema: every table and key, with its kind, unit, allowed range or choices, default and
 description, is one row of the table of :mod:`rubrotor.schema`, from which this module's checks,
-:data:`KEY_UNITS`, the JSON Schema (:mod:`rubrotor.schema_export`) and the docs' key table are
+:data:`~rubrotor.schema.KEY_UNITS`, the JSON Schema (:mod:`rubrotor.schema_export`) and the docs' key table are
 generated. SI units unless the key ends in ``_nd``; ``_nd`` keys are the seed's dimensionless
 form, converted exactly with :class:`rubrotor.model.Dimensionless`. In short::
 

@@ -6,29 +6,38 @@ every table is one :class:`Table` row of :data:`TABLES` (its form, whether it is
 rotor it belongs to, its groups of alternative keys). Everything else is generated from them:
 
 - the checks of :func:`rubrotor.load_scenario` (:func:`check_value`: unknown key, wrong kind,
-  outside the range, not one of the choices; :func:`rubrotor.scenario` and
-  :mod:`rubrotor.scenario_rotor` call it for every key),
+  outside the range, not one of the choices; ``rubrotor.scenario`` and
+  ``rubrotor.scenario_rotor`` call it for every key),
 - the unit table :data:`KEY_UNITS` (also the ``units`` attribute of swept keys and of the
   provenance of results) and the per-table views :data:`SCHEMA`, :data:`ROTOR_SCHEMA`,
   :data:`ALTERNATIVES`, :data:`REQUIRED`,
-- the JSON Schema shipped for editors (:mod:`rubrotor.schema_export`),
+- the JSON Schema shipped for editors (``rubrotor.schema_export``),
 - the key table of the documentation (:func:`markdown_table`, ``docs/_generated/schema.md``).
 
 Rules that need more than one key's value (a position inside the shaft's length, a speed that
 resolves to a plausible spin speed, a bore smaller than the diameter) stay in the builders of
-:mod:`rubrotor.scenario`; the table records the widest range a value may take on its own.
+``rubrotor.scenario``; the table records the widest range a value may take on its own.
 
 Adding keys
 -----------
-A new key of an existing table is one more :class:`Key` row in :data:`KEYS`; a new table is one
-:class:`Table` row in :data:`TABLES` plus its key rows (``form="array"`` for ``[[name]]`` arrays of
-tables, ``"named"`` for ``[name.LABEL]`` tables, ``rotor="any"`` if it goes with both the
-``[shaft]`` and the general rotor). A module that adds a family of tables (e.g. the engine's
-``[[contact]]`` stators, ``[gravity]``, ``[[unbalance]]``) keeps its rows in a tuple beside its
-builder and this module concatenates it into :data:`KEYS` / :data:`TABLES`; the validation, the
-unit table, the JSON Schema (regenerate it with ``python -m rubrotor.schema_export``) and the
-docs page then follow without further code. ``tests/test_schema.py`` checks that every row is
-consistent (choices only on strings, defaults inside their range, units on numbers).
+The rows are data only, so extending the schema is adding rows here; the code that turns the
+values into objects lives with the builders (``rubrotor.scenario``,
+``rubrotor.scenario_rotor``, or a new module such as ``scenario_engine``, which imports
+:func:`check_value` and :func:`key_row` from here and never the other way round).
+
+- A new key of an existing table: one more :class:`Key` row in that table's tuple (``_CONTACT``
+  ...). Give it a unit (``"1"`` if dimensionless), a range (``_closed``, ``_positive`` or a
+  ``(min, max, min_open, max_open)`` tuple) or choices, a default if the object has one, and a
+  description; ``phrase`` when errors need context ("a station inside the shaft").
+- A new table: a :class:`Table` row in :data:`TABLES` (``form="array"`` for ``[[name]]``,
+  ``"named"`` for ``[name.LABEL]``, ``"table|array"`` for a table that may also be repeated,
+  e.g. ``[contact]`` or ``[[contact]]``; ``rotor="any"`` if it goes with both the ``[shaft]`` and
+  the general rotor; ``groups`` of alternative keys) and its key rows in :data:`KEYS`.
+- Then regenerate the shipped JSON Schema with ``python -m rubrotor.schema_export``
+  (``tests/test_schema_export.py`` fails until it is current). The unit table, the loader's key,
+  kind, range and choice checks, the JSON Schema and the docs' key table need no other change;
+  ``tests/test_schema.py`` checks every row (known kind, unit on numbers, choices on strings,
+  defaults inside the range and equal to the built object's field default).
 """
 
 from __future__ import annotations
@@ -135,8 +144,9 @@ class Table:
     ----------
     name : str
         Table name in the TOML file.
-    form : {"table", "array", "named"}
-        ``[name]``, ``[[name]]`` (an array of tables) or ``[name.LABEL]`` (tables by label).
+    form : {"table", "array", "table|array", "named"}
+        ``[name]``, ``[[name]]`` (an array of tables), either of the two, or ``[name.LABEL]``
+        (tables by label).
     rotor : {"any", "shaft", "general"}
         Which rotor description it goes with: the uniform ``[shaft]``, the general rotor of
         ``[[section]]`` tables, or both.
@@ -857,7 +867,7 @@ def markdown_table() -> str:
     str
         Columns: table, key, kind, unit, allowed, default, description.
     """
-    forms = {"table": "[{}]", "array": "[[{}]]", "named": "[{}.LABEL]"}
+    forms = {"table": "[{}]", "array": "[[{}]]", "table|array": "[[{}]]", "named": "[{}.LABEL]"}
     rows = [
         "| table | key | kind | unit | allowed | default | description |",
         "|---|---|---|---|---|---|---|",

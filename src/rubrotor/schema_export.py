@@ -89,12 +89,15 @@ def _table(table: Table) -> dict:
 
 
 def _form(table: Table) -> dict:
-    """``[name]``, ``[[name]]`` (an array of tables) or ``[name.LABEL]`` (tables by label)."""
+    """``[name]``, ``[[name]]`` (an array of tables), either, or ``[name.LABEL]`` (by label)."""
     body = _table(table)
     if table.form == "named":
         return {"type": "object", "description": body["description"], "additionalProperties": body}
+    array = {"type": "array", "description": body["description"], "items": body, "minItems": 1}
     if table.form == "array":
-        return {"type": "array", "description": body["description"], "items": body, "minItems": 1}
+        return array
+    if table.form == "table|array":
+        return {"description": body["description"], "oneOf": [body, array]}
     return body
 
 
