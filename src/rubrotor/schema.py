@@ -42,6 +42,7 @@ values into objects lives with the builders (``rubrotor.scenario``,
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -859,26 +860,51 @@ def _cell(text: str) -> str:
     return text.replace("|", "\\|")
 
 
+def _allowed_cell(row: Key) -> str:
+    """The "allowed" column of the docs: the kind with its choices or range (no unit)."""
+    if row.kind == "bool":
+        text = "true or false"
+    elif row.kind in ("str", "number|str") and row.choices:
+        text = " or ".join(f'"{c}"' for c in row.choices)
+        if row.kind == "number|str":
+            text += f" or a number {range_text(row)}"
+    elif row.kind == "str":
+        text = "a string"
+    else:
+        text = allowed_text(dataclasses.replace(row, unit="", phrase=""))
+    return text + ("; **required**" if row.required else "")
+
+
 def markdown_table() -> str:
-    """The docs page's key table (MyST markdown): one row per key, grouped by table.
+    """The docs page's key tables (MyST markdown): a level-1 heading and a table per table.
 
     Returns
     -------
     str
-        Columns: table, key, kind, unit, allowed, default, description.
+        For each table of :data:`TABLES`: a heading, its description, and a table of its keys
+        with the columns key, unit, allowed (kind, choices or range), default and description.
     """
     forms = {"table": "[{}]", "array": "[[{}]]", "table|array": "[[{}]]", "named": "[{}.LABEL]"}
-    rows = [
-        "| table | key | kind | unit | allowed | default | description |",
-        "|---|---|---|---|---|---|---|",
-    ]
+    rotors = {"any": "", "shaft": " (with a `[shaft]` only)", "general": " (general rotor)"}
+    out = []
     for t in TABLES:
-        head = forms[t.form].format(t.name)
+        out += [
+            f"# `{forms[t.form].format(t.name)}`",
+            "",
+            f"{t.description}{rotors[t.rotor] if t.name != 'shaft' else ''}"
+            f"{'; required' if t.required else ''}.",
+            "",
+            "| key | unit | allowed | default | description |",
+            "|---|---|---|---|---|",
+        ]
         for k in (k for k in KEYS if k.table == t.name):
-            allowed = allowed_text(k) if k.kind != "bool" else "true or false"
-            if k.required:
-                allowed += "; required"
             default = "-" if k.default is None else f"`{_toml(k.default)}`"
-            cells = [f"`{head}`", f"`{k.key}`", k.kind, k.unit or "-", allowed, default]
-            rows.append("| " + " | ".join(_cell(c) for c in [*cells, k.description]) + " |")
-    return "\n".join(rows) + "\n"
+            cells = [f"`{k.key}`", k.unit or "-", _allowed_cell(k), default, k.description]
+            out.append("| " + " | ".join(_cell(c) for c in cells) + " |")
+        if t.groups:
+            out.append("")
+            for group, needed in t.groups:
+                keys = ", ".join(f"`{g}`" for g in group)
+                out.append(f"- {'exactly' if needed else 'at most'} one of {keys}")
+        out.append("")
+    return "\n".join(out)
