@@ -6,17 +6,22 @@ from __future__ import annotations
 
 import copy
 import json
+import math
 import tomllib
 from importlib import resources
 
 import pytest
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
 
 from rubrotor.errors import InputError
 from rubrotor.scenario import SCHEMA, scenario_from_dict
+from rubrotor.schema import KEYS, TABLES
 from rubrotor.schema_export import SCHEMA_FILE, scenario_json_schema
 
 jsonschema = pytest.importorskip("jsonschema")
 
+TABLE_NAMES = {t.name for t in TABLES}
 SHIPPED = sorted(
     p for p in (resources.files("rubrotor") / "scenarios").iterdir() if p.name.endswith(".toml")
 )
@@ -139,3 +144,48 @@ def test_structural_errors_are_rejected_by_schema_and_loader(name, validator):
     assert list(validator.iter_errors(copy.deepcopy(data)))
     with pytest.raises(InputError):
         scenario_from_dict(data)
+
+
+def _slot(doc: dict, table: str):
+    """The body of ``table`` in ``doc`` to put a key in (first item of an array, first label)."""
+    body = doc[table]
+    if isinstance(body, list):
+        return body[0]
+    if table == "materials":
+        return next(iter(body.values()))
+    return body
+
+
+_VALUES = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0, 0.0, -1.0, 1, 3, 1e-9, 0.5, 1e3, 1e16, 1e300, math.nextafter(0.0, 1.0)]),
+    st.integers(min_value=-3, max_value=20_000),
+    st.booleans(),
+    st.sampled_from(["", "x", "hertz", "seed", "cowper", "rest", "abm", "pinned"]),
+    st.lists(st.floats(min_value=-1.0, max_value=1e4), max_size=3),
+)
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_the_schema_never_refuses_what_the_loader_accepts(validator, data):
+    """One key of a shipped scenario set to an arbitrary value (or removed): whenever the JSON
+    Schema refuses the result, the loader refuses it too (with an :class:`InputError`), so an
+    editor never flags a scenario rubrotor would run. (The loader may refuse more: rules across
+    keys are not in the schema.)"""
+    path = data.draw(st.sampled_from(SHIPPED), label="scenario")
+    doc = tomllib.loads(path.read_text())
+    table = data.draw(st.sampled_from(sorted(t for t in doc if t in TABLE_NAMES)), label="table")
+    body = _slot(doc, table)
+    keys = [k.key for k in KEYS if k.table == table]
+    key = data.draw(st.sampled_from(keys), label="key")
+    if data.draw(st.booleans(), label="remove"):
+        body.pop(key, None)
+    else:
+        body[key] = data.draw(_VALUES, label="value")
+    if validator.is_valid(copy.deepcopy(doc)):
+        event("accepted by the schema")
+        return
+    event("refused by the schema")
+    with pytest.raises(InputError):
+        scenario_from_dict(doc)
