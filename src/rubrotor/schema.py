@@ -569,7 +569,7 @@ def check_value(name: str, value, row: Key):
         return value
     if kind in ("str", "number|str") and isinstance(value, str):
         if row.choices and value not in row.choices:
-            raise ScenarioError(name, value, " or ".join(f'"{c}"' for c in row.choices))
+            raise ScenarioError(name, value, allowed_text(row))
         return value
     if kind == "str":
         raise ScenarioError(name, value, "a string")
