@@ -65,7 +65,7 @@ def test_range_bounds_are_enforced_exactly():
                 continue
             with pytest.raises(ValueError, match=row.dotted.replace(".", r"\.")):
                 _check(row, beyond)
-    assert allowed_text(key_row("shaft", "length")) == "a number in [1e-09, 1000] (m)"
+    assert allowed_text(key_row("shaft", "length")) == "a number in [1e-06, 1000] (m)"
 
 
 def _object_defaults() -> dict[str, dict]:

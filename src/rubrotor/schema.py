@@ -51,7 +51,7 @@ import numpy as np
 from rubrotor.errors import ScenarioError
 from rubrotor.forces import CONTACT_LAWS, FRICTION_SIGNS, RESTITUTION_MODELS
 from rubrotor.integrator import METHODS
-from rubrotor.model import FORMULATIONS, SHEAR_COEFFICIENTS, THEORIES
+from rubrotor.model import FORMULATIONS, PLAUSIBLE_RANGES, SHEAR_COEFFICIENTS, THEORIES
 from rubrotor.rotor import BEARING_KINDS, COEFFICIENTS
 
 __all__ = [
@@ -177,21 +177,23 @@ def _k(table, key, kind, unit, description, rng=None, **kw) -> Key:
 
 
 def _closed(lo, hi=None):
+    """Range ``[lo, hi]`` (``[lo, inf)`` without ``hi``)."""
     return (lo, hi, False, False)
 
 
 def _positive(hi=None):
+    """Range ``(0, hi]`` (``(0, inf)`` without ``hi``)."""
     return (0.0, hi, True, False)
 
 
-_INF = None
-# Widest plausible ranges (SI): outside them no machine exists and derived quantities overflow
-# double precision, so a value of 1e300 is refused, not crashed on.
-_LENGTH = _closed(1e-9, 1e3)  # m
-_MODULUS = _closed(1.0, 1e16)  # Pa
-_DENSITY = _closed(1e-12, 1e9)  # kg/m^3
-_MASS = _closed(1e-12, 1e9)  # kg
-_INERTIA = _closed(1e-15, 1e9)  # kg m^2
+# Widest plausible ranges (SI), shared with the model objects' own checks
+# (rubrotor.model.PLAUSIBLE_RANGES): outside them no machine exists and derived quantities
+# overflow double precision, so a value of 1e300 is refused, not crashed on.
+_LENGTH = _closed(*PLAUSIBLE_RANGES["m"])
+_MODULUS = _closed(*PLAUSIBLE_RANGES["Pa"])
+_DENSITY = _closed(*PLAUSIBLE_RANGES["kg/m^3"])
+_MASS = _closed(*PLAUSIBLE_RANGES["kg"])
+_INERTIA = _closed(*PLAUSIBLE_RANGES["kg m^2"])
 _NU = (-1.0, 0.5, True, True)
 _POS_ND = (0.0, 1.0, True, True)
 _STATION = (0.0, 1e3, False, False)  # m, refined against the rotor's length by the builder
