@@ -156,3 +156,51 @@ def test_docs_table_has_one_row_per_key():
             if row.minimum is not None and row.kind != "int":
                 assert f"{row.minimum:g}" in line
     assert seen == list(KEYS)
+
+
+def _objects():
+    """Valid keyword sets of the model objects that check the shared ranges themselves."""
+    from rubrotor.model import Shaft
+    from rubrotor.rotor import Disk, Material, Section
+
+    steel = Material("steel", 211e9, 7810.0, poisson_ratio=0.3)
+    return {
+        "shaft": (
+            Shaft,
+            dict(length=0.4, diameter=0.1, youngs_modulus=71e9, density=2660.0, shear_modulus=26e9),
+        ),
+        "materials": (
+            lambda **kw: Material("m", **kw),
+            dict(youngs_modulus=211e9, density=7810.0, shear_modulus=81e9),
+        ),
+        "section": (Section, dict(length=0.5, diameter=0.05, material=steel)),
+        "disk": (Disk, dict(position=0.2, mass=10.0, polar_inertia=0.1, diametral_inertia=0.05)),
+    }
+
+
+@pytest.mark.parametrize("table", ["shaft", "materials", "section", "disk"])
+def test_model_objects_refuse_what_the_rows_refuse(table):
+    """Second route: the model objects' own checks (``Shaft``, ``Material``, ``Section``,
+    ``Disk``) refuse a value one ulp beyond each bound of the row of the same key, naming the
+    key, as the rows do; the rows and the objects share their ranges."""
+    from rubrotor.errors import InputError
+
+    make, good = _objects()[table]
+    make(**good)
+    checked = 0
+    for key in good:
+        if (table, key) not in {(k.table, k.key) for k in KEYS}:
+            continue
+        row = key_row(table, key)
+        for bound, outward in ((row.minimum, -math.inf), (row.maximum, math.inf)):
+            if bound is None or row.kind != "number" or key == "position":
+                continue
+            beyond = math.nextafter(float(bound), outward)
+            if beyond == 0 and row.zero:
+                continue
+            with pytest.raises(ValueError):
+                _check(row, beyond)
+            with pytest.raises(InputError, match=key):
+                make(**{**good, key: beyond})
+            checked += 1
+    assert checked >= 4
