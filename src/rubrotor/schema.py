@@ -12,7 +12,8 @@ rotor it belongs to, its groups of alternative keys). Everything else is generat
   provenance of results) and the per-table views :data:`SCHEMA`, :data:`ROTOR_SCHEMA`,
   :data:`ALTERNATIVES`, :data:`REQUIRED`,
 - the JSON Schema shipped for editors (``rubrotor.schema_export``),
-- the key table of the documentation (:func:`markdown_table`, ``docs/_generated/schema.md``).
+- the key tables of the documentation (:func:`markdown_table`, written to
+  ``docs/_generated/schema.md`` by ``docs/conf.py`` when the site is built).
 
 Rules that need more than one key's value (a position inside the shaft's length, a speed that
 resolves to a plausible spin speed, a bore smaller than the diameter) stay in the builders of
