@@ -22,6 +22,7 @@ sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(Path(__file__).parent))
 
 import rubrotor  # noqa: E402
+from rubrotor.schema import markdown_table  # noqa: E402
 
 project = "rubrotor"
 author = "rubrotor developers"
@@ -90,25 +91,9 @@ sphinx_gallery_conf = {
 }
 
 
-def _schema_table() -> str:
-    """Markdown table of every scenario key: section, key, kind and unit (from the code's tables)."""
-    from rubrotor.scenario import KEY_UNITS, SCHEMA
-    from rubrotor.scenario_rotor import ROTOR_SCHEMA
-
-    rows = ["| section | key | kind | unit |", "|---|---|---|---|"]
-    for schema in (SCHEMA, ROTOR_SCHEMA):
-        for section, keys in schema.items():
-            for key, kind in keys.items():
-                unit = KEY_UNITS.get(f"{section}.{key}", "")
-                if not unit and kind in ("number", "int", "number|list", "list"):
-                    unit = "1" if key.endswith("_nd") else ""
-                rows.append(f"| `{section}` | `{key}` | {kind} | {unit or '-'} |")
-    return "\n".join(rows) + "\n"
-
-
 _generated = Path(__file__).parent / "_generated"
 _generated.mkdir(exist_ok=True)
-_text = _schema_table()
+_text = markdown_table()  # the key table of guide/scenarios.md, from rubrotor.schema
 _target = _generated / "schema.md"
 if not _target.exists() or _target.read_text() != _text:
     _target.write_text(_text)

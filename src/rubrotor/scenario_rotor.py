@@ -1,7 +1,8 @@
 """Scenario tables of a general rotor: ``[materials.NAME]``, ``[[section]]``, ``[[disk]]``,
 ``[[bearing]]`` and ``[rotor]``, checked key by key and built into a :class:`rubrotor.rotor.Rotor`.
 
-Schema (SI units)::
+Schema (SI units; every key is a row of :mod:`rubrotor.schema`, with its kind, unit, range and
+description)::
 
     [materials.NAME]  youngs_modulus (Pa); density (kg/m^3); poisson_ratio | shear_modulus (Pa)
     [[section]]       length (m); diameter (m); bore_diameter (m, default 0); material (a NAME);
@@ -19,68 +20,21 @@ Errors name the key as ``materials.steel.density``, ``section[2].diameter``, ``d
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 
 from rubrotor.errors import InputError, ScenarioError
-from rubrotor.rotor import BEARING_KINDS, COEFFICIENTS, Bearing, Disk, Material, Rotor, Section
+from rubrotor.rotor import COEFFICIENTS, Bearing, Disk, Material, Rotor, Section
+from rubrotor.schema import REQUIRED, ROTOR_SCHEMA, ROTOR_TABLES, check_value, key_row
 
 __all__ = ["ROTOR_TABLES", "ROTOR_SCHEMA", "normalise_rotor_tables", "build_rotor", "rotor_to_dict"]
 
-_NUM = "number"
-ROTOR_TABLES = ("materials", "section", "disk", "bearing", "rotor")
-ROTOR_SCHEMA: dict[str, dict[str, str]] = {
-    "materials": {
-        "youngs_modulus": _NUM,
-        "poisson_ratio": _NUM,
-        "shear_modulus": _NUM,
-        "density": _NUM,
-    },
-    "section": {
-        "length": _NUM,
-        "diameter": _NUM,
-        "bore_diameter": _NUM,
-        "material": "str",
-        "elements": "int",
-    },
-    "disk": {
-        "position": _NUM,
-        "mass": _NUM,
-        "polar_inertia": _NUM,
-        "diametral_inertia": _NUM,
-        "outer_diameter": _NUM,
-        "width": _NUM,
-        "bore_diameter": _NUM,
-        "material": "str",
-        "name": "str",
-    },
-    "bearing": {
-        "position": _NUM,
-        **{c: "number|list" for c in COEFFICIENTS},
-        "speeds": "list",
-        "kind": "str",
-        "name": "str",
-    },
-    "rotor": {
-        "theory": "str",
-        "gyroscopic": "bool",
-        "shear_coefficient": "number|str",
-        "max_element_length": _NUM,
-    },
-}
-"""Keys of each general-rotor table and the kind of value each takes."""
-
-_REQUIRED = {
-    "materials": ("youngs_modulus", "density"),
-    "section": ("length", "diameter", "material"),
-    "disk": ("position",),
-    "bearing": ("position",),
-}
 _MASS_KEYS = ("mass", "polar_inertia", "diametral_inertia")
 _GEOMETRY_KEYS = ("outer_diameter", "material", "bore_diameter")
 
 
-def _keys(name: str, body, table: str, check_kind: Callable) -> dict:
-    """Check one table's keys and kinds; ``name`` is how errors call it."""
+def _keys(name: str, body, table: str) -> dict:
+    """Check one table's keys, kinds and ranges (rows of :mod:`rubrotor.schema`); ``name`` is
+    how errors call it."""
     if not isinstance(body, Mapping):
         raise ScenarioError(name, body, "a table of keys")
     allowed = ROTOR_SCHEMA[table]
@@ -90,22 +44,20 @@ def _keys(name: str, body, table: str, check_kind: Callable) -> dict:
             raise ScenarioError(
                 f"{name}.{key}", value, f"one of the keys {', '.join(allowed)} of [{table}]"
             )
-        out[key] = check_kind(f"{name}.{key}", value, allowed[key])
-    for key in _REQUIRED.get(table, ()):
+        out[key] = check_value(f"{name}.{key}", value, key_row(table, key))
+    for key in REQUIRED.get(table, ()):
         if key not in out:
             raise ScenarioError(f"{name}.{key}", None, "a value (this key is required)")
     return out
 
 
-def normalise_rotor_tables(mapping: Mapping, check_kind: Callable) -> dict:
+def normalise_rotor_tables(mapping: Mapping) -> dict:
     """Check the general-rotor tables of a scenario mapping; return them as plain dicts.
 
     Parameters
     ----------
     mapping : Mapping
         The whole scenario; only the keys of :data:`ROTOR_TABLES` are read.
-    check_kind : callable
-        ``check_kind(name, value, kind)`` validating one value (from :mod:`rubrotor.scenario`).
 
     Returns
     -------
@@ -119,8 +71,7 @@ def normalise_rotor_tables(mapping: Mapping, check_kind: Callable) -> dict:
         if not isinstance(mats, Mapping) or not mats:
             raise ScenarioError("materials", mats, "tables [materials.NAME] of material keys")
         out["materials"] = {
-            str(n): _keys(f"materials.{n}", body, "materials", check_kind)
-            for n, body in mats.items()
+            str(n): _keys(f"materials.{n}", body, "materials") for n, body in mats.items()
         }
     for table in ("section", "disk", "bearing"):
         if table not in mapping:
@@ -128,11 +79,9 @@ def normalise_rotor_tables(mapping: Mapping, check_kind: Callable) -> dict:
         items = mapping[table]
         if not isinstance(items, list) or not items:
             raise ScenarioError(table, items, f"an array of tables [[{table}]]")
-        out[table] = [
-            _keys(f"{table}[{i + 1}]", body, table, check_kind) for i, body in enumerate(items)
-        ]
+        out[table] = [_keys(f"{table}[{i + 1}]", body, table) for i, body in enumerate(items)]
     if "rotor" in mapping:
-        out["rotor"] = _keys("rotor", mapping["rotor"], "rotor", check_kind)
+        out["rotor"] = _keys("rotor", mapping["rotor"], "rotor")
     if "section" not in out:
         present = ", ".join(f"[{t}]" for t in out)
         raise ScenarioError("section", None, f"[[section]] tables with {present}")
@@ -203,10 +152,6 @@ def _disk(d: dict, name: str, materials: dict) -> Disk:
 
 def _bearing(b: dict) -> Bearing:
     kwargs = {k: (tuple(v) if isinstance(v, list) else v) for k, v in b.items()}
-    if "kind" in kwargs and kwargs["kind"] not in BEARING_KINDS:
-        raise ScenarioError(
-            "bearing.kind", kwargs["kind"], " or ".join(f'"{k}"' for k in BEARING_KINDS)
-        )
     return Bearing(**kwargs)
 
 
