@@ -29,30 +29,30 @@ import math
 import sys
 import time
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
-from rubrotor.analysis.overview import band_energy, mode_entries
+from rubrotor.analysis.overview import mode_entries
 from rubrotor.analysis.wavelet import cwt_binned, inner_scalogram, log_frequencies, scalogram
 from rubrotor.api import critical_speeds, modes
 from rubrotor.integrator import Integrator
 from rubrotor.results import atomic_write, save_dataset
-from rubrotor.scenario import Scenario, load_scenario
+from rubrotor.scenario import Scenario
 from rubrotor.simulation import simulate
+from rubrotor.study.cases import (
+    CASES,
+    TWO_PI,
+    case_metrics,
+    poincare_period,
+    regime,
+    seed_scenario,
+    shear1_band,
+    spectral_numbers,
+)
+from rubrotor.study.claims import evaluate_claims
 
 __all__ = ["Settings", "FULL", "QUICK", "CASES", "reproduce", "case_metrics", "poincare_period"]
-
-TWO_PI = 2 * math.pi
-
-CASES = [
-    ("case1", "seed_case1", "Case 1: g' = 3e-3, b_h' = 1e2"),
-    ("case2", "seed_case2", "Case 2: g' = 3.5e-3, b_h' = 1e2"),
-    ("case3", "seed_case3", "Case 3: g' = 3.5e-3, b_h' = 1e3"),
-    ("no_contact", "seed_no_contact", "No contact"),
-]
-"""(key, scenario file stem, title) of the seed's cases, in the seed's order."""
 
 
 @dataclass(frozen=True)
@@ -98,103 +98,11 @@ QUICK = Settings(
     sensitivity=((0.5, 0.0), (1.0, 0.0), (2.0, 0.0)),
 )
 DTAU = 1e-3
-PERIOD_TOL = 0.01  # Poincare residual (relative to max |P|) below which a period is accepted
-
-
-def _scenario(stem: str) -> Scenario:
-    return load_scenario(resources.files("rubrotor") / "scenarios" / f"{stem}.toml")
 
 
 def _progress(msg: str, t0: float, quiet: bool) -> None:
     if not quiet:
         print(f"[{time.perf_counter() - t0:6.1f} s] {msg}", file=sys.stderr, flush=True)
-
-
-def poincare_period(ds, max_k: int = 12, tol: float = PERIOD_TOL) -> dict:
-    """Period of the late response from once-per-revolution (Poincare) samples.
-
-    The orbit ``P = v + i w`` is interpolated at ``tau = 2 pi j`` over the second half of the
-    run; for each ``k`` the residual ``max_j |P_{j+k} - P_j| / max |P|`` is computed.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        Results.
-    max_k : int
-        Largest period tried (revolutions).
-    tol : float
-        Residual below which the response counts as period-k.
-
-    Returns
-    -------
-    dict
-        ``period`` (smallest k with residual < tol, or None), ``best_k`` and ``best_residual``
-        (the k with the smallest residual), ``residuals`` (list, k = 1..max_k), ``samples``.
-    """
-    tau = ds["tau"].values
-    p = ds["v"].values + 1j * ds["w"].values
-    half = tau[-1] / 2
-    jj = np.arange(math.ceil(half / TWO_PI), math.floor(tau[-1] / TWO_PI) + 1)
-    pts = np.interp(jj * TWO_PI, tau, p.real) + 1j * np.interp(jj * TWO_PI, tau, p.imag)
-    scale = float(np.max(np.abs(p[tau >= half])))
-    res = []
-    for k in range(1, max_k + 1):
-        if pts.size <= k + 2:
-            res.append(float("nan"))
-            continue
-        res.append(float(np.max(np.abs(pts[k:] - pts[:-k])) / scale))
-    arr = np.array(res)
-    ok = [k for k, r in enumerate(res, 1) if r < tol]
-    if np.all(np.isnan(arr)):  # too few revolutions (e.g. a run that diverged early)
-        return {"period": None, "best_k": 0, "best_residual": float("nan"), "residuals": res,
-                "samples": int(pts.size)}  # fmt: skip
-    best = int(np.nanargmin(arr)) + 1
-    return {
-        "period": ok[0] if ok else None,
-        "best_k": best,
-        "best_residual": res[best - 1],
-        "residuals": res,
-        "samples": int(pts.size),
-    }
-
-
-def case_metrics(ds, clearance: float | None) -> dict:
-    """Contact and orbit numbers of the late response (second half of the run).
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        Results.
-    clearance : float or None
-        Radial clearance (m); None without contact.
-
-    Returns
-    -------
-    dict
-        ``status``, ``contact_fraction`` (share of late samples in contact),
-        ``max_orbit_over_clearance`` (``max |P| / g``), ``max_orbit_m``, ``max_normal_force_N``,
-        ``mean_normal_force_N``, ``impacts_per_rev`` (contact onsets per revolution),
-        ``poincare`` (see ``poincare_period``), ``revolutions`` (simulated).
-    """
-    tau = ds["tau"].values
-    late = tau >= tau[-1] / 2
-    p = np.hypot(ds["v"].values, ds["w"].values)
-    fn = ds["normal_force"].values
-    inc = fn[late] > 0
-    onsets = int(np.sum(np.diff(inc.astype(np.int8)) == 1))
-    revs_late = (tau[-1] - tau[late][0]) / TWO_PI
-    out = {
-        "status": ds.attrs["status"],
-        "revolutions": float(tau[-1] / TWO_PI),
-        "contact_fraction": float(np.mean(inc)),
-        "max_orbit_m": float(p[late].max()),
-        "max_orbit_over_clearance": float(p[late].max() / clearance) if clearance else None,
-        "max_normal_force_N": float(fn[late].max()),
-        "mean_normal_force_N": float(fn[late].mean()),
-        "impacts_per_rev": onsets / revs_late if revs_late > 0 else 0.0,
-        "poincare": poincare_period(ds),
-    }
-    return out
 
 
 def _run(sc: Scenario, revolutions: float, save_every: int):
@@ -205,43 +113,6 @@ def _run(sc: Scenario, revolutions: float, save_every: int):
 def _savefig(fig, path: Path) -> Path:
     atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=110))
     return path
-
-
-def _shear1_band(entries) -> tuple[float, float, float, float]:
-    f = {lab: fr for lab, fr, _ in entries}
-    lo, hi = f["1B shear"], f["1F shear"]
-    return lo, hi, 0.95 * lo, 1.05 * hi
-
-
-def _spectral(ds, entries, band) -> dict:
-    """Band energies of the acceleration orbit near the mode-1 shear branch and elsewhere."""
-    fs = 1.0 / float(np.mean(np.diff(ds["time"].values)))
-    tau = ds["tau"].values
-    late = tau >= tau[-1] / 2
-    a_v = ds["v_ddot"].values[late]
-    a_w = ds["w_ddot"].values[late]
-    total = float(np.mean(a_v**2 + a_w**2))
-    e1 = band_energy(a_v, fs, band[2], band[3], w=a_w)
-    # share of the same (Hann-windowed) periodogram: a growing record is not dominated by its
-    # last, windowed-out samples
-    total_w = band_energy(a_v, fs, 0.0, fs / 2, w=a_w)
-    f = {lab: fr for lab, fr, _ in entries}
-    e3 = band_energy(a_v, fs, 0.95 * f["3B shear"], 1.05 * f["3F shear"], w=a_w)
-    # strongest line of the full spectrum inside the mode-1 shear band
-    from rubrotor.analysis.spectra import full_spectrum
-
-    spec = full_spectrum(a_v, a_w, fs)
-    sel = (np.abs(spec.frequencies) >= band[2]) & (np.abs(spec.frequencies) <= band[3])
-    k = int(np.argmax(np.where(sel, spec.amplitudes, -1.0)))
-    return {
-        "fs_hz": fs,
-        "acc_mean_square": total,
-        "shear1_band_hz": [band[2], band[3]],
-        "shear1_band_energy": e1,
-        "shear1_band_share": e1 / total_w if total_w > 0 else 0.0,
-        "shear3_band_energy": e3,
-        "shear1_peak_hz": float(spec.frequencies[k]),
-    }
 
 
 def _fmt(x, spec=".3g") -> str:
@@ -357,7 +228,7 @@ def reproduce(
     main_sign = "seed" if seed_friction else "physical"
     other_sign = "physical" if seed_friction else "seed"
 
-    scen = {key: _scenario(stem) for key, stem, _ in CASES}
+    scen = {key: seed_scenario(stem) for key, stem, _ in CASES}
     if seed_friction:
         for key in ("case1", "case2", "case3"):
             src = scen[key].source
@@ -369,7 +240,7 @@ def reproduce(
     speed = base.speed
     spin_hz = speed / TWO_PI
     entries = mode_entries(modes(base, speed))
-    band = _shear1_band(entries)
+    band = shear1_band(entries)
 
     # 1. the four cases
     results, metrics, spectral = {}, {}, {}
@@ -381,7 +252,7 @@ def reproduce(
         save_dataset(ds, out / key / "results.nc")
         g = sc.contact.clearance if sc.contact else None
         metrics[key] = case_metrics(ds, g)
-        spectral[key] = _spectral(ds, entries, band)
+        spectral[key] = spectral_numbers(ds, entries, band)
         fig = plotting.response_figure(
             ds,
             clearance=g,
@@ -435,7 +306,7 @@ def reproduce(
 
     # 3. Timoshenko vs Euler-Bernoulli (seed Fig. 6)
     _progress("Fig. 6: Timoshenko vs Euler-Bernoulli at r = 0.0013", t0, quiet)
-    s_t, s_e = _scenario("seed_fig6_timoshenko"), _scenario("seed_fig6_euler_bernoulli")
+    s_t, s_e = seed_scenario("seed_fig6_timoshenko"), seed_scenario("seed_fig6_euler_bernoulli")
     d_t = _run(s_t, st.fig6_revolutions, 16)
     d_e = _run(s_e, st.fig6_revolutions, 16)
     save_dataset(d_t, out / "fig6" / "timoshenko.nc")
@@ -523,7 +394,7 @@ def reproduce(
                 ),
                 progress=False,
             )
-            energy[key] = _spectral(d, entries, band)["shear1_band_energy"]
+            energy[key] = spectral_numbers(d, entries, band)["shear1_band_energy"]
             if key == "no_contact":
                 continue
             m = case_metrics(d, sc_s.contact.clearance)
@@ -536,7 +407,7 @@ def reproduce(
                     "status",
                 )
             }
-            row[key]["regime"] = _regime(m)
+            row[key]["regime"] = regime(m)
             row[key]["shear1_ratio_to_no_contact"] = (
                 energy[key] / energy["no_contact"] if energy["no_contact"] > 0 else float("inf")
             )
@@ -562,7 +433,7 @@ def reproduce(
     # 7. claims
     _progress("claims, summary and report", t0, quiet)
     m1, m2, m3 = metrics["case1"], metrics["case2"], metrics["case3"]
-    claims = _claims(metrics, spectral, fig6, band)
+    claims = evaluate_claims(metrics, spectral, fig6, band)
     wall = time.perf_counter() - t0
     summary = {
         "settings": dataclasses.asdict(st)
@@ -627,116 +498,6 @@ def _envelope(ds, clearance: float, block: int = 5) -> tuple[np.ndarray, np.ndar
     out = np.full(n, np.nan)
     np.fmax.at(out, idx, p)
     return np.arange(n) * block, out
-
-
-def _regime(m: dict) -> str:
-    from rubrotor.regimes import case_regime
-
-    return case_regime(m)
-
-
-def _claims(metrics, spectral, fig6, band) -> list[dict]:
-    m1, m2, m3 = metrics["case1"], metrics["case2"], metrics["case3"]
-    s = spectral
-    rows = []
-    hardest = m1["contact_fraction"] > max(m2["contact_fraction"], m3["contact_fraction"]) and m1[
-        "mean_normal_force_N"
-    ] > max(m2["mean_normal_force_N"], m3["mean_normal_force_N"])
-    rows.append(
-        {
-            "claim": "Case 1 rubs hardest (seed Fig. 3, 7a)",
-            "holds": bool(hardest),
-            "numbers": (
-                f"late contact fraction {m1['contact_fraction']:.3f} / "
-                f"{m2['contact_fraction']:.3f} / {m3['contact_fraction']:.3f}; mean normal "
-                f"force {m1['mean_normal_force_N']:.3g} / {m2['mean_normal_force_N']:.3g} / "
-                f"{m3['mean_normal_force_N']:.3g} N (cases 1/2/3)"
-            ),
-        }
-    )
-    per = m2["poincare"]
-    rows.append(
-        {
-            "claim": "Case 2 settles into periodic impacts in steady state (seed Fig. 4)",
-            "holds": bool(m2["contact_fraction"] > 0 and per["period"] is not None),
-            "numbers": (
-                f"contact fraction {m2['contact_fraction']:.3f}, "
-                f"{m2['impacts_per_rev']:.2f} impacts/rev; Poincare (once per rev, last "
-                f"{per['samples']} rev): best k = {per['best_k']} with residual "
-                f"{per['best_residual']:.3f} of max |P| (period accepted below "
-                f"{PERIOD_TOL})"
-            ),
-        }
-    )
-    rows.append(
-        {
-            "claim": "Case 3's contact force is lower than case 2's (seed Fig. 5e)",
-            "holds": bool(m3["max_normal_force_N"] < m2["max_normal_force_N"]),
-            "numbers": (
-                f"late max normal force {m3['max_normal_force_N']:.3g} N (case 3) vs "
-                f"{m2['max_normal_force_N']:.3g} N (case 2); mean "
-                f"{m3['mean_normal_force_N']:.3g} vs {m2['mean_normal_force_N']:.3g} N"
-            ),
-        }
-    )
-    r = [s[k]["shear1_ratio_to_no_contact"] for k in ("case1", "case2", "case3")]
-    pk = [s[k]["shear1_peak_hz"] for k in ("case1", "case2", "case3")]
-    in_band = all(band[0] * 0.97 <= abs(p) <= band[1] * 1.03 for p in pk)
-    rows.append(
-        {
-            "claim": (
-                "Rubbing excites a band near 20 kHz that the no-contact run lacks: the shear "
-                "branch of mode 1"
-            ),
-            "holds": bool(min(r) > 10 and in_band),
-            "numbers": (
-                f"acceleration energy in {band[2] / 1e3:.1f}-{band[3] / 1e3:.1f} kHz vs "
-                f"no contact: x{r[0]:.3g} / x{r[1]:.3g} / x{r[2]:.3g} (cases 1/2/3); "
-                f"strongest line there at {abs(pk[0]) / 1e3:.2f} / {abs(pk[1]) / 1e3:.2f} / "
-                f"{abs(pk[2]) / 1e3:.2f} kHz ({'forward' if pk[0] > 0 else 'backward'} in "
-                f"case 1); mode-1 shear branch {band[0] / 1e3:.2f} (B) - "
-                f"{band[1] / 1e3:.2f} (F) kHz"
-            ),
-        }
-    )
-    share = [s[k]["shear1_band_share"] for k in ("case1", "case2", "case3")]
-    rows.append(
-        {
-            "claim": (
-                "In case 1 the ~20 kHz band dominates the acceleration (seed: 'no other "
-                "frequency rather than the 20 kHz appears')"
-            ),
-            "holds": bool(share[0] > 0.5),
-            "numbers": (
-                f"share of the acceleration mean square in the band: {share[0]:.3g} / "
-                f"{share[1]:.3g} / {share[2]:.3g} (cases 1/2/3)"
-            ),
-        }
-    )
-    rows.append(
-        {
-            "claim": "The rub band carries more energy in case 3 than in case 2 (seed Fig. 7b, c)",
-            "holds": bool(s["case3"]["shear1_band_energy"] > s["case2"]["shear1_band_energy"]),
-            "numbers": (
-                f"band energy {s['case3']['shear1_band_energy']:.3g} vs "
-                f"{s['case2']['shear1_band_energy']:.3g} (m/s^2)^2 (case 3 vs case 2)"
-            ),
-        }
-    )
-    rows.append(
-        {
-            "claim": "The Timoshenko model matches Euler-Bernoulli for a slender shaft (Fig. 6)",
-            "holds": bool(max(fig6["max_rel_diff_v"], fig6["max_rel_diff_w"]) < 0.05),
-            "numbers": (
-                f"r = {fig6['slenderness']:g}, {fig6['revolutions']:g} rev: max |w_T - w_EB| "
-                f"/ max |w| = {fig6['max_rel_diff_w']:.2e}, same for v "
-                f"{fig6['max_rel_diff_v']:.2e}; first forward bending frequency "
-                f"{fig6['forward_bending_hz_timoshenko'][1]:.7g} vs "
-                f"{fig6['forward_bending_hz_euler_bernoulli'][1]:.7g} Hz"
-            ),
-        }
-    )
-    return rows
 
 
 INCONSISTENCIES = [
@@ -958,8 +719,8 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
         rows.append(
             [
                 key,
-                f"{_regime(m)}; max |P|/g {_fmt(m['max_orbit_over_clearance'])}",
-                f"{_regime(o)}; max |P|/g over the run "
+                f"{regime(m)}; max |P|/g {_fmt(m['max_orbit_over_clearance'])}",
+                f"{regime(o)}; max |P|/g over the run "
                 f"{_fmt(o['max_orbit_whole_run_over_clearance'])}; "
                 f"{o['revolutions']:.0f} rev simulated; {o['status_message'] or 'complete'}",
             ]
