@@ -125,30 +125,35 @@ def _write_sample(out, idx, y, z, F, cp, rows):
     _write_probes(out, idx, y, z, F, rows, fn, ft)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _write_contact_sample(out, idx, y, z, F, rows, P, V, fn_c, ft_c):
     """Write one sample whose station 0 reuses ``P, V`` and the forces of the last step."""
     A0 = rows.acc_z[0] * z + rows.acc_c[0] + rows.acc_fc[0] * F
     for j in range(y.shape[0]):
         A0 += rows.a[0, j] * y[j]
     _put(out, idx, 0, P, V, A0)
-    _write_probes(out, idx, y, z, F, rows, fn_c, ft_c)
+    nst = rows.d.shape[0]
+    if nst > 1:
+        _write_probes(out, idx, y, z, F, rows, fn_c, ft_c)
+    else:  # no probes: only the contact forces
+        out[6, idx] = fn_c
+        out[7, idx] = ft_c
 
 
 @njit(cache=True, inline="always")
-def _record_event(st, t):
+def _record_event(events, istate, t):
     """Store an onset (``t > 0``) or separation (``-t``) time (s); count it even when full."""
-    ne = st.istate[I_EVENTS]
-    if ne < st.events.shape[0]:
-        st.events[ne] = t
-    st.istate[I_EVENTS] = ne + 1
+    ne = istate[I_EVENTS]
+    if ne < events.shape[0]:
+        events[ne] = t
+    istate[I_EVENTS] = ne + 1
 
 
 @njit(cache=True, inline="always")
-def _buffer_short(st, reserve):
+def _buffer_short(events, istate, reserve):
     """Flag ``EVENT_BUFFER_FULL`` when events were lost or fewer than ``reserve`` slots remain."""
-    if st.events.shape[0] - st.istate[I_EVENTS] < reserve:
-        st.istate[I_STATUS] = EVENT_BUFFER_FULL
+    if events.shape[0] - istate[I_EVENTS] < reserve:
+        istate[I_STATUS] = EVENT_BUFFER_FULL
         return True
     return False
 
@@ -222,7 +227,7 @@ def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
     force, modal damping (dissipated) and friction. Contact onset (+t) and separation (-t) times
     (s) are located by linear interpolation of ``|P| - g`` within the step.
     """
-    y, istate, out = st.y, st.istate, st.out
+    y, istate, out, events = st.y, st.istate, st.out, st.events
     E, G0, G1, sd, sv, cdc, cvc = k.E, k.G0, k.G1, k.sd, k.sv, k.cdc, k.cvc
     omega, h, save_every = k.omega, k.h, k.save_every
     ns = y.shape[0]
@@ -256,7 +261,7 @@ def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
     if en.on:
         pw0 = _powers(y, z, F, en, cp, cdc, cvc, part_c, vel_cz, part_lc, qv)
     for s_i in range(n_samples):
-        if _buffer_short(st, k.event_reserve):
+        if _buffer_short(events, istate, k.event_reserve):
             break
         for _ in range(save_every):
             step += 1
@@ -296,7 +301,7 @@ def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
                 frac = (g - d_prev) / den if den != 0.0 else 1.0
                 frac = min(max(frac, 0.0), 1.0)
                 te = (step - 1 + frac) * h
-                _record_event(st, te if Fn != 0j else -te)
+                _record_event(events, istate, te if Fn != 0j else -te)
             d_prev = d
             Fp = F
             F = Fn
@@ -349,7 +354,7 @@ def expo_adaptive(st, n_samples, out_offset, k, cp, rows):
     ``st`` (:class:`rubrotor.steppers.RunState`): ``cstate = [F, z, F_prev]``, ``istate`` (slots
     ``I_*``, ``I_STEP`` counts saved samples), ``counts`` (slots ``C_*``).
     """
-    y, istate, out, stats = st.y, st.istate, st.out, st.counts
+    y, istate, out, stats, events = st.y, st.istate, st.out, st.counts, st.events
     E, G0, G1, cdE, cvE, cdG0, cvG0 = k.E, k.G0, k.G1, k.cdE, k.cvE, k.cdG0, k.cvG0
     sd, sv, errc, rot = k.sd, k.sv, k.errc, k.rot
     Q0, Qm, Q1, cdQ0, cvQ0, cdQm, cvQm = k.Q0, k.Qm, k.Q1, k.cdQ0, k.cvQ0, k.cdQm, k.cvQm
@@ -377,7 +382,7 @@ def expo_adaptive(st, n_samples, out_offset, k, cp, rows):
     fn_c = 0.0
     ft_c = 0.0
     for s_i in range(n_samples):
-        if _buffer_short(st, k.event_reserve):
+        if _buffer_short(events, istate, k.event_reserve):
             break
         sample = istate[I_STEP]
         t_start = sample * H
@@ -444,7 +449,7 @@ def expo_adaptive(st, n_samples, out_offset, k, cp, rows):
             pos += units
             if changed:
                 tt = t_start + pos * (H / full)
-                _record_event(st, tt if Fn != 0j else -tt)
+                _record_event(events, istate, tt if Fn != 0j else -tt)
             Fp = F
             F = Fn
             z = zn
@@ -526,7 +531,7 @@ def abm_fixed(st, n_samples, out_offset, k, cp, rows):
     ``k`` (:class:`rubrotor.steppers.AbmStep`): modes, force inputs, forces, contact rows,
     ``omega`` (rad/s), ``h`` (s), ``save_every``, ``max_disp`` (m), ``event_reserve``.
     """
-    y, hist, istate, out = st.y, st.hist, st.istate, st.out
+    y, hist, istate, out, events = st.y, st.hist, st.istate, st.out, st.events
     h, cdc, cvc = k.h, k.cdc, k.cvc
     ns = y.shape[0]
     k1 = np.empty(ns, np.complex128)
@@ -540,7 +545,7 @@ def abm_fixed(st, n_samples, out_offset, k, cp, rows):
     step = istate[I_STEP]
     F = 0j
     for s_i in range(n_samples):
-        if _buffer_short(st, k.event_reserve):
+        if _buffer_short(events, istate, k.event_reserve):
             break
         for _ in range(k.save_every):
             t = step * h
@@ -565,7 +570,7 @@ def abm_fixed(st, n_samples, out_offset, k, cp, rows):
                 for j in range(ns):
                     hist[0, j] = k1[j]
                 if (Fn != 0j) != (F != 0j):
-                    _record_event(st, (t + h) if Fn != 0j else -(t + h))
+                    _record_event(events, istate, (t + h) if Fn != 0j else -(t + h))
                 F = Fn
             step += 1
             P = 0j
