@@ -50,7 +50,7 @@ from rubrotor.study.cases import (
     shear1_band,
     spectral_numbers,
 )
-from rubrotor.study.claims import evaluate_claims
+from rubrotor.study.claims import evaluate_claims, fig6_numbers
 
 __all__ = ["Settings", "FULL", "QUICK", "CASES", "reproduce", "case_metrics", "poincare_period"]
 
@@ -181,6 +181,261 @@ def _render(blocks, out: Path) -> tuple[str, str]:
     return "\n".join(md), page
 
 
+@dataclass(frozen=True)
+class _Context:
+    """What every part of a reproduction reads: settings, scenarios, modes, output folder."""
+
+    out: Path
+    st: Settings
+    scen: dict
+    entries: list
+    band: tuple
+    spin_hz: float
+    main_sign: str
+    other_sign: str
+    t0: float
+    quiet: bool
+
+    def progress(self, msg: str) -> None:
+        _progress(msg, self.t0, self.quiet)
+
+
+def _case_scenarios(seed_friction: bool) -> dict:
+    """The seed cases; cases 1-3 with the seed's friction sign when ``seed_friction``."""
+    scen = {key: seed_scenario(stem) for key, stem, _ in CASES}
+    if seed_friction:
+        for key in ("case1", "case2", "case3"):
+            src = scen[key].source
+            scen[key] = dataclasses.replace(
+                scen[key].with_changes(**{"contact.friction_sign": "seed"}),
+                source=src.replace('friction_sign = "physical"', 'friction_sign = "seed"'),
+            )
+    return scen
+
+
+def _run_cases(cx: _Context) -> tuple[dict, dict, dict]:
+    """The four cases: results, ``case_metrics`` and band numbers; ``<case>/response.png``."""
+    from rubrotor import plotting
+
+    st, out = cx.st, cx.out
+    results, metrics, spectral = {}, {}, {}
+    for key, _stem, title in CASES:
+        cx.progress(f"simulate {title} ({st.revolutions:g} rev, d tau = {DTAU:g})")
+        sc = cx.scen[key]
+        ds = _run(sc, st.revolutions, st.save_every)
+        results[key] = ds
+        save_dataset(ds, out / key / "results.nc")
+        g = sc.contact.clearance if sc.contact else None
+        metrics[key] = case_metrics(ds, g)
+        spectral[key] = spectral_numbers(ds, cx.entries, cx.band)
+        fig = plotting.response_figure(
+            ds,
+            clearance=g,
+            title=f"{title}: responses at midspan ({metrics[key]['revolutions']:.0f} rev from rest, "
+            f"friction sign {sc.contact.friction_sign if sc.contact else '-'})",
+        )
+        _savefig(fig, out / key / "response.png")
+    nc_e = spectral["no_contact"]["shear1_band_energy"]
+    for key in spectral:
+        e = spectral[key]["shear1_band_energy"]
+        spectral[key]["shear1_ratio_to_no_contact"] = e / nc_e if nc_e > 0 else float("inf")
+    return results, metrics, spectral
+
+
+def _inner_peaks(in_: np.ndarray, freqs: np.ndarray, n: int = 6) -> list[float]:
+    """Frequencies (Hz) of the ``n`` highest local maxima of an inner scalogram."""
+    from scipy.signal import find_peaks
+
+    idx, _ = find_peaks(np.concatenate([[0.0], in_, [0.0]]))
+    idx = idx - 1
+    idx = idx[np.argsort(in_[idx])[::-1]][:n]
+    return [float(freqs[i]) for i in idx]
+
+
+def _cwt_part(cx: _Context, results: dict, spectral: dict) -> np.ndarray:
+    """CWT maps and scalograms of the horizontal acceleration (seed Fig. 7); the frequencies."""
+    from rubrotor import plotting
+
+    cx.progress("CWT maps and scalograms of the acceleration")
+    band, entries = cx.band, cx.entries
+    fs = spectral["case1"]["fs_hz"]
+    freqs = log_frequencies(300.0, min(0.4 * fs, 2.0 * max(f for _, f, _ in entries)), 120)
+    maps, curves = {}, {}
+    for key, _stem, title in CASES:
+        a = results[key]["v_ddot"].values
+        maps[title] = cwt_binned(a, fs, freqs, 500)
+        sc_, in_ = scalogram(a, fs, freqs), inner_scalogram(a, fs, freqs)
+        curves[title] = (sc_, in_)
+        j = (freqs >= band[2]) & (freqs <= band[3])
+        spectral[key]["inner_scalogram_shear1_max"] = float(in_[j].max())
+        spectral[key]["inner_scalogram_peaks_hz"] = _inner_peaks(in_, freqs)
+    _savefig(
+        plotting.scalogram_map_figure(
+            maps,
+            modes=entries,
+            spin_hz=cx.spin_hz,
+            title="CWT of the horizontal acceleration at midspan (seed Fig. 7): max |W| per time bin",
+        ),
+        cx.out / "fig7_cwt_maps.png",
+    )
+    _savefig(
+        plotting.scalogram_curves_figure(
+            freqs,
+            curves,
+            modes=entries,
+            spin_hz=cx.spin_hz,
+            title="Scalogram and inner scalogram of the horizontal acceleration",
+        ),
+        cx.out / "fig7_scalograms.png",
+    )
+    return freqs
+
+
+def _fig6_part(cx: _Context) -> dict:
+    """Timoshenko against Euler-Bernoulli for the slender shaft (seed Fig. 6)."""
+    from rubrotor import plotting
+
+    cx.progress("Fig. 6: Timoshenko vs Euler-Bernoulli at r = 0.0013")
+    out, revs = cx.out, cx.st.fig6_revolutions
+    s_t, s_e = seed_scenario("seed_fig6_timoshenko"), seed_scenario("seed_fig6_euler_bernoulli")
+    d_t = _run(s_t, revs, 16)
+    d_e = _run(s_e, revs, 16)
+    save_dataset(d_t, out / "fig6" / "timoshenko.nc")
+    save_dataset(d_e, out / "fig6" / "euler_bernoulli.nc")
+    _savefig(
+        plotting.theory_comparison_figure(
+            d_t,
+            d_e,
+            variable="w",
+            title=f"Seed Fig. 6: no contact, r = {s_t.shaft.slenderness:g} (D = "
+            f"{s_t.shaft.diameter * 1e3:.2f} mm), {s_t.speed:.1f} rad/s, 3 modes, from rest",
+        ),
+        out / "fig6_timoshenko_vs_euler_bernoulli.png",
+    )
+    return fig6_numbers(s_t, s_e, d_t, d_e, revs)
+
+
+def _campbell_part(cx: _Context) -> None:
+    from rubrotor import plotting
+
+    cx.progress("Campbell diagram")
+    base = cx.scen["case1"]
+    speed = base.speed
+    _savefig(
+        plotting.campbell_figure(base.shaft, np.linspace(0, 3 * speed, 301), operating_speed=speed),
+        cx.out / "campbell.png",
+    )
+
+
+def _friction_part(cx: _Context, results: dict) -> dict:
+    """Cases 1-3 with the other friction sign; ``friction_sign.png`` (orbit envelopes)."""
+    from rubrotor import plotting
+
+    cx.progress(f"cases 1-3 with the {cx.other_sign} friction sign")
+    st, scen = cx.st, cx.scen
+    friction, env = {}, {}
+    for key in ("case1", "case2", "case3"):
+        sc_o = scen[key].with_changes(**{"contact.friction_sign": cx.other_sign})
+        d_o = _run(sc_o, st.revolutions, st.save_every)
+        m_o = case_metrics(d_o, sc_o.contact.clearance)
+        m_o["status_message"] = d_o.attrs["status_message"]
+        m_o["max_orbit_whole_run_over_clearance"] = float(
+            np.max(np.hypot(d_o["v"].values, d_o["w"].values)) / sc_o.contact.clearance
+        )
+        friction[key] = m_o
+        for sign, d in ((cx.main_sign, results[key]), (cx.other_sign, d_o)):
+            env[(key, sign)] = _envelope(d, scen[key].contact.clearance)
+    _savefig(
+        plotting.envelope_figure(
+            env, title="Orbit envelope (max over 5 revolutions): friction sign"
+        ),
+        cx.out / "friction_sign.png",
+    )
+    return friction
+
+
+def _sensitivity_row(cx: _Context, fac: float, zeta: float) -> dict:
+    """Contact numbers and band-energy ratios of cases 1-3 at one unbalance factor and damping."""
+    me0 = cx.scen["case1"].unbalance.magnitude
+    row = {"unbalance_kg_m": me0 * fac, "unbalance_factor": fac, "damping_ratio": zeta}
+    energy = {}
+    for key in ("no_contact", "case1", "case2", "case3"):
+        sc_s = cx.scen[key].with_changes(
+            **{"unbalance.magnitude": me0 * fac, "damping.ratio": zeta}
+        )
+        d = simulate(
+            sc_s,
+            integrator=Integrator(
+                revolutions=cx.st.sensitivity_revolutions, output_dtau=TWO_PI / 64
+            ),
+            progress=False,
+        )
+        energy[key] = spectral_numbers(d, cx.entries, cx.band)["shear1_band_energy"]
+        if key == "no_contact":
+            continue
+        m = case_metrics(d, sc_s.contact.clearance)
+        keys = ("contact_fraction", "max_orbit_over_clearance", "max_normal_force_N", "status")
+        row[key] = {k: m[k] for k in keys}
+        row[key]["regime"] = regime(m)
+        row[key]["shear1_ratio_to_no_contact"] = (
+            energy[key] / energy["no_contact"] if energy["no_contact"] > 0 else float("inf")
+        )
+    return row
+
+
+def _summary(cx: _Context, parts: dict, quick: bool, full: bool) -> dict:
+    """The content of ``summary.json`` (plain JSON types)."""
+    base, entries, band, scen = cx.scen["case1"], cx.entries, cx.band, cx.scen
+    metrics, spectral = parts["metrics"], parts["spectral"]
+    summary = {
+        "settings": dataclasses.asdict(cx.st)
+        | {"dtau": DTAU, "quick": quick, "friction_sign": cx.main_sign},
+        "speed_rad_s": base.speed,
+        "spin_hz": cx.spin_hz,
+        "first_forward_critical_rad_s": next(
+            c.speed_rad_s
+            for c in critical_speeds(base)
+            if c.whirl == "forward" and c.branch == "bending" and c.n == 1
+        ),
+        "natural_frequencies_hz": {lab: fr for lab, fr, _ in entries},
+        "shear1_band_hz": [band[0], band[1]],
+        "unbalance_kg_m": base.unbalance.magnitude,
+        "damping_ratio": base.damping.ratios[0],
+        "initial_state": "rest (zero displacement and velocity), full spin speed from t = 0",
+        "cases": {
+            k: metrics[k]
+            | {
+                "spectral": spectral[k],
+                "clearance_m": scen[k].contact.clearance if scen[k].contact else None,
+            }
+            for k, _, _ in CASES
+        },
+        "fig6": parts["fig6"],
+        "friction_sign_comparison": {
+            "main": cx.main_sign,
+            "other": cx.other_sign,
+            "other_runs": parts["friction"],
+        },
+        "sensitivity": parts["sensitivity"],
+        "claims": evaluate_claims(metrics, spectral, parts["fig6"], band),
+        "seed_study": parts["extras"] | {"full": full},
+        "wall_time_s": time.perf_counter() - cx.t0,
+    }
+    return json.loads(json.dumps(summary, default=_json_default))
+
+
+def _write_outputs(cx: _Context, summary: dict, metrics: dict) -> None:
+    """``summary.json``, ``report.md`` and the self-contained ``report.html``."""
+    out = cx.out
+    atomic_write(
+        out / "summary.json", lambda tmp: Path(tmp).write_text(json.dumps(summary, indent=2))
+    )
+    m1, m2, m3 = metrics["case1"], metrics["case2"], metrics["case3"]
+    md, page = _render(_report_blocks(summary, cx.scen, m1, m2, m3), out)
+    atomic_write(out / "report.md", lambda tmp: Path(tmp).write_text(md))
+    atomic_write(out / "report.html", lambda tmp: Path(tmp).write_text(page))
+
+
 # ---- the reproduction -----------------------------------------------------------------------
 def reproduce(
     out,
@@ -218,266 +473,37 @@ def reproduce(
     dict
         The content of ``summary.json``.
     """
-    from rubrotor import plotting
     from rubrotor.study.extras import run_extras
 
     t0 = time.perf_counter()
-    st = QUICK if quick else FULL
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    main_sign = "seed" if seed_friction else "physical"
-    other_sign = "physical" if seed_friction else "seed"
-
-    scen = {key: seed_scenario(stem) for key, stem, _ in CASES}
-    if seed_friction:
-        for key in ("case1", "case2", "case3"):
-            src = scen[key].source
-            scen[key] = dataclasses.replace(
-                scen[key].with_changes(**{"contact.friction_sign": "seed"}),
-                source=src.replace('friction_sign = "physical"', 'friction_sign = "seed"'),
-            )
+    scen = _case_scenarios(seed_friction)
     base = scen["case1"]
-    speed = base.speed
-    spin_hz = speed / TWO_PI
-    entries = mode_entries(modes(base, speed))
-    band = shear1_band(entries)
-
-    # 1. the four cases
-    results, metrics, spectral = {}, {}, {}
-    for key, _stem, title in CASES:
-        _progress(f"simulate {title} ({st.revolutions:g} rev, d tau = {DTAU:g})", t0, quiet)
-        sc = scen[key]
-        ds = _run(sc, st.revolutions, st.save_every)
-        results[key] = ds
-        save_dataset(ds, out / key / "results.nc")
-        g = sc.contact.clearance if sc.contact else None
-        metrics[key] = case_metrics(ds, g)
-        spectral[key] = spectral_numbers(ds, entries, band)
-        fig = plotting.response_figure(
-            ds,
-            clearance=g,
-            title=f"{title}: responses at midspan ({metrics[key]['revolutions']:.0f} rev from rest, "
-            f"friction sign {sc.contact.friction_sign if sc.contact else '-'})",
-        )
-        _savefig(fig, out / key / "response.png")
-    nc_e = spectral["no_contact"]["shear1_band_energy"]
-    for key in spectral:
-        e = spectral[key]["shear1_band_energy"]
-        spectral[key]["shear1_ratio_to_no_contact"] = e / nc_e if nc_e > 0 else float("inf")
-
-    # 2. CWT maps and scalograms of the horizontal acceleration (seed Fig. 7)
-    _progress("CWT maps and scalograms of the acceleration", t0, quiet)
-    fs = spectral["case1"]["fs_hz"]
-    freqs = log_frequencies(300.0, min(0.4 * fs, 2.0 * max(f for _, f, _ in entries)), 120)
-    maps, curves, peaks = {}, {}, {}
-    for key, _stem, title in CASES:
-        a = results[key]["v_ddot"].values
-        maps[title] = cwt_binned(a, fs, freqs, 500)
-        sc_, in_ = scalogram(a, fs, freqs), inner_scalogram(a, fs, freqs)
-        curves[title] = (sc_, in_)
-        from scipy.signal import find_peaks
-
-        idx, _ = find_peaks(np.concatenate([[0.0], in_, [0.0]]))
-        idx = idx - 1
-        idx = idx[np.argsort(in_[idx])[::-1]][:6]
-        peaks[key] = [float(freqs[i]) for i in idx]
-        j = (freqs >= band[2]) & (freqs <= band[3])
-        spectral[key]["inner_scalogram_shear1_max"] = float(in_[j].max())
-        spectral[key]["inner_scalogram_peaks_hz"] = peaks[key]
-    _savefig(
-        plotting.scalogram_map_figure(
-            maps,
-            modes=entries,
-            spin_hz=spin_hz,
-            title="CWT of the horizontal acceleration at midspan (seed Fig. 7): max |W| per time bin",
-        ),
-        out / "fig7_cwt_maps.png",
-    )
-    _savefig(
-        plotting.scalogram_curves_figure(
-            freqs,
-            curves,
-            modes=entries,
-            spin_hz=spin_hz,
-            title="Scalogram and inner scalogram of the horizontal acceleration",
-        ),
-        out / "fig7_scalograms.png",
-    )
-
-    # 3. Timoshenko vs Euler-Bernoulli (seed Fig. 6)
-    _progress("Fig. 6: Timoshenko vs Euler-Bernoulli at r = 0.0013", t0, quiet)
-    s_t, s_e = seed_scenario("seed_fig6_timoshenko"), seed_scenario("seed_fig6_euler_bernoulli")
-    d_t = _run(s_t, st.fig6_revolutions, 16)
-    d_e = _run(s_e, st.fig6_revolutions, 16)
-    save_dataset(d_t, out / "fig6" / "timoshenko.nc")
-    save_dataset(d_e, out / "fig6" / "euler_bernoulli.nc")
-    rel = {}
-    for var in ("v", "w"):
-        a, b = d_t[var].values, d_e[var].values
-        rel[var] = float(np.max(np.abs(a - b)) / np.max(np.abs(a)))
-    f6_modes = {
-        m.n: m.frequency_hz
-        for m in modes(s_t, s_t.speed)
-        if m.branch == "bending" and m.whirl == "forward"
-    }
-    f6_modes_eb = {
-        m.n: m.frequency_hz
-        for m in modes(s_e, s_e.speed)
-        if m.branch == "bending" and m.whirl == "forward"
-    }
-    fig6 = {
-        "slenderness": s_t.shaft.slenderness,
-        "diameter_m": s_t.shaft.diameter,
-        "speed_rad_s": s_t.speed,
-        "revolutions": st.fig6_revolutions,
-        "max_rel_diff_v": rel["v"],
-        "max_rel_diff_w": rel["w"],
-        "max_w_m": float(np.max(np.abs(d_t["w"].values))),
-        "forward_bending_hz_timoshenko": f6_modes,
-        "forward_bending_hz_euler_bernoulli": f6_modes_eb,
-    }
-    _savefig(
-        plotting.theory_comparison_figure(
-            d_t,
-            d_e,
-            variable="w",
-            title=f"Seed Fig. 6: no contact, r = {s_t.shaft.slenderness:g} (D = "
-            f"{s_t.shaft.diameter * 1e3:.2f} mm), {s_t.speed:.1f} rad/s, 3 modes, from rest",
-        ),
-        out / "fig6_timoshenko_vs_euler_bernoulli.png",
-    )
-
-    # 4. Campbell diagram
-    _progress("Campbell diagram", t0, quiet)
-    _savefig(
-        plotting.campbell_figure(base.shaft, np.linspace(0, 3 * speed, 301), operating_speed=speed),
-        out / "campbell.png",
-    )
-
-    # 5. the other friction sign
-    _progress(f"cases 1-3 with the {other_sign} friction sign", t0, quiet)
-    friction = {}
-    env = {}
-    for key in ("case1", "case2", "case3"):
-        sc_o = scen[key].with_changes(**{"contact.friction_sign": other_sign})
-        d_o = _run(sc_o, st.revolutions, st.save_every)
-        m_o = case_metrics(d_o, sc_o.contact.clearance)
-        m_o["status_message"] = d_o.attrs["status_message"]
-        m_o["max_orbit_whole_run_over_clearance"] = float(
-            np.max(np.hypot(d_o["v"].values, d_o["w"].values)) / sc_o.contact.clearance
-        )
-        friction[key] = m_o
-        for sign, d in ((main_sign, results[key]), (other_sign, d_o)):
-            env[(key, sign)] = _envelope(d, scen[key].contact.clearance)
-    _savefig(
-        plotting.envelope_figure(
-            env, title="Orbit envelope (max over 5 revolutions): friction sign"
-        ),
-        out / "friction_sign.png",
-    )
-
-    # 6. sensitivity to the unbalance and damping (adaptive integrator)
-    _progress("sensitivity: unbalance and damping", t0, quiet)
-    sens = []
-    me0 = base.unbalance.magnitude
-    for fac, zeta in st.sensitivity:
-        row = {"unbalance_kg_m": me0 * fac, "unbalance_factor": fac, "damping_ratio": zeta}
-        energy = {}
-        for key in ("no_contact", "case1", "case2", "case3"):
-            sc_s = scen[key].with_changes(
-                **{"unbalance.magnitude": me0 * fac, "damping.ratio": zeta}
-            )
-            d = simulate(
-                sc_s,
-                integrator=Integrator(
-                    revolutions=st.sensitivity_revolutions, output_dtau=TWO_PI / 64
-                ),
-                progress=False,
-            )
-            energy[key] = spectral_numbers(d, entries, band)["shear1_band_energy"]
-            if key == "no_contact":
-                continue
-            m = case_metrics(d, sc_s.contact.clearance)
-            row[key] = {
-                k: m[k]
-                for k in (
-                    "contact_fraction",
-                    "max_orbit_over_clearance",
-                    "max_normal_force_N",
-                    "status",
-                )
-            }
-            row[key]["regime"] = regime(m)
-            row[key]["shear1_ratio_to_no_contact"] = (
-                energy[key] / energy["no_contact"] if energy["no_contact"] > 0 else float("inf")
-            )
-        sens.append(row)
-
+    entries = mode_entries(modes(base, base.speed))
+    cx = _Context(
+        out=out, st=QUICK if quick else FULL, scen=scen, entries=entries,
+        band=shear1_band(entries), spin_hz=base.speed / TWO_PI,
+        main_sign="seed" if seed_friction else "physical",
+        other_sign="physical" if seed_friction else "seed", t0=t0, quiet=quiet,
+    )  # fmt: skip
+    results, metrics, spectral = _run_cases(cx)  # 1. the four cases
+    freqs = _cwt_part(cx, results, spectral)  # 2. seed Fig. 7
+    parts = {"metrics": metrics, "spectral": spectral, "fig6": _fig6_part(cx)}  # 3. Fig. 6
+    _campbell_part(cx)  # 4.
+    parts["friction"] = _friction_part(cx, results)  # 5. the other friction sign
+    cx.progress("sensitivity: unbalance and damping")  # 6. adaptive integrator
+    parts["sensitivity"] = [_sensitivity_row(cx, fac, zeta) for fac, zeta in cx.st.sensitivity]
     # 6b. the seed's own equations, contact stability, detection, robustness (--full)
-    extras = run_extras(
-        out,
-        scen,
-        entries=entries,
-        band=band,
-        freqs=freqs,
-        spin_hz=spin_hz,
-        save_every=st.save_every,
-        quick=quick,
-        full=full,
-        workers=workers,
-        scheduler=scheduler,
-        quiet=quiet,
-        t0=t0,
-    )
-
-    # 7. claims
-    _progress("claims, summary and report", t0, quiet)
-    m1, m2, m3 = metrics["case1"], metrics["case2"], metrics["case3"]
-    claims = evaluate_claims(metrics, spectral, fig6, band)
-    wall = time.perf_counter() - t0
-    summary = {
-        "settings": dataclasses.asdict(st)
-        | {"dtau": DTAU, "quick": quick, "friction_sign": main_sign},
-        "speed_rad_s": speed,
-        "spin_hz": spin_hz,
-        "first_forward_critical_rad_s": next(
-            c.speed_rad_s
-            for c in critical_speeds(base)
-            if c.whirl == "forward" and c.branch == "bending" and c.n == 1
-        ),
-        "natural_frequencies_hz": {lab: fr for lab, fr, _ in entries},
-        "shear1_band_hz": [band[0], band[1]],
-        "unbalance_kg_m": me0,
-        "damping_ratio": base.damping.ratios[0],
-        "initial_state": "rest (zero displacement and velocity), full spin speed from t = 0",
-        "cases": {
-            k: metrics[k]
-            | {
-                "spectral": spectral[k],
-                "clearance_m": scen[k].contact.clearance if scen[k].contact else None,
-            }
-            for k, _, _ in CASES
-        },
-        "fig6": fig6,
-        "friction_sign_comparison": {
-            "main": main_sign,
-            "other": other_sign,
-            "other_runs": friction,
-        },
-        "sensitivity": sens,
-        "claims": claims,
-        "seed_study": extras | {"full": full},
-        "wall_time_s": wall,
-    }
-    summary = json.loads(json.dumps(summary, default=_json_default))
-    atomic_write(
-        out / "summary.json", lambda tmp: Path(tmp).write_text(json.dumps(summary, indent=2))
-    )
-    blocks = _report_blocks(summary, scen, m1, m2, m3)
-    md, page = _render(blocks, out)
-    atomic_write(out / "report.md", lambda tmp: Path(tmp).write_text(md))
-    atomic_write(out / "report.html", lambda tmp: Path(tmp).write_text(page))
-    _progress(f"done in {time.perf_counter() - t0:.1f} s: {out / 'report.html'}", t0, quiet)
+    parts["extras"] = run_extras(
+        out, scen, entries=entries, band=cx.band, freqs=freqs, spin_hz=cx.spin_hz,
+        save_every=cx.st.save_every, quick=quick, full=full, workers=workers,
+        scheduler=scheduler, quiet=quiet, t0=t0,
+    )  # fmt: skip
+    cx.progress("claims, summary and report")  # 7. claims
+    summary = _summary(cx, parts, quick, full)
+    _write_outputs(cx, summary, metrics)
+    cx.progress(f"done in {time.perf_counter() - t0:.1f} s: {out / 'report.html'}")
     return summary
 
 
@@ -555,7 +581,8 @@ INCONSISTENCIES = [
 ]
 
 
-def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
+def _intro_blocks(s: dict) -> list:
+    """Title and how the report was made."""
     st = s["settings"]
     b: list = [
         (
@@ -572,9 +599,12 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             f" Friction sign of the main cases: {st['friction_sign']}.",
         )
     )
-    from rubrotor.study import report as seed_report
+    return b
 
-    b += seed_report.lead_blocks(s)
+
+def _two_field_note_blocks() -> list:
+    """Why the rub-band claims fail in the two-field model."""
+    b: list = []
     b.append(("h2", "Two-field model: why its rub-band claims fail"))
     b.append(
         (
@@ -592,6 +622,13 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             "spin.",
         )
     )
+    return b
+
+
+def _parameter_blocks(s: dict, scen: dict) -> list:
+    """Parameters and assumptions of the runs."""
+    st = s["settings"]
+    b: list = []
     b.append(("h2", "Parameters and assumptions"))
     sh = scen["case1"].shaft
     c1, c3 = scen["case1"].contact, scen["case3"].contact
@@ -624,6 +661,12 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             ],
         )
     )
+    return b
+
+
+def _case_blocks(s: dict) -> list:
+    """Cases 1-3 and the no-contact run (seed Figs. 3-5)."""
+    b: list = []
     b.append(("h2", "Cases 1-3 and the no-contact run (seed Figs. 3-5)"))
     rows = []
     for key, _stem, title in CASES:
@@ -671,6 +714,12 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
                 "portraits, (e) normal contact force, (f) orbit with the clearance circle",
             )
         )
+    return b
+
+
+def _cwt_blocks() -> list:
+    """The CWT of the acceleration (seed Fig. 7)."""
+    b: list = []
     b.append(("h2", "CWT of the acceleration (seed Fig. 7)"))
     b.append(
         (
@@ -681,9 +730,12 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
         )
     )
     b.append(("img", "fig7_scalograms.png", "Scalogram and inner scalogram (two-field model)"))
-    b += seed_report.seed_form_blocks(s)
-    b += seed_report.stability_blocks(s)
-    b += seed_report.detection_blocks(s)
+    return b
+
+
+def _fig6_blocks(s: dict) -> list:
+    """Timoshenko against Euler-Bernoulli (seed Fig. 6) and the Campbell diagram."""
+    b: list = []
     f6 = s["fig6"]
     b.append(("h2", "Timoshenko vs Euler-Bernoulli (seed Fig. 6)"))
     b.append(
@@ -710,6 +762,12 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
     )
     b.append(("h2", "Campbell diagram"))
     b.append(("img", "campbell.png", "Campbell diagram of the seed rotor with the operating speed"))
+    return b
+
+
+def _friction_blocks(s: dict) -> list:
+    """The two friction signs."""
+    b: list = []
     fr = s["friction_sign_comparison"]
     b.append(("h2", f"Friction sign: {fr['main']} (main runs) vs {fr['other']}"))
     rows = []
@@ -740,6 +798,13 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             "Largest |P|/g in each block of 5 revolutions, both friction signs",
         )
     )
+    return b
+
+
+def _sensitivity_blocks(s: dict) -> list:
+    """Sensitivity to the unbalance and the structural damping."""
+    st = s["settings"]
+    b: list = []
     b.append(("h2", "Sensitivity to the unbalance and the structural damping"))
     b.append(
         (
@@ -767,6 +832,25 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             )
         rows.append(cells)
     b.append(("table", ["unbalance (kg m)", "damping ratio", "case 1", "case 2", "case 3"], rows))
+    return b
+
+
+def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
+    """The report as a list of blocks (see :func:`_render`), in reading order."""
+    from rubrotor.study import report as seed_report
+
+    b = _intro_blocks(s)
+    b += seed_report.lead_blocks(s)
+    b += _two_field_note_blocks()
+    b += _parameter_blocks(s, scen)
+    b += _case_blocks(s)
+    b += _cwt_blocks()
+    b += seed_report.seed_form_blocks(s)
+    b += seed_report.stability_blocks(s)
+    b += seed_report.detection_blocks(s)
+    b += _fig6_blocks(s)
+    b += _friction_blocks(s)
+    b += _sensitivity_blocks(s)
     b.append(("h2", "Inconsistencies in the seed and what we did"))
     b.append(("table", ["seed", "what we did"], [list(x) for x in INCONSISTENCIES]))
     return b
