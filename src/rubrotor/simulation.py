@@ -404,7 +404,7 @@ def _run_state(plan: Plan, y: np.ndarray, f_start: complex, n_out: int) -> RunSt
     """Fresh kernel state with ``n_out`` sample columns; the first sample written."""
     ns = y.size
     st = RunState(
-        y=y, cstate=np.array([f_start, 1 + 0j, 0j]), istate=np.zeros(N_ISTATE, np.int64),
+        y=y, cstate=np.array([f_start, 1 + 0j, 0j, 0j]), istate=np.zeros(N_ISTATE, np.int64),
         counts=np.zeros(3, np.int64), hist=np.zeros((4, ns), complex), work=np.zeros(5),
         out=np.empty((n_channels(plan.rows.d.shape[0]), n_out)), events=np.zeros(EVENT_BUFFER),
     )  # fmt: skip

@@ -58,7 +58,7 @@ RunState = namedtuple(
     "RunState", ["y", "cstate", "istate", "counts", "hist", "work", "out", "events"]
 )
 """State a kernel reads and updates: ``y`` (ns,) eigen-coordinates; ``cstate`` ``[F (N), z,
-F_prev (N)]``; ``istate`` (slots ``I_*`` of :mod:`rubrotor.core.integrate`); ``counts`` (slots
+F_prev (N), d_prev (m)]``; ``istate`` (slots ``I_*`` of :mod:`rubrotor.core.integrate`); ``counts`` (slots
 ``C_*``); ``hist`` (4, ns) ABM derivative history; ``work`` (5,) J; ``out`` the saved channels;
 ``events`` onset (+t) and separation (-t) times (s)."""
 

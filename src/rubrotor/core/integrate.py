@@ -1,6 +1,6 @@
 """Compiled time loops for the modal rotor with contact (plain arrays, SI units).
 
-The rotor is diagonalised once (in :mod:`rubrotor.simulate`): with ``y`` the complex eigen-
+The rotor is diagonalised once (:mod:`rubrotor.modal_system`): with ``y`` the complex eigen-
 coordinates of the first-order modal system, ``y' = lam * y + beta_c F_c + beta_u F_u + beta_l F_l``.
 
 ``expo_fixed`` and ``expo_adaptive`` integrate the shifted coordinates ``y~ = y - y_p(t)``, where
@@ -216,8 +216,9 @@ def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
     """Fixed-step exponential integrator over ``n_samples`` saved samples.
 
     Parameters (named tuples of :mod:`rubrotor.steppers`): ``st`` (:class:`RunState`) the run
-    state, in/out: ``y`` (complex eigen-coordinates, shifted), ``cstate = [F, z, F_prev]``
-    (contact force N, unbalance phasor ``exp(i Omega t)``, previous force N), ``istate`` (slots
+    state, in/out: ``y`` (complex eigen-coordinates, shifted), ``cstate = [F, z, F_prev,
+    d_prev]`` (contact force N, unbalance phasor ``exp(i Omega t)``, previous force N, previous
+    contact-point displacement m, carried so that chunking changes nothing), ``istate`` (slots
     ``I_*``), ``work`` (J), ``out`` and ``events``; ``k`` (:class:`FixedStep`) the step
     coefficients, ``h`` (s), ``omega`` (rad/s), ``save_every``, ``max_disp`` (m),
     ``event_reserve`` (free event slots required before a sample); ``cp`` the
@@ -256,7 +257,7 @@ def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
     V = 0j
     fn_c = 0.0
     ft_c = 0.0
-    d_prev = 0.0
+    d_prev = st.cstate[3].real
     pw0 = (0.0, 0.0, 0.0, 0.0, 0.0)
     if en.on:
         pw0 = _powers(y, z, F, en, cp, cdc, cvc, part_c, vel_cz, part_lc, qv)
@@ -322,6 +323,7 @@ def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
     st.cstate[0] = F
     st.cstate[1] = z
     st.cstate[2] = Fp
+    st.cstate[3] = d_prev
     istate[I_STEP] = step
     return written
 
@@ -351,7 +353,7 @@ def expo_adaptive(st, n_samples, out_offset, k, cp, rows):
     ``phi1..phi3``), while the step is still controlled by the second-order estimate above (local
     extrapolation); a step that leaves contact falls back to the linear hold.
 
-    ``st`` (:class:`rubrotor.steppers.RunState`): ``cstate = [F, z, F_prev]``, ``istate`` (slots
+    ``st`` (:class:`rubrotor.steppers.RunState`): ``cstate = [F, z, F_prev, -]``, ``istate`` (slots
     ``I_*``, ``I_STEP`` counts saved samples), ``counts`` (slots ``C_*``).
     """
     y, istate, out, stats, events = st.y, st.istate, st.out, st.counts, st.events
@@ -527,7 +529,8 @@ def abm_fixed(st, n_samples, out_offset, k, cp, rows):
     """Seed scheme: fixed-step 4th-order Adams-Bashforth-Moulton PECE, RK4 start.
 
     ``st`` (:class:`rubrotor.steppers.RunState`): ``y`` the unshifted complex eigen-coordinates,
-    ``hist`` (4, ns) the last four derivatives (newest first), ``istate`` (slots ``I_*``);
+    ``hist`` (4, ns) the last four derivatives (newest first), ``cstate[0]`` the contact force
+    (N) of the last step (carried across calls, for the events), ``istate`` (slots ``I_*``);
     ``k`` (:class:`rubrotor.steppers.AbmStep`): modes, force inputs, forces, contact rows,
     ``omega`` (rad/s), ``h`` (s), ``save_every``, ``max_disp`` (m), ``event_reserve``.
     """
@@ -543,7 +546,7 @@ def abm_fixed(st, n_samples, out_offset, k, cp, rows):
     maxd2 = k.max_disp * k.max_disp
     written = 0
     step = istate[I_STEP]
-    F = 0j
+    F = st.cstate[0]
     for s_i in range(n_samples):
         if _buffer_short(events, istate, k.event_reserve):
             break
@@ -592,5 +595,6 @@ def abm_fixed(st, n_samples, out_offset, k, cp, rows):
         fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
         _write_sample(out, out_offset + s_i, y, z, complex(fy, fz), cp, rows)
         written += 1
+    st.cstate[0] = F
     istate[I_STEP] = step
     return written
