@@ -62,83 +62,100 @@ def campbell_figure(shaft: Shaft, speeds, operating_speed: float | None = None) 
     """
     data = campbell(shaft, speeds)
     sp = data["speed_rad_s"]
-    freq = data["frequency_hz"]  # (S, N, B)
-    labels = data["labels"]
-    spin_hz = sp / (2 * math.pi)
     lo_sp, hi_sp = float(sp.min()), float(sp.max())
     crits = [c for c in critical_speeds(shaft) if lo_sp <= c.speed_rad_s <= hi_sp]
-
-    branches = ["bending", "shear"] if shaft.theory == "timoshenko" else ["bending"]
-    fig = Figure(figsize=(10, 7 if len(branches) == 2 else 5.5), layout="constrained")
-    if len(branches) == 2:
-        ax_shear, ax_bend = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1, 1.6]})
-        panels = {"bending": ax_bend, "shear": ax_shear}
-    else:
-        ax_bend = fig.subplots(1, 1)
-        panels = {"bending": ax_bend}
-
+    fig, panels = _campbell_panels(shaft)
     for branch, ax in panels.items():
-        cols = [j for j, (b, _) in enumerate(labels) if b == branch]
-        fb = freq[:, :, cols]
-        top = float(fb.max())
-        if branch == "bending":
-            ymin, ymax = 0.0, 1.1 * top
-        else:
-            bottom = float(fb.min())
-            pad = 0.08 * (top - bottom)
-            ymin, ymax = bottom - pad, top + pad
-        for j in cols:
-            branch_j, whirl = labels[j]
-            for i, n in enumerate(data["n"]):
-                f = freq[:, i, j]
-                ax.plot(
-                    sp,
-                    f,
-                    color=_WHIRL_COLOR[whirl],
-                    linestyle=_BRANCH_STYLE[branch_j],
-                    linewidth=1.6,
-                )
-                ax.annotate(
-                    f"{n}{_WHIRL_LETTER[whirl]}",
-                    (sp[-1], f[-1]),
-                    xytext=(4, 0),
-                    textcoords="offset points",
-                    va="center",
-                    fontsize=8,
-                    color=_WHIRL_COLOR[whirl],
-                )
-        ax.plot(sp, spin_hz, color="black", linestyle=":", linewidth=1.4)
-        ax.set_ylim(ymin, ymax)
+        _campbell_curves(ax, branch, data)
         ax.set_xlim(lo_sp, hi_sp)
         ax.grid(True, alpha=0.3)
         ax.set_ylabel("Whirl frequency (Hz)")
-        for c in crits:
-            if c.branch != branch:
-                continue
-            y = c.speed_hz
-            ax.plot(
-                c.speed_rad_s,
-                y,
-                marker="D",
-                markersize=7,
-                markerfacecolor=_WHIRL_COLOR[c.whirl],
-                markeredgecolor="black",
-                linestyle="none",
-                zorder=5,
-            )
-            ax.annotate(
-                f"{c.n}{_WHIRL_LETTER[c.whirl]}: {c.speed_rad_s:.0f} rad/s",
-                (c.speed_rad_s, y),
-                xytext=(-8, -14) if c.whirl == "backward" else (8, -14),
-                textcoords="offset points",
-                ha="right" if c.whirl == "backward" else "left",
-                fontsize=8,
-                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8},
-                zorder=6,
-            )
+        _campbell_criticals(ax, [c for c in crits if c.branch == branch])
         if operating_speed is not None:
             ax.axvline(operating_speed, color="0.45", linestyle="-.", linewidth=1.3)
+    _campbell_axes(panels, operating_speed)
+    _campbell_legend(fig, panels, bool(crits), operating_speed)
+    fig.suptitle(
+        f"Campbell diagram: {_THEORY_NAME[shaft.theory]} shaft, L = {shaft.length:g} m, "
+        f"D = {shaft.diameter * 1e3:g} mm"
+        + (f", \u03ba = {shaft.kappa:.4g}" if shaft.theory == "timoshenko" else "")
+        + ("" if shaft.gyroscopic else ", no gyroscopic moments"),
+        fontsize=11,
+    )
+    return fig
 
+
+def _campbell_panels(shaft: Shaft) -> tuple[Figure, dict]:
+    """The figure and its panels: bending only, or shear above bending (Timoshenko)."""
+    two = shaft.theory == "timoshenko"
+    fig = Figure(figsize=(10, 7 if two else 5.5), layout="constrained")
+    if two:
+        ax_shear, ax_bend = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1, 1.6]})
+        return fig, {"bending": ax_bend, "shear": ax_shear}
+    return fig, {"bending": fig.subplots(1, 1)}
+
+
+def _campbell_curves(ax, branch: str, data: dict) -> None:
+    """Whirl frequencies (Hz) of one branch against spin speed (rad/s), labelled, and 1X."""
+    sp, freq, labels = data["speed_rad_s"], data["frequency_hz"], data["labels"]
+    cols = [j for j, (b, _) in enumerate(labels) if b == branch]
+    fb = freq[:, :, cols]
+    top = float(fb.max())
+    if branch == "bending":
+        ymin, ymax = 0.0, 1.1 * top
+    else:
+        bottom = float(fb.min())
+        pad = 0.08 * (top - bottom)
+        ymin, ymax = bottom - pad, top + pad
+    for j in cols:
+        branch_j, whirl = labels[j]
+        for i, n in enumerate(data["n"]):
+            f = freq[:, i, j]
+            ax.plot(
+                sp, f, color=_WHIRL_COLOR[whirl], linestyle=_BRANCH_STYLE[branch_j], linewidth=1.6
+            )
+            ax.annotate(
+                f"{n}{_WHIRL_LETTER[whirl]}",
+                (sp[-1], f[-1]),
+                xytext=(4, 0),
+                textcoords="offset points",
+                va="center",
+                fontsize=8,
+                color=_WHIRL_COLOR[whirl],
+            )
+    ax.plot(sp, sp / (2 * math.pi), color="black", linestyle=":", linewidth=1.4)
+    ax.set_ylim(ymin, ymax)
+
+
+def _campbell_criticals(ax, crits) -> None:
+    """Diamonds at the critical speeds (rad/s), annotated."""
+    for c in crits:
+        y = c.speed_hz
+        ax.plot(
+            c.speed_rad_s,
+            y,
+            marker="D",
+            markersize=7,
+            markerfacecolor=_WHIRL_COLOR[c.whirl],
+            markeredgecolor="black",
+            linestyle="none",
+            zorder=5,
+        )
+        ax.annotate(
+            f"{c.n}{_WHIRL_LETTER[c.whirl]}: {c.speed_rad_s:.0f} rad/s",
+            (c.speed_rad_s, y),
+            xytext=(-8, -14) if c.whirl == "backward" else (8, -14),
+            textcoords="offset points",
+            ha="right" if c.whirl == "backward" else "left",
+            fontsize=8,
+            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8},
+            zorder=6,
+        )
+
+
+def _campbell_axes(panels: dict, operating_speed: float | None) -> None:
+    """Speed axes (rad/s below, rev/min on top), operating-speed label, panel titles."""
+    ax_bend = panels["bending"]
     ax_bend.set_xlabel(r"Spin speed $\Omega$ (rad/s)")
     if operating_speed is not None:
         ax_bend.annotate(
@@ -171,6 +188,8 @@ def campbell_figure(shaft: Shaft, speeds, operating_speed: float | None = None) 
                 bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8},
             )
 
+
+def _campbell_legend(fig, panels: dict, crits: bool, operating_speed: float | None) -> None:
     handles = [
         Line2D([], [], color=_WHIRL_COLOR["forward"], label="forward whirl (F)"),
         Line2D([], [], color=_WHIRL_COLOR["backward"], label="backward whirl (B)"),
@@ -194,14 +213,6 @@ def campbell_figure(shaft: Shaft, speeds, operating_speed: float | None = None) 
     if operating_speed is not None:
         handles.append(Line2D([], [], color="0.45", linestyle="-.", label="operating speed"))
     fig.legend(handles=handles, loc="outside right upper", fontsize=9)
-    fig.suptitle(
-        f"Campbell diagram: {_THEORY_NAME[shaft.theory]} shaft, L = {shaft.length:g} m, "
-        f"D = {shaft.diameter * 1e3:g} mm"
-        + (f", \u03ba = {shaft.kappa:.4g}" if shaft.theory == "timoshenko" else "")
-        + ("" if shaft.gyroscopic else ", no gyroscopic moments"),
-        fontsize=11,
-    )
-    return fig
 
 
 def _break_marks(ax_top, ax_bottom) -> None:

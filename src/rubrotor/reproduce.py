@@ -29,30 +29,30 @@ import math
 import sys
 import time
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
-from rubrotor.analysis.overview import band_energy, mode_entries
+from rubrotor.analysis.overview import mode_entries
 from rubrotor.analysis.wavelet import cwt_binned, inner_scalogram, log_frequencies, scalogram
 from rubrotor.api import critical_speeds, modes
 from rubrotor.integrator import Integrator
 from rubrotor.results import atomic_write, save_dataset
-from rubrotor.scenario import Scenario, load_scenario
+from rubrotor.scenario import Scenario
 from rubrotor.simulation import simulate
+from rubrotor.study.cases import (
+    CASES,
+    TWO_PI,
+    case_metrics,
+    poincare_period,
+    regime,
+    seed_scenario,
+    shear1_band,
+    spectral_numbers,
+)
+from rubrotor.study.claims import evaluate_claims, fig6_numbers
 
 __all__ = ["Settings", "FULL", "QUICK", "CASES", "reproduce", "case_metrics", "poincare_period"]
-
-TWO_PI = 2 * math.pi
-
-CASES = [
-    ("case1", "seed_case1", "Case 1: g' = 3e-3, b_h' = 1e2"),
-    ("case2", "seed_case2", "Case 2: g' = 3.5e-3, b_h' = 1e2"),
-    ("case3", "seed_case3", "Case 3: g' = 3.5e-3, b_h' = 1e3"),
-    ("no_contact", "seed_no_contact", "No contact"),
-]
-"""(key, scenario file stem, title) of the seed's cases, in the seed's order."""
 
 
 @dataclass(frozen=True)
@@ -98,103 +98,11 @@ QUICK = Settings(
     sensitivity=((0.5, 0.0), (1.0, 0.0), (2.0, 0.0)),
 )
 DTAU = 1e-3
-PERIOD_TOL = 0.01  # Poincare residual (relative to max |P|) below which a period is accepted
-
-
-def _scenario(stem: str) -> Scenario:
-    return load_scenario(resources.files("rubrotor") / "scenarios" / f"{stem}.toml")
 
 
 def _progress(msg: str, t0: float, quiet: bool) -> None:
     if not quiet:
         print(f"[{time.perf_counter() - t0:6.1f} s] {msg}", file=sys.stderr, flush=True)
-
-
-def poincare_period(ds, max_k: int = 12, tol: float = PERIOD_TOL) -> dict:
-    """Period of the late response from once-per-revolution (Poincare) samples.
-
-    The orbit ``P = v + i w`` is interpolated at ``tau = 2 pi j`` over the second half of the
-    run; for each ``k`` the residual ``max_j |P_{j+k} - P_j| / max |P|`` is computed.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        Results.
-    max_k : int
-        Largest period tried (revolutions).
-    tol : float
-        Residual below which the response counts as period-k.
-
-    Returns
-    -------
-    dict
-        ``period`` (smallest k with residual < tol, or None), ``best_k`` and ``best_residual``
-        (the k with the smallest residual), ``residuals`` (list, k = 1..max_k), ``samples``.
-    """
-    tau = ds["tau"].values
-    p = ds["v"].values + 1j * ds["w"].values
-    half = tau[-1] / 2
-    jj = np.arange(math.ceil(half / TWO_PI), math.floor(tau[-1] / TWO_PI) + 1)
-    pts = np.interp(jj * TWO_PI, tau, p.real) + 1j * np.interp(jj * TWO_PI, tau, p.imag)
-    scale = float(np.max(np.abs(p[tau >= half])))
-    res = []
-    for k in range(1, max_k + 1):
-        if pts.size <= k + 2:
-            res.append(float("nan"))
-            continue
-        res.append(float(np.max(np.abs(pts[k:] - pts[:-k])) / scale))
-    arr = np.array(res)
-    ok = [k for k, r in enumerate(res, 1) if r < tol]
-    if np.all(np.isnan(arr)):  # too few revolutions (e.g. a run that diverged early)
-        return {"period": None, "best_k": 0, "best_residual": float("nan"), "residuals": res,
-                "samples": int(pts.size)}  # fmt: skip
-    best = int(np.nanargmin(arr)) + 1
-    return {
-        "period": ok[0] if ok else None,
-        "best_k": best,
-        "best_residual": res[best - 1],
-        "residuals": res,
-        "samples": int(pts.size),
-    }
-
-
-def case_metrics(ds, clearance: float | None) -> dict:
-    """Contact and orbit numbers of the late response (second half of the run).
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        Results.
-    clearance : float or None
-        Radial clearance (m); None without contact.
-
-    Returns
-    -------
-    dict
-        ``status``, ``contact_fraction`` (share of late samples in contact),
-        ``max_orbit_over_clearance`` (``max |P| / g``), ``max_orbit_m``, ``max_normal_force_N``,
-        ``mean_normal_force_N``, ``impacts_per_rev`` (contact onsets per revolution),
-        ``poincare`` (see ``poincare_period``), ``revolutions`` (simulated).
-    """
-    tau = ds["tau"].values
-    late = tau >= tau[-1] / 2
-    p = np.hypot(ds["v"].values, ds["w"].values)
-    fn = ds["normal_force"].values
-    inc = fn[late] > 0
-    onsets = int(np.sum(np.diff(inc.astype(np.int8)) == 1))
-    revs_late = (tau[-1] - tau[late][0]) / TWO_PI
-    out = {
-        "status": ds.attrs["status"],
-        "revolutions": float(tau[-1] / TWO_PI),
-        "contact_fraction": float(np.mean(inc)),
-        "max_orbit_m": float(p[late].max()),
-        "max_orbit_over_clearance": float(p[late].max() / clearance) if clearance else None,
-        "max_normal_force_N": float(fn[late].max()),
-        "mean_normal_force_N": float(fn[late].mean()),
-        "impacts_per_rev": onsets / revs_late if revs_late > 0 else 0.0,
-        "poincare": poincare_period(ds),
-    }
-    return out
 
 
 def _run(sc: Scenario, revolutions: float, save_every: int):
@@ -205,43 +113,6 @@ def _run(sc: Scenario, revolutions: float, save_every: int):
 def _savefig(fig, path: Path) -> Path:
     atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=110))
     return path
-
-
-def _shear1_band(entries) -> tuple[float, float, float, float]:
-    f = {lab: fr for lab, fr, _ in entries}
-    lo, hi = f["1B shear"], f["1F shear"]
-    return lo, hi, 0.95 * lo, 1.05 * hi
-
-
-def _spectral(ds, entries, band) -> dict:
-    """Band energies of the acceleration orbit near the mode-1 shear branch and elsewhere."""
-    fs = 1.0 / float(np.mean(np.diff(ds["time"].values)))
-    tau = ds["tau"].values
-    late = tau >= tau[-1] / 2
-    a_v = ds["v_ddot"].values[late]
-    a_w = ds["w_ddot"].values[late]
-    total = float(np.mean(a_v**2 + a_w**2))
-    e1 = band_energy(a_v, fs, band[2], band[3], w=a_w)
-    # share of the same (Hann-windowed) periodogram: a growing record is not dominated by its
-    # last, windowed-out samples
-    total_w = band_energy(a_v, fs, 0.0, fs / 2, w=a_w)
-    f = {lab: fr for lab, fr, _ in entries}
-    e3 = band_energy(a_v, fs, 0.95 * f["3B shear"], 1.05 * f["3F shear"], w=a_w)
-    # strongest line of the full spectrum inside the mode-1 shear band
-    from rubrotor.analysis.spectra import full_spectrum
-
-    spec = full_spectrum(a_v, a_w, fs)
-    sel = (np.abs(spec.frequencies) >= band[2]) & (np.abs(spec.frequencies) <= band[3])
-    k = int(np.argmax(np.where(sel, spec.amplitudes, -1.0)))
-    return {
-        "fs_hz": fs,
-        "acc_mean_square": total,
-        "shear1_band_hz": [band[2], band[3]],
-        "shear1_band_energy": e1,
-        "shear1_band_share": e1 / total_w if total_w > 0 else 0.0,
-        "shear3_band_energy": e3,
-        "shear1_peak_hz": float(spec.frequencies[k]),
-    }
 
 
 def _fmt(x, spec=".3g") -> str:
@@ -310,6 +181,261 @@ def _render(blocks, out: Path) -> tuple[str, str]:
     return "\n".join(md), page
 
 
+@dataclass(frozen=True)
+class _Context:
+    """What every part of a reproduction reads: settings, scenarios, modes, output folder."""
+
+    out: Path
+    st: Settings
+    scen: dict
+    entries: list
+    band: tuple
+    spin_hz: float
+    main_sign: str
+    other_sign: str
+    t0: float
+    quiet: bool
+
+    def progress(self, msg: str) -> None:
+        _progress(msg, self.t0, self.quiet)
+
+
+def _case_scenarios(seed_friction: bool) -> dict:
+    """The seed cases; cases 1-3 with the seed's friction sign when ``seed_friction``."""
+    scen = {key: seed_scenario(stem) for key, stem, _ in CASES}
+    if seed_friction:
+        for key in ("case1", "case2", "case3"):
+            src = scen[key].source
+            scen[key] = dataclasses.replace(
+                scen[key].with_changes(**{"contact.friction_sign": "seed"}),
+                source=src.replace('friction_sign = "physical"', 'friction_sign = "seed"'),
+            )
+    return scen
+
+
+def _run_cases(cx: _Context) -> tuple[dict, dict, dict]:
+    """The four cases: results, ``case_metrics`` and band numbers; ``<case>/response.png``."""
+    from rubrotor import plotting
+
+    st, out = cx.st, cx.out
+    results, metrics, spectral = {}, {}, {}
+    for key, _stem, title in CASES:
+        cx.progress(f"simulate {title} ({st.revolutions:g} rev, d tau = {DTAU:g})")
+        sc = cx.scen[key]
+        ds = _run(sc, st.revolutions, st.save_every)
+        results[key] = ds
+        save_dataset(ds, out / key / "results.nc")
+        g = sc.contact.clearance if sc.contact else None
+        metrics[key] = case_metrics(ds, g)
+        spectral[key] = spectral_numbers(ds, cx.entries, cx.band)
+        fig = plotting.response_figure(
+            ds,
+            clearance=g,
+            title=f"{title}: responses at midspan ({metrics[key]['revolutions']:.0f} rev from rest, "
+            f"friction sign {sc.contact.friction_sign if sc.contact else '-'})",
+        )
+        _savefig(fig, out / key / "response.png")
+    nc_e = spectral["no_contact"]["shear1_band_energy"]
+    for key in spectral:
+        e = spectral[key]["shear1_band_energy"]
+        spectral[key]["shear1_ratio_to_no_contact"] = e / nc_e if nc_e > 0 else float("inf")
+    return results, metrics, spectral
+
+
+def _inner_peaks(in_: np.ndarray, freqs: np.ndarray, n: int = 6) -> list[float]:
+    """Frequencies (Hz) of the ``n`` highest local maxima of an inner scalogram."""
+    from scipy.signal import find_peaks
+
+    idx, _ = find_peaks(np.concatenate([[0.0], in_, [0.0]]))
+    idx = idx - 1
+    idx = idx[np.argsort(in_[idx])[::-1]][:n]
+    return [float(freqs[i]) for i in idx]
+
+
+def _cwt_part(cx: _Context, results: dict, spectral: dict) -> np.ndarray:
+    """CWT maps and scalograms of the horizontal acceleration (seed Fig. 7); the frequencies."""
+    from rubrotor import plotting
+
+    cx.progress("CWT maps and scalograms of the acceleration")
+    band, entries = cx.band, cx.entries
+    fs = spectral["case1"]["fs_hz"]
+    freqs = log_frequencies(300.0, min(0.4 * fs, 2.0 * max(f for _, f, _ in entries)), 120)
+    maps, curves = {}, {}
+    for key, _stem, title in CASES:
+        a = results[key]["v_ddot"].values
+        maps[title] = cwt_binned(a, fs, freqs, 500)
+        sc_, in_ = scalogram(a, fs, freqs), inner_scalogram(a, fs, freqs)
+        curves[title] = (sc_, in_)
+        j = (freqs >= band[2]) & (freqs <= band[3])
+        spectral[key]["inner_scalogram_shear1_max"] = float(in_[j].max())
+        spectral[key]["inner_scalogram_peaks_hz"] = _inner_peaks(in_, freqs)
+    _savefig(
+        plotting.scalogram_map_figure(
+            maps,
+            modes=entries,
+            spin_hz=cx.spin_hz,
+            title="CWT of the horizontal acceleration at midspan (seed Fig. 7): max |W| per time bin",
+        ),
+        cx.out / "fig7_cwt_maps.png",
+    )
+    _savefig(
+        plotting.scalogram_curves_figure(
+            freqs,
+            curves,
+            modes=entries,
+            spin_hz=cx.spin_hz,
+            title="Scalogram and inner scalogram of the horizontal acceleration",
+        ),
+        cx.out / "fig7_scalograms.png",
+    )
+    return freqs
+
+
+def _fig6_part(cx: _Context) -> dict:
+    """Timoshenko against Euler-Bernoulli for the slender shaft (seed Fig. 6)."""
+    from rubrotor import plotting
+
+    cx.progress("Fig. 6: Timoshenko vs Euler-Bernoulli at r = 0.0013")
+    out, revs = cx.out, cx.st.fig6_revolutions
+    s_t, s_e = seed_scenario("seed_fig6_timoshenko"), seed_scenario("seed_fig6_euler_bernoulli")
+    d_t = _run(s_t, revs, 16)
+    d_e = _run(s_e, revs, 16)
+    save_dataset(d_t, out / "fig6" / "timoshenko.nc")
+    save_dataset(d_e, out / "fig6" / "euler_bernoulli.nc")
+    _savefig(
+        plotting.theory_comparison_figure(
+            d_t,
+            d_e,
+            variable="w",
+            title=f"Seed Fig. 6: no contact, r = {s_t.shaft.slenderness:g} (D = "
+            f"{s_t.shaft.diameter * 1e3:.2f} mm), {s_t.speed:.1f} rad/s, 3 modes, from rest",
+        ),
+        out / "fig6_timoshenko_vs_euler_bernoulli.png",
+    )
+    return fig6_numbers(s_t, s_e, d_t, d_e, revs)
+
+
+def _campbell_part(cx: _Context) -> None:
+    from rubrotor import plotting
+
+    cx.progress("Campbell diagram")
+    base = cx.scen["case1"]
+    speed = base.speed
+    _savefig(
+        plotting.campbell_figure(base.shaft, np.linspace(0, 3 * speed, 301), operating_speed=speed),
+        cx.out / "campbell.png",
+    )
+
+
+def _friction_part(cx: _Context, results: dict) -> dict:
+    """Cases 1-3 with the other friction sign; ``friction_sign.png`` (orbit envelopes)."""
+    from rubrotor import plotting
+
+    cx.progress(f"cases 1-3 with the {cx.other_sign} friction sign")
+    st, scen = cx.st, cx.scen
+    friction, env = {}, {}
+    for key in ("case1", "case2", "case3"):
+        sc_o = scen[key].with_changes(**{"contact.friction_sign": cx.other_sign})
+        d_o = _run(sc_o, st.revolutions, st.save_every)
+        m_o = case_metrics(d_o, sc_o.contact.clearance)
+        m_o["status_message"] = d_o.attrs["status_message"]
+        m_o["max_orbit_whole_run_over_clearance"] = float(
+            np.max(np.hypot(d_o["v"].values, d_o["w"].values)) / sc_o.contact.clearance
+        )
+        friction[key] = m_o
+        for sign, d in ((cx.main_sign, results[key]), (cx.other_sign, d_o)):
+            env[(key, sign)] = _envelope(d, scen[key].contact.clearance)
+    _savefig(
+        plotting.envelope_figure(
+            env, title="Orbit envelope (max over 5 revolutions): friction sign"
+        ),
+        cx.out / "friction_sign.png",
+    )
+    return friction
+
+
+def _sensitivity_row(cx: _Context, fac: float, zeta: float) -> dict:
+    """Contact numbers and band-energy ratios of cases 1-3 at one unbalance factor and damping."""
+    me0 = cx.scen["case1"].unbalance.magnitude
+    row = {"unbalance_kg_m": me0 * fac, "unbalance_factor": fac, "damping_ratio": zeta}
+    energy = {}
+    for key in ("no_contact", "case1", "case2", "case3"):
+        sc_s = cx.scen[key].with_changes(
+            **{"unbalance.magnitude": me0 * fac, "damping.ratio": zeta}
+        )
+        d = simulate(
+            sc_s,
+            integrator=Integrator(
+                revolutions=cx.st.sensitivity_revolutions, output_dtau=TWO_PI / 64
+            ),
+            progress=False,
+        )
+        energy[key] = spectral_numbers(d, cx.entries, cx.band)["shear1_band_energy"]
+        if key == "no_contact":
+            continue
+        m = case_metrics(d, sc_s.contact.clearance)
+        keys = ("contact_fraction", "max_orbit_over_clearance", "max_normal_force_N", "status")
+        row[key] = {k: m[k] for k in keys}
+        row[key]["regime"] = regime(m)
+        row[key]["shear1_ratio_to_no_contact"] = (
+            energy[key] / energy["no_contact"] if energy["no_contact"] > 0 else float("inf")
+        )
+    return row
+
+
+def _summary(cx: _Context, parts: dict, quick: bool, full: bool) -> dict:
+    """The content of ``summary.json`` (plain JSON types)."""
+    base, entries, band, scen = cx.scen["case1"], cx.entries, cx.band, cx.scen
+    metrics, spectral = parts["metrics"], parts["spectral"]
+    summary = {
+        "settings": dataclasses.asdict(cx.st)
+        | {"dtau": DTAU, "quick": quick, "friction_sign": cx.main_sign},
+        "speed_rad_s": base.speed,
+        "spin_hz": cx.spin_hz,
+        "first_forward_critical_rad_s": next(
+            c.speed_rad_s
+            for c in critical_speeds(base)
+            if c.whirl == "forward" and c.branch == "bending" and c.n == 1
+        ),
+        "natural_frequencies_hz": {lab: fr for lab, fr, _ in entries},
+        "shear1_band_hz": [band[0], band[1]],
+        "unbalance_kg_m": base.unbalance.magnitude,
+        "damping_ratio": base.damping.ratios[0],
+        "initial_state": "rest (zero displacement and velocity), full spin speed from t = 0",
+        "cases": {
+            k: metrics[k]
+            | {
+                "spectral": spectral[k],
+                "clearance_m": scen[k].contact.clearance if scen[k].contact else None,
+            }
+            for k, _, _ in CASES
+        },
+        "fig6": parts["fig6"],
+        "friction_sign_comparison": {
+            "main": cx.main_sign,
+            "other": cx.other_sign,
+            "other_runs": parts["friction"],
+        },
+        "sensitivity": parts["sensitivity"],
+        "claims": evaluate_claims(metrics, spectral, parts["fig6"], band),
+        "seed_study": parts["extras"] | {"full": full},
+        "wall_time_s": time.perf_counter() - cx.t0,
+    }
+    return json.loads(json.dumps(summary, default=_json_default))
+
+
+def _write_outputs(cx: _Context, summary: dict, metrics: dict) -> None:
+    """``summary.json``, ``report.md`` and the self-contained ``report.html``."""
+    out = cx.out
+    atomic_write(
+        out / "summary.json", lambda tmp: Path(tmp).write_text(json.dumps(summary, indent=2))
+    )
+    m1, m2, m3 = metrics["case1"], metrics["case2"], metrics["case3"]
+    md, page = _render(_report_blocks(summary, cx.scen, m1, m2, m3), out)
+    atomic_write(out / "report.md", lambda tmp: Path(tmp).write_text(md))
+    atomic_write(out / "report.html", lambda tmp: Path(tmp).write_text(page))
+
+
 # ---- the reproduction -----------------------------------------------------------------------
 def reproduce(
     out,
@@ -347,266 +473,37 @@ def reproduce(
     dict
         The content of ``summary.json``.
     """
-    from rubrotor import plotting
     from rubrotor.study.extras import run_extras
 
     t0 = time.perf_counter()
-    st = QUICK if quick else FULL
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    main_sign = "seed" if seed_friction else "physical"
-    other_sign = "physical" if seed_friction else "seed"
-
-    scen = {key: _scenario(stem) for key, stem, _ in CASES}
-    if seed_friction:
-        for key in ("case1", "case2", "case3"):
-            src = scen[key].source
-            scen[key] = dataclasses.replace(
-                scen[key].with_changes(**{"contact.friction_sign": "seed"}),
-                source=src.replace('friction_sign = "physical"', 'friction_sign = "seed"'),
-            )
+    scen = _case_scenarios(seed_friction)
     base = scen["case1"]
-    speed = base.speed
-    spin_hz = speed / TWO_PI
-    entries = mode_entries(modes(base, speed))
-    band = _shear1_band(entries)
-
-    # 1. the four cases
-    results, metrics, spectral = {}, {}, {}
-    for key, _stem, title in CASES:
-        _progress(f"simulate {title} ({st.revolutions:g} rev, d tau = {DTAU:g})", t0, quiet)
-        sc = scen[key]
-        ds = _run(sc, st.revolutions, st.save_every)
-        results[key] = ds
-        save_dataset(ds, out / key / "results.nc")
-        g = sc.contact.clearance if sc.contact else None
-        metrics[key] = case_metrics(ds, g)
-        spectral[key] = _spectral(ds, entries, band)
-        fig = plotting.response_figure(
-            ds,
-            clearance=g,
-            title=f"{title}: responses at midspan ({metrics[key]['revolutions']:.0f} rev from rest, "
-            f"friction sign {sc.contact.friction_sign if sc.contact else '-'})",
-        )
-        _savefig(fig, out / key / "response.png")
-    nc_e = spectral["no_contact"]["shear1_band_energy"]
-    for key in spectral:
-        e = spectral[key]["shear1_band_energy"]
-        spectral[key]["shear1_ratio_to_no_contact"] = e / nc_e if nc_e > 0 else float("inf")
-
-    # 2. CWT maps and scalograms of the horizontal acceleration (seed Fig. 7)
-    _progress("CWT maps and scalograms of the acceleration", t0, quiet)
-    fs = spectral["case1"]["fs_hz"]
-    freqs = log_frequencies(300.0, min(0.4 * fs, 2.0 * max(f for _, f, _ in entries)), 120)
-    maps, curves, peaks = {}, {}, {}
-    for key, _stem, title in CASES:
-        a = results[key]["v_ddot"].values
-        maps[title] = cwt_binned(a, fs, freqs, 500)
-        sc_, in_ = scalogram(a, fs, freqs), inner_scalogram(a, fs, freqs)
-        curves[title] = (sc_, in_)
-        from scipy.signal import find_peaks
-
-        idx, _ = find_peaks(np.concatenate([[0.0], in_, [0.0]]))
-        idx = idx - 1
-        idx = idx[np.argsort(in_[idx])[::-1]][:6]
-        peaks[key] = [float(freqs[i]) for i in idx]
-        j = (freqs >= band[2]) & (freqs <= band[3])
-        spectral[key]["inner_scalogram_shear1_max"] = float(in_[j].max())
-        spectral[key]["inner_scalogram_peaks_hz"] = peaks[key]
-    _savefig(
-        plotting.scalogram_map_figure(
-            maps,
-            modes=entries,
-            spin_hz=spin_hz,
-            title="CWT of the horizontal acceleration at midspan (seed Fig. 7): max |W| per time bin",
-        ),
-        out / "fig7_cwt_maps.png",
-    )
-    _savefig(
-        plotting.scalogram_curves_figure(
-            freqs,
-            curves,
-            modes=entries,
-            spin_hz=spin_hz,
-            title="Scalogram and inner scalogram of the horizontal acceleration",
-        ),
-        out / "fig7_scalograms.png",
-    )
-
-    # 3. Timoshenko vs Euler-Bernoulli (seed Fig. 6)
-    _progress("Fig. 6: Timoshenko vs Euler-Bernoulli at r = 0.0013", t0, quiet)
-    s_t, s_e = _scenario("seed_fig6_timoshenko"), _scenario("seed_fig6_euler_bernoulli")
-    d_t = _run(s_t, st.fig6_revolutions, 16)
-    d_e = _run(s_e, st.fig6_revolutions, 16)
-    save_dataset(d_t, out / "fig6" / "timoshenko.nc")
-    save_dataset(d_e, out / "fig6" / "euler_bernoulli.nc")
-    rel = {}
-    for var in ("v", "w"):
-        a, b = d_t[var].values, d_e[var].values
-        rel[var] = float(np.max(np.abs(a - b)) / np.max(np.abs(a)))
-    f6_modes = {
-        m.n: m.frequency_hz
-        for m in modes(s_t, s_t.speed)
-        if m.branch == "bending" and m.whirl == "forward"
-    }
-    f6_modes_eb = {
-        m.n: m.frequency_hz
-        for m in modes(s_e, s_e.speed)
-        if m.branch == "bending" and m.whirl == "forward"
-    }
-    fig6 = {
-        "slenderness": s_t.shaft.slenderness,
-        "diameter_m": s_t.shaft.diameter,
-        "speed_rad_s": s_t.speed,
-        "revolutions": st.fig6_revolutions,
-        "max_rel_diff_v": rel["v"],
-        "max_rel_diff_w": rel["w"],
-        "max_w_m": float(np.max(np.abs(d_t["w"].values))),
-        "forward_bending_hz_timoshenko": f6_modes,
-        "forward_bending_hz_euler_bernoulli": f6_modes_eb,
-    }
-    _savefig(
-        plotting.theory_comparison_figure(
-            d_t,
-            d_e,
-            variable="w",
-            title=f"Seed Fig. 6: no contact, r = {s_t.shaft.slenderness:g} (D = "
-            f"{s_t.shaft.diameter * 1e3:.2f} mm), {s_t.speed:.1f} rad/s, 3 modes, from rest",
-        ),
-        out / "fig6_timoshenko_vs_euler_bernoulli.png",
-    )
-
-    # 4. Campbell diagram
-    _progress("Campbell diagram", t0, quiet)
-    _savefig(
-        plotting.campbell_figure(base.shaft, np.linspace(0, 3 * speed, 301), operating_speed=speed),
-        out / "campbell.png",
-    )
-
-    # 5. the other friction sign
-    _progress(f"cases 1-3 with the {other_sign} friction sign", t0, quiet)
-    friction = {}
-    env = {}
-    for key in ("case1", "case2", "case3"):
-        sc_o = scen[key].with_changes(**{"contact.friction_sign": other_sign})
-        d_o = _run(sc_o, st.revolutions, st.save_every)
-        m_o = case_metrics(d_o, sc_o.contact.clearance)
-        m_o["status_message"] = d_o.attrs["status_message"]
-        m_o["max_orbit_whole_run_over_clearance"] = float(
-            np.max(np.hypot(d_o["v"].values, d_o["w"].values)) / sc_o.contact.clearance
-        )
-        friction[key] = m_o
-        for sign, d in ((main_sign, results[key]), (other_sign, d_o)):
-            env[(key, sign)] = _envelope(d, scen[key].contact.clearance)
-    _savefig(
-        plotting.envelope_figure(
-            env, title="Orbit envelope (max over 5 revolutions): friction sign"
-        ),
-        out / "friction_sign.png",
-    )
-
-    # 6. sensitivity to the unbalance and damping (adaptive integrator)
-    _progress("sensitivity: unbalance and damping", t0, quiet)
-    sens = []
-    me0 = base.unbalance.magnitude
-    for fac, zeta in st.sensitivity:
-        row = {"unbalance_kg_m": me0 * fac, "unbalance_factor": fac, "damping_ratio": zeta}
-        energy = {}
-        for key in ("no_contact", "case1", "case2", "case3"):
-            sc_s = scen[key].with_changes(
-                **{"unbalance.magnitude": me0 * fac, "damping.ratio": zeta}
-            )
-            d = simulate(
-                sc_s,
-                integrator=Integrator(
-                    revolutions=st.sensitivity_revolutions, output_dtau=TWO_PI / 64
-                ),
-                progress=False,
-            )
-            energy[key] = _spectral(d, entries, band)["shear1_band_energy"]
-            if key == "no_contact":
-                continue
-            m = case_metrics(d, sc_s.contact.clearance)
-            row[key] = {
-                k: m[k]
-                for k in (
-                    "contact_fraction",
-                    "max_orbit_over_clearance",
-                    "max_normal_force_N",
-                    "status",
-                )
-            }
-            row[key]["regime"] = _regime(m)
-            row[key]["shear1_ratio_to_no_contact"] = (
-                energy[key] / energy["no_contact"] if energy["no_contact"] > 0 else float("inf")
-            )
-        sens.append(row)
-
+    entries = mode_entries(modes(base, base.speed))
+    cx = _Context(
+        out=out, st=QUICK if quick else FULL, scen=scen, entries=entries,
+        band=shear1_band(entries), spin_hz=base.speed / TWO_PI,
+        main_sign="seed" if seed_friction else "physical",
+        other_sign="physical" if seed_friction else "seed", t0=t0, quiet=quiet,
+    )  # fmt: skip
+    results, metrics, spectral = _run_cases(cx)  # 1. the four cases
+    freqs = _cwt_part(cx, results, spectral)  # 2. seed Fig. 7
+    parts = {"metrics": metrics, "spectral": spectral, "fig6": _fig6_part(cx)}  # 3. Fig. 6
+    _campbell_part(cx)  # 4.
+    parts["friction"] = _friction_part(cx, results)  # 5. the other friction sign
+    cx.progress("sensitivity: unbalance and damping")  # 6. adaptive integrator
+    parts["sensitivity"] = [_sensitivity_row(cx, fac, zeta) for fac, zeta in cx.st.sensitivity]
     # 6b. the seed's own equations, contact stability, detection, robustness (--full)
-    extras = run_extras(
-        out,
-        scen,
-        entries=entries,
-        band=band,
-        freqs=freqs,
-        spin_hz=spin_hz,
-        save_every=st.save_every,
-        quick=quick,
-        full=full,
-        workers=workers,
-        scheduler=scheduler,
-        quiet=quiet,
-        t0=t0,
-    )
-
-    # 7. claims
-    _progress("claims, summary and report", t0, quiet)
-    m1, m2, m3 = metrics["case1"], metrics["case2"], metrics["case3"]
-    claims = _claims(metrics, spectral, fig6, band)
-    wall = time.perf_counter() - t0
-    summary = {
-        "settings": dataclasses.asdict(st)
-        | {"dtau": DTAU, "quick": quick, "friction_sign": main_sign},
-        "speed_rad_s": speed,
-        "spin_hz": spin_hz,
-        "first_forward_critical_rad_s": next(
-            c.speed_rad_s
-            for c in critical_speeds(base)
-            if c.whirl == "forward" and c.branch == "bending" and c.n == 1
-        ),
-        "natural_frequencies_hz": {lab: fr for lab, fr, _ in entries},
-        "shear1_band_hz": [band[0], band[1]],
-        "unbalance_kg_m": me0,
-        "damping_ratio": base.damping.ratios[0],
-        "initial_state": "rest (zero displacement and velocity), full spin speed from t = 0",
-        "cases": {
-            k: metrics[k]
-            | {
-                "spectral": spectral[k],
-                "clearance_m": scen[k].contact.clearance if scen[k].contact else None,
-            }
-            for k, _, _ in CASES
-        },
-        "fig6": fig6,
-        "friction_sign_comparison": {
-            "main": main_sign,
-            "other": other_sign,
-            "other_runs": friction,
-        },
-        "sensitivity": sens,
-        "claims": claims,
-        "seed_study": extras | {"full": full},
-        "wall_time_s": wall,
-    }
-    summary = json.loads(json.dumps(summary, default=_json_default))
-    atomic_write(
-        out / "summary.json", lambda tmp: Path(tmp).write_text(json.dumps(summary, indent=2))
-    )
-    blocks = _report_blocks(summary, scen, m1, m2, m3)
-    md, page = _render(blocks, out)
-    atomic_write(out / "report.md", lambda tmp: Path(tmp).write_text(md))
-    atomic_write(out / "report.html", lambda tmp: Path(tmp).write_text(page))
-    _progress(f"done in {time.perf_counter() - t0:.1f} s: {out / 'report.html'}", t0, quiet)
+    parts["extras"] = run_extras(
+        out, scen, entries=entries, band=cx.band, freqs=freqs, spin_hz=cx.spin_hz,
+        save_every=cx.st.save_every, quick=quick, full=full, workers=workers,
+        scheduler=scheduler, quiet=quiet, t0=t0,
+    )  # fmt: skip
+    cx.progress("claims, summary and report")  # 7. claims
+    summary = _summary(cx, parts, quick, full)
+    _write_outputs(cx, summary, metrics)
+    cx.progress(f"done in {time.perf_counter() - t0:.1f} s: {out / 'report.html'}")
     return summary
 
 
@@ -627,116 +524,6 @@ def _envelope(ds, clearance: float, block: int = 5) -> tuple[np.ndarray, np.ndar
     out = np.full(n, np.nan)
     np.fmax.at(out, idx, p)
     return np.arange(n) * block, out
-
-
-def _regime(m: dict) -> str:
-    from rubrotor.regimes import case_regime
-
-    return case_regime(m)
-
-
-def _claims(metrics, spectral, fig6, band) -> list[dict]:
-    m1, m2, m3 = metrics["case1"], metrics["case2"], metrics["case3"]
-    s = spectral
-    rows = []
-    hardest = m1["contact_fraction"] > max(m2["contact_fraction"], m3["contact_fraction"]) and m1[
-        "mean_normal_force_N"
-    ] > max(m2["mean_normal_force_N"], m3["mean_normal_force_N"])
-    rows.append(
-        {
-            "claim": "Case 1 rubs hardest (seed Fig. 3, 7a)",
-            "holds": bool(hardest),
-            "numbers": (
-                f"late contact fraction {m1['contact_fraction']:.3f} / "
-                f"{m2['contact_fraction']:.3f} / {m3['contact_fraction']:.3f}; mean normal "
-                f"force {m1['mean_normal_force_N']:.3g} / {m2['mean_normal_force_N']:.3g} / "
-                f"{m3['mean_normal_force_N']:.3g} N (cases 1/2/3)"
-            ),
-        }
-    )
-    per = m2["poincare"]
-    rows.append(
-        {
-            "claim": "Case 2 settles into periodic impacts in steady state (seed Fig. 4)",
-            "holds": bool(m2["contact_fraction"] > 0 and per["period"] is not None),
-            "numbers": (
-                f"contact fraction {m2['contact_fraction']:.3f}, "
-                f"{m2['impacts_per_rev']:.2f} impacts/rev; Poincare (once per rev, last "
-                f"{per['samples']} rev): best k = {per['best_k']} with residual "
-                f"{per['best_residual']:.3f} of max |P| (period accepted below "
-                f"{PERIOD_TOL})"
-            ),
-        }
-    )
-    rows.append(
-        {
-            "claim": "Case 3's contact force is lower than case 2's (seed Fig. 5e)",
-            "holds": bool(m3["max_normal_force_N"] < m2["max_normal_force_N"]),
-            "numbers": (
-                f"late max normal force {m3['max_normal_force_N']:.3g} N (case 3) vs "
-                f"{m2['max_normal_force_N']:.3g} N (case 2); mean "
-                f"{m3['mean_normal_force_N']:.3g} vs {m2['mean_normal_force_N']:.3g} N"
-            ),
-        }
-    )
-    r = [s[k]["shear1_ratio_to_no_contact"] for k in ("case1", "case2", "case3")]
-    pk = [s[k]["shear1_peak_hz"] for k in ("case1", "case2", "case3")]
-    in_band = all(band[0] * 0.97 <= abs(p) <= band[1] * 1.03 for p in pk)
-    rows.append(
-        {
-            "claim": (
-                "Rubbing excites a band near 20 kHz that the no-contact run lacks: the shear "
-                "branch of mode 1"
-            ),
-            "holds": bool(min(r) > 10 and in_band),
-            "numbers": (
-                f"acceleration energy in {band[2] / 1e3:.1f}-{band[3] / 1e3:.1f} kHz vs "
-                f"no contact: x{r[0]:.3g} / x{r[1]:.3g} / x{r[2]:.3g} (cases 1/2/3); "
-                f"strongest line there at {abs(pk[0]) / 1e3:.2f} / {abs(pk[1]) / 1e3:.2f} / "
-                f"{abs(pk[2]) / 1e3:.2f} kHz ({'forward' if pk[0] > 0 else 'backward'} in "
-                f"case 1); mode-1 shear branch {band[0] / 1e3:.2f} (B) - "
-                f"{band[1] / 1e3:.2f} (F) kHz"
-            ),
-        }
-    )
-    share = [s[k]["shear1_band_share"] for k in ("case1", "case2", "case3")]
-    rows.append(
-        {
-            "claim": (
-                "In case 1 the ~20 kHz band dominates the acceleration (seed: 'no other "
-                "frequency rather than the 20 kHz appears')"
-            ),
-            "holds": bool(share[0] > 0.5),
-            "numbers": (
-                f"share of the acceleration mean square in the band: {share[0]:.3g} / "
-                f"{share[1]:.3g} / {share[2]:.3g} (cases 1/2/3)"
-            ),
-        }
-    )
-    rows.append(
-        {
-            "claim": "The rub band carries more energy in case 3 than in case 2 (seed Fig. 7b, c)",
-            "holds": bool(s["case3"]["shear1_band_energy"] > s["case2"]["shear1_band_energy"]),
-            "numbers": (
-                f"band energy {s['case3']['shear1_band_energy']:.3g} vs "
-                f"{s['case2']['shear1_band_energy']:.3g} (m/s^2)^2 (case 3 vs case 2)"
-            ),
-        }
-    )
-    rows.append(
-        {
-            "claim": "The Timoshenko model matches Euler-Bernoulli for a slender shaft (Fig. 6)",
-            "holds": bool(max(fig6["max_rel_diff_v"], fig6["max_rel_diff_w"]) < 0.05),
-            "numbers": (
-                f"r = {fig6['slenderness']:g}, {fig6['revolutions']:g} rev: max |w_T - w_EB| "
-                f"/ max |w| = {fig6['max_rel_diff_w']:.2e}, same for v "
-                f"{fig6['max_rel_diff_v']:.2e}; first forward bending frequency "
-                f"{fig6['forward_bending_hz_timoshenko'][1]:.7g} vs "
-                f"{fig6['forward_bending_hz_euler_bernoulli'][1]:.7g} Hz"
-            ),
-        }
-    )
-    return rows
 
 
 INCONSISTENCIES = [
@@ -794,7 +581,8 @@ INCONSISTENCIES = [
 ]
 
 
-def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
+def _intro_blocks(s: dict) -> list:
+    """Title and how the report was made."""
     st = s["settings"]
     b: list = [
         (
@@ -811,9 +599,12 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             f" Friction sign of the main cases: {st['friction_sign']}.",
         )
     )
-    from rubrotor.study import report as seed_report
+    return b
 
-    b += seed_report.lead_blocks(s)
+
+def _two_field_note_blocks() -> list:
+    """Why the rub-band claims fail in the two-field model."""
+    b: list = []
     b.append(("h2", "Two-field model: why its rub-band claims fail"))
     b.append(
         (
@@ -831,6 +622,13 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             "spin.",
         )
     )
+    return b
+
+
+def _parameter_blocks(s: dict, scen: dict) -> list:
+    """Parameters and assumptions of the runs."""
+    st = s["settings"]
+    b: list = []
     b.append(("h2", "Parameters and assumptions"))
     sh = scen["case1"].shaft
     c1, c3 = scen["case1"].contact, scen["case3"].contact
@@ -863,6 +661,12 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             ],
         )
     )
+    return b
+
+
+def _case_blocks(s: dict) -> list:
+    """Cases 1-3 and the no-contact run (seed Figs. 3-5)."""
+    b: list = []
     b.append(("h2", "Cases 1-3 and the no-contact run (seed Figs. 3-5)"))
     rows = []
     for key, _stem, title in CASES:
@@ -910,6 +714,12 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
                 "portraits, (e) normal contact force, (f) orbit with the clearance circle",
             )
         )
+    return b
+
+
+def _cwt_blocks() -> list:
+    """The CWT of the acceleration (seed Fig. 7)."""
+    b: list = []
     b.append(("h2", "CWT of the acceleration (seed Fig. 7)"))
     b.append(
         (
@@ -920,9 +730,12 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
         )
     )
     b.append(("img", "fig7_scalograms.png", "Scalogram and inner scalogram (two-field model)"))
-    b += seed_report.seed_form_blocks(s)
-    b += seed_report.stability_blocks(s)
-    b += seed_report.detection_blocks(s)
+    return b
+
+
+def _fig6_blocks(s: dict) -> list:
+    """Timoshenko against Euler-Bernoulli (seed Fig. 6) and the Campbell diagram."""
+    b: list = []
     f6 = s["fig6"]
     b.append(("h2", "Timoshenko vs Euler-Bernoulli (seed Fig. 6)"))
     b.append(
@@ -949,6 +762,12 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
     )
     b.append(("h2", "Campbell diagram"))
     b.append(("img", "campbell.png", "Campbell diagram of the seed rotor with the operating speed"))
+    return b
+
+
+def _friction_blocks(s: dict) -> list:
+    """The two friction signs."""
+    b: list = []
     fr = s["friction_sign_comparison"]
     b.append(("h2", f"Friction sign: {fr['main']} (main runs) vs {fr['other']}"))
     rows = []
@@ -958,8 +777,8 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
         rows.append(
             [
                 key,
-                f"{_regime(m)}; max |P|/g {_fmt(m['max_orbit_over_clearance'])}",
-                f"{_regime(o)}; max |P|/g over the run "
+                f"{regime(m)}; max |P|/g {_fmt(m['max_orbit_over_clearance'])}",
+                f"{regime(o)}; max |P|/g over the run "
                 f"{_fmt(o['max_orbit_whole_run_over_clearance'])}; "
                 f"{o['revolutions']:.0f} rev simulated; {o['status_message'] or 'complete'}",
             ]
@@ -979,6 +798,13 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             "Largest |P|/g in each block of 5 revolutions, both friction signs",
         )
     )
+    return b
+
+
+def _sensitivity_blocks(s: dict) -> list:
+    """Sensitivity to the unbalance and the structural damping."""
+    st = s["settings"]
+    b: list = []
     b.append(("h2", "Sensitivity to the unbalance and the structural damping"))
     b.append(
         (
@@ -1006,6 +832,25 @@ def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
             )
         rows.append(cells)
     b.append(("table", ["unbalance (kg m)", "damping ratio", "case 1", "case 2", "case 3"], rows))
+    return b
+
+
+def _report_blocks(s: dict, scen: dict, m1, m2, m3) -> list:
+    """The report as a list of blocks (see :func:`_render`), in reading order."""
+    from rubrotor.study import report as seed_report
+
+    b = _intro_blocks(s)
+    b += seed_report.lead_blocks(s)
+    b += _two_field_note_blocks()
+    b += _parameter_blocks(s, scen)
+    b += _case_blocks(s)
+    b += _cwt_blocks()
+    b += seed_report.seed_form_blocks(s)
+    b += seed_report.stability_blocks(s)
+    b += seed_report.detection_blocks(s)
+    b += _fig6_blocks(s)
+    b += _friction_blocks(s)
+    b += _sensitivity_blocks(s)
     b.append(("h2", "Inconsistencies in the seed and what we did"))
     b.append(("table", ["seed", "what we did"], [list(x) for x in INCONSISTENCIES]))
     return b

@@ -228,7 +228,7 @@ def assemble_seed(shaft: Shaft, speed: float, damping=None) -> SeedModalSystem:
     -------
     SeedModalSystem
     """
-    from rubrotor.simulation import _damping_matrix
+    from rubrotor.modal_system import damping_matrix
 
     _check(shaft)
     nm = shaft.modes
@@ -241,7 +241,7 @@ def assemble_seed(shaft: Shaft, speed: float, damping=None) -> SeedModalSystem:
     for i, n in enumerate(range(1, nm + 1)):
         mm = modal_matrices(shaft, n)
         zeta = damping.ratio(n) if damping is not None else 0.0
-        c = seed_coefficients(shaft, n, speed, _damping_matrix(mm.M, mm.K, zeta))
+        c = seed_coefficients(shaft, n, speed, damping_matrix(mm.M, mm.K, zeta))
         w0 = float((c[4].real / c[0].real) ** 0.25)
         lam_b, v = np.linalg.eig(companion(c, w0))
         v = v / np.linalg.norm(v, axis=0)

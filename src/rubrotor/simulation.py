@@ -1,8 +1,10 @@
 """Time simulation of the rotor under unbalance with rotor-stator contact.
 
-:func:`~rubrotor.simulation.simulate_system` is the array-level entry point (shaft, speed, forces, integrator); it
-assembles and diagonalises the modal system, runs a compiled kernel from :mod:`rubrotor.core`
-in chunks (progress and Ctrl-C are handled between chunks, never per step) and returns a
+:func:`~rubrotor.simulation.simulate_system` is the array-level entry point (shaft, speed, forces,
+integrator); it assembles and diagonalises the modal system (:mod:`rubrotor.modal_system`),
+plans the run (rows, particular solution, initial state), asks the stepper table
+:data:`rubrotor.steppers.STEPPERS` for the method's chunk function, runs one shared chunk loop
+(progress, Ctrl-C, event-buffer growth and status between chunks, never per step) and returns a
 :class:`SimulationResult`. :func:`rubrotor.results.to_dataset` turns that into an xarray Dataset.
 """
 
@@ -11,17 +13,28 @@ from __future__ import annotations
 import math
 import sys
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from rubrotor.core.contact import pack_contact
-from rubrotor.core.integrate import STATUS, abm_fixed, expo_adaptive, expo_fixed, n_channels
+from rubrotor.core.integrate import (
+    DIVERGED,
+    EVENT_BUFFER_FULL,
+    I_EVENTS,
+    I_STATUS,
+    N_ISTATE,
+    OK,
+    STATUS,
+    _write_sample,
+    n_channels,
+)
 from rubrotor.errors import InputError
 from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance
 from rubrotor.integrator import Integrator
-from rubrotor.model import Shaft, modal_matrices
+from rubrotor.modal_system import ModalSystem, assemble_modal, phi_functions
+from rubrotor.model import Shaft
+from rubrotor.steppers import STEPPERS, Plan, Rows, RunState
 
 __all__ = [
     "ModalSystem",
@@ -35,130 +48,10 @@ __all__ = [
     "phi_functions",
 ]
 
-ADAPTIVE_LEVELS = 21
 INITIAL_STATES = ("rest", "steady")
 EVENT_BUFFER = 200_000
-
-
-def phi_functions(z: np.ndarray, third: bool = False):
-    """``phi1 = (e^z - 1)/z``, ``phi2 = (e^z - 1 - z)/z^2`` (and ``phi3 = (e^z - 1 - z - z^2/2)/z^3``).
-
-    Accurate for small ``|z|`` (Taylor series below 0.25, the recurrence
-    ``phi_{k+1} = (phi_k - 1/k!)/z`` above).
-
-    Parameters
-    ----------
-    z : ndarray, complex
-        Arguments (dimensionless).
-    third : bool
-        Also return ``phi3``.
-
-    Returns
-    -------
-    phi1, phi2[, phi3] : ndarray, complex
-
-    Examples
-    --------
-    >>> p1, p2 = phi_functions(np.array([1e-12 + 0j, 1.0 + 0j]))
-    >>> bool(np.allclose(p1, [1.0, np.e - 1])), bool(np.allclose(p2, [0.5, np.e - 2]))
-    (True, True)
-    """
-    z = np.asarray(z, dtype=complex)
-    small = np.abs(z) < 0.25
-    out = [np.empty_like(z) for _ in range(3)]
-    zs = z[small]
-    # Taylor series: phi_k(z) = sum_j z^j / (j + k)!
-    term = np.ones_like(zs)
-    acc = [np.zeros_like(zs) for _ in range(3)]
-    for j in range(0, 20):
-        for k in range(3):
-            acc[k] = acc[k] + term / math.factorial(j + k + 1)
-        term = term * zs
-    zl = z[~small]
-    big = [(np.exp(zl) - 1) / zl]
-    big.append((big[0] - 1) / zl)
-    big.append((big[1] - 0.5) / zl)
-    for k in range(3):
-        out[k][small] = acc[k]
-        out[k][~small] = big[k]
-    return (out[0], out[1], out[2]) if third else (out[0], out[1])
-
-
-def _block_diag(blocks: list[np.ndarray]) -> np.ndarray:
-    """Block-diagonal matrix of square blocks (cheaper than scipy's for a few small blocks)."""
-    n = sum(b.shape[0] for b in blocks)
-    out = np.zeros((n, n), dtype=np.result_type(*blocks))
-    o = 0
-    for b in blocks:
-        k = b.shape[0]
-        out[o : o + k, o : o + k] = b
-        o += k
-    return out
-
-
-def _damping_matrix(M: np.ndarray, K: np.ndarray, zeta: float) -> np.ndarray:
-    """``C = M Phi diag(2 zeta omega) Phi^T M`` from the non-rotating modes of ``(K, M)``."""
-    if zeta == 0.0:
-        return np.zeros_like(M)
-    w2, phi = scipy.linalg.eigh(K, M)
-    return M @ phi @ np.diag(2 * zeta * np.sqrt(w2)) @ phi.T @ M
-
-
-@dataclass
-class ModalSystem:
-    """The rotor in diagonal (eigen) coordinates of its first-order modal system.
-
-    Physical state ``x = [q_1; q_1'; q_2; q_2'; ...]`` (complex, ``q_n = [P_n, Psi_n]`` or
-    ``[P_n]``) is ``x = V y``; ``y' = lam y + beta(a) F`` for a point force ``F`` (N) at ``a``.
-    """
-
-    shaft: Shaft
-    speed: float
-    lam: np.ndarray
-    V: np.ndarray
-    Vinv: np.ndarray
-    M: np.ndarray
-    K: np.ndarray
-    C: np.ndarray
-    q_index: np.ndarray  # indices of q in x
-    qd_index: np.ndarray  # indices of q' in x
-    defl_index: np.ndarray  # index in x of the deflection P_n of each mode
-    wavenumbers: np.ndarray
-    cond: float = field(default=1.0)
-
-    def force_input(self, position: float) -> np.ndarray:
-        """``beta`` (eigen-coordinates per N) of a point force at ``position`` (m)."""
-        b = np.zeros(self.V.shape[0], complex)
-        mdiag = np.diag(self.M)
-        for n_i, xi in enumerate(self.defl_index):
-            vel = self.qd_index[np.searchsorted(self.q_index, xi)]
-            b[vel] = (
-                math.sin(self.wavenumbers[n_i] * position)
-                / mdiag[np.searchsorted(self.q_index, xi)]
-            )
-        return self.Vinv @ b
-
-    def displacement_row(self, position: float) -> np.ndarray:
-        """Row mapping ``y`` to the complex deflection ``v + i w`` (m) at ``position`` (m)."""
-        r = np.zeros(self.V.shape[0], complex)
-        for n_i, xi in enumerate(self.defl_index):
-            r[xi] = math.sin(self.wavenumbers[n_i] * position)
-        return r @ self.V
-
-    def velocity_row(self, position: float) -> np.ndarray:
-        """Row mapping ``y`` to the complex velocity (m/s) at ``position`` (m)."""
-        r = np.zeros(self.V.shape[0], complex)
-        for n_i, xi in enumerate(self.defl_index):
-            vel = self.qd_index[np.searchsorted(self.q_index, xi)]
-            r[vel] = math.sin(self.wavenumbers[n_i] * position)
-        return r @ self.V
-
-    def energy(self, y: np.ndarray) -> float:
-        """Kinetic plus strain energy (J) of the physical state ``V y``."""
-        x = self.V @ y
-        q = x[self.q_index]
-        qd = x[self.qd_index]
-        return 0.5 * float(np.real(qd.conj() @ self.M @ qd) + np.real(q.conj() @ self.K @ q))
+"""Initial length of the contact-event buffer; it doubles when full, up to ``EVENT_BUFFER_MAX``."""
+EVENT_BUFFER_MAX = 1 << 26
 
 
 def assemble(shaft: Shaft, speed: float, damping: ModalDamping | None = None) -> ModalSystem:
@@ -183,64 +76,7 @@ def assemble(shaft: Shaft, speed: float, damping: ModalDamping | None = None) ->
         from rubrotor.seedform import assemble_seed
 
         return assemble_seed(shaft, speed, damping)
-    damping = damping or ModalDamping()
-    blocks_a, blocks_m, blocks_k, blocks_c = [], [], [], []
-    q_idx, qd_idx, defl = [], [], []
-    off = 0
-    for n in range(1, shaft.modes + 1):
-        mm = modal_matrices(shaft, n)
-        m = mm.size
-        c = _damping_matrix(mm.M, mm.K, damping.ratio(n))
-        minv = np.linalg.inv(mm.M)
-        a = np.zeros((2 * m, 2 * m), complex)
-        a[:m, m:] = np.eye(m)
-        a[m:, :m] = -minv @ mm.K
-        a[m:, m:] = -minv @ (c + speed * mm.G)
-        blocks_a.append(a)
-        blocks_m.append(mm.M)
-        blocks_k.append(mm.K)
-        blocks_c.append(c)
-        q_idx.extend(range(off, off + m))
-        qd_idx.extend(range(off + m, off + 2 * m))
-        defl.append(off)
-        off += 2 * m
-    ns = sum(a.shape[0] for a in blocks_a)
-    lam = np.empty(ns, complex)
-    V = np.zeros((ns, ns), complex)
-    Vinv = np.zeros((ns, ns), complex)
-    cond = 1.0
-    o = 0
-    for a in blocks_a:
-        k = a.shape[0]
-        lam_b, v = np.linalg.eig(a)
-        v = v / np.linalg.norm(v, axis=0)
-        vinv = np.linalg.inv(v)
-        cond = max(cond, np.abs(v).sum(axis=0).max() * np.abs(vinv).sum(axis=0).max())  # 1-norm
-        lam[o : o + k] = lam_b
-        V[o : o + k, o : o + k] = v
-        Vinv[o : o + k, o : o + k] = vinv
-        o += k
-    if cond > 1e12:
-        raise InputError(
-            "speed", speed, "a speed where the modal system is diagonalisable (move it slightly)"
-        )
-    q_index = np.array(q_idx)
-    order = np.argsort(q_index)
-    return ModalSystem(
-        shaft=shaft,
-        speed=speed,
-        lam=lam,
-        V=V,
-        Vinv=Vinv,
-        M=_block_diag(blocks_m),
-        K=_block_diag(blocks_k),
-        C=_block_diag(blocks_c),
-        q_index=q_index[order],
-        qd_index=np.array(qd_idx)[order],
-        defl_index=np.array(defl),
-        wavenumbers=np.array([shaft.wavenumber(n) for n in range(1, shaft.modes + 1)]),
-        cond=cond,
-    )
+    return assemble_modal(shaft, speed, damping)
 
 
 @dataclass(frozen=True)
@@ -424,6 +260,254 @@ def _check_station(name: str, x: float, length: float) -> float:
     return float(x)
 
 
+def _check_call(shaft: Shaft, speed, initial: str, track_energy: bool) -> float:
+    """The spin speed (rad/s) as a float, after checking the arguments that need no model."""
+    if initial not in INITIAL_STATES:
+        raise InputError("initial.state", initial, " or ".join(f'"{x}"' for x in INITIAL_STATES))
+    if track_energy and shaft.formulation == "seed-eq1" and shaft.theory == "timoshenko":
+        raise InputError(
+            "track_energy", True, 'shaft.formulation = "two-field" (the seed form has no energy)'
+        )
+    if (
+        isinstance(speed, bool)
+        or not isinstance(speed, int | float)
+        or not (speed > 0 and math.isfinite(speed))
+    ):
+        raise InputError("speed", speed, "a finite spin speed > 0 (rad/s)")
+    return float(speed)
+
+
+def _positions(shaft: Shaft, integrator: Integrator, unbalance: Unbalance, contact, load):
+    """Axial positions (m) of unbalance, contact and load, and the output stations."""
+    L = shaft.length
+    a_u = _check_station(
+        "unbalance.position", unbalance.position if unbalance.position is not None else L / 2, L
+    )
+    a_c = L / 2
+    if contact is not None:
+        a_c = _check_station(
+            "contact.position", contact.position if contact.position is not None else L / 2, L
+        )
+    a_l = L / 2
+    if load is not None and load.position is not None:
+        a_l = _check_station("load.position", load.position, L)
+    probes = [_check_station("simulation.probes", p, L) for p in integrator.probes]
+    return a_u, a_c, a_l, np.array([a_c, *probes])
+
+
+def _particular(sysm, speed: float, beta_u, beta_l, fu0: complex, fl: complex, unbalance):
+    """Steady unbalance response (at phase 0) and static load response, eigen-coordinates."""
+    lam = sysm.lam
+    res = 1j * speed - lam
+    if np.min(np.abs(res) / np.abs(lam)) < 1e-9 and unbalance.magnitude > 0:
+        raise InputError(
+            "speed",
+            speed,
+            "a speed that is not exactly an undamped critical speed (add damping or move it)",
+        )
+    return beta_u * fu0 / res, -beta_l * fl / lam
+
+
+def _frame_rows(sysm, stations, speed, beta_c, beta_u, beta_l, fu0, fl, y_u, y_l, shifted):
+    """Output rows; the exponential kernels' shifted frame adds the particular solution."""
+    lam = sysm.lam
+    rows_d = np.array([sysm.displacement_row(x) for x in stations])
+    rows_v = np.array([sysm.velocity_row(x) for x in stations])
+    n = len(stations)
+    if shifted:
+        part_u = rows_d @ y_u
+        part_l = rows_d @ y_l
+        vel_z = 1j * speed * part_u
+        acc_z = -(speed**2) * part_u
+        acc_c = np.zeros(n, complex)
+    else:
+        part_u = part_l = vel_z = np.zeros(n, complex)
+        acc_z = rows_v @ beta_u * fu0
+        acc_c = rows_v @ beta_l * fl
+    arrays = (rows_d, rows_v, rows_v * lam[None, :], rows_v @ beta_c, part_u, part_l, vel_z,
+              acc_z, acc_c)  # fmt: skip
+    return Rows(*(np.ascontiguousarray(a, dtype=complex) for a in arrays))
+
+
+def _plan(shaft, speed, integrator, unbalance, contact, load, damping, track_energy):
+    """Assemble the modal system and everything the steppers read; the output stations (m)."""
+    a_u, a_c, a_l, stations = _positions(shaft, integrator, unbalance, contact, load)
+    sysm = assemble(shaft, speed, damping)
+    beta_c, beta_u, beta_l = (sysm.force_input(a) for a in (a_c, a_u, a_l))
+    fu0 = (
+        unbalance.magnitude
+        * speed**2
+        * complex(math.cos(unbalance.phase), math.sin(unbalance.phase))
+    )
+    fl = complex(load.force_y, load.force_z) if load is not None else 0j
+    shifted = integrator.method == "exponential"
+    if shifted:
+        y_u, y_l = _particular(sysm, speed, beta_u, beta_l, fu0, fl, unbalance)
+    else:  # the ABM kernel integrates the unshifted coordinates
+        y_u = y_l = np.zeros(sysm.lam.size, complex)
+    max_disp = integrator.max_displacement
+    if max_disp is None:
+        max_disp = 1000 * contact.clearance if contact is not None else 0.1 * shaft.length
+    h = integrator.step_seconds(speed)
+    plan = Plan(
+        sysm=sysm, speed=speed, beta_c=beta_c, beta_u=beta_u, beta_l=beta_l, fu0=fu0, fl=fl,
+        y_u=y_u, y_l=y_l, cp=contact_parameters(shaft, speed, contact), max_disp=max_disp,
+        rows=_frame_rows(sysm, stations, speed, beta_c, beta_u, beta_l, fu0, fl, y_u, y_l, shifted),
+        h=h, H=None if h is not None else integrator.output_spacing(speed),
+        save_every=integrator.save_every, rtol=integrator.rtol, atol=integrator.atol,
+        track_energy=track_energy, a_u=a_u, a_l=a_l,
+    )  # fmt: skip
+    return plan, stations
+
+
+def _initial_y(plan: Plan, method: str, initial: str, start, load) -> tuple[np.ndarray, complex]:
+    """Kernel coordinates of the initial state and the contact force (N) it holds."""
+    ns = plan.sysm.lam.size
+    shifted = method == "exponential"
+    if start is not None:
+        y = _start_coordinates(plan.sysm, start, load)
+        if shifted:
+            y = y - (plan.y_u + plan.y_l)
+        return y, _start_force(y, plan.cp, plan.rows)
+    if shifted:  # shifted coordinates: -(particular solution) is rest, 0 is the steady orbit
+        y = -(plan.y_u + plan.y_l) if initial == "rest" else np.zeros(ns, complex)
+    else:
+        y = np.zeros(ns, complex)
+        if initial == "steady":
+            lam = plan.sysm.lam
+            y = plan.beta_u * plan.fu0 / (1j * plan.speed - lam) - plan.beta_l * plan.fl / lam
+    return y, 0j
+
+
+def _sample_grid(integrator: Integrator, speed: float) -> tuple[int, float]:
+    """Number of saved samples after the first and their spacing (s)."""
+    t_total = integrator.total_time(speed)
+    h = integrator.step_seconds(speed)
+    if h is not None:
+        n_steps = int(round(t_total / h))
+        if n_steps < 1:
+            raise InputError(
+                "simulation.dtau", integrator.dtau or integrator.dt, "a step shorter than the run"
+            )
+        n_samples, sample_dt = n_steps // integrator.save_every, h * integrator.save_every
+    else:
+        sample_dt = integrator.output_spacing(speed)
+        n_samples = int(round(t_total / sample_dt))
+    if n_samples < 1:
+        raise InputError(
+            "simulation.revolutions", integrator.revolutions, "a run long enough for one sample"
+        )
+    return n_samples, sample_dt
+
+
+def _run_state(plan: Plan, y: np.ndarray, f_start: complex, n_out: int) -> RunState:
+    """Fresh kernel state with ``n_out`` sample columns; the first sample written."""
+    ns = y.size
+    st = RunState(
+        y=y, cstate=np.array([f_start, 1 + 0j, 0j, 0j]), istate=np.zeros(N_ISTATE, np.int64),
+        counts=np.zeros(3, np.int64), hist=np.zeros((4, ns), complex), work=np.zeros(5),
+        out=np.empty((n_channels(plan.rows.d.shape[0]), n_out)), events=np.zeros(EVENT_BUFFER),
+    )  # fmt: skip
+    _write_sample(st.out, 0, y, 1 + 0j, f_start, plan.cp, plan.rows)
+    return st
+
+
+def _grow_events(st: RunState) -> RunState | None:
+    """The state with a doubled event buffer, or None when events were lost or it is at its
+    largest (:data:`EVENT_BUFFER_MAX`)."""
+    n = st.events.size
+    if (
+        st.istate[I_STATUS] != EVENT_BUFFER_FULL
+        or st.istate[I_EVENTS] > n
+        or 2 * n > EVENT_BUFFER_MAX
+    ):
+        return None
+    st.istate[I_STATUS] = OK
+    return st._replace(events=np.concatenate([st.events, np.zeros(n)]))
+
+
+def _progress_line(done: int, n_samples: int, sample_dt: float, speed: float, el: float) -> None:
+    frac = done / n_samples
+    print(
+        f"\rrubrotor: {100 * frac:5.1f} % ({done * sample_dt * speed / (2 * math.pi):.0f} rev)"
+        f" {el:.0f} s, ~{el / max(frac, 1e-9) - el:.0f} s left",
+        end="",
+        file=sys.stderr,
+    )
+
+
+def _loop(chunk, st: RunState, n_samples: int, chunk_samples: int, show: bool, sample_dt, speed):
+    """Shared chunk loop: progress between chunks, Ctrl-C, event-buffer growth, status.
+
+    Returns the final state, the samples written after the first, whether the user
+    interrupted and the wall time (s).
+    """
+    t0 = _time.perf_counter()
+    done, interrupted = 0, False
+    try:
+        while done < n_samples:
+            done += chunk(st, 1 + done, min(chunk_samples, n_samples - done))
+            if st.istate[I_EVENTS] > st.events.size:  # counted, not stored
+                st.istate[I_STATUS] = EVENT_BUFFER_FULL
+            if st.istate[I_STATUS] != OK:
+                grown = _grow_events(st)
+                if grown is None:
+                    break
+                st = grown
+                continue
+            el = _time.perf_counter() - t0
+            if show and el > 2.0:
+                _progress_line(done, n_samples, sample_dt, speed, el)
+    except KeyboardInterrupt:
+        interrupted = True
+    if show and _time.perf_counter() - t0 > 2.0:
+        print(file=sys.stderr)
+    return st, done, interrupted, _time.perf_counter() - t0
+
+
+def _status_message(status: int, interrupted: bool, t_stop: float, sample_dt, max_disp, st):
+    """``""`` for a complete run, else why and where it stopped."""
+    if interrupted:
+        return f"interrupted by the user after t = {t_stop:.6g} s"
+    if status == OK:
+        return ""
+    where = f"at t = {t_stop + sample_dt:.6g} s; data up to t = {t_stop:.6g} s kept"
+    if status == DIVERGED:
+        return f"diverged: contact-point displacement exceeded {max_disp:.3g} m {where}"
+    if status == EVENT_BUFFER_FULL:
+        lost = max(0, int(st.istate[I_EVENTS]) - st.events.size)
+        return f"{STATUS[status]} ({st.events.size} contact events, {lost} not stored) {where}"
+    return f"{STATUS[status]} {where}"
+
+
+def _energy_balance(plan: Plan, st: RunState, e0: float, n_out: int, contact) -> dict:
+    """Start and end energies and the work of each force (J) of a fixed-step run."""
+    y_full = st.y + plan.y_u * st.cstate[1] + plan.y_l
+    p_end = st.out[0, n_out - 1] + 1j * st.out[1, n_out - 1]
+    u_c = 0.0
+    if contact is not None:
+        eps = abs(p_end) - contact.clearance
+        if eps > 0:
+            u_c = (
+                0.4 * contact.stiffness * eps**2.5
+                if contact.law == "hertz"
+                else 0.5 * contact.stiffness * eps**2
+            )
+    work = st.work
+    return {
+        "mechanical_energy_start_J": e0,
+        "mechanical_energy_end_J": plan.sysm.energy(y_full),
+        "contact_potential_end_J": u_c,
+        "work_unbalance_J": work[0],
+        "work_load_J": work[1],
+        "work_contact_J": work[2],
+        "dissipated_modal_damping_J": work[3],
+        "work_friction_J": work[4],
+        # elastic contact work is minus the potential change (zero at the start)
+        "dissipated_contact_damping_J": -(work[2] - work[4]) - u_c,
+    }
+
+
 def simulate_system(
     shaft: Shaft,
     speed: float,
@@ -477,333 +561,47 @@ def simulate_system(
     SimulationResult
         With ``final_state`` (:class:`RotorState`) when the run completed.
     """
-    if initial not in INITIAL_STATES:
-        raise InputError("initial.state", initial, " or ".join(f'"{x}"' for x in INITIAL_STATES))
-    if track_energy and shaft.formulation == "seed-eq1" and shaft.theory == "timoshenko":
-        raise InputError(
-            "track_energy", True, 'shaft.formulation = "two-field" (the seed form has no energy)'
-        )
-    if (
-        isinstance(speed, bool)
-        or not isinstance(speed, int | float)
-        or not (speed > 0 and math.isfinite(speed))
-    ):
-        raise InputError("speed", speed, "a finite spin speed > 0 (rad/s)")
-    speed = float(speed)
-    L = shaft.length
+    speed = _check_call(shaft, speed, initial, track_energy)
     unbalance = unbalance or Unbalance(0.0)
-    a_u = _check_station(
-        "unbalance.position", unbalance.position if unbalance.position is not None else L / 2, L
+    plan, stations = _plan(
+        shaft, speed, integrator, unbalance, contact, load, damping, track_energy
     )
-    a_c = L / 2
-    if contact is not None:
-        a_c = _check_station(
-            "contact.position", contact.position if contact.position is not None else L / 2, L
-        )
-    a_l = L / 2
-    if load is not None and load.position is not None:
-        a_l = _check_station("load.position", load.position, L)
-    probes = [_check_station("simulation.probes", p, L) for p in integrator.probes]
-    stations = np.array([a_c, *probes])
-
-    sysm = assemble(shaft, speed, damping)
-    lam = sysm.lam
-    ns = lam.size
-    beta_c = sysm.force_input(a_c)
-    beta_u = sysm.force_input(a_u)
-    beta_l = sysm.force_input(a_l)
-    fu0 = (
-        unbalance.magnitude
-        * speed**2
-        * complex(math.cos(unbalance.phase), math.sin(unbalance.phase))
-    )
-    fl = complex(load.force_y, load.force_z) if load is not None else 0j
-
-    rows_d = np.array([sysm.displacement_row(x) for x in stations])
-    rows_v = np.array([sysm.velocity_row(x) for x in stations])
-    rows_a = rows_v * lam[None, :]
-    acc_fc = rows_v @ beta_c
-    cdc = np.ascontiguousarray(rows_d[0])
-    cvc = np.ascontiguousarray(rows_v[0])
-
-    cp = contact_parameters(shaft, speed, contact)
-    gap = contact.clearance if contact is not None else None
-    max_disp = integrator.max_displacement
-    if max_disp is None:
-        max_disp = 1000 * gap if gap is not None else 0.1 * L
-
-    t_total = integrator.total_time(speed)
     method = integrator.method
-    h_fixed = integrator.step_seconds(speed)
-    events = np.zeros(EVENT_BUFFER)
-    stats: dict = {
-        "method": method,
-        "order": integrator.order,
-        "modes": shaft.modes,
-        "eig_cond": sysm.cond,
-    }
-    work = np.zeros(5)
-
-    if method == "exponential":
-        res = 1j * speed - lam
-        if np.min(np.abs(res) / np.abs(lam)) < 1e-9 and unbalance.magnitude > 0:
-            raise InputError(
-                "speed",
-                speed,
-                "a speed that is not exactly an undamped critical speed (add damping or move it)",
-            )
-        y_u = beta_u * fu0 / res
-        y_l = -beta_l * fl / lam
-        part_u = rows_d @ y_u
-        part_l = rows_d @ y_l
-        vel_z = 1j * speed * part_u
-        acc_z = -(speed**2) * part_u
-        # shifted coordinates: -(particular solution) is rest, 0 is the steady orbit
-        y = -(y_u + y_l) if initial == "rest" else np.zeros(ns, complex)
-    else:
-        part_u = np.zeros(len(stations), complex)
-        part_l = np.zeros(len(stations), complex)
-        vel_z = np.zeros(len(stations), complex)
-        acc_z = rows_v @ beta_u * fu0
-        y = np.zeros(ns, complex)
-        if initial == "steady":
-            y = beta_u * fu0 / (1j * speed - lam) - beta_l * fl / lam
-    acc_c = rows_v @ beta_l * fl if method == "abm" else np.zeros(len(stations), complex)
-    orows = tuple(
-        np.ascontiguousarray(a, dtype=complex)
-        for a in (rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c)
-    )
-    f_start = 0j
-    if start is not None:
-        y = _start_coordinates(sysm, start, load)
-        if method == "exponential":
-            y = y - (y_u + y_l)
-        f_start = _start_force(y, cp, orows)
-
-    if h_fixed is not None:
-        n_steps = int(round(t_total / h_fixed))
-        if n_steps < 1:
-            raise InputError(
-                "simulation.dtau", integrator.dtau or integrator.dt, "a step shorter than the run"
-            )
-        n_samples = n_steps // integrator.save_every
-        sample_dt = h_fixed * integrator.save_every
-    else:
-        H = integrator.output_spacing(speed)
-        n_samples = int(round(t_total / H))
-        sample_dt = H
-    if n_samples < 1:
-        raise InputError(
-            "simulation.revolutions", integrator.revolutions, "a run long enough for one sample"
-        )
-
+    y, f_start = _initial_y(plan, method, initial, start, load)
+    n_samples, sample_dt = _sample_grid(integrator, speed)
     _check_output_size(n_channels(len(stations)) * (n_samples + 1) * 8, integrator)
-    out = np.empty((n_channels(len(stations)), n_samples + 1))
-    istate = np.zeros(5, np.int64)
-    cstate = np.array([f_start, 1 + 0j, 0j])
-
-    def write0():
-        from rubrotor.core.integrate import _write_sample
-
-        _write_sample(out, 0, y, 1 + 0j, f_start, cp, orows)
-
-    write0()
-
-    if method == "exponential" and h_fixed is not None:
-        h = h_fixed
-        E = np.exp(lam * h)
-        p1, p2 = phi_functions(lam * h)
-        G0 = (h * p1 - h * p2) * beta_c
-        G1 = h * p2 * beta_c
-        sd = complex(cdc @ G1)
-        sv = complex(cvc @ G1)
-        if track_energy:
-            wv = sysm.V[sysm.qd_index, :]
-            wz = wv @ y_u  # y_u is a full state: its q-dot rows are velocities
-            cmat = sysm.C
-            vel_u_row = sysm.velocity_row(a_u)
-            vel_u_z = 1j * speed * complex(sysm.displacement_row(a_u) @ y_u)
-            vel_l_row = sysm.velocity_row(a_l)
-            vel_l_z = complex(vel_l_row @ y_u)
-            e0 = sysm.energy(y + y_u + y_l)
-        else:
-            wv = np.zeros((0, ns), complex)
-            wz = np.zeros(0, complex)
-            cmat = np.zeros((0, 0))
-            vel_u_row = np.zeros(ns, complex)
-            vel_u_z = 0j
-            vel_l_row = np.zeros(ns, complex)
-            vel_l_z = 0j
-        etrack = (
-            wv,
-            wz,
-            cmat,
-            vel_u_row,
-            complex(vel_u_z),
-            complex(fu0),
-            vel_l_row,
-            complex(vel_l_z),
-            complex(fl),
-        )
-
-        def run_chunk(offset, count):
-            return expo_fixed(
-                y, cstate, istate, count, integrator.save_every, out, offset,
-                E, G0, G1, sd, sv, cdc, cvc, cp,
-                orows,
-                speed, h, max_disp,
-                track_energy, etrack, work,
-                events,
-            )  # fmt: skip
-
-        stats["step_s"] = h
-    elif method == "exponential":
-        if track_energy:
-            raise InputError("track_energy", True, "a fixed step (dtau or dt) for energy tracking")
-        levels = ADAPTIVE_LEVELS
-        hs = H / 2.0 ** np.arange(levels)
-        E = np.exp(np.outer(hs, lam))
-        p1, p2, p3 = phi_functions(np.outer(hs, lam), third=True)
-        G0 = (hs[:, None] * (p1 - p2)) * beta_c[None, :]
-        # quadratic hold through F_{k-1}, F_k, F_{k+1} at equal steps
-        Q1 = (hs[:, None] * (0.5 * p2 + p3)) * beta_c[None, :]
-        Q0 = (hs[:, None] * (p1 - 2 * p3)) * beta_c[None, :]
-        Qm = (hs[:, None] * (p3 - 0.5 * p2)) * beta_c[None, :]
-        sdq = np.ascontiguousarray(Q1 @ cdc)
-        svq = np.ascontiguousarray(Q1 @ cvc)
-        cdQ0, cvQ0 = Q0 @ cdc, Q0 @ cvc
-        cdQm, cvQm = Qm @ cdc, Qm @ cvc
-        G1 = (hs[:, None] * p2) * beta_c[None, :]
-        sd = np.ascontiguousarray(G1 @ cdc)
-        sv = np.ascontiguousarray(G1 @ cvc)
-        errc = np.abs(G0 @ cdc)
-        rot = np.exp(1j * speed * hs)
-        cdE = np.ascontiguousarray(E * cdc[None, :])
-        cvE = np.ascontiguousarray(E * cvc[None, :])
-        cdG0 = np.ascontiguousarray(G0 @ cdc)
-        cvG0 = np.ascontiguousarray(G0 @ cvc)
-        stat_arr = np.zeros(3, np.int64)
-        istate[3] = 0
-
-        def run_chunk(offset, count):
-            return expo_adaptive(
-                y, cstate, istate, count, out, offset,
-                E, G0, G1, cdE, cvE, cdG0, cvG0, sd, sv, errc, rot, cdc, cvc, cp,
-                Q0, Qm, Q1, cdQ0, cvQ0, cdQm, cvQm, sdq, svq,
-                orows,
-                speed, H, max_disp, integrator.rtol, integrator.atol,
-                events, stat_arr,
-            )  # fmt: skip
-
-        stats["output_spacing_s"] = H
-        stats["min_step_s"] = hs[-1]
-    else:
-        h = h_fixed
-        hist = np.zeros((4, ns), complex)
-
-        def run_chunk(offset, count):
-            return abm_fixed(
-                y, hist, istate, count, integrator.save_every, out, offset,
-                lam, beta_c, beta_u, beta_l, fu0, fl, cdc, cvc, cp,
-                orows,
-                speed, h, max_disp, events,
-            )  # fmt: skip
-
-        stats["step_s"] = h
-
+    st = _run_state(plan, y, f_start, n_samples + 1)
+    kind = method if method == "abm" or plan.h is not None else "adaptive"
+    stepper = STEPPERS[kind](plan, st)
     show = sys.stderr.isatty() if progress is None else progress
-    t0 = _time.perf_counter()
-    done = 0
-    message = ""
-    interrupted = False
-    try:
-        while done < n_samples:
-            count = min(chunk_samples, n_samples - done)
-            wrote = run_chunk(1 + done, count)
-            done += wrote
-            if istate[2] != 0:
-                break
-            el = _time.perf_counter() - t0
-            if show and el > 2.0:
-                frac = done / n_samples
-                print(
-                    f"\rrubrotor: {100 * frac:5.1f} % ({done * sample_dt * speed / (2 * math.pi):.0f} rev)"
-                    f" {el:.0f} s, ~{el / max(frac, 1e-9) - el:.0f} s left",
-                    end="",
-                    file=sys.stderr,
-                )
-    except KeyboardInterrupt:
-        interrupted = True
-    if show and _time.perf_counter() - t0 > 2.0:
-        print(file=sys.stderr)
-    stats["wall_s"] = _time.perf_counter() - t0
-    n_out = 1 + done
-    status = "complete"
-    if istate[2] != 0 or interrupted:
-        status = "partial"
-        t_stop = done * sample_dt
-        if interrupted:
-            message = f"interrupted by the user after t = {t_stop:.6g} s"
-        elif istate[2] == 1:
-            message = (
-                f"diverged: contact-point displacement exceeded {max_disp:.3g} m "
-                f"at t = {t_stop + sample_dt:.6g} s; data up to t = {t_stop:.6g} s kept"
-            )
-        else:
-            message = f"{STATUS[int(istate[2])]} at t = {t_stop + sample_dt:.6g} s; data up to t = {t_stop:.6g} s kept"
-    if method == "exponential" and h_fixed is None:
-        stats.update(
-            accepted_steps=int(stat_arr[0]),
-            rejected_steps=int(stat_arr[1]),
-            newton_iterations=int(stat_arr[2]),
-        )
-    else:
-        stats["steps"] = int(istate[0])
-    final_state = None
-    if status == "complete":
-        t_end = done * sample_dt
-        y_full = y + y_u * cstate[1] + y_l if method == "exponential" else y
-        final_state = _state_of(sysm, y_full, speed * t_end)
-    n_ev = min(int(istate[1]), EVENT_BUFFER)
-    stats["contact_events"] = int(istate[1])
-    work_d: dict = {}
-    if track_energy and method == "exponential" and h_fixed is not None:
-        e1 = sysm.energy(y + y_u * cstate[1] + y_l)
-        p_end = out[0, n_out - 1] + 1j * out[1, n_out - 1]
-        u_c = 0.0
-        if contact is not None:
-            eps = abs(p_end) - contact.clearance
-            if eps > 0:
-                u_c = (
-                    0.4 * contact.stiffness * eps**2.5
-                    if contact.law == "hertz"
-                    else 0.5 * contact.stiffness * eps**2
-                )
-        work_d = {
-            "mechanical_energy_start_J": e0,
-            "mechanical_energy_end_J": e1,
-            "contact_potential_end_J": u_c,
-            "work_unbalance_J": work[0],
-            "work_load_J": work[1],
-            "work_contact_J": work[2],
-            "dissipated_modal_damping_J": work[3],
-            "work_friction_J": work[4],
-            # elastic contact work is minus the potential change (zero at the start)
-            "dissipated_contact_damping_J": -(work[2] - work[4]) - u_c,
-        }
+    st, done, interrupted, wall = _loop(
+        stepper.chunk, st, n_samples, chunk_samples, show, sample_dt, speed
+    )
+    code = int(st.istate[I_STATUS])
+    complete = code == OK and not interrupted
+    n_out, t_stop = 1 + done, done * sample_dt
+    stats = {"method": method, "order": integrator.order, "modes": shaft.modes,
+             "eig_cond": plan.sysm.cond, **stepper.stats, "wall_s": wall, **stepper.counts(st),
+             "contact_events": int(st.istate[I_EVENTS])}  # fmt: skip
+    final = None
+    if complete:
+        final = _state_of(plan.sysm, stepper.full_state(st), speed * t_stop)
+    work = {}
+    if stepper.e0 is not None:  # energy tracked (fixed-step exponential)
+        work = _energy_balance(plan, st, stepper.e0, n_out, contact)
     return SimulationResult(
         time=np.arange(n_out) * sample_dt,
         stations=stations,
-        channels=out[:, :n_out],
-        status=status,
-        message=message,
+        channels=st.out[:, :n_out],
+        status="complete" if complete else "partial",
+        message=_status_message(code, interrupted, t_stop, sample_dt, plan.max_disp, st),
         stats=stats,
-        events=events[:n_ev].copy(),
-        work=work_d,
+        events=st.events[: min(int(st.istate[I_EVENTS]), st.events.size)].copy(),
+        work=work,
         speed=speed,
-        unbalance_force=fu0,
-        unbalance_position=a_u,
-        final_state=final_state,
+        unbalance_force=plan.fu0,
+        unbalance_position=plan.a_u,
+        final_state=final,
     )
 
 

@@ -1,6 +1,6 @@
 """Compiled time loops for the modal rotor with contact (plain arrays, SI units).
 
-The rotor is diagonalised once (in :mod:`rubrotor.simulate`): with ``y`` the complex eigen-
+The rotor is diagonalised once (:mod:`rubrotor.modal_system`): with ``y`` the complex eigen-
 coordinates of the first-order modal system, ``y' = lam * y + beta_c F_c + beta_u F_u + beta_l F_l``.
 
 ``expo_fixed`` and ``expo_adaptive`` integrate the shifted coordinates ``y~ = y - y_p(t)``, where
@@ -29,9 +29,44 @@ SAFE_FASTMATH = {"contract", "reassoc", "arcp", "nsz"}
 """LLVM fast-math flags that allow vectorisation but keep NaN and infinity semantics, so the
 divergence checks ``not (d2 <= limit)`` still see a NaN."""
 
-__all__ = ["expo_fixed", "expo_adaptive", "abm_fixed", "STATUS", "n_channels"]
+__all__ = [
+    "expo_fixed",
+    "expo_adaptive",
+    "abm_fixed",
+    "STATUS",
+    "OK",
+    "DIVERGED",
+    "CONTACT_FAILED",
+    "EVENT_BUFFER_FULL",
+    "I_STEP",
+    "I_EVENTS",
+    "I_STATUS",
+    "I_LEVEL",
+    "I_PREV_LEVEL",
+    "N_ISTATE",
+    "C_ACCEPTED",
+    "C_REJECTED",
+    "C_NEWTON",
+    "n_channels",
+]
 
-STATUS = {0: "complete", 1: "diverged", 2: "contact solve failed", 3: "event buffer full"}
+OK, DIVERGED, CONTACT_FAILED, EVENT_BUFFER_FULL = 0, 1, 2, 3
+STATUS = {
+    OK: "complete",
+    DIVERGED: "diverged",
+    CONTACT_FAILED: "contact solve failed",
+    EVENT_BUFFER_FULL: "event buffer full",
+}
+"""Status codes a kernel leaves in ``istate[I_STATUS]``. ``EVENT_BUFFER_FULL``: before a saved
+sample the event buffer has less room than ``event_reserve`` (no event lost: the driver grows
+the buffer and goes on), or events of the last sample were counted but not stored."""
+
+I_STEP, I_EVENTS, I_STATUS, I_LEVEL, I_PREV_LEVEL = 0, 1, 2, 3, 4
+"""Slots of ``istate``: steps taken (saved samples for the adaptive kernel), contact events
+counted, status, and the adaptive kernel's current and previous step levels."""
+N_ISTATE = 5
+C_ACCEPTED, C_REJECTED, C_NEWTON = 0, 1, 2
+"""Slots of ``counts`` (adaptive kernel): accepted and rejected steps, Newton iterations."""
 
 
 def n_channels(n_stations: int) -> int:
@@ -40,23 +75,21 @@ def n_channels(n_stations: int) -> int:
 
 
 @njit(cache=True, inline="always")
-def _station(y, z, F, s, orows):
+def _station(y, z, F, s, rows):
     """Complex displacement (m), velocity (m/s) and acceleration (m/s^2) at output station ``s``.
 
-    ``orows = (rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c)``: rows
-    mapping the eigen-coordinates to each quantity, the direct acceleration per N of contact
-    force, and the contributions of the particular (steady) solution as multiples of the
-    unbalance phasor ``z`` and constants.
+    ``rows`` (:class:`rubrotor.steppers.Rows`): rows mapping the eigen-coordinates to each
+    quantity, the direct acceleration per N of contact force, and the contributions of the
+    particular (steady) solution as multiples of the unbalance phasor ``z`` and constants.
     """
-    rows_d, rows_v, rows_a, acc_fc, part_u, part_l, vel_z, acc_z, acc_c = orows
-    P = part_u[s] * z + part_l[s]
-    V = vel_z[s] * z
-    A = acc_z[s] * z + acc_c[s] + acc_fc[s] * F
+    P = rows.part_u[s] * z + rows.part_l[s]
+    V = rows.vel_z[s] * z
+    A = rows.acc_z[s] * z + rows.acc_c[s] + rows.acc_fc[s] * F
     for j in range(y.shape[0]):
         yj = y[j]
-        P += rows_d[s, j] * yj
-        V += rows_v[s, j] * yj
-        A += rows_a[s, j] * yj
+        P += rows.d[s, j] * yj
+        V += rows.v[s, j] * yj
+        A += rows.a[s, j] * yj
     return P, V, A
 
 
@@ -72,11 +105,11 @@ def _put(out, idx, s, P, V, A):
 
 
 @njit(cache=True)
-def _write_probes(out, idx, y, z, F, orows, fn, ft):
+def _write_probes(out, idx, y, z, F, rows, fn, ft):
     """Write stations 1.. (probes) from ``y`` and the given normal and friction forces (N)."""
-    nst = orows[0].shape[0]
+    nst = rows.d.shape[0]
     for s in range(1, nst):
-        P, V, A = _station(y, z, F, s, orows)
+        P, V, A = _station(y, z, F, s, rows)
         _put(out, idx, s, P, V, A)
     b = 6 * nst
     out[b, idx] = fn
@@ -84,12 +117,45 @@ def _write_probes(out, idx, y, z, F, orows, fn, ft):
 
 
 @njit(cache=True)
-def _write_sample(out, idx, y, z, F, cp, orows):
+def _write_sample(out, idx, y, z, F, cp, rows):
     """Write one sample computed from ``y``; the contact forces from station 0's state."""
-    P, V, A = _station(y, z, F, 0, orows)
+    P, V, A = _station(y, z, F, 0, rows)
     _put(out, idx, 0, P, V, A)
     fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
-    _write_probes(out, idx, y, z, F, orows, fn, ft)
+    _write_probes(out, idx, y, z, F, rows, fn, ft)
+
+
+@njit(cache=True, inline="always")
+def _write_contact_sample(out, idx, y, z, F, rows, P, V, fn_c, ft_c):
+    """Write one sample whose station 0 reuses ``P, V`` and the forces of the last step."""
+    A0 = rows.acc_z[0] * z + rows.acc_c[0] + rows.acc_fc[0] * F
+    for j in range(y.shape[0]):
+        A0 += rows.a[0, j] * y[j]
+    _put(out, idx, 0, P, V, A0)
+    nst = rows.d.shape[0]
+    if nst > 1:
+        _write_probes(out, idx, y, z, F, rows, fn_c, ft_c)
+    else:  # no probes: only the contact forces
+        out[6, idx] = fn_c
+        out[7, idx] = ft_c
+
+
+@njit(cache=True, inline="always")
+def _record_event(events, istate, t):
+    """Store an onset (``t > 0``) or separation (``-t``) time (s); count it even when full."""
+    ne = istate[I_EVENTS]
+    if ne < events.shape[0]:
+        events[ne] = t
+    istate[I_EVENTS] = ne + 1
+
+
+@njit(cache=True, inline="always")
+def _buffer_short(events, istate, reserve):
+    """Flag ``EVENT_BUFFER_FULL`` when events were lost or fewer than ``reserve`` slots remain."""
+    if events.shape[0] - istate[I_EVENTS] < reserve:
+        istate[I_STATUS] = EVENT_BUFFER_FULL
+        return True
+    return False
 
 
 @njit(cache=True)
@@ -108,26 +174,27 @@ def _friction_power(y, z, cp, cdc, cvc, part_c, vel_c_z, part_lc):
 
 
 @njit(cache=True)
-def _powers(y, z, F, etrack, cp, cdc, cvc, part_c, vel_c_z, part_lc, qv):
+def _powers(y, z, F, en, cp, cdc, cvc, part_c, vel_c_z, part_lc, qv):
     """Instantaneous powers (W): unbalance, constant load, contact force, modal damping, friction.
 
-    ``etrack = (wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl)``: rows giving the
-    modal velocities, the damping matrix, the velocity rows of the unbalance and load stations
-    (with their particular-solution parts) and the force amplitudes.
+    ``en`` (:class:`rubrotor.steppers.Energy`): rows giving the modal velocities, the damping
+    matrix, the velocity rows of the unbalance and load stations (with their particular-solution
+    parts) and the force amplitudes.
     """
-    wv, wz, cmat, vel_u_row, vel_u_z, fu0, vel_l_row, vel_l_z, fl = etrack
     ns = y.shape[0]
-    vu = vel_u_z * z
-    vl = vel_l_z * z
+    vu = en.vel_u_z * z
+    vl = en.vel_l_z * z
     vc = vel_c_z * z
     for j in range(ns):
-        vu += vel_u_row[j] * y[j]
-        vl += vel_l_row[j] * y[j]
+        vu += en.vel_u_row[j] * y[j]
+        vl += en.vel_l_row[j] * y[j]
         vc += cvc[j] * y[j]
-    fu = fu0 * z
+    fu = en.fu0 * z
+    fl = en.fl
     p_u = fu.real * vu.real + fu.imag * vu.imag
     p_l = fl.real * vl.real + fl.imag * vl.imag
     p_c = F.real * vc.real + F.imag * vc.imag
+    wv, wz, cmat = en.wv, en.wz, en.cmat
     nq = wv.shape[0]
     for i in range(nq):
         acc = wz[i] * z
@@ -145,27 +212,28 @@ def _powers(y, z, F, etrack, cp, cdc, cvc, part_c, vel_c_z, part_lc, qv):
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
-def expo_fixed(
-    y, cstate, istate, n_samples, save_every, out, out_offset,
-    E, G0, G1, sd, sv, cdc, cvc, cp,
-    orows,
-    omega, h, max_disp,
-    energy, etrack, work,
-    events,
-):  # fmt: skip
+def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
     """Fixed-step exponential integrator over ``n_samples`` saved samples.
 
-    State in/out: ``y`` (complex eigen-coordinates, shifted), ``cstate = [F, z, F_prev]``
-    (contact force N, unbalance phasor ``exp(i Omega t)``, previous force N),
-    ``istate = [step, n_events, status]``. Writes samples ``out[:, out_offset : out_offset + n]``;
-    returns the number written. ``work`` accumulates (J) the work of unbalance, load, contact
-    force, modal damping (dissipated) and friction when ``energy`` is true. ``events`` collects
-    contact onset (+t) and separation (-t) times (s), located by linear interpolation of
-    ``|P| - g`` within the step.
+    Parameters (named tuples of :mod:`rubrotor.steppers`): ``st`` (:class:`RunState`) the run
+    state, in/out: ``y`` (complex eigen-coordinates, shifted), ``cstate = [F, z, F_prev,
+    d_prev]`` (contact force N, unbalance phasor ``exp(i Omega t)``, previous force N, previous
+    contact-point displacement m, carried so that chunking changes nothing), ``istate`` (slots
+    ``I_*``), ``work`` (J), ``out`` and ``events``; ``k`` (:class:`FixedStep`) the step
+    coefficients, ``h`` (s), ``omega`` (rad/s), ``save_every``, ``max_disp`` (m),
+    ``event_reserve`` (free event slots required before a sample); ``cp`` the
+    packed contact law; ``rows`` (:class:`Rows`) the output rows; ``en`` (:class:`Energy`)
+    energy tracking (``en.on``). Writes samples ``out[:, out_offset : out_offset + n]`` and
+    returns the number written. ``work`` accumulates the work of unbalance, load, contact
+    force, modal damping (dissipated) and friction. Contact onset (+t) and separation (-t) times
+    (s) are located by linear interpolation of ``|P| - g`` within the step.
     """
+    y, istate, out, events = st.y, st.istate, st.out, st.events
+    E, G0, G1, sd, sv, cdc, cvc = k.E, k.G0, k.G1, k.sd, k.sv, k.cdc, k.cvc
+    omega, h, save_every = k.omega, k.h, k.save_every
     ns = y.shape[0]
     jac = np.zeros((2, 4))
-    qv = np.zeros(etrack[0].shape[0], np.complex128)
+    qv = np.zeros(en.wv.shape[0], np.complex128)
     # propagate-and-project vectors: pd = sum(cdE * y) + cdG0 * F, same for the velocity
     cdE = cdc * E
     cvE = cvc * E
@@ -174,28 +242,28 @@ def expo_fixed(
     for j in range(ns):
         cdG0 += cdc[j] * G0[j]
         cvG0 += cvc[j] * G0[j]
-    F = cstate[0]
-    z = cstate[1]
-    Fp = cstate[2]
-    step = istate[0]
-    rows_a, acc_fc, part_u, part_l, vel_z = orows[2], orows[3], orows[4], orows[5], orows[6]
-    acc_z, acc_c = orows[7], orows[8]
-    part_c = part_u[0]
-    part_lc = part_l[0]
-    vel_cz = vel_z[0]
+    F = st.cstate[0]
+    z = st.cstate[1]
+    Fp = st.cstate[2]
+    step = istate[I_STEP]
+    part_c = rows.part_u[0]
+    part_lc = rows.part_l[0]
+    vel_cz = rows.vel_z[0]
     g = cp[4]
-    maxd2 = max_disp * max_disp
+    maxd2 = k.max_disp * k.max_disp
     rot = complex(math.cos(omega * h), math.sin(omega * h))
     written = 0
     P = 0j
     V = 0j
     fn_c = 0.0
     ft_c = 0.0
-    d_prev = 0.0
+    d_prev = st.cstate[3].real
     pw0 = (0.0, 0.0, 0.0, 0.0, 0.0)
-    if energy:
-        pw0 = _powers(y, z, F, etrack, cp, cdc, cvc, part_c, vel_cz, part_lc, qv)
+    if en.on:
+        pw0 = _powers(y, z, F, en, cp, cdc, cvc, part_c, vel_cz, part_lc, qv)
     for s_i in range(n_samples):
+        if _buffer_short(events, istate, k.event_reserve):
+            break
         for _ in range(save_every):
             step += 1
             if step % 1024 == 0:
@@ -217,7 +285,7 @@ def expo_fixed(
                 F0 = 2.0 * F - Fp
             Fn, it, fn_c, ft_c = solve_contact(pd, ud, sd, sv, F0, cp, jac)
             if it < 0:
-                istate[2] = 2
+                istate[I_STATUS] = CONTACT_FAILED
                 break
             if F != 0j or Fn != 0j:
                 for j in range(ns):
@@ -230,59 +298,44 @@ def expo_fixed(
             d2 = P.real * P.real + P.imag * P.imag
             d = math.sqrt(d2)
             if (Fn != 0j) != (F != 0j) and cp[0] != 0.0:
-                ne = istate[1]
-                if ne < events.shape[0]:
-                    den = d - d_prev
-                    frac = (g - d_prev) / den if den != 0.0 else 1.0
-                    frac = min(max(frac, 0.0), 1.0)
-                    te = (step - 1 + frac) * h
-                    events[ne] = te if Fn != 0j else -te
-                    istate[1] = ne + 1
+                den = d - d_prev
+                frac = (g - d_prev) / den if den != 0.0 else 1.0
+                frac = min(max(frac, 0.0), 1.0)
+                te = (step - 1 + frac) * h
+                _record_event(events, istate, te if Fn != 0j else -te)
             d_prev = d
             Fp = F
             F = Fn
             z = zn
-            if energy:
-                pw1 = _powers(y, z, F, etrack, cp, cdc, cvc, part_c, vel_cz, part_lc, qv)
-                work[0] += 0.5 * h * (pw0[0] + pw1[0])
-                work[1] += 0.5 * h * (pw0[1] + pw1[1])
-                work[2] += 0.5 * h * (pw0[2] + pw1[2])
-                work[3] += 0.5 * h * (pw0[3] + pw1[3])
-                work[4] += 0.5 * h * (pw0[4] + pw1[4])
+            if en.on:
+                pw1 = _powers(y, z, F, en, cp, cdc, cvc, part_c, vel_cz, part_lc, qv)
+                for c in range(5):
+                    st.work[c] += 0.5 * h * (pw0[c] + pw1[c])
                 pw0 = pw1
             if not (d2 <= maxd2):
-                istate[2] = 1
+                istate[I_STATUS] = DIVERGED
                 break
-        if istate[2] != 0:
+        if istate[I_STATUS] != OK:
             break
-        A0 = acc_z[0] * z + acc_c[0] + acc_fc[0] * F
-        for j in range(ns):
-            A0 += rows_a[0, j] * y[j]
         # station 0 reuses P, V of the step; the contact forces come from the Newton solve
-        _put(out, out_offset + s_i, 0, P, V, A0)
-        _write_probes(out, out_offset + s_i, y, z, F, orows, fn_c, ft_c)
+        _write_contact_sample(out, out_offset + s_i, y, z, F, rows, P, V, fn_c, ft_c)
         written += 1
-    cstate[0] = F
-    cstate[1] = z
-    cstate[2] = Fp
-    istate[0] = step
+    st.cstate[0] = F
+    st.cstate[1] = z
+    st.cstate[2] = Fp
+    st.cstate[3] = d_prev
+    istate[I_STEP] = step
     return written
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
-def expo_adaptive(
-    y, cstate, istate, n_samples, out, out_offset,
-    E, G0, G1, cdE, cvE, cdG0, cvG0, sd, sv, errc, rot, cdc, cvc, cp,
-    Q0, Qm, Q1, cdQ0, cvQ0, cdQm, cvQm, sdq, svq,
-    orows,
-    omega, H, max_disp, rtol, atol,
-    events, stats,
-):  # fmt: skip
+def expo_adaptive(st, n_samples, out_offset, k, cp, rows):
     """Error-controlled exponential integrator with dyadic steps ``H / 2^level``.
 
-    Saves one sample every ``H`` (s). Level arrays ``E, G0, G1, cdE, cvE`` have shape
-    (levels, ns) and ``cdG0, cvG0, sd, sv, errc, rot`` shape (levels,); ``cdE = cd * E`` etc. are
-    the propagate-and-project vectors of the contact station.
+    Saves one sample every ``k.H`` (s). ``k`` (:class:`rubrotor.steppers.AdaptiveStep`): level
+    arrays ``E, G0, G1, cdE, cvE, Q0, Qm, Q1`` have shape (levels, ns) and ``cdG0, cvG0, sd, sv,
+    errc, rot, cdQ0, cvQ0, cdQm, cvQm, sdq, svq`` shape (levels,); ``cdE = cd * E`` etc. are the
+    propagate-and-project vectors of the contact station.
 
     Local error control. While the rotor stays in contact over consecutive steps, the error of
     holding the force linear over a step is estimated from the second difference of the force,
@@ -300,33 +353,40 @@ def expo_adaptive(
     ``phi1..phi3``), while the step is still controlled by the second-order estimate above (local
     extrapolation); a step that leaves contact falls back to the linear hold.
 
-    ``cstate = [F, z, F_prev]``, ``istate = [sample, n_events, status, level, prev_level]``,
-    ``stats = [accepted, rejected, newton iterations]``.
+    ``st`` (:class:`rubrotor.steppers.RunState`): ``cstate = [F, z, F_prev, -]``, ``istate`` (slots
+    ``I_*``, ``I_STEP`` counts saved samples), ``counts`` (slots ``C_*``).
     """
+    y, istate, out, stats, events = st.y, st.istate, st.out, st.counts, st.events
+    E, G0, G1, cdE, cvE, cdG0, cvG0 = k.E, k.G0, k.G1, k.cdE, k.cvE, k.cdG0, k.cvG0
+    sd, sv, errc, rot = k.sd, k.sv, k.errc, k.rot
+    Q0, Qm, Q1, cdQ0, cvQ0, cdQm, cvQm = k.Q0, k.Qm, k.Q1, k.cdQ0, k.cvQ0, k.cdQm, k.cvQm
+    sdq, svq = k.sdq, k.svq
+    omega, H, rtol, atol = k.omega, k.H, k.rtol, k.atol
     ns = y.shape[0]
     nlev = E.shape[0]
     J = nlev - 1
     full = 1 << J
     jac = np.zeros((2, 4))
-    F = cstate[0]
-    z = cstate[1]
-    Fp = cstate[2]
-    rows_a, acc_fc, acc_z, acc_c = orows[2], orows[3], orows[7], orows[8]
-    part_c = orows[4][0]
-    part_lc = orows[5][0]
-    vel_cz = orows[6][0]
+    F = st.cstate[0]
+    z = st.cstate[1]
+    Fp = st.cstate[2]
+    part_c = rows.part_u[0]
+    part_lc = rows.part_l[0]
+    vel_cz = rows.vel_z[0]
     g = cp[4]
-    a_f = abs(orows[3][0])
-    maxd2 = max_disp * max_disp
-    lev = istate[3]
-    lev_prev = istate[4]
+    a_f = abs(rows.acc_fc[0])
+    maxd2 = k.max_disp * k.max_disp
+    lev = istate[I_LEVEL]
+    lev_prev = istate[I_PREV_LEVEL]
     written = 0
     P = 0j
     V = 0j
     fn_c = 0.0
     ft_c = 0.0
     for s_i in range(n_samples):
-        sample = istate[0]
+        if _buffer_short(events, istate, k.event_reserve):
+            break
+        sample = istate[I_STEP]
         t_start = sample * H
         pos = 0
         while pos < full:
@@ -359,7 +419,7 @@ def expo_adaptive(
                     am3 = False
             if not am3:
                 Fn, it, fnn, ftn = solve_contact(pd, ud, sd[lev], sv[lev], F0, cp, jac)
-            stats[2] += max(it, 0)
+            stats[C_NEWTON] += max(it, 0)
             changed = (Fn != 0j) != (F != 0j)
             Pn = pd + (sdq[lev] if am3 else sd[lev]) * Fn
             tol = atol + rtol * max(abs(Pn), g)
@@ -373,10 +433,10 @@ def expo_adaptive(
                 err = errc[lev] * abs(Fn - F) / tol
             if lev < J and (it < 0 or err > 1.0 or changed):
                 lev += 1
-                stats[1] += 1
+                stats[C_REJECTED] += 1
                 continue
             if it < 0:
-                istate[2] = 2
+                istate[I_STATUS] = CONTACT_FAILED
                 break
             if am3:
                 for j in range(ns):
@@ -387,14 +447,11 @@ def expo_adaptive(
             else:
                 for j in range(ns):
                     y[j] = E[lev, j] * y[j]
-            stats[0] += 1
+            stats[C_ACCEPTED] += 1
             pos += units
             if changed:
-                ne = istate[1]
-                if ne < events.shape[0]:
-                    tt = t_start + pos * (H / full)
-                    events[ne] = tt if Fn != 0j else -tt
-                    istate[1] = ne + 1
+                tt = t_start + pos * (H / full)
+                _record_event(events, istate, tt if Fn != 0j else -tt)
             Fp = F
             F = Fn
             z = zn
@@ -405,60 +462,80 @@ def expo_adaptive(
             lev_prev = lev
             d2 = P.real * P.real + P.imag * P.imag
             if not (d2 <= maxd2):
-                istate[2] = 1
+                istate[I_STATUS] = DIVERGED
                 break
             if err < 0.05 and not changed and lev > 0 and pos % (2 * units) == 0:
                 lev -= 1
-        if istate[2] != 0:
+        if istate[I_STATUS] != OK:
             break
         sample += 1
-        istate[0] = sample
+        istate[I_STEP] = sample
         if sample % 64 == 0:
             # re-seed the phasor recurrence with the exact value
             tt = sample * H
             z = complex(math.cos(omega * tt), math.sin(omega * tt))
         # station 0 reuses P, V and the contact forces of the last step
-        A0 = acc_z[0] * z + acc_c[0] + acc_fc[0] * F
-        for j in range(ns):
-            A0 += rows_a[0, j] * y[j]
-        _put(out, out_offset + s_i, 0, P, V, A0)
-        _write_probes(out, out_offset + s_i, y, z, F, orows, fn_c, ft_c)
+        _write_contact_sample(out, out_offset + s_i, y, z, F, rows, P, V, fn_c, ft_c)
         written += 1
-    cstate[0] = F
-    cstate[1] = z
-    cstate[2] = Fp
-    istate[3] = lev
-    istate[4] = lev_prev
+    st.cstate[0] = F
+    st.cstate[1] = z
+    st.cstate[2] = Fp
+    istate[I_LEVEL] = lev
+    istate[I_PREV_LEVEL] = lev_prev
     return written
 
 
 @njit(cache=True)
-def _rhs(t, y, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, dy):
+def _rhs(t, y, k, cp, dy):
+    """Derivative ``dy`` of the unshifted eigen-coordinates at time ``t`` (s); returns ``F`` (N)."""
     P = 0j
     V = 0j
     for j in range(y.shape[0]):
-        P += cdc[j] * y[j]
-        V += cvc[j] * y[j]
+        P += k.cdc[j] * y[j]
+        V += k.cvc[j] * y[j]
     fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
     F = complex(fy, fz)
-    fu = fu0 * complex(math.cos(omega * t), math.sin(omega * t))
+    fu = k.fu0 * complex(math.cos(k.omega * t), math.sin(k.omega * t))
     for j in range(y.shape[0]):
-        dy[j] = lam[j] * y[j] + beta_c[j] * F + beta_u[j] * fu + beta_l[j] * fl
+        dy[j] = k.lam[j] * y[j] + k.beta_c[j] * F + k.beta_u[j] * fu + k.beta_l[j] * k.fl
     return F
 
 
 @njit(cache=True)
-def abm_fixed(
-    y, hist, istate, n_samples, save_every, out, out_offset,
-    lam, beta_c, beta_u, beta_l, fu0, fl, cdc, cvc, cp,
-    orows,
-    omega, h, max_disp, events,
-):  # fmt: skip
+def _rk4_start(y, hist, step, t, h, k, cp, k1, k2, k3, k4, yt):
+    """One RK4 step of the ABM start; fills the derivative history ``hist`` (newest first)."""
+    ns = y.shape[0]
+    _rhs(t, y, k, cp, k1)
+    for j in range(ns):
+        hist[3 - step, j] = k1[j]
+        yt[j] = y[j] + 0.5 * h * k1[j]
+    _rhs(t + 0.5 * h, yt, k, cp, k2)
+    for j in range(ns):
+        yt[j] = y[j] + 0.5 * h * k2[j]
+    _rhs(t + 0.5 * h, yt, k, cp, k3)
+    for j in range(ns):
+        yt[j] = y[j] + h * k3[j]
+    _rhs(t + h, yt, k, cp, k4)
+    for j in range(ns):
+        y[j] = y[j] + h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
+    if step == 2:
+        _rhs(t + h, y, k, cp, k1)
+        for j in range(ns):
+            hist[0, j] = k1[j]
+
+
+@njit(cache=True)
+def abm_fixed(st, n_samples, out_offset, k, cp, rows):
     """Seed scheme: fixed-step 4th-order Adams-Bashforth-Moulton PECE, RK4 start.
 
-    ``y`` are the unshifted complex eigen-coordinates; ``hist`` (4, ns) keeps the last four
-    derivatives (newest first); ``istate = [step, n_events, status]``.
+    ``st`` (:class:`rubrotor.steppers.RunState`): ``y`` the unshifted complex eigen-coordinates,
+    ``hist`` (4, ns) the last four derivatives (newest first), ``cstate[0]`` the contact force
+    (N) of the last step (carried across calls, for the events), ``istate`` (slots ``I_*``);
+    ``k`` (:class:`rubrotor.steppers.AbmStep`): modes, force inputs, forces, contact rows,
+    ``omega`` (rad/s), ``h`` (s), ``save_every``, ``max_disp`` (m), ``event_reserve``.
     """
+    y, hist, istate, out, events = st.y, st.hist, st.istate, st.out, st.events
+    h, cdc, cvc = k.h, k.cdc, k.cvc
     ns = y.shape[0]
     k1 = np.empty(ns, np.complex128)
     k2 = np.empty(ns, np.complex128)
@@ -466,38 +543,24 @@ def abm_fixed(
     k4 = np.empty(ns, np.complex128)
     yt = np.empty(ns, np.complex128)
     fp = np.empty(ns, np.complex128)
-    maxd2 = max_disp * max_disp
+    maxd2 = k.max_disp * k.max_disp
     written = 0
-    step = istate[0]
-    F = 0j
+    step = istate[I_STEP]
+    F = st.cstate[0]
     for s_i in range(n_samples):
-        for _ in range(save_every):
+        if _buffer_short(events, istate, k.event_reserve):
+            break
+        for _ in range(k.save_every):
             t = step * h
             if step < 3:
-                _rhs(t, y, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k1)
-                for j in range(ns):
-                    hist[3 - step, j] = k1[j]
-                    yt[j] = y[j] + 0.5 * h * k1[j]
-                _rhs(t + 0.5 * h, yt, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k2)
-                for j in range(ns):
-                    yt[j] = y[j] + 0.5 * h * k2[j]
-                _rhs(t + 0.5 * h, yt, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k3)
-                for j in range(ns):
-                    yt[j] = y[j] + h * k3[j]
-                _rhs(t + h, yt, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k4)
-                for j in range(ns):
-                    y[j] = y[j] + h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
-                if step == 2:
-                    _rhs(t + h, y, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k1)
-                    for j in range(ns):
-                        hist[0, j] = k1[j]
+                _rk4_start(y, hist, step, t, h, k, cp, k1, k2, k3, k4, yt)
             else:
                 # hist[0] = f_n, hist[1] = f_{n-1}, ...
                 for j in range(ns):
                     yt[j] = y[j] + h / 24.0 * (
                         55.0 * hist[0, j] - 59.0 * hist[1, j] + 37.0 * hist[2, j] - 9.0 * hist[3, j]
                     )
-                _rhs(t + h, yt, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, fp)
+                _rhs(t + h, yt, k, cp, fp)
                 for j in range(ns):
                     y[j] = y[j] + h / 24.0 * (
                         9.0 * fp[j] + 19.0 * hist[0, j] - 5.0 * hist[1, j] + hist[2, j]
@@ -506,14 +569,11 @@ def abm_fixed(
                     hist[3, j] = hist[2, j]
                     hist[2, j] = hist[1, j]
                     hist[1, j] = hist[0, j]
-                Fn = _rhs(t + h, y, lam, beta_c, beta_u, beta_l, fu0, fl, omega, cdc, cvc, cp, k1)
+                Fn = _rhs(t + h, y, k, cp, k1)
                 for j in range(ns):
                     hist[0, j] = k1[j]
                 if (Fn != 0j) != (F != 0j):
-                    ne = istate[1]
-                    if ne < events.shape[0]:
-                        events[ne] = (t + h) if Fn != 0j else -(t + h)
-                        istate[1] = ne + 1
+                    _record_event(events, istate, (t + h) if Fn != 0j else -(t + h))
                 F = Fn
             step += 1
             P = 0j
@@ -521,11 +581,11 @@ def abm_fixed(
                 P += cdc[j] * y[j]
             d2 = P.real * P.real + P.imag * P.imag
             if not (d2 <= maxd2):
-                istate[2] = 1
+                istate[I_STATUS] = DIVERGED
                 break
-        if istate[2] != 0:
+        if istate[I_STATUS] != OK:
             break
-        z = complex(math.cos(omega * step * h), math.sin(omega * step * h))
+        z = complex(math.cos(k.omega * step * h), math.sin(k.omega * step * h))
         # contact force consistent with the saved state
         P = 0j
         V = 0j
@@ -533,7 +593,8 @@ def abm_fixed(
             P += cdc[j] * y[j]
             V += cvc[j] * y[j]
         fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
-        _write_sample(out, out_offset + s_i, y, z, complex(fy, fz), cp, orows)
+        _write_sample(out, out_offset + s_i, y, z, complex(fy, fz), cp, rows)
         written += 1
-    istate[0] = step
+    st.cstate[0] = F
+    istate[I_STEP] = step
     return written

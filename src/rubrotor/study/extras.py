@@ -152,7 +152,7 @@ def run_extras(
 def _cwt_maps(results: dict, spectral: dict, freqs, label: str, clip=None) -> dict:
     """Binned CWT maps of each case's horizontal acceleration (``clip(key, ds, a)`` cuts it)."""
     from rubrotor.analysis.wavelet import cwt_binned
-    from rubrotor.reproduce import CASES
+    from rubrotor.study.cases import CASES
 
     maps = {}
     for key, _stem, title in CASES:
@@ -176,9 +176,9 @@ def _save_maps(out: Path, maps: dict, entries, spin_hz: float, title: str, name:
 def _seed_form_part(out, scen, xs, entries, band, freqs, spin_hz, save_every, quick) -> dict:
     """Cases 1-3 and no contact under the seed's equations (engine and ABM), Fig. 6, claims."""
     from rubrotor.integrator import Integrator
-    from rubrotor.reproduce import CASES
     from rubrotor.simulation import simulate
     from rubrotor.study import seedform_study
+    from rubrotor.study.cases import CASES
     from rubrotor.study.claims import case_numbers, evaluate_claims, fig6_numbers, seed_scenarios
 
     runs = seedform_study.run_cases(scen, xs.seed_revolutions, save_every, xs.abm_revolutions)
@@ -215,8 +215,8 @@ def _seed_form_part(out, scen, xs, entries, band, freqs, spin_hz, save_every, qu
 
 def _strong_part(out, scen, xs, entries, band, freqs, spin_hz, save_every, fig6) -> dict:
     """The seed's equations with ``xs.strong_factor`` times the unbalance."""
-    from rubrotor.reproduce import CASES
     from rubrotor.study import seedform_study
+    from rubrotor.study.cases import CASES
     from rubrotor.study.claims import case_numbers, evaluate_claims
 
     strong_scen = {

@@ -100,8 +100,8 @@ def evaluate(task: dict) -> dict:
         ``{"key", "config", "holds": [bool x 7], "claims": [short names], "regimes": {case:
         label}, "shear1_share_case1", "band_ratio": [x3]}``.
     """
-    from rubrotor.reproduce import CASES, _regime
     from rubrotor.simulation import simulate
+    from rubrotor.study.cases import CASES, regime
     from rubrotor.study.claims import (
         band_of,
         case_numbers,
@@ -139,7 +139,7 @@ def evaluate(task: dict) -> dict:
         "config": {k: task[k] for k in FACTORS},
         "holds": [bool(c["holds"]) for c in claims],
         "claims": [c["claim"] for c in claims],
-        "regimes": {k: _regime(metrics[k]) for k, _, _ in CASES if k != "no_contact"},
+        "regimes": {k: regime(metrics[k]) for k, _, _ in CASES if k != "no_contact"},
         "shear1_share_case1": spectral["case1"]["shear1_band_share"],
         "band_ratio": [
             spectral[k]["shear1_ratio_to_no_contact"] for k in ("case1", "case2", "case3")
