@@ -1,7 +1,9 @@
 """Import a ROSS rotor (``ross-rotordynamics``) as a :class:`rubrotor.linear.LinearSystem`.
 
 ROSS is an optional dependency (``pip install "rubrotor[ross]"``); it is imported only when
-:func:`from_ross` is called.
+:func:`from_ross` is called. Tested with ROSS 2.3.0 (what pip resolves on Python 3.11) and
+ROSS 3.1.0 (Python 3.13): both lines have the same element, rotor-matrix and ``run_modal`` API
+for what is used here, so one code path serves both.
 
 DOF mapping
 -----------
