@@ -23,14 +23,14 @@ equivalent impedance ``Z = 1/H``. The contact force is ``F = -F_n (1 + i tau) n`
 
 * **Rolling (dry whirl).** The surface does not slide: ``R Omega + omega |D| = 0``, the rolling
   condition ``omega = -Omega R / |D|`` (``-Omega R / g`` for a stiff contact). With ``|D|``
-  from above it is one real equation for ``omega``, solved by :func:`rolling_whirl`. It needs
+  from above it is one real equation for ``omega``, solved by :func:`rolling_whirls`. It needs
   the friction ``tau <= mu``: ``mu_roll = Im Z / Re Z`` at that frequency is the smallest
   friction that can hold it.
 * **Bounds.** ``-k_c < Re Z < 0`` holds between the rotor's own natural frequency and the
   coupled natural frequency of rotor, contact spring and stator in series, the root of
   ``1/Re Z_r + 1/Re Z_s + 1/k_c = 0`` (undamped; ``sqrt((k + k_c)/m)`` for a rigid stator,
   ``~ sqrt((k + k_s)/(m + m_s))`` for a flexible stator and a stiff contact):
-  :func:`coupled_frequency`. As ``Omega R / g`` approaches it the penetration grows and the
+  :func:`coupled_frequencies`. As ``Omega R / g`` approaches it the penetration grows and the
   whirl stays below it; this is where a rolling whirl turns into whip.
 
 All frequencies in rad/s, lengths in m, forces in N.
@@ -38,6 +38,7 @@ All frequencies in rad/s, lengths in m, forces in N.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -55,10 +56,12 @@ __all__ = [
     "DryWhirlCase",
     "RollingWhirl",
     "DryWhirlScan",
-    "rolling_whirl",
-    "coupled_frequency",
+    "rolling_whirls",
+    "coupled_frequencies",
     "whirl_frequency",
     "scan_friction",
+    "scan_speed",
+    "relative_system",
 ]
 
 
@@ -156,7 +159,7 @@ class DryWhirlCase:
 
 @dataclass(frozen=True)
 class RollingWhirl:
-    """The steady rolling (dry-whirl) orbit of :func:`rolling_whirl`.
+    """The steady rolling (dry-whirl) orbit of :func:`rolling_whirls`.
 
     Attributes
     ----------
@@ -180,72 +183,30 @@ class RollingWhirl:
     stator_amplitude: complex
 
 
-def coupled_frequency(case: DryWhirlCase) -> float:
-    """Coupled natural frequency (rad/s) of rotor, contact spring and stator in series.
+def coupled_frequencies(case: DryWhirlCase) -> tuple[float, ...]:
+    """Coupled natural frequencies (rad/s) of rotor, contact spring and stator locked together.
 
-    The undamped root above the rotor's ``sqrt(k/m)`` of ``1/Re Z_r + 1/Re Z_s + 1/k_c = 0``
-    (``sqrt((k + k_c)/m)`` for a rigid stator); see the module docstring.
+    The undamped roots of ``1/Re Z_r + 1/Re Z_s + 1/k_c = 0``: ``sqrt((k + k_c)/m)`` for a
+    rigid stator; for a flexible one the two natural frequencies of the chain ground - ``k`` -
+    ``m`` - ``k_c`` - ``m_s`` - ``k_s`` - ground (increasing). See the module docstring.
     """
     r, kc = case.rotor, case.contact.stiffness
     if case.stator is None:
-        return float(np.sqrt((r.stiffness + kc) / r.mass))
+        return (float(np.sqrt((r.stiffness + kc) / r.mass)),)
     s = case.stator
-    # in series: the equivalent stiffness at the rotor of (contact spring + stator) in series
-    k_rot, m_rot, k_st, m_st = r.stiffness, r.mass, s.stiffness_y, s.mass_y
-
-    def chain(w2):
-        return (k_rot - m_rot * w2) * (k_st - m_st * w2 + kc) + kc * (k_st - m_st * w2)
-
-    # chain(w2) = 0 is a quadratic in w2: both natural frequencies of the 2-mass chain
-    a = m_rot * m_st
-    b = -(m_rot * (k_st + kc) + k_rot * m_st + kc * m_st)
-    c = k_rot * (k_st + kc) + kc * k_st
-    roots = np.sort(np.roots([a, b, c]).real)
-    lo = roots[0]
-    assert abs(chain(lo)) <= 1e-9 * c
-    return float(np.sqrt(lo))
+    # det([[k + k_c - m w^2, -k_c], [-k_c, k_s + k_c - m_s w^2]]) = 0, a quadratic in w^2
+    a = r.mass * s.mass_y
+    b = -(r.mass * (s.stiffness_y + kc) + s.mass_y * (r.stiffness + kc))
+    c = (r.stiffness + kc) * (s.stiffness_y + kc) - kc**2
+    disc = np.sqrt(b * b - 4 * a * c)
+    return (float(np.sqrt((-b - disc) / (2 * a))), float(np.sqrt((-b + disc) / (2 * a))))
 
 
-def rolling_whirl(case: DryWhirlCase) -> RollingWhirl:
-    """The steady rolling backward whirl ``omega = -Omega R / |D|`` (see the module docstring).
-
-    Returns
-    -------
-    RollingWhirl
-
-    Raises
-    ------
-    InputError
-        When no rolling whirl exists at this speed (``Omega R / g`` at or below the rotor's
-        natural frequency).
-    """
-    g, kc, big_r = case.contact.clearance, case.contact.stiffness, case.contact.radius
-    v = big_r * case.speed  # surface speed (m/s)
-    w_lo = np.sqrt(case.rotor.stiffness / case.rotor.mass)
-    w_hi = coupled_frequency(case)
-
-    def gap(w):  # |D| (m) at whirl speed w = -omega > 0 (inf where no full-contact orbit)
-        re = case.impedance(-w).real
-        return g * kc / (kc + re) if -kc < re < 0 else np.inf
-
-    def residual(w):
-        return w * gap(w) - v
-
-    # Re Z < 0 just above w_lo (and the stator's resonances) and -> -k_c at w_hi
-    grid = np.linspace(w_lo, w_hi, 2001)[1:-1]
-    vals = np.array([residual(w) for w in grid])
-    ok = np.isfinite(vals)
-    idx = np.flatnonzero(ok[:-1] & ok[1:] & (np.sign(vals[:-1]) != np.sign(vals[1:])))
-    if not len(idx):
-        raise InputError(
-            "speed",
-            case.speed,
-            "a speed with Omega R / clearance above the rotor's natural frequency",
-        )
-    i = idx[0]
-    w = scipy.optimize.brentq(residual, grid[i], grid[i + 1], xtol=1e-14, rtol=1e-15)
+def _rolling_at(case: DryWhirlCase, w: float) -> RollingWhirl:
+    """The rolling orbit at whirl speed ``w = -omega`` (rad/s) once ``w |D(w)| = R Omega``."""
+    g, kc = case.contact.clearance, case.contact.stiffness
     z = case.impedance(-w)
-    d = gap(w)
+    d = g * kc / (kc + z.real)
     fn = -d * z.real
     force = -fn * (1 + 1j * z.imag / z.real)  # on the rotor, with n = 1
     zr = case.rotor.impedance(-w)
@@ -253,32 +214,75 @@ def rolling_whirl(case: DryWhirlCase) -> RollingWhirl:
     return RollingWhirl(-w, d, fn, z.imag / z.real, force / zr, b)
 
 
-def whirl_frequency(time: np.ndarray, v: np.ndarray, w: np.ndarray) -> float:
-    """Frequency (rad/s, signed) of the tallest line of the full spectrum of ``v + i w``.
+def rolling_whirls(case: DryWhirlCase, points: int = 4001) -> tuple[RollingWhirl, ...]:
+    """Every steady rolling backward whirl ``omega = -Omega R / |D|`` (module docstring).
 
-    The peak of the Hann-windowed full spectrum (:func:`rubrotor.analysis.spectra.full_spectrum`)
-    refined by a parabola through the log amplitudes of the three lines around it.
+    The full-contact orbit exists where ``-k_c < Re Z(omega) < 0``: one band above the rotor's
+    natural frequency for a rigid stator, two for a flexible one (below the first coupled
+    frequency, and above the stator's own natural frequency). In each band ``|omega| |D|`` is
+    matched to ``R Omega`` by Brent's method on a bracket found on a grid of ``points``
+    frequencies up to the highest coupled frequency.
+
+    Returns
+    -------
+    tuple of RollingWhirl
+        Increasing ``|omega|``; empty when ``Omega R`` is too small for any band.
     """
-    fs = 1.0 / (time[1] - time[0])
-    spec = full_spectrum(v - np.mean(v), w - np.mean(w), fs)
-    a = np.log(spec.amplitudes + 1e-300)
-    k = int(np.argmax(a))
+    g, kc, big_r = case.contact.clearance, case.contact.stiffness, case.contact.radius
+    v = big_r * case.speed  # surface speed (m/s)
+
+    def residual(w):  # w |D(w)| - R Omega (m/s); nan where no full-contact orbit
+        re = case.impedance(-w).real
+        return w * g * kc / (kc + re) - v if -kc < re < 0 else np.nan
+
+    w_lo = np.sqrt(case.rotor.stiffness / case.rotor.mass)
+    grid = np.linspace(w_lo, max(coupled_frequencies(case)), points)[1:-1]
+    vals = np.array([residual(w) for w in grid])
+    ok = np.isfinite(vals[:-1]) & np.isfinite(vals[1:])
+    idx = np.flatnonzero(ok & (np.sign(vals[:-1]) != np.sign(vals[1:])))
+    roots = [
+        scipy.optimize.brentq(residual, grid[i], grid[i + 1], xtol=1e-13, rtol=1e-15) for i in idx
+    ]
+    return tuple(_rolling_at(case, w) for w in roots)
+
+
+def whirl_frequency(time: np.ndarray, v: np.ndarray, w: np.ndarray) -> float:
+    """Frequency (rad/s, signed: < 0 backward) of the tallest line of the full spectrum of ``v + i w``.
+
+    The tallest line of the Hann-windowed full spectrum
+    (:func:`rubrotor.analysis.spectra.full_spectrum`), then the maximum of the windowed
+    spectrum's continuous magnitude ``|sum_n w_n z_n e^{-i 2 pi f t_n}|`` within one line of it
+    (bounded Brent search): for a steady circular whirl it is the whirl frequency itself, not
+    the nearest line.
+    """
+    dt = time[1] - time[0]
+    z = (v - np.mean(v)) + 1j * (w - np.mean(w))
+    spec = full_spectrum(z.real, z.imag, 1.0 / dt)
+    k = int(np.argmax(spec.amplitudes))
     df = spec.frequencies[1] - spec.frequencies[0]
-    shift = 0.0
-    if 0 < k < len(a) - 1:
-        den = a[k - 1] - 2 * a[k] + a[k + 1]
-        shift = 0.5 * (a[k - 1] - a[k + 1]) / den if den else 0.0
-    return float(2 * np.pi * (spec.frequencies[k] + shift * df))
+    tn = np.arange(len(z)) * dt
+    zw = z * np.hanning(len(z) + 1)[:-1]
+
+    def neg_mag(f):
+        return -abs(np.sum(zw * np.exp(-2j * np.pi * f * tn)))
+
+    f0 = spec.frequencies[k]
+    opt = scipy.optimize.minimize_scalar(
+        neg_mag, bounds=(f0 - df, f0 + df), method="bounded", options={"xatol": 1e-9 * df}
+    )
+    return float(2 * np.pi * opt.x)
 
 
 @dataclass(frozen=True)
 class DryWhirlScan:
-    """Result of :func:`scan_friction`.
+    """Result of :func:`scan_friction` (or :func:`scan_speed`: one friction, several speeds).
 
     Attributes
     ----------
     frictions : ndarray
-        Scanned friction coefficients, increasing.
+        Friction coefficient of each run (dimensionless).
+    speeds : ndarray
+        Spin speed of each run (rad/s).
     whirl_frequency : ndarray
         Whirl frequency of ``D`` over the last half of each run (rad/s, full spectrum, < 0
         backward).
@@ -289,64 +293,130 @@ class DryWhirlScan:
     backward : ndarray of bool
         Sustained backward whirl: in contact throughout the last half, whirl frequency < 0.
     threshold : float or None
-        The smallest scanned friction from which on every run whirls backward (``None`` if none).
-    rolling : RollingWhirl or None
-        The closed-form rolling whirl at this speed (``None`` when none exists).
-    coupled_frequency : float
-        Closed-form coupled natural frequency (rad/s).
-    rolling_frequency : float
-        ``-Omega R / g`` (rad/s): the rolling condition for a stiff contact.
+        Friction scan: the smallest friction from which on every run whirls backward (``None``
+        if the highest does not).
+    rolling : tuple of tuple of RollingWhirl
+        Per run, the closed-form rolling whirls at its speed (:func:`rolling_whirls`).
+    coupled_frequencies : tuple of float
+        Closed-form coupled natural frequencies (rad/s).
+    rolling_condition : ndarray
+        ``-Omega R / g`` (rad/s) of each run: the rolling condition for a stiff contact.
     case : DryWhirlCase
     """
 
     frictions: np.ndarray
+    speeds: np.ndarray
     whirl_frequency: np.ndarray
     contact_fraction: np.ndarray
     gap: np.ndarray
     backward: np.ndarray
     threshold: float | None
-    rolling: RollingWhirl | None
-    coupled_frequency: float
-    rolling_frequency: float
+    rolling: tuple
+    coupled_frequencies: tuple
+    rolling_condition: np.ndarray
     case: DryWhirlCase = field(repr=False)
+
+    def predicted(self, index: int) -> RollingWhirl | None:
+        """The closed-form rolling whirl nearest the measured frequency of run ``index``."""
+        roll = self.rolling[index]
+        if not roll:
+            return None
+        f = self.whirl_frequency[index]
+        return min(roll, key=lambda r: abs(r.frequency - f))
+
+
+@dataclass(frozen=True)
+class _RelativeBasis:
+    """DOFs ``[v, w, s_y, s_z]``: the contact station sees ``D = P - S``."""
+
+    length: float = 1.0
+
+    def rows(self, position: float) -> np.ndarray:
+        """``(2, 4)``: ``[v - s_y, w - s_z]`` (m) at any ``position`` (m)."""
+        return np.hstack([np.eye(2), -np.eye(2)])
+
+
+def relative_system(case: DryWhirlCase) -> LinearSystem:
+    """Rotor and flexible stator as one 4-DOF LinearSystem whose contact station reads ``D``.
+
+    DOFs ``[v, w, s_y, s_z]`` (m). A contact on it acts ``+F`` on the rotor and ``-F`` on the
+    stator, which is the flexible stator written as part of the rotor: it lets the stator start
+    anywhere (the engine's own :class:`~rubrotor.engine.model.Stator` starts at rest).
+    """
+    r, s = case.rotor, case.stator
+    m = np.diag([r.mass, r.mass, s.mass_y, s.mass_z])
+    k = np.diag([r.stiffness, r.stiffness, s.stiffness_y, s.stiffness_z])
+    c = np.diag([r.damping, r.damping, s.damping_y, s.damping_z])
+    return LinearSystem(m, k, c, np.zeros((4, 4)), _RelativeBasis())
+
+
+def _rolling_state(case: DryWhirlCase) -> np.ndarray:
+    """State on the rolling orbit of highest frequency (rotor, then stator when flexible)."""
+    roll = rolling_whirls(case)
+    if not roll:
+        raise InputError("speed", case.speed, "a speed at which a rolling whirl exists")
+    r = roll[-1]
+    amps = [r.rotor_amplitude] + ([r.stator_amplitude] if case.stator is not None else [])
+    q = [f(a) for a in amps for f in (np.real, np.imag)]
+    qd = [f(1j * r.frequency * a) for a in amps for f in (np.real, np.imag)]
+    return np.array(q + qd)
 
 
 def _initial_state(case: DryWhirlCase, start) -> np.ndarray:
-    g = case.contact.clearance
+    if isinstance(start, np.ndarray) and start.shape == (4,):
+        return start.astype(float)
     if isinstance(start, str) and start == "kick":
-        return np.array([1.5 * g, 0.0, 0.0, 0.0])
+        return np.array([1.5 * case.contact.clearance, 0.0, 0.0, 0.0])
     if isinstance(start, str) and start == "rolling":
-        roll = rolling_whirl(case)
-        a = roll.rotor_amplitude
-        return np.array(
-            [a.real, a.imag, (1j * roll.frequency * a).real, (1j * roll.frequency * a).imag]
-        )
-    raise InputError("start", start, '"kick" (rotor at 1.5 clearances, at rest) or "rolling"')
+        return _rolling_state(case)
+    raise InputError("start", start, '"kick", "rolling" or [v, w, v\', w\'] (m, m/s)')
 
 
 def _one_run(case: DryWhirlCase, mu: float, x0, duration: float, step: float, save_every: int):
     contact = Contact(**{**case.contact.__dict__, "friction": float(mu)})
-    station = RubStation(contact, stator=case.stator)
+    if case.stator is not None and len(x0) == 8:  # the stator's state is given too
+        system, station = relative_system(case), RubStation(contact)
+    else:
+        system, station = case.rotor.system(), RubStation(contact, stator=case.stator)
     run = Run(speed=case.speed, duration=duration, step=step, save_every=save_every, initial=x0)
-    res = simulate_general(case.rotor.system(), run, [station], progress=False)
+    res = simulate_general(system, run, [station], progress=False)
+    if res.status != "complete":
+        raise InputError("simulation", res.message, "a run that completes (reduce the step)")
     ch = res.channels
     n = ch.shape[1]
     tail = slice(n // 2, n)
     dv, dw = ch[0, tail] - ch[4, tail], ch[1, tail] - ch[5, tail]
     freq = whirl_frequency(res.time[tail], dv, dw)
     frac = float(np.mean(ch[10, tail] > 0))
-    return freq, frac, float(np.mean(np.hypot(dv, dw))), res
+    return freq, frac, float(np.mean(np.hypot(dv, dw)))
 
 
-def scan_friction(
-    case: DryWhirlCase,
-    frictions,
-    *,
-    duration: float = 0.4,
-    step: float = 1e-5,
-    save_every: int = 4,
-    start="kick",
-) -> DryWhirlScan:
+def _scan(cases, mus, duration, step, save_every, start) -> DryWhirlScan:
+    rows = [_one_run(c, mu, _initial_state(c, start), duration, step, save_every)
+            for c, mu in zip(cases, mus, strict=True)]  # fmt: skip
+    freq, frac, gap = (np.array(c) for c in zip(*rows, strict=True))
+    back = (frac >= 0.999) & (freq < 0)
+    threshold = None
+    if back[-1]:
+        first = 0 if back.all() else len(back) - int(np.argmin(back[::-1]))
+        threshold = float(mus[first])
+    speeds = np.array([c.speed for c in cases])
+    return DryWhirlScan(np.asarray(mus, float), speeds, freq, frac, gap, back, threshold,
+                        tuple(rolling_whirls(c) for c in cases), coupled_frequencies(cases[0]),
+                        -speeds * cases[0].contact.radius / cases[0].contact.clearance,
+                        cases[0])  # fmt: skip
+
+
+def _check_values(name: str, values, strict: bool) -> np.ndarray:
+    x = np.sort(np.asarray(values, float).ravel())
+    bad = not len(x) or np.any(~np.isfinite(x)) or np.any(x <= 0 if strict else x < 0)
+    if bad:
+        raise InputError(name, values, f"a non-empty list of numbers {'>' if strict else '>='} 0")
+    return x
+
+
+def scan_friction(case: DryWhirlCase, frictions, *, duration: float = 0.4, step: float = 1e-5,
+                  save_every: int = 4, start="kick") -> DryWhirlScan:  # fmt: skip
     """Simulate the rub at each friction and find the backward-whirl threshold.
 
     Parameters
@@ -361,28 +431,26 @@ def scan_friction(
     save_every : int
         Steps per sample.
     start : {"kick", "rolling"} or ndarray
-        Initial state: the rotor displaced by 1.5 clearances at rest, the closed-form rolling
-        orbit, or ``[v, w, v', w']`` (m, m/s); a flexible stator starts at rest.
+        Initial state: the rotor displaced by 1.5 clearances at rest (a flexible stator at
+        rest), the closed-form rolling orbit of highest frequency (:func:`rolling_whirls`; rotor
+        and stator on it), or ``[v, w, v', w']`` (m, m/s).
 
     Returns
     -------
     DryWhirlScan
     """
-    mus = np.sort(np.asarray(frictions, float))
-    if mus.ndim != 1 or not len(mus) or np.any(~np.isfinite(mus)) or np.any(mus < 0):
-        raise InputError("frictions", frictions, "a non-empty list of numbers >= 0")
-    x0 = start if isinstance(start, np.ndarray) else _initial_state(case, start)
-    rows = [_one_run(case, mu, x0, duration, step, save_every)[:3] for mu in mus]
-    freq, frac, gap = (np.array(c) for c in zip(*rows, strict=True))
-    back = (frac >= 0.999) & (freq < 0)
-    threshold = None
-    if back[-1]:
-        first = len(back) - int(np.argmin(back[::-1])) if not back.all() else 0
-        threshold = float(mus[first])
-    try:
-        roll = rolling_whirl(case)
-    except InputError:
-        roll = None
-    g = case.contact.clearance
-    return DryWhirlScan(mus, freq, frac, gap, back, threshold, roll, coupled_frequency(case),
-                        -case.speed * case.contact.radius / g, case)  # fmt: skip
+    mus = _check_values("frictions", frictions, strict=False)
+    return _scan([case] * len(mus), mus, duration, step, save_every, start)
+
+
+def scan_speed(case: DryWhirlCase, speeds, friction: float, *, duration: float = 0.4,
+               step: float = 1e-5, save_every: int = 4, start="kick") -> DryWhirlScan:  # fmt: skip
+    """Simulate the rub at one friction and several spin speeds (rad/s); see :func:`scan_friction`.
+
+    Shows the whirl frequency following the rolling condition and bounded by the coupled
+    frequencies (the result's ``threshold`` is ``None``).
+    """
+    om = _check_values("speeds", speeds, strict=True)
+    cases = [DryWhirlCase(case.rotor, case.contact, float(w), case.stator) for w in om]
+    res = _scan(cases, [float(friction)] * len(om), duration, step, save_every, start)
+    return dataclasses.replace(res, threshold=None)
