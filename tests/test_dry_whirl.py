@@ -26,6 +26,7 @@ from rubrotor.dry_whirl import (
     relative_system,
     rolling_whirls,
     scan_friction,
+    scan_speed,
     whirl_frequency,
 )
 from rubrotor.engine.model import Stator
@@ -120,3 +121,17 @@ def test_bad_input_names_the_field():
         scan_friction(RIGID, [0.1], start="moving")
     with pytest.raises(InputError, match="contact"):
         DryWhirlCase(ROTOR, Contact(clearance=1e-4, stiffness=1e8, radius=0.01), 6.0)
+
+
+def test_figure_has_units_and_the_closed_form():
+    """The figure's axes carry units and its lines include the closed-form rolling frequency."""
+    from rubrotor.plotting_dry_whirl import dry_whirl_figure
+
+    fs = scan_friction(RIGID, [0.05, 0.3], duration=0.05)
+    ss = scan_speed(RIGID, [6.0, 10.0], 0.3, duration=0.05)
+    fig = dry_whirl_figure([fs], [ss], ["rigid"])
+    ax1, ax2 = fig.axes
+    assert "rad/s" in ax1.get_ylabel() and "rad/s" in ax2.get_xlabel()
+    roll = rolling_whirls(RIGID)[-1].frequency
+    assert any(np.allclose(ln.get_ydata(), roll) for ln in ax1.get_lines())
+    assert ss.speeds.tolist() == [6.0, 10.0] and ss.threshold is None
