@@ -16,14 +16,12 @@ anisotropic bearings; the rotor of ROSS's own ``run_rubbing`` example), read int
   ``F = -k (|r| - g) r / |r|``, our linear law exactly (ROSS damps the full velocity vector and
   applies its friction per component, not along the tangent, so with either on the two models
   differ). Error: max over the run of the contact node's ``(v, w)`` deviation from the full-DOF
-  reference, relative to its largest amplitude. Reference (``--reference``): by default our engine
-  with every mode kept (no reduction: all 272 eigenvalues of the 136-DOF model) and adaptive steps
-  at rtol 1e-10, atol 1e-15 (its agreement with a full-DOF DOP853 run is tested in
-  tests/test_engine.py and tests/test_engine_multi.py, 1e-7 at rtol 1e-8); ``scipy``: solve_ivp
-  DOP853 rtol 1e-10 on all 136 DOFs (tests/engine_reference.py). This rotor's shaft has Rayleigh
-  damping (beta 1e-5 s), so its highest modes are overdamped with real eigenvalues near
-  -7e6 1/s: explicit DOP853 needs steps below 1e-6 s and did not finish 0.1 s in 16 minutes on
-  this loaded machine.
+  reference, relative to its largest amplitude. Reference (``--reference``): ``scipy`` (default),
+  solve_ivp DOP853 rtol 1e-10, atol 1e-14 on all 136 DOFs (tests/engine_reference.py; this
+  rotor's Rayleigh-damped shaft has overdamped modes near -7e6 1/s, so DOP853 needs steps below
+  1e-6 s: 529 s for 0.1 s on this loaded machine); ``engine``: our engine with every mode kept
+  (no reduction) and adaptive steps at rtol 1e-10, atol 1e-15, seconds (its agreement with
+  DOP853 full-DOF runs is tested in tests/test_engine.py and tests/test_engine_multi.py).
 * Time, on ROSS's contact as it is (damping 40 N s/m, friction 0.3; ours: radial dashpot 40 N s/m,
   Coulomb friction 0.3 along the tangent at the shaft radius): seconds per revolution, medians.
   ROSS variants: its default (Newmark average acceleration on all DOFs, contact force taken from
@@ -129,7 +127,7 @@ def main(argv=None) -> None:
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--duration", type=float, default=0.1, help="simulated time (s)")
     ap.add_argument("--ross-reps", type=int, default=1, help="repetitions of ROSS's full run")
-    ap.add_argument("--reference", choices=("engine", "scipy"), default="engine")
+    ap.add_argument("--reference", choices=("scipy", "engine"), default="scipy")
     a = ap.parse_args(argv)
     ross = _ross()
     rotor = ross.rotor_example_with_damping()
@@ -146,17 +144,21 @@ def main(argv=None) -> None:
     print(f"numba warm-up (compile or cache load): {time.perf_counter() - t0:.1f} s")
 
     # accuracy on the same contact (no contact damping, no friction)
-    con = Contact(clearance=CLEARANCE, stiffness=STIFFNESS, position=pos, law="linear",
-                  radius=radius)  # fmt: skip
     t0 = time.perf_counter()
-    run = Run(speed=SPEED, duration=a.duration, step=DT, initial="rest")
-    _, ref, _, _ = reference_run(system, run, [RubStation(con)],
-                                 [Unbalance(UNBALANCE, pos, PHASE)])  # fmt: skip
-    ref = ref[0]
-    print(
-        f"reference DOP853 rtol 1e-10 on all DOFs: {time.perf_counter() - t0:.1f} s; "
-        f"peak |r| {np.max(np.hypot(*ref)) * 1e6:.1f} um (clearance {CLEARANCE * 1e6} um)"
-    )
+    if a.reference == "scipy":
+        con = Contact(clearance=CLEARANCE, stiffness=STIFFNESS, position=pos, law="linear",
+                      radius=radius)  # fmt: skip
+        run = Run(speed=SPEED, duration=a.duration, step=DT, initial="rest")
+        _, ref, _, _ = reference_run(system, run, [RubStation(con)],
+                                     [Unbalance(UNBALANCE, pos, PHASE)])  # fmt: skip
+        ref = ref[0]
+        label = "SciPy DOP853 rtol 1e-10, atol 1e-14, all 136 DOFs"
+    else:
+        r = ours(system, pos, radius, a.duration, 0.0, 0.0, rtol=1e-10, atol=1e-15)
+        ref = r[3]
+        label = f"our engine, all modes, adaptive rtol 1e-10 ({r[4]['accepted_steps']} steps)"
+    print(f"reference {label}: {time.perf_counter() - t0:.1f} s; peak |r| "
+          f"{np.max(np.hypot(*ref)) * 1e6:.1f} um (clearance {CLEARANCE * 1e6} um)")  # fmt: skip
     ours_cases = [("ours fixed 1e-4 s, all modes", {}),
                   ("ours fixed 1e-4 s, 12 modes", {"modes": 12}),
                   ("ours adaptive rtol 1e-6, all modes", {"rtol": 1e-6})]  # fmt: skip
@@ -172,13 +174,16 @@ def main(argv=None) -> None:
         reps = a.ross_reps if not kw else a.reps
         w, _ = _median(lambda kw=kw: ross_run(rotor, a.duration, 40.0, 0.3, **kw), reps)
         rows.append((label, w / revs, float("nan"), err, None))
-    best_ours = min(r[1] for r in rows if r[0].startswith("ours"))
-    print(f"\n{'variant':<52}{'s/rev':>11}{'kernel s/rev':>14}{'rel error':>11}{'x ours best':>13}")
+    ross_default = next(r[1] for r in rows if r[0].startswith("ROSS default"))
+    print(f"\n{'variant':<50}{'s/rev':>10}{'kernel s/rev':>13}{'rel error':>10}"
+          f"{'ROSS default/this':>19}{'(kernel)':>10}")  # fmt: skip
     for label, spr, kern, err, _ in rows:
-        print(f"{label:<52}{spr:11.3e}{kern:14.3e}{err:11.2e}{spr / best_ours:13.1f}")
-    print("\ns/rev: whole call (ours: reduction + time loop); kernel: our compiled time loop only;")
-    print("time on ROSS's contact as it is (damping 40, friction 0.3); error on the common contact")
-    print("(no damping, no friction) against the DOP853 full-DOF reference.")
+        kr = f"{ross_default / kern:10.0f}" if np.isfinite(kern) else f"{'':10}"
+        print(f"{label:<50}{spr:10.3e}{kern:13.3e}{err:10.2e}{ross_default / spr:19.1f}{kr}")
+    print("\ns/rev: whole call (ours: modal reduction + time loop, so short runs are dominated by")
+    print("the reduction); kernel: our compiled time loop only. Times on ROSS's contact as it is")
+    print("(damping 40, friction 0.3); errors on the common contact (no damping, no friction)")
+    print(f"against the reference ({a.reference}).")
 
 
 if __name__ == "__main__":
