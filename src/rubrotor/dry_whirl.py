@@ -26,12 +26,18 @@ equivalent impedance ``Z = 1/H``. The contact force is ``F = -F_n (1 + i tau) n`
   from above it is one real equation for ``omega``, solved by :func:`rolling_whirls`. It needs
   the friction ``tau <= mu``: ``mu_roll = Im Z / Re Z`` at that frequency is the smallest
   friction that can hold it.
-* **Bounds.** ``-k_c < Re Z < 0`` holds between the rotor's own natural frequency and the
-  coupled natural frequency of rotor, contact spring and stator in series, the root of
-  ``1/Re Z_r + 1/Re Z_s + 1/k_c = 0`` (undamped; ``sqrt((k + k_c)/m)`` for a rigid stator,
-  ``~ sqrt((k + k_s)/(m + m_s))`` for a flexible stator and a stiff contact):
-  :func:`coupled_frequencies`. As ``Omega R / g`` approaches it the penetration grows and the
-  whirl stays below it; this is where a rolling whirl turns into whip.
+* **Bounds.** ``-k_c < Re Z < 0`` holds in bands bounded by the rotor's own natural frequency
+  and the coupled natural frequencies of rotor, contact spring and stator locked together, the
+  roots of ``1/Re Z_r + 1/Re Z_s + 1/k_c = 0`` (undamped): :func:`coupled_frequencies`. A rigid
+  stator has one band, up to ``sqrt((k + k_c)/m)``; a flexible one two, below the lower coupled
+  frequency (``~ sqrt((k + k_s)/(m + m_s))`` for a stiff contact) and from the stator's own
+  natural frequency up to the upper one. As ``Omega R / g`` grows the indentation grows and the
+  whirl frequency bends away from ``-Omega R / g`` towards the band's coupled frequency (the
+  whip limit), never past it.
+* **Regularised friction.** The engine smooths the sign of the sliding speed over ``v_r``
+  (``Contact.friction_regularization``), so "rolling" slides at ``v_s ~ v_r (tau/mu) /
+  sqrt(1 - (tau/mu)^2)``; the simulated frequency sits ``v_s / (R Omega)`` (relative) above the
+  closed form, largest just above ``mu_roll``.
 
 All frequencies in rad/s, lengths in m, forces in N.
 """
