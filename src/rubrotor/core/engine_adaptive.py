@@ -124,22 +124,23 @@ def _bound(py, pz, vy, vz, a, s):
 
 
 @njit(cache=True)
-def _free_look(y, z, S, omega, lam, contacts, Ca, p0, v0, tol_x):
+def _free_look(y, z, S, omega, contacts, Ca, grow, ay, p0, v0, tol_x):
     """Largest certified free advance in ``[0, S]`` (s) from the state ``y``, phasor ``z``.
 
-    Fills ``p0``, ``v0`` (m, m/s) with the relative contact displacement and velocity. Returns
+    ``grow`` bounds ``|e^{lam s}|`` for ``s <= S``; ``ay`` is scratch for ``|y|``. Fills ``p0``,
+    ``v0`` (m, m/s) with the relative contact displacement and velocity. Returns
     ``(s, located, rmax)``: ``s`` the certified advance, ``located`` True when a contact's gap is
     below ``tol_x`` (m) (an onset to hand to the contact steps), ``rmax`` the largest radial
     displacement (m, for the divergence check)."""
     Cd, Cv, Pu, Pv, d0, cp = (contacts.Cd, contacts.Cv, contacts.Pu, contacts.Pv, contacts.d0,
                               contacts.cp)  # fmt: skip
-    grow = 1.0
-    for j in range(lam.shape[0]):
-        if lam[j].real > 0.0:
-            grow = max(grow, math.exp(lam[j].real * S))
+    ns = y.shape[0]
+    for j in range(ns):
+        ay[j] = math.sqrt(y[j].real ** 2 + y[j].imag ** 2)
     best = S
     located = False
     rmax = 0.0
+    w2 = omega * omega
     for i in range(cp.shape[0]):
         A2 = 0.0
         for a in range(2):
@@ -147,9 +148,9 @@ def _free_look(y, z, S, omega, lam, contacts, Ca, p0, v0, tol_x):
             p0[r] = d0[r] + (Pu[r] * z).real + _rdot(Cd[r], y)
             v0[r] = (Pv[r] * z).real + _rdot(Cv[r], y)
             s2 = 0.0
-            for j in range(y.shape[0]):
-                s2 += Ca[r, j] * abs(y[j])
-            A2 += (omega * omega * abs(Pu[r]) + grow * s2) ** 2
+            for j in range(ns):
+                s2 += Ca[r, j] * ay[j]
+            A2 += (w2 * math.sqrt(Pu[r].real ** 2 + Pu[r].imag ** 2) + grow * s2) ** 2
         A = math.sqrt(A2)
         py, pz, vy, vz = p0[2 * i], p0[2 * i + 1], v0[2 * i], v0[2 * i + 1]
         g = cp[i, 4]
@@ -262,6 +263,12 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
     written = 0
     hloc = 0.0  # a shortened step locating a change of contact state (0: none)
     on_grid = t == k0 * H  # at a sample time: the free jump to the next is e^{lam H}
+    z = complex(math.cos(omega * t), math.sin(omega * t))
+    rotH = complex(math.cos(omega * H), math.sin(omega * H))
+    grow = 1.0  # bound of |e^{lam s}|, s <= H
+    for j in range(ns):
+        grow = max(grow, math.exp(lam[j].real * H))
+    ay = np.zeros(ns)
     while written < n_samples:
         if istate[I_EVENTS] + EVENT_MARGIN * nc > cap:
             istate[I_STATUS] = EVENT_BUFFER_FULL
@@ -272,21 +279,29 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
             if F[r] != 0.0:
                 loaded = True
         if not loaded:
-            z = complex(math.cos(omega * t), math.sin(omega * t))
-            s, located, rmax = _free_look(y, z, ts - t, omega, lam, contacts, Ca, pd, pv, tol_x)
+            if not on_grid:
+                z = complex(math.cos(omega * t), math.sin(omega * t))
+            s, located, rmax = _free_look(y, z, ts - t, omega, contacts, Ca, grow, ay, pd, pv,
+                                          tol_x)  # fmt: skip
             if not (rmax <= max_disp):
                 istate[I_STATUS] = DIVERGED
                 break
             if not located and s >= ts - t:
                 _advance_free(y, lam, H if on_grid else ts - t, EH, H)
                 t = ts
+                # the phasor at sample k: rotated on the grid, recomputed every 64 samples
+                kk = k0 + written + 1
+                z = (
+                    z * rotH
+                    if on_grid and kk % 64 != 0
+                    else complex(math.cos(omega * t), math.sin(omega * t))
+                )
                 on_grid = True
                 tst[T_FREE] += 1.0
-                zs = complex(math.cos(omega * t), math.sin(omega * t))
                 for i in range(nc):
                     fn[i] = 0.0
                     ft[i] = 0.0
-                _write(out, ys, offset + written, y, zs, F, fn, ft, contacts, outputs)
+                _write(out, ys, offset + written, y, z, F, fn, ft, contacts, outputs)
                 written += 1
                 istate[I_STEP] += 1
                 continue

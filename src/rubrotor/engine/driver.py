@@ -544,6 +544,7 @@ def simulate_general(
     progress: bool | None = None,
     stream: str | None = None,
     chunk_samples: int = 1 << 14,
+    plant: Plant | None = None,
 ) -> EngineResult:
     """Simulate a linear rotor with rub at several stations (see the module docstring).
 
@@ -565,6 +566,10 @@ def simulate_general(
         state. Read it with :func:`rubrotor.results.load_dataset` or xarray.
     chunk_samples : int
         Samples per compiled call (and the buffer size when streaming).
+    plant : Plant, optional
+        A plant already built by :func:`build_plant` for the same rotor, stations, loads and
+        ``run`` (speed, reduction, initial state): skips the reduction (the array-level path
+        for repeated runs; the caller vouches that it matches).
 
     Returns
     -------
@@ -588,7 +593,7 @@ def simulate_general(
                 "initial.state", run.initial, '"rest" or "static" with a speed profile'
             )
         plant = build_plant(system, run, stations, (), loads, gravity)
-    else:
+    elif plant is None:
         plant = build_plant(system, run, stations, unbalances, loads, gravity)
     sample_dt = run.step * run.save_every
     n_samples = int(math.floor(run.duration / sample_dt + 1e-9))
@@ -601,7 +606,7 @@ def simulate_general(
     state = _Chunks(
         out=np.empty((nch, width + 1)),
         ys=np.zeros((n_samples + 1 if run.save_state else 0, plant.lam.size), complex),
-        events=np.zeros((EVENT_BUFFER, 2)),
+        events=np.empty((EVENT_BUFFER, 2)),
     )
     chunk, first, stats, final = STEPPERS[method](problem, plant, run, state)
     first()
