@@ -186,11 +186,23 @@ def _advance_free(y, lam, s, EH, H):
 
 
 @njit(cache=True)
-def _dense(ysmp, y, bF, bN, lam, s, h):
-    """State at ``t_n + s`` inside the step ``h`` from the step's interpolant."""
+def _dense(ysmp, y, bF, bN, lam, ilam, s, h):
+    """State at ``t_n + s`` inside the step ``h`` from the step's interpolant (``ilam`` the
+    reciprocals of ``lam``: multiplications instead of divisions away from ``lam s = 0``)."""
+    r = s / h
     for j in range(y.shape[0]):
-        e, p1, p2 = phi012(lam[j] * s)
-        ysmp[j] = e * y[j] + s * p1 * bF[j] + (s * s / h) * p2 * (bN[j] - bF[j])
+        z = lam[j] * s
+        zr, zi = z.real, z.imag
+        if zr * zr + zi * zi < 0.01:
+            e, p1, p2 = phi012(z)
+            a = s * p1
+            b = s * r * p2
+        else:
+            ez = math.exp(zr)
+            e = complex(ez * math.cos(zi), ez * math.sin(zi))
+            a = (e - 1.0) * ilam[j]  # s phi1
+            b = (a - s) * ilam[j] * (1.0 / h)  # s^2 phi2 / h
+        ysmp[j] = e * y[j] + (a - b) * bF[j] + b * bN[j]
 
 
 @njit(cache=True)
@@ -269,6 +281,9 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
     for j in range(ns):
         grow = max(grow, math.exp(lam[j].real * H))
     ay = np.zeros(ns)
+    ilam = np.zeros(ns, np.complex128)
+    for j in range(ns):
+        ilam[j] = 1.0 / lam[j] if lam[j] != 0.0 else 0.0
     while written < n_samples:
         if istate[I_EVENTS] + EVENT_MARGIN * nc > cap:
             istate[I_STATUS] = EVENT_BUFFER_FULL
@@ -451,7 +466,7 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
         while written < n_samples and (k0 + written + 1) * H <= t + h * (1.0 + 1e-14):
             ts = (k0 + written + 1) * H
             s = min(ts - t, h)
-            _dense(ysmp, y, bF, bN, lam, s, h)
+            _dense(ysmp, y, bF, bN, lam, ilam, s, h)
             for r in range(m):
                 Fs[r] = F[r] + (Fn[r] - F[r]) * (s / h)
             zs = complex(math.cos(omega * ts), math.sin(omega * ts))
