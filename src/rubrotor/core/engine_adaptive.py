@@ -12,8 +12,9 @@ Free flight (no contact force)
         |p(s)| <= b(s) = |p(0) + s p'(0)| + A s^2 / 2,
         A = |(Omega^2 |Pu_y| + sum_j |Cd_yj lam_j^2| |y_j| G, same for z)|,  G = max(1, e^{Re lam S})
 
-    ``b`` is convex, so ``b(S) < g`` certifies every ``s`` in ``[0, S]`` free: the state jumps
-    straight to the next output sample (one multiplication per mode). Otherwise the largest
+    ``b`` is convex, so ``b(S) < g`` certifies every ``s`` in ``[0, S]`` free (``S`` up to
+    ``LOOK_AHEAD`` samples): the state jumps from sample to sample (one multiplication per mode)
+    with no further check until the certified time. Otherwise the largest
     certified ``s`` (root of ``b = g`` by bisection) is taken and the bound re-evaluated
     (conservative advancement: it converges quadratically to a transversal onset and takes
     steps ``~ sqrt(2 gap / A)`` past a near-graze, so no contact is ever stepped over). The
@@ -65,6 +66,9 @@ __all__ = ["expo_adaptive", "phi012", "LEVELS_UP", "T_TIME", "T_HPREV", "T_LEVEL
 
 LEVELS_UP = 4
 """Contact steps may grow to ``2^LEVELS_UP`` output spacings."""
+
+LOOK_AHEAD = 16
+"""Free flight is certified up to this many output spacings ahead per bound evaluation."""
 
 # slots of the float state vector
 T_TIME, T_HPREV, T_LEVEL, T_FREE = 0, 1, 2, 3
@@ -277,9 +281,10 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
     on_grid = t == k0 * H  # at a sample time: the free jump to the next is e^{lam H}
     z = complex(math.cos(omega * t), math.sin(omega * t))
     rotH = complex(math.cos(omega * H), math.sin(omega * H))
-    grow = 1.0  # bound of |e^{lam s}|, s <= H
+    grow = 1.0  # bound of |e^{lam s}|, s <= LOOK_AHEAD H
     for j in range(ns):
-        grow = max(grow, math.exp(lam[j].real * H))
+        grow = max(grow, math.exp(lam[j].real * LOOK_AHEAD * H))
+    t_cert = -1.0  # free flight certified up to this time (s)
     ay = np.zeros(ns)
     ilam = np.zeros(ns, np.complex128)
     for j in range(ns):
@@ -296,11 +301,16 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
         if not loaded:
             if not on_grid:
                 z = complex(math.cos(omega * t), math.sin(omega * t))
-            s, located, rmax = _free_look(y, z, ts - t, omega, contacts, Ca, grow, ay, pd, pv,
-                                          tol_x)  # fmt: skip
-            if not (rmax <= max_disp):
-                istate[I_STATUS] = DIVERGED
-                break
+            if ts <= t_cert:  # certified free by an earlier look-ahead
+                s, located = ts - t, False
+            else:
+                S = min(LOOK_AHEAD * H, t_end - t)
+                s, located, rmax = _free_look(y, z, S, omega, contacts, Ca, grow, ay, pd, pv,
+                                              tol_x)  # fmt: skip
+                if not (rmax <= max_disp):
+                    istate[I_STATUS] = DIVERGED
+                    break
+                t_cert = t + s
             if not located and s >= ts - t:
                 _advance_free(y, lam, H if on_grid else ts - t, EH, H)
                 t = ts
@@ -501,6 +511,7 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
             Fp[r] = F[r]
             F[r] = Fn[r]
         t += h
+        t_cert = -1.0
         on_grid = False
         for i in range(nc):
             entering[i] = False
