@@ -62,7 +62,17 @@ from rubrotor.core.engine import (
     workspace,
 )
 
-__all__ = ["expo_adaptive", "phi012", "LEVELS_UP", "T_TIME", "T_HPREV", "T_LEVEL", "N_TSTATE"]
+__all__ = [
+    "expo_adaptive",
+    "phi012",
+    "LEVELS_UP",
+    "T_TIME",
+    "T_HPREV",
+    "T_LEVEL",
+    "T_FREE",
+    "T_FILLS",
+    "N_TSTATE",
+]
 
 LEVELS_UP = 4
 """Contact steps may grow to ``2^LEVELS_UP`` output spacings."""
@@ -71,8 +81,8 @@ LOOK_AHEAD = 16
 """Free flight is certified up to this many output spacings ahead per bound evaluation."""
 
 # slots of the float state vector
-T_TIME, T_HPREV, T_LEVEL, T_FREE = 0, 1, 2, 3
-N_TSTATE = 4
+T_TIME, T_HPREV, T_LEVEL, T_FREE, T_FILLS = 0, 1, 2, 3, 4
+N_TSTATE = 5
 
 
 @njit(cache=True, inline="always")
@@ -355,6 +365,7 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
             k = kfree
         if k == kfree or have[k] == 0:
             _fill(tab, k, h, lam, Cd, Cv, Wd, Wv, Rd, Rv)
+            tst[T_FILLS] += 1.0
             if k != kfree:
                 have[k] = 1
         zn = complex(math.cos(omega * (t + h)), math.sin(omega * (t + h)))

@@ -47,6 +47,7 @@ from rubrotor.core.engine import (
 from rubrotor.core.engine_adaptive import (
     LEVELS_UP,
     N_TSTATE,
+    T_FILLS,
     T_FREE,
     T_HPREV,
     T_TIME,
@@ -342,6 +343,7 @@ def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
 
     def final():
         stats["free_advances"] = int(tst[T_FREE])
+        stats["coefficient_fills"] = int(tst[T_FILLS])
         z = np.exp(1j * plant.speed * tst[T_TIME])
         return physical_state(plant, k["y"], k["F"], z)
 
