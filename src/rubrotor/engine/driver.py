@@ -44,10 +44,19 @@ from rubrotor.core.engine import (
     STATUS_NAMES,
     expo_fixed,
 )
+from rubrotor.core.engine_adaptive import (
+    LEVELS_UP,
+    N_TSTATE,
+    T_FILLS,
+    T_FREE,
+    T_HPREV,
+    T_TIME,
+    expo_adaptive,
+)
 from rubrotor.engine.model import RubStation, Run, static_load_vector, unbalance_phasor
 from rubrotor.engine.reduce import Modes, reduce_matrices
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
-from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Steps
+from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Plan, Steps
 from rubrotor.errors import InputError
 from rubrotor.results import _jsonable
 from rubrotor.simulation import phi_functions
@@ -292,9 +301,60 @@ def _control(plant: Plant, steps: Steps, run: Run) -> Control:
     return Control(1.0, float(run.rtol), float(run.atol), a_f, np.ascontiguousarray(errc))
 
 
+def _plan(plant: Plant, run: Run, levels: int) -> Plan:
+    """The adaptive kernel's plan: look-ahead rows and empty per-level tables (filled on use)."""
+    lam, beta, c = plant.lam, plant.beta, plant.contacts
+    ns, m = beta.shape
+    L = LEVELS_UP + levels + 1
+    tab = (np.zeros((L, ns), complex), np.zeros((L, ns), complex), np.zeros((L, ns), complex),
+           np.zeros((L, m, ns), complex), np.zeros((L, m, ns), complex), np.zeros((L, m, m)),
+           np.zeros((L, m, m)), np.zeros((L, m, m)), np.zeros((L, m, m)))  # fmt: skip
+    gmin = float(np.min(c.cp[:, 4])) if m else 0.0
+    H = float(run.step)
+    return Plan(
+        lam=lam, BT=np.ascontiguousarray(beta.T),
+        Wd=np.ascontiguousarray(c.Cd[:, None, :] * beta.T[None]),
+        Wv=np.ascontiguousarray(c.Cv[:, None, :] * beta.T[None]),
+        Ca=np.ascontiguousarray(np.abs(c.Cd * lam[None, :] ** 2)), EH=np.exp(lam * H), H=H,
+        J=levels - 1, hmin=H / 2.0 ** (levels - 1), tol_x=1e-3 * (run.atol + run.rtol * gmin),
+        have=np.zeros(L, np.int64), tab=tab,
+    )  # fmt: skip
+
+
+def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
+    """Adaptive steps (``run.rtol``): exact free flight to each sample or located onset,
+    contact steps by the error estimate alone, samples from the steps' interpolants
+    (:func:`rubrotor.core.engine_adaptive.expo_adaptive`)."""
+    levels = max(run.sublevels, ADAPTIVE_LEVELS - 1) + 1
+    plan = _plan(plant, run, levels)
+    c = plant.contacts
+    a_f = float(np.max(np.abs(np.real(c.Cv @ plant.beta)).sum(axis=1), initial=0.0))
+    control = Control(1.0, float(run.rtol), float(run.atol), a_f, np.zeros(1))
+    k = _kernel_state(plant, run)
+    tst = np.zeros(N_TSTATE)
+    tst[T_HPREV] = run.step
+
+    def chunk(offset: int, count: int, done: int) -> int:
+        return expo_adaptive(k["y"], k["F"], k["Fp"], k["dprev"], tst, state.istate, count,
+                             state.out, state.ys, offset, plan, c, plant.outputs, plant.speed,
+                             state.events, control)  # fmt: skip
+
+    stats = {"step_s": run.step, "min_step_s": plan.hmin, "adaptive": True}
+
+    def final():
+        stats["free_advances"] = int(tst[T_FREE])
+        stats["coefficient_fills"] = int(tst[T_FILLS])
+        z = np.exp(1j * plant.speed * tst[T_TIME])
+        return physical_state(plant, k["y"], k["F"], z)
+
+    return chunk, lambda: _first_sample(state, k, plant), stats, final
+
+
 def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     """Stepper ``"exponential"``: fixed steps, contact solve sub-steps where Newton fails; with
-    ``run.rtol`` adaptive steps (dyadic subdivisions of the output spacing ``run.step``)."""
+    ``run.rtol`` the adaptive stepper (:func:`_adaptive_factory`)."""
+    if run.rtol is not None:
+        return _adaptive_factory(problem, plant, run, state)
     levels = run.sublevels + 1 if run.rtol is None else max(run.sublevels, ADAPTIVE_LEVELS - 1) + 1
     steps = _steps(plant, run.step, levels)
     control = _control(plant, steps, run)
@@ -486,6 +546,7 @@ def simulate_general(
     progress: bool | None = None,
     stream: str | None = None,
     chunk_samples: int = 1 << 14,
+    plant: Plant | None = None,
 ) -> EngineResult:
     """Simulate a linear rotor with rub at several stations (see the module docstring).
 
@@ -507,6 +568,10 @@ def simulate_general(
         state. Read it with :func:`rubrotor.results.load_dataset` or xarray.
     chunk_samples : int
         Samples per compiled call (and the buffer size when streaming).
+    plant : Plant, optional
+        A plant already built by :func:`build_plant` for the same rotor, stations, loads and
+        ``run`` (speed, reduction, initial state): skips the reduction (the array-level path
+        for repeated runs; the caller vouches that it matches).
 
     Returns
     -------
@@ -530,7 +595,7 @@ def simulate_general(
                 "initial.state", run.initial, '"rest" or "static" with a speed profile'
             )
         plant = build_plant(system, run, stations, (), loads, gravity)
-    else:
+    elif plant is None:
         plant = build_plant(system, run, stations, unbalances, loads, gravity)
     sample_dt = run.step * run.save_every
     n_samples = int(math.floor(run.duration / sample_dt + 1e-9))
@@ -543,7 +608,7 @@ def simulate_general(
     state = _Chunks(
         out=np.empty((nch, width + 1)),
         ys=np.zeros((n_samples + 1 if run.save_state else 0, plant.lam.size), complex),
-        events=np.zeros((EVENT_BUFFER, 2)),
+        events=np.empty((EVENT_BUFFER, 2)),
     )
     chunk, first, stats, final = STEPPERS[method](problem, plant, run, state)
     first()

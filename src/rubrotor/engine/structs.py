@@ -6,7 +6,7 @@ named tuple of arrays by field name.
 
 from collections import namedtuple
 
-__all__ = ["Steps", "Contacts", "Outputs", "Drive", "Control"]
+__all__ = ["Steps", "Contacts", "Outputs", "Drive", "Control", "Plan"]
 
 Steps = namedtuple(
     "Steps", ["E", "G0", "G1", "BT", "CdE", "CvE", "CdG0b", "CvG0b", "Sd", "Sv", "rot", "h"]
@@ -34,3 +34,14 @@ Control = namedtuple("Control", ["on", "rtol", "atol", "a_f", "errc"])
 """Adaptive step control: ``on`` (1.0 adaptive), ``rtol`` (1), ``atol`` (m), ``a_f`` the
 direct contact acceleration per N (m/(s^2 N)), ``errc`` (L,) displacement per N of a
 zero- against first-order hold at each level (m/N)."""
+
+Plan = namedtuple(
+    "Plan", ["lam", "BT", "Wd", "Wv", "Ca", "EH", "H", "J", "hmin", "tol_x", "have", "tab"]
+)
+"""The adaptive kernel's plan (:mod:`rubrotor.core.engine_adaptive`): modes ``lam`` (ns,)
+(1/s), ``BT`` (m, ns) modal input transposed, ``Wd, Wv`` (m, m, ns) ``Cd_rj beta_jc`` and
+``Cv_rj beta_jc``, ``Ca`` (m, ns) ``|Cd_rj lam_j^2|`` (look-ahead bound), ``EH`` (ns,)
+``e^{lam H}``, ``H`` the output spacing (s), ``J`` the finest level (``hmin = H / 2^J``, s),
+``tol_x`` (m) the gap at which an onset counts as located, ``have`` (L,) int flags and ``tab``
+the per-level coefficient tables ``(E, G0, G1, CdE, CvE, Q0d, Q0v, Sd, Sv)`` filled on first use
+(row ``L - 1`` for a non-dyadic step)."""

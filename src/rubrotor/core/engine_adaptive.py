@@ -1,0 +1,542 @@
+"""Compiled adaptive stepper: exact free flight between contacts, error-controlled contact steps.
+
+Same model and state as :func:`rubrotor.core.engine.expo_fixed` (diagonal complex modal
+coordinates ``y``, ``y' = lam y + beta F``, the contact force held linear over a step and solved
+implicitly). What differs is how time advances:
+
+Free flight (no contact force)
+    The solution is known in closed form, ``y(t + s) = e^{lam s} y(t)``, and the relative
+    contact displacement is ``p(s) = d0 + Re(Pu z e^{i Omega s}) + Re(Cd e^{lam s} y)``. Over
+    ``[0, S]`` it obeys the guaranteed bound (Taylor with remainder)::
+
+        |p(s)| <= b(s) = |p(0) + s p'(0)| + A s^2 / 2,
+        A = |(Omega^2 |Pu_y| + sum_j |Cd_yj lam_j^2| |y_j| G, same for z)|,  G = max(1, e^{Re lam S})
+
+    ``b`` is convex, so ``b(S) < g`` certifies every ``s`` in ``[0, S]`` free (``S`` up to
+    ``LOOK_AHEAD`` samples): the state jumps from sample to sample (one multiplication per mode)
+    with no further check until the certified time. Otherwise the largest
+    certified ``s`` (root of ``b = g`` by bisection) is taken and the bound re-evaluated
+    (conservative advancement: it converges quadratically to a transversal onset and takes
+    steps ``~ sqrt(2 gap / A)`` past a near-graze, so no contact is ever stepped over). The
+    onset is located when the gap is below ``tol_x``; contact steps start there.
+
+Contact
+    Steps ``h = H 2^-l`` (``H`` the output spacing, ``l`` from ``-LEVELS_UP`` to ``J``) chosen by
+    the local error estimate alone (:class:`rubrotor.engine.structs.Control`); per-level
+    coefficients are computed on first use and kept. Samples inside a step come from the
+    step's own interpolant (exact for the held force)::
+
+        y(t_n + s) = e^{lam s} y_n + s phi1(lam s) beta F_n + (s^2 / h) phi2(lam s) beta (F_{n+1} - F_n)
+
+    A change of contact state inside a step (a separation, or an onset of another contact) is
+    located by regula falsi on the radial displacement (the step shortened to the estimated
+    crossing) until the crossing lies at a step's start within ``tol_x`` or the step reaches
+    the finest ``H / 2^J``.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from rubrotor.core.contact import _law
+from rubrotor.core.engine import (
+    DIVERGED,
+    EVENT_BUFFER_FULL,
+    EVENT_MARGIN,
+    I_ACCEPTED,
+    I_EVENTS,
+    I_GRAZE,
+    I_NEWTON,
+    I_REJECTED,
+    I_STATUS,
+    I_STEP,
+    I_SUBSTEPS,
+    NEWTON_FAILED,
+    SAFE_FASTMATH,
+    _rdot,
+    _write,
+    graze_contacts,
+    solve_contacts,
+    solve_one,
+    workspace,
+)
+
+__all__ = [
+    "expo_adaptive",
+    "phi012",
+    "LEVELS_UP",
+    "T_TIME",
+    "T_HPREV",
+    "T_LEVEL",
+    "T_FREE",
+    "T_FILLS",
+    "N_TSTATE",
+]
+
+LEVELS_UP = 4
+"""Contact steps may grow to ``2^LEVELS_UP`` output spacings."""
+
+LOOK_AHEAD = 16
+"""Free flight is certified up to this many output spacings ahead per bound evaluation."""
+
+# slots of the float state vector
+T_TIME, T_HPREV, T_LEVEL, T_FREE, T_FILLS = 0, 1, 2, 3, 4
+N_TSTATE = 5
+
+
+@njit(cache=True, inline="always")
+def phi012(z):
+    """``(e^z, phi1(z), phi2(z))`` for complex ``z``; ``phi1 = (e^z - 1)/z``,
+    ``phi2 = (phi1 - 1)/z``, by their series below ``|z| = 0.1`` (relative error < 1e-14)."""
+    ez = np.exp(z)
+    if abs(z) < 0.1:
+        acc = 1.0 + 0j
+        for k in range(11, 2, -1):
+            acc = 1.0 + z * acc / k
+        p2 = 0.5 * acc
+        return ez, 1.0 + z * p2, p2
+    p1 = (ez - 1.0) / z
+    return ez, p1, (p1 - 1.0) / z
+
+
+@njit(cache=True)
+def _fill(tab, k, h, lam, Cd, Cv, Wd, Wv, Rd, Rv):
+    """Coefficients of a step ``h`` (s) into row ``k`` of the tables ``tab``."""
+    E, G0, G1, CdE, CvE, Q0d, Q0v, Sd, Sv = tab
+    ns = lam.shape[0]
+    m = Cd.shape[0]
+    for j in range(ns):
+        e, p1, p2 = phi012(lam[j] * h)
+        E[k, j] = e
+        G0[k, j] = h * (p1 - p2)
+        G1[k, j] = h * p2
+    for r in range(m):
+        for j in range(ns):
+            CdE[k, r, j] = Cd[r, j] * E[k, j]
+            CvE[k, r, j] = Cv[r, j] * E[k, j]
+        for c in range(m):
+            a0 = 0.0
+            b0 = 0.0
+            a1 = 0.0
+            b1 = 0.0
+            for j in range(ns):
+                a0 += (Wd[r, c, j] * G0[k, j]).real
+                b0 += (Wv[r, c, j] * G0[k, j]).real
+                a1 += (Wd[r, c, j] * G1[k, j]).real
+                b1 += (Wv[r, c, j] * G1[k, j]).real
+            Q0d[k, r, c] = a0
+            Q0v[k, r, c] = b0
+            Sd[k, r, c] = a1 + Rd[r, c]
+            Sv[k, r, c] = b1 + Rv[r, c]
+
+
+@njit(cache=True, inline="always")
+def _bound(py, pz, vy, vz, a, s):
+    """``b(s) = |p + s v| + a s^2 / 2`` (m)."""
+    return math.sqrt((py + s * vy) ** 2 + (pz + s * vz) ** 2) + 0.5 * a * s * s
+
+
+@njit(cache=True)
+def _free_look(y, z, S, omega, contacts, Ca, grow, ay, p0, v0, tol_x):
+    """Largest certified free advance in ``[0, S]`` (s) from the state ``y``, phasor ``z``.
+
+    ``grow`` bounds ``|e^{lam s}|`` for ``s <= S``; ``ay`` is scratch for ``|y|``. Fills ``p0``,
+    ``v0`` (m, m/s) with the relative contact displacement and velocity. Returns
+    ``(s, located, rmax)``: ``s`` the certified advance, ``located`` True when a contact's gap is
+    below ``tol_x`` (m) (an onset to hand to the contact steps), ``rmax`` the largest radial
+    displacement (m, for the divergence check)."""
+    Cd, Cv, Pu, Pv, d0, cp = (contacts.Cd, contacts.Cv, contacts.Pu, contacts.Pv, contacts.d0,
+                              contacts.cp)  # fmt: skip
+    ns = y.shape[0]
+    for j in range(ns):
+        ay[j] = math.sqrt(y[j].real ** 2 + y[j].imag ** 2)
+    best = S
+    located = False
+    rmax = 0.0
+    w2 = omega * omega
+    for i in range(cp.shape[0]):
+        A2 = 0.0
+        for a in range(2):
+            r = 2 * i + a
+            p0[r] = d0[r] + (Pu[r] * z).real + _rdot(Cd[r], y)
+            v0[r] = (Pv[r] * z).real + _rdot(Cv[r], y)
+            s2 = 0.0
+            for j in range(ns):
+                s2 += Ca[r, j] * ay[j]
+            A2 += (w2 * math.sqrt(Pu[r].real ** 2 + Pu[r].imag ** 2) + grow * s2) ** 2
+        A = math.sqrt(A2)
+        py, pz, vy, vz = p0[2 * i], p0[2 * i + 1], v0[2 * i], v0[2 * i + 1]
+        g = cp[i, 4]
+        d = math.sqrt(py * py + pz * pz)
+        if not (d <= rmax):  # keeps a NaN
+            rmax = d
+        if not (g - d > tol_x):  # NaN too: hand over
+            located = True
+            best = 0.0
+            continue
+        if _bound(py, pz, vy, vz, A, best) < g:
+            continue
+        lo, hi = 0.0, best
+        for _ in range(48):
+            mid = 0.5 * (lo + hi)
+            if _bound(py, pz, vy, vz, A, mid) < g:
+                lo = mid
+            else:
+                hi = mid
+        best = lo
+    return best, located, rmax
+
+
+@njit(cache=True)
+def _advance_free(y, lam, s, EH, H):
+    """``y <- e^{lam s} y`` (the precomputed ``EH`` when ``s == H``)."""
+    if s == H:
+        for j in range(y.shape[0]):
+            y[j] = EH[j] * y[j]
+    else:
+        for j in range(y.shape[0]):
+            y[j] = np.exp(lam[j] * s) * y[j]
+
+
+@njit(cache=True)
+def _dense(ysmp, y, bF, bN, lam, ilam, s, h):
+    """State at ``t_n + s`` inside the step ``h`` from the step's interpolant (``ilam`` the
+    reciprocals of ``lam``: multiplications instead of divisions away from ``lam s = 0``)."""
+    r = s / h
+    for j in range(y.shape[0]):
+        z = lam[j] * s
+        zr, zi = z.real, z.imag
+        if zr * zr + zi * zi < 0.01:
+            e, p1, p2 = phi012(z)
+            a = s * p1
+            b = s * r * p2
+        else:
+            ez = math.exp(zr)
+            e = complex(ez * math.cos(zi), ez * math.sin(zi))
+            a = (e - 1.0) * ilam[j]  # s phi1
+            b = (a - s) * ilam[j] * (1.0 / h)  # s^2 phi2 / h
+        ysmp[j] = e * y[j] + (a - b) * bF[j] + b * bN[j]
+
+
+@njit(cache=True)
+def _write_dense(out, ys, idx, ysmp, z, Fs, contacts, outputs, fn, ft, pbuf, ubuf):
+    """Sample from an interpolated state: normal and friction force from the law there."""
+    Cd, Cv, Pu, Pv, d0, cp = (contacts.Cd, contacts.Cv, contacts.Pu, contacts.Pv, contacts.d0,
+                              contacts.cp)  # fmt: skip
+    m = Fs.shape[0]
+    for r in range(m):
+        pbuf[r] = d0[r] + (Pu[r] * z).real + _rdot(Cd[r], ysmp)
+        ubuf[r] = (Pv[r] * z).real + _rdot(Cv[r], ysmp)
+        for c in range(m):
+            pbuf[r] += contacts.Rd[r, c] * Fs[c]
+            ubuf[r] += contacts.Rv[r, c] * Fs[c]
+    for i in range(cp.shape[0]):
+        law = _law(pbuf[2 * i], pbuf[2 * i + 1], ubuf[2 * i], ubuf[2 * i + 1], cp[i])
+        fn[i] = law[2]
+        ft[i] = law[3]
+    _write(out, ys, idx, ysmp, z, Fs, fn, ft, contacts, outputs)
+
+
+@njit(cache=True, fastmath=SAFE_FASTMATH)
+def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan, contacts,
+                  outputs, omega, events, control):  # fmt: skip
+    """Advance ``n_samples`` output samples (spacing ``plan.H``) with exact free flight and
+    error-controlled contact steps (module docstring); returns the number written.
+
+    State in/out as in :func:`rubrotor.core.engine.expo_fixed` (``y``, ``F``, ``Fp``, ``dprev``,
+    ``istate``, ``events``) plus ``tst`` (T_* slots: time (s), previous step (s), level, free
+    advances). ``plan`` (:class:`rubrotor.engine.structs.Plan`) holds the modes, the lazily
+    filled per-level tables and the look-ahead rows. Samples go to ``out[:, offset + k]``.
+    """
+    lam, BT, Wd, Wv, Ca, EH = plan.lam, plan.BT, plan.Wd, plan.Wv, plan.Ca, plan.EH
+    H, J, have, tab, tol_x = plan.H, plan.J, plan.have, plan.tab, plan.tol_x
+    E, G0, G1, CdE, CvE, Q0d, Q0v, Sd, Sv = tab
+    Cd, Cv, Pu, Pv, d0, cp = (contacts.Cd, contacts.Cv, contacts.Pu, contacts.Pv, contacts.d0,
+                              contacts.cp)  # fmt: skip
+    Rd, Rv, max_disp = contacts.Rd, contacts.Rv, contacts.max_disp
+    ns = y.shape[0]
+    m = F.shape[0]
+    nc = cp.shape[0]
+    pd = np.empty(m)
+    pv = np.empty(m)
+    Fn = np.zeros(m)
+    F0 = np.zeros(m)
+    Fs = np.zeros(m)
+    fn = np.zeros(nc)
+    ft = np.zeros(nc)
+    dnew = np.zeros(nc)
+    entering = np.zeros(nc, np.bool_)
+    pbuf = np.zeros(m)
+    ubuf = np.zeros(m)
+    work = workspace(m)
+    bF = np.zeros(ns, np.complex128)
+    bN = np.zeros(ns, np.complex128)
+    ysmp = np.zeros(ns, np.complex128)
+    for c in range(m):
+        for j in range(ns):
+            bF[j] += BT[c, j] * F[c]
+    t = tst[T_TIME]
+    hp = tst[T_HPREV]
+    lev = int(tst[T_LEVEL])
+    kfree = LEVELS_UP + J + 1  # the table row for a non-dyadic step
+    gmin = 1e300
+    for i in range(nc):
+        gmin = min(gmin, cp[i, 4])
+    k0 = istate[I_STEP]
+    t_end = (k0 + n_samples) * H
+    cap = events.shape[0]
+    written = 0
+    hloc = 0.0  # a shortened step locating a change of contact state (0: none)
+    on_grid = t == k0 * H  # at a sample time: the free jump to the next is e^{lam H}
+    z = complex(math.cos(omega * t), math.sin(omega * t))
+    rotH = complex(math.cos(omega * H), math.sin(omega * H))
+    grow = 1.0  # bound of |e^{lam s}|, s <= LOOK_AHEAD H
+    for j in range(ns):
+        grow = max(grow, math.exp(lam[j].real * LOOK_AHEAD * H))
+    t_cert = -1.0  # free flight certified up to this time (s)
+    ay = np.zeros(ns)
+    ilam = np.zeros(ns, np.complex128)
+    for j in range(ns):
+        ilam[j] = 1.0 / lam[j] if lam[j] != 0.0 else 0.0
+    while written < n_samples:
+        if istate[I_EVENTS] + EVENT_MARGIN * nc > cap:
+            istate[I_STATUS] = EVENT_BUFFER_FULL
+            break
+        ts = (k0 + written + 1) * H
+        loaded = False
+        for r in range(m):
+            if F[r] != 0.0:
+                loaded = True
+        if not loaded:
+            if not on_grid:
+                z = complex(math.cos(omega * t), math.sin(omega * t))
+            if ts <= t_cert:  # certified free by an earlier look-ahead
+                s, located = ts - t, False
+            else:
+                S = min(LOOK_AHEAD * H, t_end - t)
+                s, located, rmax = _free_look(y, z, S, omega, contacts, Ca, grow, ay, pd, pv,
+                                              tol_x)  # fmt: skip
+                if not (rmax <= max_disp):
+                    istate[I_STATUS] = DIVERGED
+                    break
+                t_cert = t + s
+            if not located and s >= ts - t:
+                _advance_free(y, lam, H if on_grid else ts - t, EH, H)
+                t = ts
+                # the phasor at sample k: rotated on the grid, recomputed every 64 samples
+                kk = k0 + written + 1
+                z = (
+                    z * rotH
+                    if on_grid and kk % 64 != 0
+                    else complex(math.cos(omega * t), math.sin(omega * t))
+                )
+                on_grid = True
+                tst[T_FREE] += 1.0
+                for i in range(nc):
+                    fn[i] = 0.0
+                    ft[i] = 0.0
+                _write(out, ys, offset + written, y, z, F, fn, ft, contacts, outputs)
+                written += 1
+                istate[I_STEP] += 1
+                continue
+            if not located and s > plan.hmin:
+                _advance_free(y, lam, s, EH, H)
+                t += s
+                on_grid = False
+                tst[T_FREE] += 1.0
+                continue
+            # an onset is located here (or cannot be certified away): contact steps from t
+            for i in range(nc):
+                dprev[i] = math.sqrt(pd[2 * i] ** 2 + pd[2 * i + 1] ** 2)
+                inward = pd[2 * i] * pv[2 * i] + pd[2 * i + 1] * pv[2 * i + 1] > 0.0
+                entering[i] = inward and not (cp[i, 4] - dprev[i] > tol_x)
+            for r in range(m):
+                Fp[r] = 0.0
+        # one contact step attempt of h = H 2^-lev (or the locating step hloc)
+        if hloc > 0.0:
+            h = hloc
+            k = kfree
+        else:
+            h = H * 2.0 ** (-lev)
+            k = lev + LEVELS_UP
+        if t + h > t_end:
+            h = max(t_end - t, plan.hmin)
+            k = kfree
+        if k == kfree or have[k] == 0:
+            _fill(tab, k, h, lam, Cd, Cv, Wd, Wv, Rd, Rv)
+            tst[T_FILLS] += 1.0
+            if k != kfree:
+                have[k] = 1
+        zn = complex(math.cos(omega * (t + h)), math.sin(omega * (t + h)))
+        for r in range(m):
+            pd[r] = d0[r] + (Pu[r] * zn).real + _rdot(CdE[k, r], y)
+            pv[r] = (Pv[r] * zn).real + _rdot(CvE[k, r], y)
+            if loaded:
+                for c in range(m):
+                    pd[r] += Q0d[k, r, c] * F[c]
+                    pv[r] += Q0v[k, r, c] * F[c]
+        extrap = False
+        for r in range(m):
+            if F[r] != 0.0 and Fp[r] != 0.0:
+                extrap = True
+        for r in range(m):
+            F0[r] = F[r] + (F[r] - Fp[r]) * (h / hp) if extrap else F[r]
+        if nc == 1:
+            it = solve_one(pd, pv, Sd[k], Sv[k], F0, cp, Fn, fn, ft)
+        else:
+            it = solve_contacts(pd, pv, Sd[k], Sv[k], F0, cp, Fn, fn, ft, work)
+        finest = h <= plan.hmin * 1.0000001
+        if it < 0 and finest:
+            it = graze_contacts(pd, pv, Sd[k], Sv[k], cp, Fn, fn, ft, work)
+            if it > 0:
+                istate[I_GRAZE] += 1
+        if it < 0:
+            if finest:
+                istate[I_STATUS] = NEWTON_FAILED
+                break
+            istate[I_SUBSTEPS] += 1
+            hloc = 0.0
+            lev = min(lev + 1, J)
+            continue
+        istate[I_NEWTON] += it
+        # a located onset moving inward must see contact at the step's end: a longer step
+        # could pass over a graze shorter than itself
+        retry = False
+        for i in range(nc):
+            if entering[i] and Fn[2 * i] == 0.0 and Fn[2 * i + 1] == 0.0 and not finest:
+                retry = True
+        if retry:
+            istate[I_REJECTED] += 1
+            hloc = 0.0
+            lev = min(lev + 1, J)
+            continue
+        new = False
+        for r in range(m):
+            if Fn[r] != 0.0:
+                new = True
+        # radial displacements at the step's end and changes of contact state
+        pmax = 0.0
+        changed = False
+        at_start = True
+        frac = 1.0
+        for i in range(nc):
+            a = pd[2 * i]
+            b = pd[2 * i + 1]
+            for c in range(m):
+                a += Sd[k, 2 * i, c] * Fn[c]
+                b += Sd[k, 2 * i + 1, c] * Fn[c]
+            dnew[i] = math.sqrt(a * a + b * b)
+            pmax = max(pmax, dnew[i])
+            was = F[2 * i] != 0.0 or F[2 * i + 1] != 0.0
+            now = Fn[2 * i] != 0.0 or Fn[2 * i + 1] != 0.0
+            if was != now:
+                changed = True
+                g = cp[i, 4]
+                if abs(dprev[i] - g) > tol_x:
+                    at_start = False
+                    den = dnew[i] - dprev[i]
+                    f = (g - dprev[i]) / den if den != 0.0 else 0.5
+                    frac = min(frac, min(max(f, 0.0), 1.0))
+        if changed and not at_start and not finest:
+            istate[I_REJECTED] += 1
+            hloc = max(plan.hmin, h * min(0.9, max(0.98 * frac, 1e-3)))
+            continue
+        err = 0.0
+        if new or loaded:
+            hist = False
+            for r in range(m):
+                if Fp[r] != 0.0:
+                    hist = True
+            tolp = control.atol + control.rtol * max(pmax, gmin)
+            if hist and new and loaded:
+                f2 = 0.0
+                for r in range(m):
+                    d2 = (Fn[r] - F[r]) / h - (F[r] - Fp[r]) / hp
+                    f2 += d2 * d2
+                f2 = 2.0 * math.sqrt(f2) / (h + hp)
+                e_v = control.a_f * h * h * h * f2 / 12.0
+                err = max(0.5 * e_v * h, e_v / omega) / tolp
+            else:
+                # zero- against first-order hold: displacement, and velocity over Omega
+                errc = 0.0
+                for r in range(m):
+                    row = 0.0
+                    rowv = 0.0
+                    for c in range(m):
+                        row += abs(Sd[k, r, c] - Rd[r, c])
+                        rowv += abs(Sv[k, r, c] - Rv[r, c])
+                    errc = max(errc, row, rowv / omega)
+                dfn = 0.0
+                for r in range(m):
+                    dfn += (Fn[r] - F[r]) ** 2
+                err = errc * math.sqrt(dfn) / tolp
+            if err > 1.0 and not finest:
+                istate[I_REJECTED] += 1
+                hloc = 0.0
+                up = max(1, int(math.ceil(math.log2(err) / 3.0)))
+                lev = min(lev + up, J)
+                continue
+        istate[I_ACCEPTED] += 1
+        # the step is accepted: samples inside it from its interpolant
+        for j in range(ns):
+            b = 0j
+            for c in range(m):
+                b += BT[c, j] * Fn[c]
+            bN[j] = b
+        while written < n_samples and (k0 + written + 1) * H <= t + h * (1.0 + 1e-14):
+            ts = (k0 + written + 1) * H
+            s = min(ts - t, h)
+            _dense(ysmp, y, bF, bN, lam, ilam, s, h)
+            for r in range(m):
+                Fs[r] = F[r] + (Fn[r] - F[r]) * (s / h)
+            zs = complex(math.cos(omega * ts), math.sin(omega * ts))
+            _write_dense(out, ys, offset + written, ysmp, zs, Fs, contacts, outputs, fn, ft,
+                         pbuf, ubuf)  # fmt: skip
+            written += 1
+            istate[I_STEP] += 1
+        for j in range(ns):
+            y[j] = E[k, j] * y[j] + G0[k, j] * bF[j] + G1[k, j] * bN[j]
+            bF[j] = bN[j]
+        bad = False
+        for i in range(nc):
+            if not (dnew[i] <= max_disp):
+                bad = True
+            was = F[2 * i] != 0.0 or F[2 * i + 1] != 0.0
+            now = Fn[2 * i] != 0.0 or Fn[2 * i + 1] != 0.0
+            if was != now and cp[i, 0] != 0.0:
+                g = cp[i, 4]
+                if abs(dprev[i] - g) <= tol_x:
+                    te = t
+                else:
+                    den = dnew[i] - dprev[i]
+                    f = (g - dprev[i]) / den if den != 0.0 else 1.0
+                    te = t + min(max(f, 0.0), 1.0) * h
+                ne = istate[I_EVENTS]
+                if ne < cap:
+                    events[ne, 0] = te
+                    events[ne, 1] = (i + 1) if now else -(i + 1)
+                istate[I_EVENTS] = ne + 1
+            dprev[i] = dnew[i]
+        for r in range(m):
+            Fp[r] = F[r]
+            F[r] = Fn[r]
+        t += h
+        t_cert = -1.0
+        on_grid = False
+        for i in range(nc):
+            entering[i] = False
+        hp = h
+        hloc = 0.0
+        if bad:
+            istate[I_STATUS] = DIVERGED
+            break
+        if err < 0.05 and lev > -LEVELS_UP:
+            lev -= 1
+        if istate[I_EVENTS] > cap:
+            istate[I_STATUS] = EVENT_BUFFER_FULL
+            break
+    tst[T_TIME] = t
+    tst[T_HPREV] = hp
+    tst[T_LEVEL] = lev
+    return written
