@@ -22,6 +22,8 @@ from rubrotor.engine.model import RubStation, Run
 from rubrotor.integrator import Integrator
 from rubrotor.scenario import load_scenario
 
+FREE = "free-flight"  # the opt-in stepper with exact free flight between contacts
+
 SEED1 = Path(__file__).parents[1] / "src/rubrotor/scenarios/seed_case1.toml"
 
 
@@ -79,7 +81,7 @@ def test_grazing_contact_between_two_samples_is_found(seed):
     assert off - on < 0.2 * H
     stn = [_station(sc, clearance=g)]
     run = Run(speed=w, duration=(n + 3) * H, step=H, rtol=1e-6)
-    res = simulate_general(system, run, stn, [sc.unbalance], progress=False)
+    res = simulate_general(system, run, stn, [sc.unbalance], method=FREE, progress=False)
     assert res.status == "complete"
     ev = res.events
     print("events", ev, "closed form", on, off, "H", H)
@@ -102,7 +104,7 @@ def test_free_flight_is_exact_and_costs_no_steps(seed):
     far = _station(sc, clearance=1.0)
     H = Integrator(revolutions=2).output_spacing(w)
     run = Run(speed=w, duration=256 * H, step=H, rtol=1e-6)
-    res = simulate_general(system, run, [far], [sc.unbalance], progress=False)
+    res = simulate_general(system, run, [far], [sc.unbalance], method=FREE, progress=False)
     plant = build_plant(system, run, [far], [sc.unbalance])
     c = plant.contacts
     p = c.d0[:, None] + np.real(np.outer(c.Pu, np.exp(1j * w * res.time)))
@@ -125,7 +127,7 @@ def test_rtol_sets_the_steps_not_the_samples(seed):
     def go(rtol, atol=1e-10):
         run = Run(speed=sc.speed, duration=integ.total_time(sc.speed), step=H, rtol=rtol,
                   atol=atol)  # fmt: skip
-        return simulate_general(system, run, stn, [sc.unbalance], progress=False)
+        return simulate_general(system, run, stn, [sc.unbalance], method=FREE, progress=False)
 
     ref = go(1e-10, 1e-14)
     scale = np.max(np.abs(ref.channels[:2]))

@@ -324,7 +324,13 @@ def _plan(plant: Plant, run: Run, levels: int) -> Plan:
 def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     """Adaptive steps (``run.rtol``): exact free flight to each sample or located onset,
     contact steps by the error estimate alone, samples from the steps' interpolants
-    (:func:`rubrotor.core.engine_adaptive.expo_adaptive`)."""
+    (:func:`rubrotor.core.engine_adaptive.expo_adaptive`). Stepper ``"free-flight"``: opt-in
+    while its error per ``rtol`` is above the ``"exponential"`` stepper's (it holds the contact
+    force linear over a step, that one quadratic)."""
+    if run.rtol is None:
+        raise InputError(
+            "simulation.rtol", None, 'a relative tolerance > 0 for method "free-flight"'
+        )
     levels = max(run.sublevels, ADAPTIVE_LEVELS - 1) + 1
     plan = _plan(plant, run, levels)
     c = plant.contacts
@@ -352,9 +358,7 @@ def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
 
 def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     """Stepper ``"exponential"``: fixed steps, contact solve sub-steps where Newton fails; with
-    ``run.rtol`` the adaptive stepper (:func:`_adaptive_factory`)."""
-    if run.rtol is not None:
-        return _adaptive_factory(problem, plant, run, state)
+    ``run.rtol`` adaptive steps (dyadic subdivisions of the output spacing ``run.step``)."""
     levels = run.sublevels + 1 if run.rtol is None else max(run.sublevels, ADAPTIVE_LEVELS - 1) + 1
     steps = _steps(plant, run.step, levels)
     control = _control(plant, steps, run)
@@ -447,7 +451,11 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     return chunk, lambda: _first_sample(state, k, cur["plant"]), stats, final
 
 
-STEPPERS = {"exponential": _fixed_factory, "runup": _runup_factory}
+STEPPERS = {
+    "exponential": _fixed_factory,
+    "free-flight": _adaptive_factory,
+    "runup": _runup_factory,
+}
 """Method name -> factory ``(problem, plant, run, state) -> (chunk, first_sample, stats, final)``."""
 
 
