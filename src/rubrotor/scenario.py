@@ -76,6 +76,7 @@ from rubrotor.model import (
     Shaft,
 )
 from rubrotor.rotor import Rotor
+from rubrotor.scenario_engine import EngineSpec, engine_spec_or_none, split_engine_keys
 from rubrotor.scenario_rotor import (
     ROTOR_SCHEMA,
     ROTOR_TABLES,
@@ -711,6 +712,10 @@ class Scenario:
         ``[initial] state``: start at rest (default) or on the steady no-contact orbit.
     rotor : Rotor or None
         The general finite-element rotor (``[[section]]`` tables), or None for a ``[shaft]``.
+    engine : rubrotor.scenario_engine.EngineSpec or None
+        The general engine's contacts, stators, planes, gravity, speed profile and initial
+        state (:mod:`rubrotor.scenario_engine`) when the scenario uses its keys or a general
+        rotor; None for a scenario the seed's engine runs.
     source : str
         TOML text the scenario was read from (provenance); not compared by ``==``.
     """
@@ -726,6 +731,7 @@ class Scenario:
     simulation: Integrator | None = None
     initial: str = "rest"
     rotor: Rotor | None = None
+    engine: EngineSpec | None = None
     source: str = field(default="", compare=False, repr=False)
     _spec: dict | None = field(default=None, compare=False, repr=False)
 
@@ -874,8 +880,12 @@ def scenario_from_dict(mapping: Mapping, source_text: str = "") -> Scenario:
     ScenarioError
         Naming the offending key, its value and what is allowed.
     """
-    spec = _normalise(mapping)
-    return Scenario(**_build(spec), source=source_text, _spec=spec)
+    base, extras = split_engine_keys(mapping)
+    spec = _normalise(base)
+    parts = _build(spec)
+    engine, full = engine_spec_or_none(mapping, extras, parts)
+    spec = full if extras else spec
+    return Scenario(**parts, engine=engine, source=source_text, _spec=spec)
 
 
 def scenario_to_dict(scenario: Scenario, resolved: bool = False) -> dict:
