@@ -914,6 +914,12 @@ def simulate(
     """
     from rubrotor.results import to_dataset
 
+    if getattr(scenario, "engine", None) is not None:  # general rotor or general-engine keys
+        from rubrotor.simulate_engine import simulate_engine
+
+        if track_energy:
+            raise InputError("track_energy", True, "False with the general engine")
+        return simulate_engine(scenario, integrator=integrator, progress=progress)
     scenario.require_shaft("time simulation")
     integ = integrator or scenario.simulation
     if integ is None:

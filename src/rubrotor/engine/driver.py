@@ -486,6 +486,7 @@ def simulate_general(
     progress: bool | None = None,
     stream: str | None = None,
     chunk_samples: int = 1 << 14,
+    attrs: dict | None = None,
 ) -> EngineResult:
     """Simulate a linear rotor with rub at several stations (see the module docstring).
 
@@ -507,6 +508,8 @@ def simulate_general(
         state. Read it with :func:`rubrotor.results.load_dataset` or xarray.
     chunk_samples : int
         Samples per compiled call (and the buffer size when streaming).
+    attrs : dict, optional
+        Extra attributes of a streamed file (provenance); ``final_state`` is always added.
 
     Returns
     -------
@@ -574,9 +577,11 @@ def simulate_general(
     n_out = done + 1
     events = state.events[: min(int(ist[I_EVENTS]), len(state.events))].copy()
     status = "complete" if not msg else "partial"
+    final_state = final()
     if sink is not None:
         sink.close(events, {"status": status, "status_message": msg, "speed_rad_s": plant.speed,
-                            "integrator_stats": json.dumps(_jsonable(stats))})  # fmt: skip
+                            "integrator_stats": json.dumps(_jsonable(stats)), **(attrs or {}),
+                            "final_state": json.dumps(final_state.tolist())})  # fmt: skip
         stats["stream"] = str(stream)
         n_out = 0
     return EngineResult(
@@ -590,7 +595,7 @@ def simulate_general(
         message=msg,
         stats=stats,
         speed=plant.speed,
-        final_state=final(),
+        final_state=final_state,
     )
 
 
