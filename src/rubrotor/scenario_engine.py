@@ -15,6 +15,7 @@ allowed. The new keys, their kinds, units and ranges are listed in :data:`ENGINE
     [[load]]      position (m), force_y, force_z (N)
     [gravity]     y, z (m/s^2) on the rotor's shaft and disk masses
     [speed]       profile = "constant" (default) | "linear" with from, to (rad/s) over the run
+                  and step (rad/s, largest speed change between re-diagonalisations)
     [initial]     state = "rest" | "steady" | "static" | "file" with path (a results file of
                   the general engine; the run continues from its final state)
     [simulation]  besides today's keys: modes (retained count), cutoff (rad/s), residual (bool)
@@ -58,6 +59,7 @@ ENGINE_KEYS: dict[str, tuple[str, str, tuple[float, float] | None]] = {
     "speed.profile": ("str", "", None),
     "speed.from": ("number", "rad/s", (1e-6, 1e7)),
     "speed.to": ("number", "rad/s", (1e-6, 1e7)),
+    "speed.step": ("number", "rad/s", (1e-6, 1e7)),
     "initial.state": ("str", "", None),
     "initial.path": ("str", "", None),
     "simulation.modes": ("int", "", (1, 100000)),
@@ -70,7 +72,7 @@ in the unit given (a schema table can absorb them as :data:`rubrotor.scenario` r
 PROFILES = ("constant", "linear")
 ENGINE_INITIAL = ("static", "file")
 _CONTACT_NEW = tuple(k.split(".", 1)[1] for k in ENGINE_KEYS if k.startswith("contact."))
-_SPEED_NEW = ("profile", "from", "to")
+_SPEED_NEW = ("profile", "from", "to", "step")
 _SIM_NEW = ("modes", "cutoff", "residual")
 
 
@@ -90,6 +92,9 @@ class EngineSpec:
         ``(g_y, g_z)`` (m/s^2).
     speed_end : float or None
         End speed (rad/s) of a linear run-up or coast-down from ``Scenario.speed``.
+    speed_step : float or None
+        Largest speed change (rad/s) between re-diagonalisations (engine default 1/200 of the
+        range).
     initial : str
         ``"rest"``, ``"steady"``, ``"static"`` or ``"file"``.
     initial_path : str or None
@@ -107,6 +112,7 @@ class EngineSpec:
     loads: tuple = ()
     gravity: tuple = (0.0, 0.0)
     speed_end: float | None = None
+    speed_step: float | None = None
     initial: str = "rest"
     initial_path: str | None = None
     modes: int | None = None
@@ -230,11 +236,13 @@ def _split_speed(base: dict, extras: dict) -> None:
         )
     rest = {k: v for k, v in sp.items() if k not in _SPEED_NEW}
     if profile == "constant":
-        for k in ("from", "to"):
+        for k in ("from", "to", "step"):
             if k in sp:
                 raise _err(f"speed.{k}", sp[k], 'to be given only with speed.profile = "linear"')
         base["speed"] = rest
         return
+    if "step" in sp:
+        _value("speed.step", sp["step"])
     for k in ("from", "to"):
         if k not in sp:
             raise _err(f"speed.{k}", None, 'a value (rad/s) with speed.profile = "linear"')
@@ -246,7 +254,7 @@ def _split_speed(base: dict, extras: dict) -> None:
             'no other speed key with speed.profile = "linear" (from and to give the speeds)',
         )
     base["speed"] = {"rad_per_s": sp["from"]}
-    extras["speed"] = {"profile": "linear", "from": sp["from"], "to": sp["to"]}
+    extras["speed"] = {k: sp[k] for k in _SPEED_NEW if k in sp}
 
 
 def _renamed(exc: InputError, section: str, index: int) -> ScenarioError:
@@ -405,6 +413,7 @@ def build_engine(extras: dict, parts: dict) -> EngineSpec:
         loads = () if parts["load"] is None else (parts["load"],)
     gravity = _gravity(extras["gravity"]) if "gravity" in extras else (0.0, 0.0)
     speed_end = extras["speed"]["to"] if "speed" in extras else None
+    speed_step = extras.get("speed", {}).get("step")
     state, path = _initial(extras["initial"]) if "initial" in extras else (parts["initial"], None)
     if speed_end is not None and state not in ("rest", "static"):
         raise _err("initial.state", state, '"rest" or "static" with speed.profile = "linear"')
@@ -414,8 +423,8 @@ def build_engine(extras: dict, parts: dict) -> EngineSpec:
     if modes is not None and cutoff is not None:
         raise _err("simulation.modes / simulation.cutoff", (modes, cutoff), "at most one")
     residual = _value("simulation.residual", sim.get("residual", True))
-    return EngineSpec(stations, unb, loads, gravity, speed_end, state, path, modes, cutoff,
-                      residual)  # fmt: skip
+    return EngineSpec(stations, unb, loads, gravity, speed_end, speed_step, state, path, modes,
+                      cutoff, residual)  # fmt: skip
 
 
 def _contact_dict(contact) -> dict:

@@ -121,7 +121,7 @@ def engine_problem(scenario, integrator=None):
         step=integ.output_spacing(speed) if adaptive else step,
         save_every=1 if adaptive else integ.save_every, modes=eng.modes, cutoff=eng.cutoff,
         residual=eng.residual, initial=initial, probes=integ.probes,
-        max_displacement=integ.max_displacement, speed_end=end,
+        max_displacement=integ.max_displacement, speed_end=end, speed_step=eng.speed_step,
         rtol=integ.rtol if adaptive else None, atol=integ.atol,
     )  # fmt: skip
     kwargs = dict(stations=eng.stations, unbalances=unb, loads=eng.loads, gravity=eng.gravity)
@@ -162,8 +162,14 @@ def _attrs(scenario, res_stats: dict, run: Run, t0: float) -> dict:
     }
     if run.speed_end is not None:
         a["speed_end_rad_s"] = run.speed_end
-    if scenario.engine.stations:
-        a["contact_position_m"] = float(scenario.engine.stations[0].contact.position)
+    st = scenario.engine.stations
+    if st:
+        a["contact_position_m"] = float(st[0].contact.position)
+    a["contacts"] = json.dumps([
+        {"position": s.contact.position, "clearance": s.contact.clearance,
+         "radius": s.contact.radius, "offset_y": s.offset_y, "offset_z": s.offset_z,
+         "flexible_stator": s.stator is not None} for s in st
+    ])  # fmt: skip
     return a
 
 
