@@ -179,7 +179,7 @@ def split_engine_keys(mapping: Mapping) -> tuple[dict, dict]:
     Returns
     -------
     base : dict
-        What :mod:`rubrotor.scenario` validates: the first contact's base keys as ``[contact]``,
+        What :mod:`rubrotor.scenario` validates: a single ``[contact]`` without new keys,
         ``[speed] rad_per_s = from`` for a linear profile, ``[initial] state = "rest"`` for the
         engine-only states.
     extras : dict
@@ -191,9 +191,10 @@ def split_engine_keys(mapping: Mapping) -> tuple[dict, dict]:
     extras: dict = {}
     contacts = _table_list(mapping, "contact")
     if contacts is not None:
-        base["contact"] = {k: v for k, v in contacts[0].items() if k not in _CONTACT_NEW}
+        base["contact"] = contacts[0]
         if len(contacts) > 1 or any(k in c for c in contacts for k in _CONTACT_NEW):
             extras["contact"] = contacts
+            del base["contact"]  # Scenario.engine.stations holds them all
     for section in ("unbalance", "load"):
         if isinstance(mapping.get(section), list):
             extras[section] = _table_list(mapping, section)
@@ -298,6 +299,8 @@ def _contacts(items: list[dict], span, speed: float) -> tuple:
                 name = f"contact.{key}"
                 if key in _CONTACT_NEW:
                     continue
+                if key.endswith("_nd") and not hasattr(span, "slenderness"):
+                    raise _err(name, val, f"contact.{key[:-3]} in SI units for a general rotor")
                 if key not in SCHEMA["contact"]:
                     allowed = ", ".join([*SCHEMA["contact"], *_CONTACT_NEW])
                     raise _err(name, val, f"one of the keys {allowed} of [[contact]]")
