@@ -185,14 +185,10 @@ def test_restart_from_file_continues_the_run(tmp_path):
     first = rubrotor.simulate(scenario_from_dict(free), progress=False)
     path = tmp_path / "first.nc"
     rubrotor.save_dataset(first, path)
-    again = spec(**{**free, "initial": {"state": "file", "path": str(path)}})
+    again = {**free, "initial": {"state": "file", "path": str(path)}}
     second = rubrotor.simulate(scenario_from_dict(again), progress=False)
-    long = rubrotor.simulate(
-        scenario_from_dict(
-            spec(**{**free, "simulation": {**free["simulation"], "duration": 0.02}})
-        ),
-        progress=False,
-    )
+    longer = {**free, "simulation": {**free["simulation"], "duration": 0.02}}
+    long = rubrotor.simulate(scenario_from_dict(longer), progress=False)
     n = first.sizes["time"]
     assert second["time"].values[0] == pytest.approx(first["time"].values[-1], rel=1e-12)
     v_long = long["v"].values[0, n - 1 :]

@@ -113,7 +113,7 @@ def engine_problem(scenario, integrator=None):
         )
     unb, t0, initial = eng.unbalances, 0.0, eng.initial
     if initial == "file":
-        initial, t0 = _restart(eng.initial_path, speed, int(np.sum(system.free)))
+        initial, t0 = _restart(eng.initial_path, speed, system.n_dof)
         # constant speed: continuing at t0 equals starting at 0 with phases advanced by Omega t0
         unb = tuple(dataclasses.replace(u, phase=u.phase + speed * t0) for u in unb)
     run = Run(
