@@ -63,10 +63,9 @@ def _spectrum(ax, ds) -> None:
     spin = float(ds.attrs["speed_rad_s"]) / (2 * math.pi)
     keep = np.abs(f) <= 6 * spin
     ax.semilogy(f[keep], amp[keep] * UM, lw=0.8)
-    for k in (-1, 1):
-        ax.axvline(k * spin, color="C3", ls=":", lw=1)
-    ax.text(spin, ax.get_ylim()[1], " 1X", color="C3", va="top", fontsize=8)
-    ax.text(-spin, ax.get_ylim()[1], " -1X", color="C3", va="top", fontsize=8)
+    ax.axvline(spin, color="C3", ls=":", lw=1, label=f"+1X = {spin:.4g} Hz (forward)")
+    ax.axvline(-spin, color="C2", ls=":", lw=1, label=f"-1X = {-spin:.4g} Hz (backward)")
+    ax.legend(loc="upper left", fontsize=7)
     ax.set_xlabel("whirl frequency (Hz; < 0 backward)")
     ax.set_ylabel("amplitude, y + i z (um)")
     ax.set_title("full spectrum at the contact (second half)")
