@@ -70,6 +70,28 @@ def _table(name: str, keys: dict[str, str], required=(), groups=()) -> dict:
     return out
 
 
+def _add_engine_keys(props: dict) -> None:
+    """The general engine's keys (:data:`rubrotor.scenario_engine.ENGINE_KEYS`): new keys in
+    their tables, ``[gravity]``, and arrays of ``[[contact]]``, ``[[unbalance]]``, ``[[load]]``."""
+    from rubrotor.scenario_engine import ENGINE_KEYS
+
+    props.setdefault("gravity", {"type": "object", "properties": {}, "additionalProperties": False})
+    for dotted, (kind, unit, _) in ENGINE_KEYS.items():
+        section, key = dotted.split(".")
+        entry = dict(_KINDS[kind])
+        entry["description"] = f"{dotted} ({unit})" if unit else dotted
+        props[section]["properties"][key] = entry
+    speed = props["speed"]
+    speed["allOf"] = [r for r in speed["allOf"] if "anyOf" not in r]
+    speed["allOf"].append({"anyOf": [{"required": [k]} for k in (*SCHEMA["speed"], "profile")]})
+    for section in ("contact", "unbalance", "load"):
+        table = props[section]
+        props[section] = {
+            "anyOf": [table, {"type": "array", "items": table, "minItems": 1}],
+            "properties": table["properties"],
+        }
+
+
 def scenario_json_schema() -> dict:
     """JSON Schema (draft 2020-12) of a scenario file, built from the validation's tables.
 
@@ -90,6 +112,7 @@ def scenario_json_schema() -> dict:
             props[name] = table
         else:
             props[name] = {"type": "array", "items": table, "minItems": 1}
+    _add_engine_keys(props)
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "$id": "https://rubrotor.invalid/scenario.schema.json",
