@@ -382,7 +382,8 @@ def _run_run(args: argparse.Namespace) -> int:
     from rubrotor.simulation import simulate
 
     scenario = load_scenario(args.scenario)
-    scenario.require_shaft("time simulation")
+    if scenario.engine is None:
+        scenario.require_shaft("time simulation")
     integ = scenario.simulation
     if integ is None:
         raise InputError("simulation", None, "a [simulation] section in the scenario")
