@@ -251,3 +251,28 @@ def test_shipped_scenarios_through_the_cli(tmp_path, capsys, name, shorter):
         assert "units" in ds[var].attrs, var
     assert len(json.loads(ds.attrs["final_state"])) > 0
     assert tomllib.loads(ds.attrs["scenario"])["meta"]["name"] == name
+
+
+def test_streamed_cli_run_and_analyze(tmp_path, capsys, monkeypatch):
+    """A run above the streaming threshold goes to the file chunk by chunk: same samples as the
+    in-memory run, status and final state stored; ``rubrotor analyze`` reads it (it derives the
+    accelerations the streamed file does not hold) and ``--figure`` draws it."""
+    import rubrotor.simulate_engine as se
+
+    text = (SCENARIOS / "seal_rub.toml").read_text().replace("revolutions = 40", "revolutions = 2")
+    f = tmp_path / "s.toml"
+    f.write_text(text)
+    mem = tmp_path / "mem.nc"
+    assert main(["simulate", str(f), "--out", str(mem)]) == 0
+    monkeypatch.setattr(se, "STREAM_SAMPLES", 100)
+    streamed = tmp_path / "stream.nc"
+    assert main(["simulate", str(f), "--out", str(streamed), "--figure"]) == 0
+    capsys.readouterr()
+    a, b = rubrotor.load_dataset(mem), rubrotor.load_dataset(streamed)
+    assert "v_ddot" not in b.variables and b.attrs["status"] == "complete"
+    assert np.array_equal(a["v"].values, b["v"].values)
+    assert np.array_equal(a["normal_force"].values, b["normal_force"].values)
+    assert json.loads(a.attrs["final_state"]) == json.loads(b.attrs["final_state"])
+    assert streamed.with_suffix(".png").stat().st_size > 0
+    assert main(["analyze", str(streamed), "--out", str(tmp_path / "an"), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["spin_hz"] == pytest.approx(100.0)
