@@ -276,3 +276,16 @@ def test_streamed_cli_run_and_analyze(tmp_path, capsys, monkeypatch):
     assert streamed.with_suffix(".png").stat().st_size > 0
     assert main(["analyze", str(streamed), "--out", str(tmp_path / "an"), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["spin_hz"] == pytest.approx(100.0)
+
+
+def test_seed_engine_verbs_refuse_engine_scenarios():
+    """Verbs that run the seed's engine (sweeps, convergence study) refuse a scenario whose
+    contacts or gravity it would ignore; with_changes cannot edit an array of tables."""
+    seed = tomllib.loads((SCENARIOS / "seed_case1.toml").read_text())
+    seed["contact"] = [seed["contact"], {**seed["contact"], "position": 0.1}]
+    sc = scenario_from_dict(seed)
+    assert sc.engine is not None and len(sc.engine.stations) == 2
+    with pytest.raises(ScenarioError, match="general-engine keys"):
+        rubrotor.converge(sc)
+    with pytest.raises(ScenarioError, match="contact.clearance"):
+        sc.with_changes(**{"contact.clearance": 1e-4})

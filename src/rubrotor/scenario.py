@@ -778,6 +778,8 @@ class Scenario:
                     f"one of the keys {', '.join(schema[section])} of [{section}]",
                 )
             sec = spec.setdefault(section, {})
+            if not isinstance(sec, dict):
+                raise _err(dotted_key, value, f"a key of a single [{section}] table (not [[...]])")
             if value is None:
                 sec.pop(key, None)
                 continue
@@ -814,6 +816,26 @@ class Scenario:
                 "general rotors come from the linear analyses)",
             )
         return self.shaft
+
+    def require_seed_engine(self, what: str) -> Shaft:
+        """The uniform shaft of a scenario the seed's engine runs, or a ScenarioError saying
+        ``what`` needs one (a general rotor, or keys of the general engine such as
+        ``[[contact]]`` arrays, ``[gravity]`` or a speed profile).
+
+        Parameters
+        ----------
+        what : str
+            The verb, e.g. ``"a parameter sweep"``.
+        """
+        shaft = self.require_shaft(what)
+        if self.engine is not None:
+            raise ScenarioError(
+                "scenario",
+                "general-engine keys",
+                f"a scenario without them for {what} (it runs the seed's engine: one [contact], "
+                "[unbalance] and [load] table, no [gravity], constant speed)",
+            )
+        return shaft
 
     def dimensionless(self) -> dict:
         """The seed's dimensionless groups of this scenario (seed eqs. 3-5, 10-16).

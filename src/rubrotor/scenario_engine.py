@@ -310,7 +310,9 @@ def _contacts(items: list[dict], span, speed: float) -> tuple:
                 if len(given) > 1 or (required and not given):
                     raise _err("contact." + " / contact.".join(group), None, "exactly one")
             if base.get("radius") is None:
-                raise _err("contact.radius", None, "the rubbing radius (m) for the general engine")
+                if not hasattr(span, "slenderness"):
+                    raise _err("contact.radius", None, "the rubbing radius (m) on a general rotor")
+                base["radius"] = span.diameter / 2  # the uniform shaft's radius
             contact = _build_contact(base, span, speed)
             off = [_value(f"contact.offset_{a}", c.get(f"offset_{a}", 0.0)) for a in "yz"]
         except InputError as exc:

@@ -973,7 +973,7 @@ def converge(
     """
     import dataclasses
 
-    scenario.require_shaft("the convergence study")
+    scenario.require_seed_engine("the convergence study")
     base = scenario.simulation or Integrator(revolutions=revolutions or 20)
     dtau = dtau or base.dtau or 1e-3
     revs = revolutions or base.revolutions or base.duration * scenario.speed / (2 * math.pi)
