@@ -714,7 +714,7 @@ class Scenario:
         The general finite-element rotor (``[[section]]`` tables), or None for a ``[shaft]``.
     engine : rubrotor.scenario_engine.EngineSpec or None
         The general engine's contacts, stators, planes, gravity, speed profile and initial
-        state (:mod:`rubrotor.scenario_engine`) when the scenario uses its keys or a general
+        state (``rubrotor.scenario_engine``) when the scenario uses its keys or a general
         rotor; None for a scenario the seed's engine runs.
     source : str
         TOML text the scenario was read from (provenance); not compared by ``==``.
