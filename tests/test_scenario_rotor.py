@@ -169,12 +169,15 @@ def test_one_support_is_no_support():
 
 
 def test_shaft_only_verbs_refuse_general_rotor(tmp_path):
-    """Time simulation, convergence study and the seed's dimensionless form need [shaft]."""
+    """The convergence study and the seed's dimensionless form need [shaft]; time simulation
+    runs through the general engine (here refused only for want of a [simulation] section)."""
     sc = load_scenario(GENERAL)
-    for call in (rubrotor.simulate, rubrotor.converge):
-        with pytest.raises(ScenarioError, match="not available yet") as err:
-            call(sc)
-        assert err.value.field == "section"
+    with pytest.raises(ScenarioError, match="not available yet") as err:
+        rubrotor.converge(sc)
+    assert err.value.field == "section"
+    with pytest.raises(rubrotor.InputError) as err:
+        rubrotor.simulate(sc)
+    assert err.value.field == "simulation"
     with pytest.raises(ScenarioError):
         sc.dimensionless()
 
@@ -189,7 +192,7 @@ def test_cli_exit_2_one_line(tmp_path, capsys):
     assert err.count("\n") == 1 and "disk[2].mass" in err and "Traceback" not in err
     assert main(["run", GENERAL, "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "not available yet" in err
+    assert err.count("\n") == 1 and "simulation" in err
 
 
 def test_cli_subprocess_no_traceback(tmp_path):

@@ -382,7 +382,8 @@ def _run_run(args: argparse.Namespace) -> int:
     from rubrotor.simulation import simulate
 
     scenario = load_scenario(args.scenario)
-    scenario.require_shaft("time simulation")
+    if scenario.engine is None:
+        scenario.require_shaft("time simulation")
     integ = scenario.simulation
     if integ is None:
         raise InputError("simulation", None, "a [simulation] section in the scenario")
@@ -402,6 +403,64 @@ def _run_run(args: argparse.Namespace) -> int:
         print(f"rubrotor: warning: {ds.attrs['status_message']}", file=sys.stderr)
         return 1
     return 0
+
+
+# ---- simulate ----------------------------------------------------------------------------------
+def _simulate_args(parser: argparse.ArgumentParser) -> None:
+    _add_scenario(parser)
+    parser.add_argument("--out", required=True, metavar="FILE", help="results file (.nc)")
+    parser.add_argument(
+        "--figure", action="store_true", help="also write FILE with .png: orbit, force, spectrum"
+    )
+    parser.add_argument(
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="show progress on long runs (default: when stderr is a terminal)",
+    )
+
+
+def _simulate_run(args: argparse.Namespace) -> int:
+    """Simulate any scenario into one netCDF file; long general-engine runs stream to it."""
+    from rubrotor.results import load_dataset, save_dataset
+    from rubrotor.simulation import simulate
+
+    scenario = load_scenario(args.scenario)
+    out = Path(args.out)
+    if out.suffix != ".nc" or out.is_dir():
+        raise InputError("--out", args.out, "a results file name ending in .nc")
+    ds = None
+    if scenario.engine is not None:
+        from rubrotor.simulate_engine import STREAM_SAMPLES, engine_problem, simulate_engine
+
+        _, run, _, _ = engine_problem(scenario)
+        if run.duration / (run.step * run.save_every) > STREAM_SAMPLES:
+            simulate_engine(scenario, progress=args.progress, stream=out)
+            ds = load_dataset(out)
+    if ds is None:
+        ds = simulate(scenario, progress=args.progress)
+        save_dataset(ds, out)
+    if args.figure:
+        _simulate_figure(ds, out.with_suffix(".png"))
+    summary = run_summary(ds)
+    summary["results"] = str(out)
+    print(json.dumps(summary, indent=2))
+    if ds.attrs["status"] != "complete":
+        print(f"rubrotor: warning: {ds.attrs['status_message']}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _simulate_figure(ds, path: Path) -> None:
+    from rubrotor.plotting import response_figure
+
+    if ds.attrs.get("engine") == "general":
+        from rubrotor.plotting_engine import engine_figure
+
+        fig = engine_figure(ds)
+    else:
+        fig = response_figure(ds)
+    _save_atomic(fig, path)
 
 
 # ---- converge ----------------------------------------------------------------------------------
@@ -634,6 +693,12 @@ COMMANDS: list[Command] = [
     ),
     Command("run", "simulate a scenario: DIR/results.nc and a JSON summary", _run_args, _run_run),
     Command(
+        "simulate",
+        "simulate any scenario (seed or general rotor) into one results file",
+        _simulate_args,
+        _simulate_run,
+    ),
+    Command(
         "converge", "the seed's step and mode convergence table", _converge_args, _converge_run
     ),
     Command(
@@ -822,7 +887,7 @@ def load_signals(path, *, fs=None, columns=None, spin_hz=None) -> dict:
         from rubrotor.scenario import scenario_from_dict
 
         ds = load_dataset(p)
-        for var in ("v_ddot", "w_ddot", "time"):
+        for var in ("v_dot", "w_dot", "time"):
             if var not in ds.variables:
                 raise InputError("input", str(path), f"a rubrotor results file (no '{var}')")
         t = ds["time"].values
@@ -840,8 +905,7 @@ def load_signals(path, *, fs=None, columns=None, spin_hz=None) -> dict:
                 entries = mode_entries(modes(sc, float(ds.attrs["speed_rad_s"])))
             except (tomllib.TOMLDecodeError, ScenarioError):
                 entries = []
-        v = ds["v_ddot"].values
-        w = ds["w_ddot"].values
+        v, w = _acceleration_channels(ds)
         for name, x in (("v_ddot", v), ("w_ddot", w)):
             if not np.all(np.isfinite(x)):
                 raise InputError("input", f"{path}: {name}", "finite data (no NaN or inf)")
@@ -878,6 +942,18 @@ def load_signals(path, *, fs=None, columns=None, spin_hz=None) -> dict:
         "source": str(p),
         "scenario_name": "",
     }
+
+
+def _acceleration_channels(ds) -> tuple[np.ndarray, np.ndarray]:
+    """``v_ddot, w_ddot`` (m/s^2) at the contact station: the first station of a general-engine
+    file (derived from the velocities by central differences when streamed without them)."""
+    if "v_ddot" in ds.variables:
+        v, w = ds["v_ddot"].values, ds["w_ddot"].values
+    else:
+        t = ds["time"].values
+        v = np.gradient(ds["v_dot"].values, t, axis=-1)
+        w = np.gradient(ds["w_dot"].values, t, axis=-1)
+    return (v[0], w[0]) if v.ndim == 2 else (v, w)
 
 
 def _indicator_rows(d: dict) -> list[list[str]]:

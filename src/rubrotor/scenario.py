@@ -63,6 +63,7 @@ from rubrotor.integrator import Integrator
 from rubrotor.modal import first_forward_critical
 from rubrotor.model import Dimensionless, Shaft
 from rubrotor.rotor import Rotor
+from rubrotor.scenario_engine import Builders, EngineSpec, engine_spec_or_none, split_engine_keys
 from rubrotor.scenario_rotor import build_rotor, normalise_rotor_tables, rotor_to_dict
 from rubrotor.schema import (
     ALTERNATIVES,
@@ -479,6 +480,10 @@ class Scenario:
         ``[initial] state``: start at rest (default) or on the steady no-contact orbit.
     rotor : Rotor or None
         The general finite-element rotor (``[[section]]`` tables), or None for a ``[shaft]``.
+    engine : rubrotor.scenario_engine.EngineSpec or None
+        The general engine's contacts, stators, planes, gravity, speed profile and initial
+        state (``rubrotor.scenario_engine``) when the scenario uses its keys or a general
+        rotor; None for a scenario the seed's engine runs.
     source : str
         TOML text the scenario was read from (provenance); not compared by ``==``.
     """
@@ -494,6 +499,7 @@ class Scenario:
     simulation: Integrator | None = None
     initial: str = "rest"
     rotor: Rotor | None = None
+    engine: EngineSpec | None = None
     source: str = field(default="", compare=False, repr=False)
     _spec: dict | None = field(default=None, compare=False, repr=False)
 
@@ -540,6 +546,8 @@ class Scenario:
                     f"one of the keys {', '.join(schema[section])} of [{section}]",
                 )
             sec = spec.setdefault(section, {})
+            if not isinstance(sec, dict):
+                raise _err(dotted_key, value, f"a key of a single [{section}] table (not [[...]])")
             if value is None:
                 sec.pop(key, None)
                 continue
@@ -576,6 +584,26 @@ class Scenario:
                 "general rotors come from the linear analyses)",
             )
         return self.shaft
+
+    def require_seed_engine(self, what: str) -> Shaft:
+        """The uniform shaft of a scenario the seed's engine runs, or a ScenarioError saying
+        ``what`` needs one (a general rotor, or keys of the general engine such as
+        ``[[contact]]`` arrays, ``[gravity]`` or a speed profile).
+
+        Parameters
+        ----------
+        what : str
+            The verb, e.g. ``"a parameter sweep"``.
+        """
+        shaft = self.require_shaft(what)
+        if self.engine is not None:
+            raise ScenarioError(
+                "scenario",
+                "general-engine keys",
+                f"a scenario without them for {what} (it runs the seed's engine: one [contact], "
+                "[unbalance] and [load] table, no [gravity], constant speed)",
+            )
+        return shaft
 
     def dimensionless(self) -> dict:
         """The seed's dimensionless groups of this scenario (seed eqs. 3-5, 10-16).
@@ -642,8 +670,12 @@ def scenario_from_dict(mapping: Mapping, source_text: str = "") -> Scenario:
     ScenarioError
         Naming the offending key, its value and what is allowed.
     """
-    spec = _normalise(mapping)
-    return Scenario(**_build(spec), source=source_text, _spec=spec)
+    base, extras = split_engine_keys(mapping)
+    spec = _normalise(base)
+    parts = _build(spec)
+    engine, full = engine_spec_or_none(mapping, extras, parts, Builders(_position, _build_contact))
+    spec = full if extras else spec
+    return Scenario(**parts, engine=engine, source=source_text, _spec=spec)
 
 
 def scenario_to_dict(scenario: Scenario, resolved: bool = False) -> dict:

@@ -300,8 +300,10 @@ _DAMPING = (
        _closed(0.0, 0.999999), default=0.0),
 )  # fmt: skip
 _INITIAL = (
-    _k("initial", "state", "str", "", "Start at rest or on the steady no-contact orbit",
-       choices=("rest", "steady"), default="rest"),
+    _k("initial", "state", "str", "",
+       "Start at rest, on the steady no-contact orbit, in static equilibrium or from a results "
+       "file (static and file: general engine)",
+       choices=("rest", "steady", "static", "file"), default="rest"),
 )  # fmt: skip
 _SIMULATION = (
     _k("simulation", "revolutions", "number", "rev", "Length of the run in revolutions",
@@ -392,24 +394,66 @@ _ROTOR = (
     _k("rotor", "max_element_length", "number", "m", "Upper bound of the element length", _LENGTH),
 )  # fmt: skip
 
+_STATOR_PARTS = (("mass", "kg", "Mass", _closed(1e-6, 1e7)),
+                 ("stiffness", "N/m", "Stiffness to ground", _closed(1.0, 1e13)),
+                 ("damping", "N s/m", "Damping to ground", _closed(0.0, 1e9)))  # fmt: skip
+_ENGINE = (
+    _k("contact", "offset_y", "number", "m", "Stator centre offset from the bearing axis, y "
+       "(general engine)", _closed(-1.0, 1.0), default=0.0),
+    _k("contact", "offset_z", "number", "m", "Stator centre offset from the bearing axis, z "
+       "(general engine)", _closed(-1.0, 1.0), default=0.0),
+    *(_k("contact", f"stator_{part}{axis}", "number", unit,
+         f"{text} of a flexible stator{' along ' + axis[1] if axis else ''} (general engine)", rng)
+      for part, unit, text, rng in _STATOR_PARTS for axis in ("", "_y", "_z")),
+    _k("unbalance", "phase", "number", "rad", "Angular position of the unbalance (instead of "
+       "phase_deg; general engine)", _closed(-1e3, 1e3)),
+    _k("gravity", "y", "number", "m/s^2", "Gravity along y on the shaft and disk masses",
+       _closed(-1e4, 1e4), default=0.0),
+    _k("gravity", "z", "number", "m/s^2", "Gravity along z on the shaft and disk masses",
+       _closed(-1e4, 1e4), default=0.0),
+    _k("speed", "profile", "str", "", "Speed against time: constant, or linear from ... to over "
+       "the run (run-up, coast-down)", choices=("constant", "linear"), default="constant"),
+    _k("speed", "from", "number", "rad/s", "Speed at the start of a linear profile",
+       _closed(1e-6, 1e7)),
+    _k("speed", "to", "number", "rad/s", "Speed at the end of a linear profile",
+       _closed(1e-6, 1e7)),
+    _k("speed", "step", "number", "rad/s",
+       "Largest speed change between re-diagonalisations (default 1/200 of the range)",
+       _closed(1e-6, 1e7)),
+    _k("initial", "path", "str", "",
+       'Results file of the general engine whose final state starts the run (state = "file")'),
+    _k("simulation", "modes", "int", "1", "Retained modes of the general engine",
+       _closed(1, 100000)),
+    _k("simulation", "cutoff", "number", "rad/s",
+       "Keep the modes below this frequency (general engine)", _closed(1e-3, 1e9)),
+    _k("simulation", "residual", "bool", "",
+       "Static correction of the dropped modes at force and contact stations", default=True),
+)  # fmt: skip
+"""Keys of the general engine (:mod:`rubrotor.scenario_engine` builds them)."""
+
 TABLES: tuple[Table, ...] = (
     Table("meta", "table", "any", "Name and description"),
     Table("shaft", "table", "shaft", "A uniform, simply supported continuous shaft",
           required=True,
           groups=((("diameter", "slenderness"), True),
                   (("shear_modulus", "poisson_ratio", "shear_parameter"), True))),
-    Table("speed", "table", "any", "Spin speed (exactly one key)", required=True,
-          groups=((("rad_per_s", "rpm", "hz", "critical_multiple", "dimensionless"), True),)),
-    Table("unbalance", "table", "any", "A mass unbalance",
+    Table("speed", "table", "any", "Spin speed (exactly one key, or a linear profile from ... to)",
+          required=True,
+          groups=((("rad_per_s", "rpm", "hz", "critical_multiple", "dimensionless", "from"),
+                   True),)),
+    Table("unbalance", "table|array", "any", "A mass unbalance (several planes as [[unbalance]])",
           groups=((("magnitude", "magnitude_nd"), True), (("position", "position_nd"), False))),
-    Table("load", "table", "any", "A constant radial load",
+    Table("load", "table|array", "any", "A constant radial load (several as [[load]])",
           groups=((("position", "position_nd"), False),)),
-    Table("contact", "table", "any", "Rotor-stator contact with a rigid centred stator",
+    Table("contact", "table|array", "any",
+          "Rotor-stator contact (several stations as [[contact]]; offset and flexible stators "
+          "with the general engine)",
           groups=((("position", "position_nd"), False), (("clearance", "clearance_nd"), True),
                   (("stiffness", "stiffness_nd"), True),
                   (("damping", "damping_nd", "restitution"), False))),
     Table("damping", "table", "shaft", "Modal damping of the continuous shaft"),
     Table("initial", "table", "any", "Initial state"),
+    Table("gravity", "table", "any", "Gravity on the rotor (general engine)"),
     Table("simulation", "table", "any", "Integrator settings",
           groups=((("revolutions", "duration"), True), (("dtau", "dt"), False),
                   (("output_dtau", "sample_rate"), False))),
@@ -422,11 +466,12 @@ TABLES: tuple[Table, ...] = (
 )  # fmt: skip
 """Every scenario table, in the order the docs list them."""
 
-KEYS: tuple[Key, ...] = (
+_ORDER = {t.name: i for i, t in enumerate(TABLES)}
+KEYS: tuple[Key, ...] = tuple(sorted((
     *_META, *_SHAFT, *_SPEED, *_UNBALANCE, *_LOAD, *_CONTACT, *_DAMPING, *_INITIAL,
-    *_SIMULATION, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_ROTOR,
-)  # fmt: skip
-"""Every key of every scenario table: the one source of the schema."""
+    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_ROTOR,
+), key=lambda row: _ORDER[row.table]))  # fmt: skip
+"""Every key of every scenario table, grouped by table: the one source of the schema."""
 
 _TABLE_ROWS = {t.name: t for t in TABLES}
 _KEY_ROWS = {(k.table, k.key): k for k in KEYS}

@@ -712,6 +712,12 @@ def simulate(
     """
     from rubrotor.results import to_dataset
 
+    if getattr(scenario, "engine", None) is not None:  # general rotor or general-engine keys
+        from rubrotor.simulate_engine import simulate_engine
+
+        if track_energy:
+            raise InputError("track_energy", True, "False with the general engine")
+        return simulate_engine(scenario, integrator=integrator, progress=progress)
     scenario.require_shaft("time simulation")
     integ = integrator or scenario.simulation
     if integ is None:
@@ -765,7 +771,7 @@ def converge(
     """
     import dataclasses
 
-    scenario.require_shaft("the convergence study")
+    scenario.require_seed_engine("the convergence study")
     base = scenario.simulation or Integrator(revolutions=revolutions or 20)
     dtau = dtau or base.dtau or 1e-3
     revs = revolutions or base.revolutions or base.duration * scenario.speed / (2 * math.pi)

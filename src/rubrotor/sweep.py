@@ -721,7 +721,7 @@ def sweep(
         variables as listed in the module docstring, plus ``done``; attributes hold the sweep
         definition (JSON) and the scenario text.
     """
-    scenario.require_shaft("a parameter sweep (time simulations)")
+    scenario.require_seed_engine("a parameter sweep (time simulations)")
     keys, grid = _check_keys(scenario, vary)
     t_rev, revs = run_lengths(scenario, transient_revolutions, revolutions)
     n_rev = _int_arg("samples_per_revolution", samples_per_revolution, 8)

@@ -58,8 +58,8 @@ from rubrotor.engine.reduce import Modes, reduce_matrices
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
 from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Plan, Steps
 from rubrotor.errors import InputError
+from rubrotor.modal_system import phi_functions
 from rubrotor.results import _jsonable
-from rubrotor.simulation import phi_functions
 
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "STEPPERS"]
 
@@ -542,6 +542,26 @@ def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: floa
     return done, msg, _time.perf_counter() - t0
 
 
+def _check_call(method: str, stations) -> None:
+    """Refuse an unknown stepper or a station that is not a :class:`RubStation`."""
+    if method not in STEPPERS:
+        raise InputError("simulation.method", method, " or ".join(f'"{k}"' for k in STEPPERS))
+    for i, s in enumerate(stations):
+        if not isinstance(s, RubStation):
+            raise InputError(f"contact[{i + 1}]", s, "a RubStation")
+
+
+def _add_counts(stats: dict, ist, method: str, plant: Plant, run: Run, wall: float) -> None:
+    """The run's counters (named slots of the kernel's integer state) into ``stats``."""
+    stats.update(
+        method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
+        eig_cond=plant.rotor.cond, steps=int(ist[I_STEP]), substeps=int(ist[I_SUBSTEPS]),
+        newton_iterations=int(ist[I_NEWTON]), accepted_steps=int(ist[I_ACCEPTED]),
+        rejected_steps=int(ist[I_REJECTED]), grazing_closures=int(ist[I_GRAZE]),
+        contact_events=int(ist[I_EVENTS]), wall_s=wall, residual=run.residual,
+    )  # fmt: skip
+
+
 def simulate_general(
     system,
     run: Run,
@@ -555,6 +575,7 @@ def simulate_general(
     stream: str | None = None,
     chunk_samples: int = 1 << 14,
     plant: Plant | None = None,
+    attrs: dict | None = None,
 ) -> EngineResult:
     """Simulate a linear rotor with rub at several stations (see the module docstring).
 
@@ -566,8 +587,9 @@ def simulate_general(
         Speed (rad/s), duration (s), step (s), reduction, initial state, probes.
     stations, unbalances, loads, gravity
         As in :func:`build_plant`.
-    method : {"exponential"}
-        Stepper (:data:`STEPPERS`); ``"runup"`` is chosen when ``run.speed_end`` is set.
+    method : {"exponential", "free-flight"}
+        Stepper (:data:`STEPPERS`); ``"runup"`` is chosen when ``run.speed_end`` is set;
+        ``"free-flight"`` (with ``run.rtol``) advances exactly between contacts.
     progress : bool, optional
         Progress on stderr for long runs (default: when stderr is a terminal).
     stream : str, optional
@@ -580,6 +602,8 @@ def simulate_general(
         A plant already built by :func:`build_plant` for the same rotor, stations, loads and
         ``run`` (speed, reduction, initial state): skips the reduction (the array-level path
         for repeated runs; the caller vouches that it matches).
+    attrs : dict, optional
+        Extra attributes of a streamed file (provenance); ``final_state`` is always added.
 
     Returns
     -------
@@ -590,11 +614,7 @@ def simulate_general(
     InputError
         Bad input, or an output too large for memory (or disk when streamed), before running.
     """
-    if method not in STEPPERS:
-        raise InputError("simulation.method", method, " or ".join(f'"{k}"' for k in STEPPERS))
-    for i, s in enumerate(stations):
-        if not isinstance(s, RubStation):
-            raise InputError(f"contact[{i + 1}]", s, "a RubStation")
+    _check_call(method, stations)
     problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity))
     if run.speed_end is not None:
         method = "runup"
@@ -637,19 +657,15 @@ def simulate_general(
             sink.close(np.zeros((0, 2)), {}, ok=False)
         raise
     ist = state.istate
-    stats.update(
-        method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
-        eig_cond=plant.rotor.cond, steps=int(ist[I_STEP]), substeps=int(ist[I_SUBSTEPS]),
-        newton_iterations=int(ist[I_NEWTON]), accepted_steps=int(ist[I_ACCEPTED]),
-        rejected_steps=int(ist[I_REJECTED]), grazing_closures=int(ist[I_GRAZE]), contact_events=int(ist[I_EVENTS]), wall_s=wall,
-        residual=run.residual,
-    )  # fmt: skip
+    _add_counts(stats, ist, method, plant, run, wall)
     n_out = done + 1
     events = state.events[: min(int(ist[I_EVENTS]), len(state.events))].copy()
     status = "complete" if not msg else "partial"
+    final_state = final()
     if sink is not None:
         sink.close(events, {"status": status, "status_message": msg, "speed_rad_s": plant.speed,
-                            "integrator_stats": json.dumps(_jsonable(stats))})  # fmt: skip
+                            "integrator_stats": json.dumps(_jsonable(stats)), **(attrs or {}),
+                            "final_state": json.dumps(final_state.tolist())})  # fmt: skip
         stats["stream"] = str(stream)
         n_out = 0
     return EngineResult(
@@ -663,7 +679,7 @@ def simulate_general(
         message=msg,
         stats=stats,
         speed=plant.speed,
-        final_state=final(),
+        final_state=final_state,
     )
 
 
