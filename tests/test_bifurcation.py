@@ -5,10 +5,18 @@ References are stated per test.
 
 from __future__ import annotations
 
+from importlib import resources
+
 import numpy as np
+import pytest
 from test_follow_sweep import HYST
 
 from rubrotor import shooting
+from rubrotor.continuation import continue_orbit
+from rubrotor.regimes import PARTIAL as PARTIAL_CODE
+from rubrotor.regimes import QUASI
+from rubrotor.scenario import load_scenario
+from rubrotor.sweep import simulate_point
 
 
 def test_period_one_orbit_is_a_period_two_fixed_point_with_squared_multipliers():
@@ -24,3 +32,50 @@ def test_period_one_orbit_is_a_period_two_fixed_point_with_squared_multipliers()
     sq = one.multipliers**2
     for mu in two.multipliers:
         assert np.min(np.abs(sq - mu)) < 1e-7
+
+
+SPR = 256  # fixed steps per revolution of the shooting map
+KEY = "speed.critical_multiple"
+PARTIAL = load_scenario(resources.files("rubrotor") / "scenarios" / "one_mode_partial_rub.toml")
+
+
+@pytest.fixture(scope="module")
+def branch():
+    return continue_orbit(PARTIAL, KEY, 2.03, 2.11, steps=SPR, points=40, ds=0.01, ds_max=0.05,
+                          transient_revolutions=400)  # fmt: skip
+
+
+def _brute_force(value):
+    """Adaptive-step run from rest (no shooting, no multipliers): metrics of 200 kept revs."""
+    m, _ = simulate_point(PARTIAL.with_changes(**{KEY: value}), 2000, 2200, 32)
+    return m, np.asarray(m["poincare_v"]) + 1j * np.asarray(m["poincare_w"])
+
+
+def test_period_doubling_and_torus_found_by_continuation_confirmed_by_brute_force(branch):
+    """Partial rub near twice the critical speed: period doubling, then a Neimark-Sacker torus.
+
+    Reference: brute-force simulation with the adaptive integrator from rest (a second route,
+    sharing only the model), classified from its once-per-revolution Poincare samples by
+    :func:`rubrotor.regimes.classify`: period 1 just below the period doubling, period 2 just
+    above it (two clusters far apart, each repeating to 1e-9), period 1 just below the
+    Neimark-Sacker point and no period just above it.
+    """
+    types = [b.type for b in branch.bifurcations]
+    assert types == ["period-doubling", "period-doubling", "neimark-sacker"]
+    pd, _, ns = (b.value for b in branch.bifurcations)
+    st = {p.value: p.stable for p in branch.points}
+    assert all(s for v, s in st.items() if v < pd) and not any(
+        s for v, s in st.items() if pd < v < branch.bifurcations[1].value
+    )
+    below, z_below = _brute_force(pd - 0.0075)
+    above, z_above = _brute_force(pd + 0.0075)
+    assert (below["regime"], below["period"]) == (PARTIAL_CODE, 1)
+    assert (above["regime"], above["period"]) == (PARTIAL_CODE, 2)
+    scale = np.max(np.abs(z_above))
+    assert np.abs(z_above[-1] - z_above[-2]) > 0.1 * scale  # two distinct points ...
+    assert np.abs(z_above[-1] - z_above[-3]) < 1e-9 * scale  # ... each repeating
+    before, _ = _brute_force(ns - 0.003)
+    after, z_after = _brute_force(ns + 0.004)
+    assert (before["regime"], before["period"]) == (PARTIAL_CODE, 1)
+    assert after["period"] == 0 and after["regime"] == QUASI
+    assert 0 < after["contact_fraction"] < 1  # partial rub on the torus

@@ -11,8 +11,9 @@ Bifurcations, between consecutive points, from sign changes of test functions:
 
 * fold: the parameter component of the tangent (also the non-smooth turning point at contact
   onset, where the no-contact and rub branches meet);
-* period doubling: the number of real multipliers below -1;
-* Neimark-Sacker: the number of complex multipliers outside the unit circle;
+* period doubling: the sign of ``det(M + I)`` (a real multiplier crosses -1);
+* Neimark-Sacker: the sign of the bialternate product ``prod_{i<j} (mu_i mu_j - 1)`` (a
+  complex pair crosses the unit circle);
 * branch point: the determinant of the augmented Jacobian ``[G_z; t]``.
 
 Each is located on the arclength from the earlier point (predict, correct, evaluate): a fold
@@ -182,12 +183,35 @@ def _correct(prob, z_pred, t, tol=1e-11, max_iter=8):
 
 
 def _tests(gz, t, jac):
-    """Test functions: (t_p, #real mu < -1, #complex |mu| > 1, sign det [G_z; t])."""
+    """Test functions: t_p, sign det(M + I), sign prod_{i<j}(mu_i mu_j - 1), sign det [G_z; t].
+
+    A fifth entry is the number of multipliers outside the unit circle (see :func:`_changed`).
+
+    ``det(M + I) = prod (mu_i + 1)`` changes sign exactly when a real multiplier crosses -1
+    (a complex pair contributes ``|mu + 1|^2 > 0``, so a pair that meets on the real axis
+    outside the circle is no period doubling); the bialternate product
+    ``prod_{i<j} (mu_i mu_j - 1)`` vanishes when a complex pair crosses the unit circle
+    (``mu conj(mu) = 1``, Neimark-Sacker). Both are symmetric functions of the multipliers of
+    a real matrix, hence real and continuous through multiplier collisions.
+    """
     mu = np.linalg.eigvals(jac)
-    real = np.abs(mu.imag) < 1e-9 * np.maximum(np.abs(mu), 1e-300)
-    pd = int(np.sum(real & (mu.real < -1)))
-    ns = int(np.sum(~real & (np.abs(mu) > 1)))
-    return np.array([np.sign(t[-1]), pd, ns, np.sign(np.linalg.det(np.vstack([gz, t])))])
+    pd = np.sign(np.prod(mu + 1).real)
+    i, j = np.triu_indices(mu.size, 1)
+    ns = np.sign(np.prod(mu[i] * mu[j] - 1).real)
+    out = np.sum(np.abs(mu) > 1)
+    return np.array([np.sign(t[-1]), pd, ns, np.sign(np.linalg.det(np.vstack([gz, t]))), out])
+
+
+def _changed(sig, sig1):
+    """Which of :data:`BIFURCATIONS` happened between two signatures.
+
+    A sign change of the bialternate product with no change of the number of multipliers
+    outside the unit circle is a neutral saddle (a real pair with ``mu_i mu_j = 1``), not a
+    Neimark-Sacker bifurcation.
+    """
+    hit = sig1[:4] != sig[:4]
+    hit[2] &= sig1[4] != sig[4]
+    return hit
 
 
 def _locate(prob, z0, t0, ds, index, signature0):
@@ -300,9 +324,10 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         z1, gz1, jac1, iters = out
         t1 = _tangent(gz1, t)
         sig1 = _tests(gz1, t1, jac1)
-        found = int(np.sum(sig1 != sig))
+        hit = _changed(sig, sig1)
+        found = int(np.sum(hit))
         for i, name in enumerate(BIFURCATIONS):
-            if sig1[i] != sig[i]:
+            if hit[i]:
                 where = _locate_turn(prob, z, t, ds) if i == 0 else _locate(prob, z, t, ds, i, sig)
                 bifs.append(Bifurcation(name, where))
         z, t, sig = z1, t1, sig1
