@@ -12,7 +12,7 @@ import pytest
 from test_follow_sweep import HYST
 
 from rubrotor import shooting
-from rubrotor.continuation import continue_orbit
+from rubrotor.continuation import continue_orbit, switch_period_doubling
 from rubrotor.regimes import PARTIAL as PARTIAL_CODE
 from rubrotor.regimes import QUASI
 from rubrotor.scenario import load_scenario
@@ -79,3 +79,43 @@ def test_period_doubling_and_torus_found_by_continuation_confirmed_by_brute_forc
     assert (before["regime"], before["period"]) == (PARTIAL_CODE, 1)
     assert after["period"] == 0 and after["regime"] == QUASI
     assert 0 < after["contact_fraction"] < 1  # partial rub on the torus
+
+
+def _contact_point(scenario, x, steps):
+    """Contact-station deflection ``v + i w`` (m) at the state vector ``x`` and one rev later."""
+    from rubrotor.integrator import Integrator
+    from rubrotor.simulation import simulate_scenario
+
+    integ = Integrator(revolutions=1.0, dtau=2 * np.pi / steps, save_every=steps)
+    res = simulate_scenario(scenario, integ, progress=False, start=shooting.vector_state(x))
+    return res.channels[0] + 1j * res.channels[1]
+
+
+def test_switching_onto_the_period_doubled_branch(branch):
+    """The branch switched onto at the period doubling is period-2 and emanates from it.
+
+    References: the one-revolution map of the shooting module applied to the new branch's
+    states (they must not be fixed points of it, but of its square), the splitting
+    ``|P(x) - x|`` that vanishes at the period doubling, and an independent brute-force
+    adaptive run from rest at the last branch value whose two Poincare clusters must equal
+    the doubled orbit's two once-per-revolution points (to the 256-step scheme's error).
+    """
+    new = switch_period_doubling(PARTIAL, KEY, branch, 2.07, steps=SPR, points=12, ds=0.1)
+    pd = next(b.value for b in branch.bifurcations if b.type == "period-doubling")
+    assert new.k == 2 and new.points[0].value == pd
+    split = []
+    for p in new.points:
+        sc, x = PARTIAL.with_changes(**{KEY: p.value}), shooting.state_vector(p.state)
+        x2 = shooting.strobe(sc, x, 2, SPR)
+        assert np.linalg.norm(x2 - x) < 1e-8 * np.linalg.norm(x)  # a period-2 orbit ...
+        split.append(np.linalg.norm(shooting.strobe(sc, x, 1, SPR) - x) / np.linalg.norm(x))
+    assert split[0] < 1e-8  # ... equal to the period-1 orbit at the period doubling ...
+    assert min(split[1:]) > 1e-4 and split[-1] == max(split)  # ... and split apart beyond it
+    last = new.points[-1]
+    assert last.value > pd and last.stable
+    m, z = _brute_force(last.value)
+    assert m["period"] == 2
+    orbit = _contact_point(PARTIAL.with_changes(**{KEY: last.value}),
+                           shooting.state_vector(last.state), SPR)  # fmt: skip
+    for point in orbit:
+        assert np.min(np.abs(z[-2:] - point)) < 2e-3 * np.max(np.abs(z))

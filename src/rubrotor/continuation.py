@@ -302,17 +302,30 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         raise InputError("points", points, "an integer >= 2")
     sc0 = scenario.with_changes(**{key: float(start)})
     orbit = shoot(sc0, guess, k, steps=steps, transient_revolutions=transient_revolutions)
-    x0 = state_vector(orbit.state)
-    sx = np.full(x0.size, max(np.max(np.abs(x0[: x0.size // 2])), 1e-12))
-    sx[x0.size // 2 :] = sx[0] * sc0.speed
-    prob = _Problem(scenario, key, k, steps, sx, abs(start))
-    z = np.concatenate([x0 / sx, [start / abs(start)]])
+    prob = _problem(scenario, key, k, steps, state_vector(orbit.state), start)
+    z = np.concatenate([state_vector(orbit.state) / prob.sx, [start / abs(start)]])
     g, gz, jac = prob.evaluate(z)
     t = _tangent(gz, None)
     if t[-1] * (stop - start) < 0:
         t = -t
-    lo, hi = min(start, stop), max(start, stop)
-    pts, bifs = [_point(prob, z, jac)], []
+    return _march(prob, z, t, gz, jac, (min(start, stop), max(start, stop)), points, ds, ds_max)
+
+
+def _problem(scenario, key, k, steps, x0, p0) -> _Problem:
+    """The scaled problem: states by their largest displacement (m) and velocity, key by p0."""
+    speed = scenario.with_changes(**{key: float(p0)}).speed
+    sx = np.full(x0.size, max(np.max(np.abs(x0[: x0.size // 2])), 1e-12))
+    sx[x0.size // 2 :] = sx[0] * speed
+    return _Problem(scenario, key, k, steps, sx, abs(p0))
+
+
+def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branch:
+    """Predictor-corrector steps from the converged ``z`` along ``t`` (module docstring).
+
+    ``first`` replaces the first branch point (default: the point at ``z``).
+    """
+    lo, hi = bounds
+    pts, bifs = [first or _point(prob, z, jac)], []
     sig = _tests(gz, t, jac)
     while len(pts) < points:
         out = _correct(prob, z + ds * t, t)
@@ -339,4 +352,78 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
             break
         if iters <= 3:
             ds = min(1.5 * ds, ds_max)
-    return Branch(key, k, tuple(pts), tuple(bifs))
+    return Branch(prob.key, prob.k, tuple(pts), tuple(bifs))
+
+
+def switch_period_doubling(scenario, key: str, branch: Branch, stop: float, *, index: int = 0,
+                           steps: int = STEPS_PER_REVOLUTION, points: int = 60, ds: float = 0.02,
+                           ds_max: float = 0.2) -> Branch:  # fmt: skip
+    """Continue the period-doubled branch (``2 k`` revolutions) born at a period doubling.
+
+    At the period-doubling value ``p*`` of ``branch`` the ``k``-orbit ``x*`` has a multiplier
+    -1 with real eigenvector ``v``; for the ``2 k``-revolution map ``x*`` is a pitchfork branch
+    point whose new branch leaves along ``(v, 0)`` (the doubled orbit splits as
+    ``x* +- a v``, ``a ~ sqrt|p - p*|``). The first predictor is ``z* + ds t0``, ``t0`` the
+    part of ``(v, 0)`` orthogonal to the ``k``-branch's tangent (both span the null space of
+    the ``2 k`` problem at ``z*``), corrected on the hyperplane normal to ``t0``, which the
+    ``k``-branch (also a ``2 k``-orbit) touches only at ``z*``; then the usual pseudo-arclength
+    march.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The base scenario ``branch`` was continued on.
+    key : str
+        The continued key (``branch.key``).
+    branch : Branch
+        A branch with a located ``"period-doubling"`` bifurcation.
+    stop : float
+        End of the range of the key (its units); the new branch ends when its key value
+        leaves the range between ``p*`` and ``stop`` or after ``points`` points.
+    index : int
+        Which period doubling of ``branch`` (0 = the first).
+    steps : int
+        Fixed steps per revolution (as for ``branch``).
+    points : int
+        Largest number of points; the first is the ``k``-orbit at ``p*``.
+    ds, ds_max : float
+        First and largest arclength step (scaled units, dimensionless).
+
+    Returns
+    -------
+    Branch
+        ``k`` is ``2 branch.k``; the bifurcations found along the new branch.
+    """
+    pds = [b for b in branch.bifurcations if b.type == "period-doubling"]
+    if not 0 <= index < len(pds):
+        raise InputError("index", index, f"0 .. {len(pds) - 1} (period doublings of the branch)")
+    p_star = pds[index].value
+    near = min(branch.points, key=lambda q: abs(q.value - p_star))
+    orbit = shoot(scenario.with_changes(**{key: p_star}), near.state, branch.k, steps=steps)
+    x_star = state_vector(orbit.state)
+    _, jac1 = monodromy(orbit.scenario, x_star, branch.k, steps)
+    mu, vecs = np.linalg.eig(jac1)
+    j = int(np.argmin(np.abs(mu + 1)))
+    prob = _problem(scenario, key, 2 * branch.k, steps, x_star, p_star)
+    z_star = np.concatenate([x_star / prob.sx, [p_star / prob.sp]])
+    # the k-branch through z* also solves the 2k problem: leave along v orthogonally to it
+    single = _Problem(scenario, key, branch.k, steps, prob.sx, prob.sp)
+    t_single = _tangent(single.evaluate(z_star)[1], None)
+    t0 = np.concatenate([np.real(vecs[:, j]) / prob.sx, [0.0]])
+    t0 -= (t0 @ t_single) * t_single
+    t0 /= np.linalg.norm(t0)
+    out = _correct(prob, z_star + ds * t0, t0, max_iter=20)
+    if out is None:
+        raise InputError("ds", ds, "a smaller first step (no doubled orbit found along v)")
+    z, gz, jac, _ = out
+    first = _point(prob, z_star, jac1 @ jac1)
+    t = _tangent(gz, None)
+    p1 = prob.unscale(z)[1]
+    if t[-1] * (p1 - p_star) < 0:
+        t = -t
+    bounds = (
+        min(p_star, stop) - 0.5 * abs(stop - p_star),
+        max(p_star, stop) + 0.5 * abs(stop - p_star),
+    )
+    rest = _march(prob, z, t, gz, jac, bounds, points - 1, ds, ds_max)
+    return Branch(key, 2 * branch.k, (first, *rest.points), rest.bifurcations)
