@@ -78,12 +78,16 @@ class Branch:
         Revolutions per period.
     points : tuple of BranchPoint
     bifurcations : tuple of Bifurcation
+    grazings : tuple of float
+        Key values where the branch's contact status changes (contact onset: the free orbit
+        grazes the stator), located by :func:`grazing_value`.
     """
 
     key: str
     k: int
     points: tuple
     bifurcations: tuple
+    grazings: tuple = ()
 
     def summary(self) -> dict:
         """The JSON summary of the CLI (values in the key's units, radii in m)."""
@@ -116,6 +120,7 @@ class Branch:
                 "state": (("point", "state_component"), states, {"units": "m, m/s"}),
                 "bifurcation_value": ("bifurcation", [b.value for b in self.bifurcations]),
                 "bifurcation_type": ("bifurcation", [b.type for b in self.bifurcations]),
+                "grazing_value": ("grazing", list(self.grazings), {"long_name": "contact onset"}),
             },
             attrs={"key": self.key, "revolutions_per_period": self.k},
         )
@@ -325,7 +330,7 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
     ``first`` replaces the first branch point (default: the point at ``z``).
     """
     lo, hi = bounds
-    pts, bifs = [first or _point(prob, z, jac)], []
+    pts, bifs, grazings = [first or _point(prob, z, jac)], [], []
     sig = _tests(gz, t, jac)
     while len(pts) < points:
         out = _correct(prob, z + ds * t, t)
@@ -348,11 +353,95 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
         bifs[len(bifs) - found :] = [
             _radius(b, pts[-2], pts[-1]) for b in bifs[len(bifs) - found :]
         ]
+        onset = _onset(prob, pts[-2], pts[-1], bifs[-1] if hit[0] else None)
+        if onset is not None:
+            grazings.append(onset)
+            if hit[0] and abs(bifs[-1].value - onset) < 1e-4 * abs(onset):  # the corner
+                bifs[-1] = Bifurcation("fold", onset, bifs[-1].max_radius_m)
         if not lo <= pts[-1].value <= hi:
             break
         if iters <= 3:
             ds = min(1.5 * ds, ds_max)
-    return Branch(prob.key, prob.k, tuple(pts), tuple(bifs))
+    return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings))
+
+
+def _free_radius(scenario, samples: int = 64) -> float:
+    """Largest contact-station radius (m) of the steady orbit without contact, to rounding.
+
+    Without contact the steady response to unbalance and a constant load holds the harmonics
+    0 and +-1 of the spin only, so ``samples`` points of one revolution give its Fourier
+    coefficients exactly and ``|P(theta)|`` is maximised on the trigonometric polynomial.
+    """
+    from rubrotor.integrator import Integrator
+    from rubrotor.simulation import simulate_scenario
+
+    free = scenario.with_changes(**{"contact.clearance": 1e3 * scenario.contact.clearance})
+    integ = Integrator(revolutions=1.0, dtau=2 * np.pi / samples, save_every=1)
+    res = simulate_scenario(free, integ, progress=False, initial="steady")
+    z = (res.channels[0] + 1j * res.channels[1])[:samples]
+    c = np.fft.fft(z) / samples
+    n = np.fft.fftfreq(samples, 1.0 / samples)
+
+    def minus_r(theta):
+        return -abs(np.sum(c * np.exp(1j * n * theta)))
+
+    j = int(np.argmax(np.abs(z)))
+    h = 2 * np.pi / samples
+    res = scipy.optimize.minimize_scalar(
+        minus_r, bounds=(j * h - h, j * h + h), method="bounded", options={"xatol": 1e-12}
+    )
+    return -float(res.fun)
+
+
+def grazing_value(scenario, key: str, free: float, touching: float) -> float:
+    """Key value where the free (no-contact) orbit grazes the stator: ``R_free(p) = g``.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The base scenario (with a contact).
+    key : str
+        The varied key.
+    free, touching : float
+        Key values where the free orbit's largest radius is below / above the clearance.
+
+    Returns
+    -------
+    float
+        The onset value (the key's units), by Brent's root finding to 4 ulp of the key on
+        :func:`_free_radius`, exact to rounding: contact onset along a branch happens where
+        the no-contact orbit first touches.
+    """
+    g = scenario.contact.clearance
+
+    def h(p):
+        return _free_radius(scenario.with_changes(**{key: float(p)})) / g - 1.0
+
+    return float(scipy.optimize.brentq(h, free, touching, xtol=1e-15, rtol=8.9e-16))
+
+
+def _onset(prob, a: BranchPoint, b: BranchPoint, turn) -> float | None:
+    """The grazing value between branch points ``a`` and ``b`` if contact starts or ends there.
+
+    The bracket runs from the point without contact towards the other point (or the located
+    turning point ``turn`` when the branch turns at the corner), widened until the free orbit
+    touches.
+    """
+    contact = prob.scenario.contact
+    if contact is None or prob.k != 1:
+        return None
+    g = contact.clearance
+    if (a.max_radius_m > g) == (b.max_radius_m > g):
+        return None
+    free, other = (a, b) if a.max_radius_m <= g else (b, a)
+    target = other.value if turn is None else turn.value
+    step = target - free.value
+    for _ in range(12):
+        far = free.value + step
+        if _free_radius(prob.at(far)) > g:
+            return grazing_value(prob.scenario, prob.key, free.value, far)
+        step *= 2.0
+    return None
 
 
 def switch_period_doubling(scenario, key: str, branch: Branch, stop: float, *, index: int = 0,
