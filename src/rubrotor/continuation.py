@@ -26,6 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg
 import scipy.optimize
 
 from rubrotor.errors import InputError
@@ -134,7 +135,19 @@ class _Problem:
         self.sx, self.sp = sx, sp
 
     def at(self, p):
-        return self.scenario.with_changes(**{self.key: float(p)})
+        """The scenario at key value ``p`` (cached: rebuilding one solves its critical speeds)."""
+        p = float(p)
+        cache = self.__dict__.setdefault("_at", {})
+        if p not in cache:
+            if len(cache) > 64:
+                cache.clear()
+            cache[p] = self.scenario.with_changes(**{self.key: p})
+        return cache[p]
+
+    def residual(self, z):
+        """Scaled ``G / s_x`` alone (one run of the map)."""
+        x, p = self.unscale(z)
+        return (strobe(self.at(p), x, self.k, self.steps) - x) / self.sx
 
     def unscale(self, z):
         return z[:-1] * self.sx, z[-1] * self.sp
@@ -156,6 +169,33 @@ def _tangent(gz, previous):
     if previous is not None and t @ previous < 0:
         t = -t
     return t
+
+
+def _chord(prob, z_pred, t, gz0, tol=1e-11, max_iter=12):
+    """Chord iterations with the previous point's Jacobian ``gz0`` (one map run each).
+
+    Returns ``(z, gz, jac, iterations)`` when the step and the scaled residual at the final
+    Jacobian evaluation are below ``tol``, else None (the caller then runs full Newton).
+    """
+    lu = scipy.linalg.lu_factor(np.vstack([gz0, t]))
+    z = z_pred.copy()
+    for it in range(1, max_iter + 1):
+        try:
+            g = prob.residual(z)
+        except InputError:
+            return None
+        dz = scipy.linalg.lu_solve(lu, -np.concatenate([g, [t @ (z - z_pred)]]))
+        z = z + dz
+        if not np.all(np.isfinite(z)):
+            return None
+        scale = max(1.0, np.linalg.norm(z))
+        if np.linalg.norm(dz) < tol * scale:
+            try:
+                g, gz, jac = prob.evaluate(z)
+            except InputError:
+                return None
+            return (z, gz, jac, it) if np.linalg.norm(g) < tol * scale else None
+    return None
 
 
 def _correct(prob, z_pred, t, tol=1e-11, max_iter=8):
@@ -333,7 +373,10 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
     pts, bifs, grazings = [first or _point(prob, z, jac)], [], []
     sig = _tests(gz, t, jac)
     while len(pts) < points:
-        out = _correct(prob, z + ds * t, t)
+        out = _chord(prob, z + ds * t, t, gz)
+        chord = out is not None
+        if not chord:
+            out = _correct(prob, z + ds * t, t)
         if out is None:
             ds *= 0.5
             if ds < 1e-8:
@@ -344,23 +387,24 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
         sig1 = _tests(gz1, t1, jac1)
         hit = _changed(sig, sig1)
         found = int(np.sum(hit))
+        new = _point(prob, z1, jac1)
+        onset = _onset(prob, pts[-1], new)
         for i, name in enumerate(BIFURCATIONS):
-            if hit[i]:
+            if hit[i] and i == 0 and onset is not None:  # the corner: a grazing turn
+                bifs.append(Bifurcation(name, onset))
+            elif hit[i]:
                 where = _locate_turn(prob, z, t, ds) if i == 0 else _locate(prob, z, t, ds, i, sig)
                 bifs.append(Bifurcation(name, where))
-        z, t, sig = z1, t1, sig1
-        pts.append(_point(prob, z, jac1))
+        z, t, sig, gz = z1, t1, sig1, gz1
+        pts.append(new)
         bifs[len(bifs) - found :] = [
             _radius(b, pts[-2], pts[-1]) for b in bifs[len(bifs) - found :]
         ]
-        onset = _onset(prob, pts[-2], pts[-1], bifs[-1] if hit[0] else None)
         if onset is not None:
             grazings.append(onset)
-            if hit[0] and abs(bifs[-1].value - onset) < 1e-4 * abs(onset):  # the corner
-                bifs[-1] = Bifurcation("fold", onset, bifs[-1].max_radius_m)
         if not lo <= pts[-1].value <= hi:
             break
-        if iters <= 3:
+        if iters <= (6 if chord else 3):
             ds = min(1.5 * ds, ds_max)
     return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings))
 
@@ -420,12 +464,12 @@ def grazing_value(scenario, key: str, free: float, touching: float) -> float:
     return float(scipy.optimize.brentq(h, free, touching, xtol=1e-15, rtol=8.9e-16))
 
 
-def _onset(prob, a: BranchPoint, b: BranchPoint, turn) -> float | None:
+def _onset(prob, a: BranchPoint, b: BranchPoint) -> float | None:
     """The grazing value between branch points ``a`` and ``b`` if contact starts or ends there.
 
-    The bracket runs from the point without contact towards the other point (or the located
-    turning point ``turn`` when the branch turns at the corner), widened until the free orbit
-    touches.
+    The bracket starts at the point without contact and widens (doubling) towards the other
+    point until the free orbit touches, then the other way (at the corner where the branch
+    turns both points lie on the free side of the onset).
     """
     contact = prob.scenario.contact
     if contact is None or prob.k != 1:
@@ -434,13 +478,12 @@ def _onset(prob, a: BranchPoint, b: BranchPoint, turn) -> float | None:
     if (a.max_radius_m > g) == (b.max_radius_m > g):
         return None
     free, other = (a, b) if a.max_radius_m <= g else (b, a)
-    target = other.value if turn is None else turn.value
-    step = target - free.value
-    for _ in range(12):
-        far = free.value + step
-        if _free_radius(prob.at(far)) > g:
-            return grazing_value(prob.scenario, prob.key, free.value, far)
-        step *= 2.0
+    for step in (other.value - free.value, free.value - other.value):
+        for _ in range(8):
+            far = free.value + step
+            if _free_radius(prob.at(far)) > g:
+                return grazing_value(prob.scenario, prob.key, free.value, far)
+            step *= 2.0
     return None
 
 
