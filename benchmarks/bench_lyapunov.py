@@ -12,7 +12,10 @@ REPEATS), after a warm-up that compiles the kernels (compilation time printed se
 * the one-mode Euler-Bernoulli rotor of the follow-sweep tests in full annular rub.
 
 Also printed: the exponent estimate alone with 1 and with 4 tangent vectors (spectrum cost).
-Run: ``PYTHONPATH=src python benchmarks/bench_lyapunov.py [REPEATS]``. Timings are never asserted.
+Then the convergence table of the largest exponent with the averaging length (100 .. 1600
+revolutions, 256 .. 1024 steps per revolution) on a chaotic partial rub
+(``one_mode_chaotic_rub.toml``, positive) and a period-1 partial rub (``one_mode_partial_rub.toml``,
+negative). Run: ``PYTHONPATH=src python benchmarks/bench_lyapunov.py [REPEATS]``. Timings are never asserted.
 """
 
 from __future__ import annotations
@@ -92,5 +95,27 @@ def main() -> None:
         print(f"  4 exponents (4 vecs)   {four * 1e3:9.1f} ms   ratio to 1 vec {four / one:.2f}")
 
 
+def convergence() -> None:
+    """Largest exponent per revolution vs averaging length: chaotic and periodic partial rub."""
+    from rubrotor.lyapunov import lyapunov_exponents
+    from rubrotor.scenario import load_scenario
+
+    where = resources.files("rubrotor") / "scenarios"
+    chaotic = load_scenario(where / "one_mode_chaotic_rub.toml")
+    periodic = load_scenario(where / "one_mode_partial_rub.toml")  # period-1 at 2.0 x critical
+    print("largest exponent per revolution vs revolutions averaged (300 discarded):")
+    for name, sc in (("chaotic partial rub", chaotic), ("period-1 partial rub", periodic)):
+        for spr in (256, 512, 1024):
+            row = [
+                lyapunov_exponents(
+                    sc, revolutions=n, transient_revolutions=300, steps_per_revolution=spr
+                ).per_revolution[0]
+                for n in (100, 200, 400, 800, 1600)
+            ]
+            cells = " ".join(f"{v:+.4f}" for v in row)
+            print(f"  {name:22s} {spr:5d} steps/rev, 100..1600 rev: {cells}")
+
+
 if __name__ == "__main__":
     main()
+    convergence()

@@ -48,10 +48,12 @@ def test_folds_equal_closed_form_turning_points(branches):
     ratio = abs(coarse[1] - exact[1]) / abs(fine[1] - exact[1])
     assert 3.5 < ratio < 4.5
     assert (4 * fine[1] - coarse[1]) / 3 == pytest.approx(exact[1], rel=1e-6)
-    # contact onset: the free orbit is propagated exactly, so the corner lies at the exact
-    # speed at any step; Brent's search on the arclength across the corner (where the
-    # difference Jacobian is smeared) locates it only to ~7e-6 (measured): a known weakness
-    np.testing.assert_allclose([coarse[0], fine[0]], exact[0], rtol=1e-5)
+    # contact onset: the corner where the branch turns onto the no-contact orbit is located
+    # on the grazing condition of the free orbit (exact propagation, Fourier maximum of the
+    # radius, Brent root), not on the smeared difference Jacobian: measured 1e-15 relative
+    for b in branches.values():
+        assert b.grazings == pytest.approx([exact[0]], rel=1e-12)
+    np.testing.assert_allclose([coarse[0], fine[0]], exact[0], rtol=1e-12)
     # the branch goes through contact onset and both folds: unstable between them
     b = branches[1024]
     x = np.array([p.value for p in b.points])

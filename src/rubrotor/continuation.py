@@ -11,8 +11,9 @@ Bifurcations, between consecutive points, from sign changes of test functions:
 
 * fold: the parameter component of the tangent (also the non-smooth turning point at contact
   onset, where the no-contact and rub branches meet);
-* period doubling: the number of real multipliers below -1;
-* Neimark-Sacker: the number of complex multipliers outside the unit circle;
+* period doubling: the sign of ``det(M + I)`` (a real multiplier crosses -1);
+* Neimark-Sacker: the sign of the bialternate product ``prod_{i<j} (mu_i mu_j - 1)`` (a
+  complex pair crosses the unit circle);
 * branch point: the determinant of the augmented Jacobian ``[G_z; t]``.
 
 Each is located on the arclength from the earlier point (predict, correct, evaluate): a fold
@@ -25,6 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg
 import scipy.optimize
 
 from rubrotor.errors import InputError
@@ -77,12 +79,16 @@ class Branch:
         Revolutions per period.
     points : tuple of BranchPoint
     bifurcations : tuple of Bifurcation
+    grazings : tuple of float
+        Key values where the branch's contact status changes (contact onset: the free orbit
+        grazes the stator), located by :func:`grazing_value`.
     """
 
     key: str
     k: int
     points: tuple
     bifurcations: tuple
+    grazings: tuple = ()
 
     def summary(self) -> dict:
         """The JSON summary of the CLI (values in the key's units, radii in m)."""
@@ -115,6 +121,7 @@ class Branch:
                 "state": (("point", "state_component"), states, {"units": "m, m/s"}),
                 "bifurcation_value": ("bifurcation", [b.value for b in self.bifurcations]),
                 "bifurcation_type": ("bifurcation", [b.type for b in self.bifurcations]),
+                "grazing_value": ("grazing", list(self.grazings), {"long_name": "contact onset"}),
             },
             attrs={"key": self.key, "revolutions_per_period": self.k},
         )
@@ -128,7 +135,19 @@ class _Problem:
         self.sx, self.sp = sx, sp
 
     def at(self, p):
-        return self.scenario.with_changes(**{self.key: float(p)})
+        """The scenario at key value ``p`` (cached: rebuilding one solves its critical speeds)."""
+        p = float(p)
+        cache = self.__dict__.setdefault("_at", {})
+        if p not in cache:
+            if len(cache) > 64:
+                cache.clear()
+            cache[p] = self.scenario.with_changes(**{self.key: p})
+        return cache[p]
+
+    def residual(self, z):
+        """Scaled ``G / s_x`` alone (one run of the map)."""
+        x, p = self.unscale(z)
+        return (strobe(self.at(p), x, self.k, self.steps) - x) / self.sx
 
     def unscale(self, z):
         return z[:-1] * self.sx, z[-1] * self.sp
@@ -150,6 +169,33 @@ def _tangent(gz, previous):
     if previous is not None and t @ previous < 0:
         t = -t
     return t
+
+
+def _chord(prob, z_pred, t, gz0, tol=1e-11, max_iter=12):
+    """Chord iterations with the previous point's Jacobian ``gz0`` (one map run each).
+
+    Returns ``(z, gz, jac, iterations)`` when the step and the scaled residual at the final
+    Jacobian evaluation are below ``tol``, else None (the caller then runs full Newton).
+    """
+    lu = scipy.linalg.lu_factor(np.vstack([gz0, t]))
+    z = z_pred.copy()
+    for it in range(1, max_iter + 1):
+        try:
+            g = prob.residual(z)
+        except InputError:
+            return None
+        dz = scipy.linalg.lu_solve(lu, -np.concatenate([g, [t @ (z - z_pred)]]))
+        z = z + dz
+        if not np.all(np.isfinite(z)):
+            return None
+        scale = max(1.0, np.linalg.norm(z))
+        if np.linalg.norm(dz) < tol * scale:
+            try:
+                g, gz, jac = prob.evaluate(z)
+            except InputError:
+                return None
+            return (z, gz, jac, it) if np.linalg.norm(g) < tol * scale else None
+    return None
 
 
 def _correct(prob, z_pred, t, tol=1e-11, max_iter=8):
@@ -182,12 +228,35 @@ def _correct(prob, z_pred, t, tol=1e-11, max_iter=8):
 
 
 def _tests(gz, t, jac):
-    """Test functions: (t_p, #real mu < -1, #complex |mu| > 1, sign det [G_z; t])."""
+    """Test functions: t_p, sign det(M + I), sign prod_{i<j}(mu_i mu_j - 1), sign det [G_z; t].
+
+    A fifth entry is the number of multipliers outside the unit circle (see :func:`_changed`).
+
+    ``det(M + I) = prod (mu_i + 1)`` changes sign exactly when a real multiplier crosses -1
+    (a complex pair contributes ``|mu + 1|^2 > 0``, so a pair that meets on the real axis
+    outside the circle is no period doubling); the bialternate product
+    ``prod_{i<j} (mu_i mu_j - 1)`` vanishes when a complex pair crosses the unit circle
+    (``mu conj(mu) = 1``, Neimark-Sacker). Both are symmetric functions of the multipliers of
+    a real matrix, hence real and continuous through multiplier collisions.
+    """
     mu = np.linalg.eigvals(jac)
-    real = np.abs(mu.imag) < 1e-9 * np.maximum(np.abs(mu), 1e-300)
-    pd = int(np.sum(real & (mu.real < -1)))
-    ns = int(np.sum(~real & (np.abs(mu) > 1)))
-    return np.array([np.sign(t[-1]), pd, ns, np.sign(np.linalg.det(np.vstack([gz, t])))])
+    pd = np.sign(np.prod(mu + 1).real)
+    i, j = np.triu_indices(mu.size, 1)
+    ns = np.sign(np.prod(mu[i] * mu[j] - 1).real)
+    out = np.sum(np.abs(mu) > 1)
+    return np.array([np.sign(t[-1]), pd, ns, np.sign(np.linalg.det(np.vstack([gz, t]))), out])
+
+
+def _changed(sig, sig1):
+    """Which of :data:`BIFURCATIONS` happened between two signatures.
+
+    A sign change of the bialternate product with no change of the number of multipliers
+    outside the unit circle is a neutral saddle (a real pair with ``mu_i mu_j = 1``), not a
+    Neimark-Sacker bifurcation.
+    """
+    hit = sig1[:4] != sig[:4]
+    hit[2] &= sig1[4] != sig[4]
+    return hit
 
 
 def _locate(prob, z0, t0, ds, index, signature0):
@@ -278,20 +347,36 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         raise InputError("points", points, "an integer >= 2")
     sc0 = scenario.with_changes(**{key: float(start)})
     orbit = shoot(sc0, guess, k, steps=steps, transient_revolutions=transient_revolutions)
-    x0 = state_vector(orbit.state)
-    sx = np.full(x0.size, max(np.max(np.abs(x0[: x0.size // 2])), 1e-12))
-    sx[x0.size // 2 :] = sx[0] * sc0.speed
-    prob = _Problem(scenario, key, k, steps, sx, abs(start))
-    z = np.concatenate([x0 / sx, [start / abs(start)]])
+    prob = _problem(scenario, key, k, steps, state_vector(orbit.state), start)
+    z = np.concatenate([state_vector(orbit.state) / prob.sx, [start / abs(start)]])
     g, gz, jac = prob.evaluate(z)
     t = _tangent(gz, None)
     if t[-1] * (stop - start) < 0:
         t = -t
-    lo, hi = min(start, stop), max(start, stop)
-    pts, bifs = [_point(prob, z, jac)], []
+    return _march(prob, z, t, gz, jac, (min(start, stop), max(start, stop)), points, ds, ds_max)
+
+
+def _problem(scenario, key, k, steps, x0, p0) -> _Problem:
+    """The scaled problem: states by their largest displacement (m) and velocity, key by p0."""
+    speed = scenario.with_changes(**{key: float(p0)}).speed
+    sx = np.full(x0.size, max(np.max(np.abs(x0[: x0.size // 2])), 1e-12))
+    sx[x0.size // 2 :] = sx[0] * speed
+    return _Problem(scenario, key, k, steps, sx, abs(p0))
+
+
+def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branch:
+    """Predictor-corrector steps from the converged ``z`` along ``t`` (module docstring).
+
+    ``first`` replaces the first branch point (default: the point at ``z``).
+    """
+    lo, hi = bounds
+    pts, bifs, grazings = [first or _point(prob, z, jac)], [], []
     sig = _tests(gz, t, jac)
     while len(pts) < points:
-        out = _correct(prob, z + ds * t, t)
+        out = _chord(prob, z + ds * t, t, gz)
+        chord = out is not None
+        if not chord:
+            out = _correct(prob, z + ds * t, t)
         if out is None:
             ds *= 0.5
             if ds < 1e-8:
@@ -300,18 +385,177 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         z1, gz1, jac1, iters = out
         t1 = _tangent(gz1, t)
         sig1 = _tests(gz1, t1, jac1)
-        found = int(np.sum(sig1 != sig))
+        hit = _changed(sig, sig1)
+        found = int(np.sum(hit))
+        new = _point(prob, z1, jac1)
+        onset = _onset(prob, pts[-1], new)
         for i, name in enumerate(BIFURCATIONS):
-            if sig1[i] != sig[i]:
+            if hit[i] and i == 0 and onset is not None:  # the corner: a grazing turn
+                bifs.append(Bifurcation(name, onset))
+            elif hit[i]:
                 where = _locate_turn(prob, z, t, ds) if i == 0 else _locate(prob, z, t, ds, i, sig)
                 bifs.append(Bifurcation(name, where))
-        z, t, sig = z1, t1, sig1
-        pts.append(_point(prob, z, jac1))
+        z, t, sig, gz = z1, t1, sig1, gz1
+        pts.append(new)
         bifs[len(bifs) - found :] = [
             _radius(b, pts[-2], pts[-1]) for b in bifs[len(bifs) - found :]
         ]
+        if onset is not None:
+            grazings.append(onset)
         if not lo <= pts[-1].value <= hi:
             break
-        if iters <= 3:
+        if iters <= (6 if chord else 3):
             ds = min(1.5 * ds, ds_max)
-    return Branch(key, k, tuple(pts), tuple(bifs))
+    return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings))
+
+
+def _free_radius(scenario, samples: int = 64) -> float:
+    """Largest contact-station radius (m) of the steady orbit without contact, to rounding.
+
+    Without contact the steady response to unbalance and a constant load holds the harmonics
+    0 and +-1 of the spin only, so ``samples`` points of one revolution give its Fourier
+    coefficients exactly and ``|P(theta)|`` is maximised on the trigonometric polynomial.
+    """
+    from rubrotor.integrator import Integrator
+    from rubrotor.simulation import simulate_scenario
+
+    free = scenario.with_changes(**{"contact.clearance": 1e3 * scenario.contact.clearance})
+    integ = Integrator(revolutions=1.0, dtau=2 * np.pi / samples, save_every=1)
+    res = simulate_scenario(free, integ, progress=False, initial="steady")
+    z = (res.channels[0] + 1j * res.channels[1])[:samples]
+    c = np.fft.fft(z) / samples
+    n = np.fft.fftfreq(samples, 1.0 / samples)
+
+    def minus_r(theta):
+        return -abs(np.sum(c * np.exp(1j * n * theta)))
+
+    j = int(np.argmax(np.abs(z)))
+    h = 2 * np.pi / samples
+    res = scipy.optimize.minimize_scalar(
+        minus_r, bounds=(j * h - h, j * h + h), method="bounded", options={"xatol": 1e-12}
+    )
+    return -float(res.fun)
+
+
+def grazing_value(scenario, key: str, free: float, touching: float) -> float:
+    """Key value where the free (no-contact) orbit grazes the stator: ``R_free(p) = g``.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The base scenario (with a contact).
+    key : str
+        The varied key.
+    free, touching : float
+        Key values where the free orbit's largest radius is below / above the clearance.
+
+    Returns
+    -------
+    float
+        The onset value (the key's units), by Brent's root finding to 4 ulp of the key on
+        :func:`_free_radius`, exact to rounding: contact onset along a branch happens where
+        the no-contact orbit first touches.
+    """
+    g = scenario.contact.clearance
+
+    def h(p):
+        return _free_radius(scenario.with_changes(**{key: float(p)})) / g - 1.0
+
+    return float(scipy.optimize.brentq(h, free, touching, xtol=1e-15, rtol=8.9e-16))
+
+
+def _onset(prob, a: BranchPoint, b: BranchPoint) -> float | None:
+    """The grazing value between branch points ``a`` and ``b`` if contact starts or ends there.
+
+    The bracket starts at the point without contact and widens (doubling) towards the other
+    point until the free orbit touches, then the other way (at the corner where the branch
+    turns both points lie on the free side of the onset).
+    """
+    contact = prob.scenario.contact
+    if contact is None or prob.k != 1:
+        return None
+    g = contact.clearance
+    if (a.max_radius_m > g) == (b.max_radius_m > g):
+        return None
+    free, other = (a, b) if a.max_radius_m <= g else (b, a)
+    for step in (other.value - free.value, free.value - other.value):
+        for _ in range(8):
+            far = free.value + step
+            if _free_radius(prob.at(far)) > g:
+                return grazing_value(prob.scenario, prob.key, free.value, far)
+            step *= 2.0
+    return None
+
+
+def switch_period_doubling(scenario, key: str, branch: Branch, stop: float, *, index: int = 0,
+                           steps: int = STEPS_PER_REVOLUTION, points: int = 60, ds: float = 0.02,
+                           ds_max: float = 0.2) -> Branch:  # fmt: skip
+    """Continue the period-doubled branch (``2 k`` revolutions) born at a period doubling.
+
+    At the period-doubling value ``p*`` of ``branch`` the ``k``-orbit ``x*`` has a multiplier
+    -1 with real eigenvector ``v``; for the ``2 k``-revolution map ``x*`` is a pitchfork branch
+    point whose new branch leaves along ``(v, 0)`` (the doubled orbit splits as
+    ``x* +- a v``, ``a ~ sqrt|p - p*|``). The first predictor is ``z* + ds t0``, ``t0`` the
+    part of ``(v, 0)`` orthogonal to the ``k``-branch's tangent (both span the null space of
+    the ``2 k`` problem at ``z*``), corrected on the hyperplane normal to ``t0``, which the
+    ``k``-branch (also a ``2 k``-orbit) touches only at ``z*``; then the usual pseudo-arclength
+    march.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The base scenario ``branch`` was continued on.
+    key : str
+        The continued key (``branch.key``).
+    branch : Branch
+        A branch with a located ``"period-doubling"`` bifurcation.
+    stop : float
+        End of the range of the key (its units); the new branch ends when its key value
+        leaves the range between ``p*`` and ``stop`` or after ``points`` points.
+    index : int
+        Which period doubling of ``branch`` (0 = the first).
+    steps : int
+        Fixed steps per revolution (as for ``branch``).
+    points : int
+        Largest number of points; the first is the ``k``-orbit at ``p*``.
+    ds, ds_max : float
+        First and largest arclength step (scaled units, dimensionless).
+
+    Returns
+    -------
+    Branch
+        ``k`` is ``2 branch.k``; the bifurcations found along the new branch.
+    """
+    pds = [b for b in branch.bifurcations if b.type == "period-doubling"]
+    if not 0 <= index < len(pds):
+        raise InputError("index", index, f"0 .. {len(pds) - 1} (period doublings of the branch)")
+    p_star = pds[index].value
+    near = min(branch.points, key=lambda q: abs(q.value - p_star))
+    orbit = shoot(scenario.with_changes(**{key: p_star}), near.state, branch.k, steps=steps)
+    x_star = state_vector(orbit.state)
+    _, jac1 = monodromy(orbit.scenario, x_star, branch.k, steps)
+    mu, vecs = np.linalg.eig(jac1)
+    j = int(np.argmin(np.abs(mu + 1)))
+    prob = _problem(scenario, key, 2 * branch.k, steps, x_star, p_star)
+    z_star = np.concatenate([x_star / prob.sx, [p_star / prob.sp]])
+    # the k-branch through z* also solves the 2k problem: leave along v orthogonally to it
+    single = _Problem(scenario, key, branch.k, steps, prob.sx, prob.sp)
+    t_single = _tangent(single.evaluate(z_star)[1], None)
+    t0 = np.concatenate([np.real(vecs[:, j]) / prob.sx, [0.0]])
+    t0 -= (t0 @ t_single) * t_single
+    t0 /= np.linalg.norm(t0)
+    out = _correct(prob, z_star + ds * t0, t0, max_iter=20)
+    if out is None:
+        raise InputError("ds", ds, "a smaller first step (no doubled orbit found along v)")
+    z, gz, jac, _ = out
+    first = _point(prob, z_star, jac1 @ jac1)
+    t = _tangent(gz, None)
+    p1 = prob.unscale(z)[1]
+    if t[-1] * (p1 - p_star) < 0:
+        t = -t
+    bounds = (
+        min(p_star, stop) - 0.5 * abs(stop - p_star),
+        max(p_star, stop) + 0.5 * abs(stop - p_star),
+    )
+    rest = _march(prob, z, t, gz, jac, bounds, points - 1, ds, ds_max)
+    return Branch(key, 2 * branch.k, (first, *rest.points), rest.bifurcations)

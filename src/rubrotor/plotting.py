@@ -1014,7 +1014,42 @@ def envelope_figure(envelopes: dict, *, title: str | None = None) -> Figure:
     return fig
 
 
-def branch_figure(branch, sweep=None) -> Figure:
+def _draw_branch(ax, branch, color, handles, suffix: bool) -> None:
+    """One branch: runs of equal stability, solid (stable) or dashed (unstable)."""
+    x = np.array([p.value for p in branch.points])
+    r = np.array([p.max_radius_m for p in branch.points]) * 1e6
+    st = np.array([p.stable for p in branch.points])
+    edges = [0, *(np.flatnonzero(st[1:] != st[:-1]) + 1), x.size]
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        stop = min(b + 1, x.size)
+        ax.plot(x[a:stop], r[a:stop], "-" if st[a] else "--", color=color, lw=1.6)
+    name = f"continuation, period-{branch.k}" if suffix else "continuation"
+    handles += [
+        Line2D([], [], color=color, ls="-", label=f"{name}, stable"),
+        Line2D([], [], color=color, ls="--", label=f"{name}, unstable"),
+    ]
+
+
+def _draw_follow(ax, sweep, key, handles) -> None:
+    """Up (triangles) and down (circles) sweep points; chaotic ones filled."""
+    from rubrotor.regimes import CHAOTIC
+
+    for d, marker, color in (("up", "^", "C2"), ("down", "o", "C3")):
+        if d not in list(sweep["direction"].values):
+            continue
+        y = sweep["max_displacement"].sel(direction=d).values * 1e6
+        chaos = sweep["regime"].sel(direction=d).values == CHAOTIC
+        x = sweep[key].values
+        ax.plot(x[~chaos], y[~chaos], marker, color=color, mfc="none", ms=7)
+        ax.plot(x[chaos], y[chaos], marker, color=color, ms=7)
+        handles.append(Line2D([], [], ls="", marker=marker, color=color, mfc="none",
+                              label=f"follow sweep {d}"))  # fmt: skip
+        if chaos.any():
+            handles.append(Line2D([], [], ls="", marker=marker, color=color,
+                                  label=f"follow sweep {d}, chaotic"))  # fmt: skip
+
+
+def branch_figure(branch, sweep=None, others=()) -> Figure:
     """A continued branch (stable solid, unstable dashed, bifurcations marked) over a sweep.
 
     Parameters
@@ -1023,7 +1058,13 @@ def branch_figure(branch, sweep=None) -> Figure:
         The branch; largest orbit radius (m) against the continued key.
     sweep : xarray.Dataset, optional
         A state-carrying sweep (:func:`rubrotor.follow.follow_sweep`) of the same key: its
-        ``max_displacement`` (m) per direction, up as triangles, down as circles.
+        ``max_displacement`` (m) per direction, up as triangles, down as circles; points
+        labelled chaotic (by a positive largest Lyapunov exponent when the sweep computed it)
+        are filled.
+    others : sequence of rubrotor.continuation.Branch
+        More branches of the same key (e.g. from
+        :func:`rubrotor.continuation.switch_period_doubling`), one colour each, labelled by
+        their period in revolutions.
 
     Returns
     -------
@@ -1031,28 +1072,16 @@ def branch_figure(branch, sweep=None) -> Figure:
     """
     fig = Figure(figsize=(7.5, 4.8))
     ax = fig.add_subplot()
-    x = np.array([p.value for p in branch.points])
-    r = np.array([p.max_radius_m for p in branch.points]) * 1e6
-    st = np.array([p.stable for p in branch.points])
-    edges = [0, *(np.flatnonzero(st[1:] != st[:-1]) + 1), x.size]
-    for a, b in zip(edges[:-1], edges[1:], strict=True):  # runs of equal stability
-        stop = min(b + 1, x.size)
-        ax.plot(x[a:stop], r[a:stop], "-" if st[a] else "--", color="C0", lw=1.6)
-    handles = [
-        Line2D([], [], color="C0", ls="-", label="continuation, stable"),
-        Line2D([], [], color="C0", ls="--", label="continuation, unstable"),
-    ]
+    handles = []
+    for i, br in enumerate((branch, *others)):
+        _draw_branch(ax, br, f"C{[0, 1, 4, 5, 6][i % 5]}", handles, suffix=bool(others))
     if sweep is not None:
-        for d, marker, color in (("up", "^", "C2"), ("down", "o", "C3")):
-            if d in list(sweep["direction"].values):
-                y = sweep["max_displacement"].sel(direction=d).values * 1e6
-                ax.plot(sweep[branch.key].values, y, marker, color=color, mfc="none", ms=7)
-                handles.append(Line2D([], [], ls="", marker=marker, color=color, mfc="none",
-                                      label=f"follow sweep {d}"))  # fmt: skip
+        _draw_follow(ax, sweep, branch.key, handles)
     marks = {"fold": "s", "period-doubling": "D", "neimark-sacker": "*", "branch-point": "X"}
-    for b in branch.bifurcations:
+    bifs = [b for br in (branch, *others) for b in br.bifurcations]
+    for b in bifs:
         ax.plot(b.value, b.max_radius_m * 1e6, marks[b.type], color="k", ms=8)
-    for t in sorted({b.type for b in branch.bifurcations}):
+    for t in sorted({b.type for b in bifs}):
         handles.append(Line2D([], [], ls="", marker=marks[t], color="k", label=t))
     ax.set_xlabel(branch.key if sweep is None else _axis_label(sweep, branch.key))
     ax.set_ylabel("largest orbit radius at contact station (um)")
