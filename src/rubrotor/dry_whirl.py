@@ -256,7 +256,7 @@ def whirl_frequency(time: np.ndarray, v: np.ndarray, w: np.ndarray) -> float:
     """Frequency (rad/s, signed: < 0 backward) of the tallest line of the full spectrum of ``v + i w``.
 
     The tallest line of the Hann-windowed full spectrum
-    (:func:`rubrotor.analysis.spectra.full_spectrum`), then the maximum of the windowed
+    (:func:`rubrotor.full_spectrum`), then the maximum of the windowed
     spectrum's continuous magnitude ``|sum_n w_n z_n e^{-i 2 pi f t_n}|`` within one line of it
     (bounded Brent search): for a steady circular whirl it is the whirl frequency itself, not
     the nearest line.

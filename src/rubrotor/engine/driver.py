@@ -586,20 +586,20 @@ def simulate_general(
     run : Run
         Speed (rad/s), duration (s), step (s), reduction, initial state, probes.
     stations, unbalances, loads, gravity
-        As in :func:`build_plant`.
+        As in ``build_plant``.
     method : {"exponential", "free-flight"}
-        Stepper (:data:`STEPPERS`); ``"runup"`` is chosen when ``run.speed_end`` is set;
+        Stepper (``STEPPERS``); ``"runup"`` is chosen when ``run.speed_end`` is set;
         ``"free-flight"`` (with ``run.rtol``) advances exactly between contacts.
     progress : bool, optional
         Progress on stderr for long runs (default: when stderr is a terminal).
     stream : str, optional
         Write the samples to this netCDF file chunk by chunk (bounded memory); the result then
         holds no samples (``time`` and ``channels`` empty), only events, statistics and the final
-        state. Read it with :func:`rubrotor.results.load_dataset` or xarray.
+        state. Read it with :func:`rubrotor.load_dataset` or xarray.
     chunk_samples : int
         Samples per compiled call (and the buffer size when streaming).
     plant : Plant, optional
-        A plant already built by :func:`build_plant` for the same rotor, stations, loads and
+        A plant already built by ``build_plant`` for the same rotor, stations, loads and
         ``run`` (speed, reduction, initial state): skips the reduction (the array-level path
         for repeated runs; the caller vouches that it matches).
     attrs : dict, optional

@@ -116,7 +116,7 @@ class Run:
     save_every : int
         Steps per saved sample.
     modes : int, optional
-        Retained modes (see :mod:`rubrotor.engine.reduce`); all by default.
+        Retained modes (see ``rubrotor.engine.reduce``); all by default.
     cutoff : float, optional
         Retain the modes with ``|lambda| <= cutoff`` (rad/s) instead.
     residual : bool
