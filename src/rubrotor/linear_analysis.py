@@ -529,13 +529,15 @@ def linear_critical_speeds(
         g = TWO_PI * data.frequency_hz[:, j] - harmonic * grid
         for i in np.flatnonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0):
 
-            def h(w, j=j):
-                m = damped_modes(system, w, n=n).modes[j]
-                return TWO_PI * m.frequency_hz - harmonic * w
+            def h(w, j=j):  # the Campbell route itself, so the bracket's signs are g's
+                one = campbell_data(system, [w, w * (1 + 1e-12) + 1e-12], n=n)
+                return TWO_PI * one.frequency_hz[0, j] - harmonic * w, one.whirl[0, j]
 
-            w = scipy.optimize.brentq(h, grid[i], grid[i + 1], xtol=1e-12, rtol=1e-10)
-            whirl = damped_modes(system, w, n=n).modes[j].whirl
-            out.append(LinearCritical(j + 1, whirl, float(harmonic), float(w)))
+            lo, hi = float(grid[i]), float(grid[i + 1])
+            if not h(lo)[0] * h(hi)[0] < 0:  # a branch that appears or vanishes in between
+                continue
+            w = scipy.optimize.brentq(lambda x: h(x)[0], lo, hi, xtol=1e-12, rtol=1e-10)
+            out.append(LinearCritical(j + 1, h(w)[1], float(harmonic), float(w)))
     return sorted(out, key=lambda c: c.speed_rad_s)
 
 
