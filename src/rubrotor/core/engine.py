@@ -427,6 +427,30 @@ def _drive(dy, drive, t, h, E):
         dy[j] = ep * drive.Bp[j] * cp_ + em * drive.Bm[j] * cm_
 
 
+@njit(cache=True, inline="always", fastmath=SAFE_FASTMATH)
+def has_history(Fp, m):
+    """Whether the previous step's contact forces exist (a step before this one in contact)."""
+    for r in range(m):
+        if Fp[r] != 0.0:
+            return True
+    return False
+
+
+@njit(cache=True, inline="always", fastmath=SAFE_FASTMATH)
+def hold_error(Fn, F, Fp, m, h, hp, a_f, omega):
+    """Local error (m) of holding the contact force linear over a step of ``h`` (s): the
+    force's second difference over this and the previous step ``hp`` (s) bounds its curvature;
+    ``a_f`` maps force to acceleration. Returns ``max(e_v h / 2, e_v / omega)``, the
+    displacement error and the velocity error over the spin ``omega`` (rad/s)."""
+    f2 = 0.0
+    for r in range(m):
+        d2 = (Fn[r] - F[r]) / h - (F[r] - Fp[r]) / hp
+        f2 += d2 * d2
+    f2 = 2.0 * math.sqrt(f2) / (h + hp)
+    e_v = a_f * h * h * h * f2 / 12.0
+    return max(0.5 * e_v * h, e_v / omega)
+
+
 @njit(cache=True, fastmath=SAFE_FASTMATH)
 def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, ys, offset,
                steps, contacts, outputs, omega, t0, events, drive, control):  # fmt: skip
@@ -595,18 +619,8 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                         b += Sd[lev, 2 * i + 1, c] * Fn[c]
                     pmax = max(pmax, math.sqrt(a * a + b * b))
                 tol = control.atol + control.rtol * max(pmax, gmin)
-                hist = False
-                for r in range(m):
-                    if Fp[r] != 0.0:
-                        hist = True
-                if new and loaded and hist:
-                    f2 = 0.0
-                    for r in range(m):
-                        d2 = (Fn[r] - F[r]) / h - (F[r] - Fp[r]) / hp
-                        f2 += d2 * d2
-                    f2 = 2.0 * math.sqrt(f2) / (h + hp)
-                    e_v = control.a_f * h * h * h * f2 / 12.0
-                    err = max(0.5 * e_v * h, e_v / omega) / tol
+                if new and loaded and has_history(Fp, m):
+                    err = hold_error(Fn, F, Fp, m, h, hp, control.a_f, omega) / tol
                 else:
                     dfn = 0.0
                     for r in range(m):

@@ -57,6 +57,8 @@ from rubrotor.core.engine import (
     _rdot,
     _write,
     graze_contacts,
+    has_history,
+    hold_error,
     solve_contacts,
     solve_one,
     workspace,
@@ -444,19 +446,9 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
             continue
         err = 0.0
         if new or loaded:
-            hist = False
-            for r in range(m):
-                if Fp[r] != 0.0:
-                    hist = True
             tolp = control.atol + control.rtol * max(pmax, gmin)
-            if hist and new and loaded:
-                f2 = 0.0
-                for r in range(m):
-                    d2 = (Fn[r] - F[r]) / h - (F[r] - Fp[r]) / hp
-                    f2 += d2 * d2
-                f2 = 2.0 * math.sqrt(f2) / (h + hp)
-                e_v = control.a_f * h * h * h * f2 / 12.0
-                err = max(0.5 * e_v * h, e_v / omega) / tolp
+            if has_history(Fp, m) and new and loaded:
+                err = hold_error(Fn, F, Fp, m, h, hp, control.a_f, omega) / tolp
             else:
                 # zero- against first-order hold: displacement, and velocity over Omega
                 errc = 0.0
