@@ -127,6 +127,35 @@ class Branch:
         )
 
 
+def branches_dataset(branches) -> object:
+    """Several branches of one key in one Dataset (e.g. a branch and its period-doubled one).
+
+    The points of all branches follow one another along ``point``; ``branch`` (index into
+    ``branches``) and ``revolutions_per_period`` say which branch each point and each
+    bifurcation (``bifurcation_branch``) belongs to. With one branch it holds what
+    :meth:`Branch.dataset` holds plus those labels.
+    """
+    import xarray as xr
+
+    parts = [br.dataset() for br in branches]
+    data = {}
+    for dim in ("point", "bifurcation", "grazing"):
+        for name in (n for n in parts[0].data_vars if parts[0][n].dims[0] == dim):
+            var = parts[0][name]
+            joined = np.concatenate([d[name].values for d in parts])
+            data[name] = (var.dims, joined, var.attrs)
+    counts = {"point": "points", "bifurcation": "bifurcations", "grazing": "grazings"}
+    for dim, field in counts.items():
+        label = "branch" if dim == "point" else f"{dim}_branch"
+        data[label] = (dim, np.repeat(np.arange(len(branches)),
+                                      [len(getattr(br, field)) for br in branches]))  # fmt: skip
+    data["revolutions_per_period"] = (
+        "point", np.repeat([br.k for br in branches], [len(br.points) for br in branches]),
+        {"units": "revolutions"},
+    )  # fmt: skip
+    return xr.Dataset(data, attrs={"key": branches[0].key, "branches": len(branches)})
+
+
 class _Problem:
     """Residual and Jacobian of the continuation in scaled unknowns."""
 
