@@ -220,6 +220,7 @@ def pyharm_input(p: dict, crit: float, nh: int, nti: int, ds: float, tol: float)
 def run_pyharm(p: dict, crit: float, nh: int, nti: int, ds: float, tol: float):
     """pyHarm's branch: accepted points' speeds (rad/s) and largest radii (m)."""
     import pyHarm
+    from pyHarm.DynamicOperator import compute_DFT
 
     if not VERBOSE:
         logging.disable(logging.WARNING)  # pyHarm's banner and per-point log lines
@@ -230,8 +231,6 @@ def run_pyharm(p: dict, crit: float, nh: int, nti: int, ds: float, tol: float):
     finally:
         logging.disable(logging.NOTSET)
     edf = maestro.system.expl_dofs
-    from pyHarm.DynamicOperator import compute_DFT
-
     dft = compute_DFT(nti, nh)["ft"]
     ix = edf[(edf["sub"] == "rotor") & (edf["dof_num"] == 0)].index.to_numpy()
     iy = edf[(edf["sub"] == "rotor") & (edf["dof_num"] == 1)].index.to_numpy()
