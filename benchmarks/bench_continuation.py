@@ -12,10 +12,8 @@ finds both turning points (onset 1.377674297309, equal to the closed form to 1e-
 1.6413023), the 73 unstable orbits between them, and no other bifurcation; the sweep's jumps
 lag the fold and onset by up to two sweep steps (slow drift near a turning point).
 
-pyHarm (``pyharm-os`` 1.2.2) installs in a separate venv (it pulls jax) but ships no annular
-(radial) contact element: ``PenaltyUnilateralGap`` acts along one fixed direction and
-``Penalty3D`` is a plane contact with Jenkins friction, so the same one-mode rotor with a radial
-penalty contact needs a custom AFT element; that comparison is not made here. Prints the
+pyHarm (``pyharm-os`` 1.2.2, optional group ``pyharm``) on the same rotor with a radial penalty
+contact: ``benchmarks/bench_continuation_vs_pyharm.py``. Prints the
 median wall time of each (same process, side by side) and what each finds: the continuation's
 folds and stability against the closed form, the sweep's jumps (up: last rub point, down: last
 no-contact point). Numba compilation is excluded by a warm-up run of each.

@@ -83,6 +83,47 @@ def test_period_doubling_and_torus_found_by_continuation_confirmed_by_brute_forc
     assert 0 < after["contact_fraction"] < 1  # partial rub on the torus
 
 
+def test_second_period_doubling_and_torus_located_independently_of_the_step(branch):
+    """The second period doubling and the Neimark-Sacker point do not depend on the step size.
+
+    Reference: a second continuation of the same range with other first / largest arclength
+    steps (0.007 / 0.03 instead of 0.01 / 0.05), so the steps bracket each bifurcation
+    differently; each is the root of its test function's value (``det(M + I)``, the
+    bialternate product) located to the corrector's tolerance, so the two runs must agree to
+    1e-6 relative (measured: <= 1.4e-10). Brute force (adaptive runs, no shooting) confirms the
+    regimes on both sides of the second period doubling: started on the period-1 orbit
+    perturbed by 1e-3 along the Floquet vector of the multiplier near -1, the run settles on
+    period 2 just below it and back on period 1 just above it. (From rest the run above it
+    also lands on period 2: the doubled branch folds back past this point, so both coexist.)
+    """
+    other = continue_orbit(PARTIAL, KEY, 2.03, 2.11, steps=SPR, points=40, ds=0.007,
+                           ds_max=0.03, transient_revolutions=400)  # fmt: skip
+    a = [(b.type, b.value) for b in branch.bifurcations]
+    b = [(b.type, b.value) for b in other.bifurcations]
+    assert [t for t, _ in a] == [t for t, _ in b]
+    for (_, va), (_, vb) in zip(a, b, strict=True):
+        assert va == pytest.approx(vb, rel=1e-6)
+    pd2 = a[1][1]
+    below, z_below = _perturbed_run(branch, pd2 - 0.003)
+    above, _ = _perturbed_run(branch, pd2 + 0.003)
+    assert (below["regime"], below["period"]) == (PARTIAL_CODE, 2)
+    assert (above["regime"], above["period"]) == (PARTIAL_CODE, 1)
+    assert np.abs(z_below[-1] - z_below[-2]) > 1e-3 * np.max(np.abs(z_below))
+
+
+def _perturbed_run(branch, value):
+    """Adaptive run of 1000 + 200 revolutions from the period-1 orbit at ``value``, perturbed."""
+    sc = PARTIAL.with_changes(**{KEY: value})
+    near = min(branch.points, key=lambda q: abs(q.value - value))
+    orbit = shooting.shoot(sc, near.state, steps=SPR)
+    x = shooting.state_vector(orbit.state)
+    mu, vec = np.linalg.eig(shooting.monodromy(sc, x, 1, SPR)[1])
+    v = np.real(vec[:, np.argmin(np.abs(mu + 1))])
+    start = shooting.vector_state(x + 1e-3 * np.linalg.norm(x) * v / np.linalg.norm(v))
+    m, _ = simulate_point(sc, 1000, 1200, 32, start=start)
+    return m, np.asarray(m["poincare_v"]) + 1j * np.asarray(m["poincare_w"])
+
+
 def _contact_point(scenario, x, steps):
     """Contact-station deflection ``v + i w`` (m) at the state vector ``x`` and one rev later."""
     from rubrotor.integrator import Integrator

@@ -12,6 +12,7 @@ route) must jump within one sweep step of the continuation's fold / onset.
 from __future__ import annotations
 
 import json
+from importlib import resources
 
 import numpy as np
 import pytest
@@ -91,3 +92,51 @@ def test_cli_continue(tmp_path, capsys):
         assert main(["continue", str(scen), "--vary", bad, "--out", str(out)]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and err.startswith("rubrotor: error:")
+
+
+def test_cli_continue_switches_onto_the_period_doubled_branch(tmp_path, capsys):
+    """``--switch period-doubling``: both branches in --out and --json; bad input exits 2.
+
+    References: the shooting module's stroboscopic map applied to the stored states of the
+    switched branch (each must be a fixed point of the two-revolution map, to the Newton
+    tolerance, and not of the one-revolution map away from the start: a period-2 orbit), and
+    the continued branch's own period doubling: the switched branch starts at its value, on
+    an orbit that is a fixed point of the one-revolution map there (the branches meet).
+    """
+    import xarray as xr
+
+    from rubrotor import shooting
+    from rubrotor.scenario import load_scenario
+
+    scen = resources.files("rubrotor") / "scenarios" / "one_mode_partial_rub.toml"
+    out = tmp_path / "pd.nc"
+    common = ["continue", str(scen), "--out", str(out), "--steps", "256", "--ds-max", "0.05"]
+    args = common + ["--vary", f"{KEY}=2.03:2.11", "--points", "14", "--switch",
+                     "period-doubling", "--json"]  # fmt: skip
+    assert main(args) == 0
+    summary = json.loads(capsys.readouterr().out)
+    pd = [b["value"] for b in summary["bifurcations"] if b["type"] == "period-doubling"]
+    doubled = summary["period_doubled"]
+    assert doubled["revolutions_per_period"] == 2 and doubled["start"] == pd[0]
+    assert doubled["points"][0]["value"] == pd[0] and len(doubled["points"]) == 14
+    with xr.open_dataset(out) as ds:
+        ds = ds.load()
+    assert ds.attrs["branches"] == 2
+    assert list(np.unique(ds["revolutions_per_period"].values)) == [1, 2]
+    sw = ds.where(ds["branch"] == 1, drop=True)
+    np.testing.assert_array_equal(sw["value"].values, [p["value"] for p in doubled["points"]])
+    base = load_scenario(scen)
+    split = []
+    for value, x in zip(sw["value"].values, sw["state"].values, strict=True):
+        sc = base.with_changes(**{KEY: float(value)})
+        assert np.linalg.norm(shooting.strobe(sc, x, 2, 256) - x) < 1e-8 * np.linalg.norm(x)
+        split.append(np.linalg.norm(shooting.strobe(sc, x, 1, 256) - x) / np.linalg.norm(x))
+    assert split[0] < 1e-8 and max(split) > 1e-3  # meets the period-1 branch, then splits
+    # bad input: an unknown kind (before any work), a range with no period doubling
+    assert main(common + ["--vary", f"{KEY}=2.03:2.11", "--switch", "fold"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("rubrotor: error: --switch = 'fold'") and err.count("\n") == 1
+    assert main(common + ["--vary", f"{KEY}=2.0:2.04", "--points", "4", "--switch",
+                          "period-doubling"]) == 2  # fmt: skip
+    err = capsys.readouterr().err
+    assert "period doubling" in err and err.count("\n") == 1

@@ -1222,6 +1222,10 @@ COMMANDS += [
 
 
 # ---- continuation of periodic orbits ---------------------------------------------------------
+SWITCHES = ("period-doubling",)
+"""Values of ``rubrotor continue --switch``."""
+
+
 def _continue_args(parser: argparse.ArgumentParser) -> None:
     _add_scenario(parser)
     parser.add_argument("--vary", required=True, metavar="KEY=START:STOP", help="continued key")
@@ -1232,6 +1236,19 @@ def _continue_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--k", type=int, default=1, help="revolutions per period (default 1)")
     parser.add_argument(
         "--sweep-points", type=int, default=25, help="points of the figure's follow sweep"
+    )
+    parser.add_argument(
+        "--switch",
+        metavar="KIND",
+        help="after the branch, switch onto the branch born at its first bifurcation of this "
+        "kind and continue it to STOP (period-doubling: the 2k-revolution branch); --out, "
+        "--json and --figure then hold both branches",
+    )
+    parser.add_argument(
+        "--steps", type=int, default=1024, help="fixed steps per revolution of the map (>= 16)"
+    )
+    parser.add_argument(
+        "--ds-max", type=float, default=0.2, help="largest arclength step (scaled, default 0.2)"
     )
 
 
@@ -1251,9 +1268,39 @@ def _parse_range(text: str) -> tuple[str, float, float]:
 
 
 def _continue_run(args: argparse.Namespace) -> int:
-    from rubrotor.continuation import continue_orbit
+    from rubrotor.continuation import branches_dataset, continue_orbit
     from rubrotor.results import save_dataset
 
+    key, start, stop = _check_continue(args)
+    scenario = load_scenario(args.scenario)
+    scenario.with_changes(**{key: start})  # names a bad key before any work
+    branch = continue_orbit(scenario, key, start, stop, k=args.k, points=args.points,
+                            steps=args.steps, ds_max=args.ds_max)  # fmt: skip
+    branches = [branch]
+    if args.switch is not None:
+        branches.append(_switch(scenario, key, branch, stop, args))
+    save_dataset(branches_dataset(branches), args.out)
+    if args.figure is not None:
+        from rubrotor.follow import follow_sweep
+        from rubrotor.plotting import branch_figure
+
+        values = np.linspace(min(start, stop), max(start, stop), max(args.sweep_points, 2))
+        sweep = follow_sweep(scenario, key, values, direction="both", workers=2)
+        branch_figure(branch, sweep, others=branches[1:]).savefig(args.figure, dpi=130)
+    if args.json:
+        summary = branch.summary()
+        for other in branches[1:]:
+            summary["period_doubled"] = {
+                "revolutions_per_period": other.k,
+                "start": other.points[0].value,
+                **other.summary(),
+            }
+        _print_json(summary)
+    return 0
+
+
+def _check_continue(args: argparse.Namespace) -> tuple[str, float, float]:
+    """Validate the options of ``continue`` before any work; returns the parsed ``--vary``."""
     key, start, stop = _parse_range(args.vary)
     if not args.out.endswith(".nc"):
         raise InputError("--out", args.out, "a file name ending in .nc")
@@ -1263,20 +1310,28 @@ def _continue_run(args: argparse.Namespace) -> int:
         raise InputError("--figure", args.figure, "a file name ending in .png, .pdf or .svg")
     if args.points < 2:
         raise InputError("--points", args.points, "an integer >= 2")
-    scenario = load_scenario(args.scenario)
-    scenario.with_changes(**{key: start})  # names a bad key before any work
-    branch = continue_orbit(scenario, key, start, stop, k=args.k, points=args.points)
-    save_dataset(branch.dataset(), args.out)
-    if args.figure is not None:
-        from rubrotor.follow import follow_sweep
-        from rubrotor.plotting import branch_figure
+    if args.switch is not None and args.switch not in SWITCHES:
+        raise InputError("--switch", args.switch, " or ".join(SWITCHES))
+    if args.steps < 16:
+        raise InputError("--steps", args.steps, "an integer >= 16 (steps per revolution)")
+    if not (math.isfinite(args.ds_max) and args.ds_max > 0):
+        raise InputError("--ds-max", args.ds_max, "a finite number > 0")
+    return key, start, stop
 
-        values = np.linspace(min(start, stop), max(start, stop), max(args.sweep_points, 2))
-        sweep = follow_sweep(scenario, key, values, direction="both", workers=2)
-        branch_figure(branch, sweep).savefig(args.figure, dpi=130)
-    if args.json:
-        _print_json(branch.summary())
-    return 0
+
+def _switch(scenario, key: str, branch, stop: float, args: argparse.Namespace):
+    """The period-doubled branch born at ``branch``'s first period doubling, continued to stop."""
+    from rubrotor.continuation import switch_period_doubling
+
+    if not any(b.type == "period-doubling" for b in branch.bifurcations):
+        found = sorted({b.type for b in branch.bifurcations}) or ["no bifurcation"]
+        raise InputError(
+            "--switch",
+            args.switch,
+            f"a branch with a period doubling in --vary {args.vary} (found: {', '.join(found)})",
+        )
+    return switch_period_doubling(scenario, key, branch, stop, steps=args.steps,
+                                  points=args.points, ds_max=args.ds_max)  # fmt: skip
 
 
 COMMANDS += [

@@ -17,8 +17,8 @@ Bifurcations, between consecutive points, from sign changes of test functions:
 * branch point: the determinant of the augmented Jacobian ``[G_z; t]``.
 
 Each is located on the arclength from the earlier point (predict, correct, evaluate): a fold
-as the extremum of the key value (Brent's bounded search), the others by bisection of the test
-function to a relative step of 1e-10.
+as the extremum of the key value (Brent's bounded search), the others as the root of the test
+function's value by bracketing secant (Illinois) steps to :data:`LOCATE_TOL` of arclength.
 """
 
 from __future__ import annotations
@@ -127,6 +127,35 @@ class Branch:
         )
 
 
+def branches_dataset(branches) -> object:
+    """Several branches of one key in one Dataset (e.g. a branch and its period-doubled one).
+
+    The points of all branches follow one another along ``point``; ``branch`` (index into
+    ``branches``) and ``revolutions_per_period`` say which branch each point and each
+    bifurcation (``bifurcation_branch``) belongs to. With one branch it holds what
+    :meth:`Branch.dataset` holds plus those labels.
+    """
+    import xarray as xr
+
+    parts = [br.dataset() for br in branches]
+    data = {}
+    for dim in ("point", "bifurcation", "grazing"):
+        for name in (n for n in parts[0].data_vars if parts[0][n].dims[0] == dim):
+            var = parts[0][name]
+            joined = np.concatenate([d[name].values for d in parts])
+            data[name] = (var.dims, joined, var.attrs)
+    counts = {"point": "points", "bifurcation": "bifurcations", "grazing": "grazings"}
+    for dim, field in counts.items():
+        label = "branch" if dim == "point" else f"{dim}_branch"
+        data[label] = (dim, np.repeat(np.arange(len(branches)),
+                                      [len(getattr(br, field)) for br in branches]))  # fmt: skip
+    data["revolutions_per_period"] = (
+        "point", np.repeat([br.k for br in branches], [len(br.points) for br in branches]),
+        {"units": "revolutions"},
+    )  # fmt: skip
+    return xr.Dataset(data, attrs={"key": branches[0].key, "branches": len(branches)})
+
+
 class _Problem:
     """Residual and Jacobian of the continuation in scaled unknowns."""
 
@@ -198,7 +227,11 @@ def _chord(prob, z_pred, t, gz0, tol=1e-11, max_iter=12):
     return None
 
 
-def _correct(prob, z_pred, t, tol=1e-11, max_iter=8):
+CORRECTOR_TOL = 1e-11
+"""Relative step and scaled residual at which the corrector stops (dimensionless)."""
+
+
+def _correct(prob, z_pred, t, tol=CORRECTOR_TOL, max_iter=8):
     """Newton on ``[G; t . (z - z_pred)]``; returns ``(z, gz, jac, iterations)`` or None.
 
     Converged when both the step and the scaled residual are below ``tol`` (relative): near a
@@ -259,25 +292,76 @@ def _changed(sig, sig1):
     return hit
 
 
-def _locate(prob, z0, t0, ds, index, signature0):
-    """Bisection on the arclength from ``z0`` for the change of test ``index``; returns ``p``."""
-    lo, hi = 0.0, ds
-    p_best = prob.unscale(z0)[1]
-    for _ in range(40):
-        mid = 0.5 * (lo + hi)
-        out = _correct(prob, z0 + mid * t0, t0)
-        if out is None:
-            break
-        z, gz, jac, _ = out
-        sig = _tests(gz, _tangent(gz, t0), jac)
-        p_best = prob.unscale(z)[1]
-        if sig[index] == signature0[index]:
-            lo = mid
+LOCATE_TOL = 100 * CORRECTOR_TOL
+"""Width (scaled arclength, ~ relative key value) to which a test function's root is bracketed.
+
+Tied to the corrector: the corrected points carry a relative error ~ ``CORRECTOR_TOL`` and the
+difference monodromy one of ``eps / h + h^2 ~ 1e-10`` (see :mod:`rubrotor.shooting`), so the
+test functions are known to ~1e-10 relative; a hundred times the corrector tolerance is the
+finest bracket the secant can still order reliably.
+"""
+
+
+def _test_value(prob, z0, t0, s, index):
+    """The continuous test function ``index`` at arclength ``s`` from ``z0`` (None: no point).
+
+    1: ``det(M + I)`` (period doubling), 2: the bialternate product ``prod_{i<j}(mu_i mu_j - 1)``
+    (Neimark-Sacker), 3: ``det [G_z; t]`` (branch point); returns ``(value, key value)``.
+    """
+    out = _correct(prob, z0 + s * t0, t0)
+    if out is None:
+        return None
+    z, gz, jac, _ = out
+    if index == 3:
+        value = np.linalg.det(np.vstack([gz, _tangent(gz, t0)]))
+    else:
+        mu = np.linalg.eigvals(jac)
+        if index == 1:
+            value = np.prod(mu + 1).real
         else:
-            hi = mid
-        if hi - lo < 1e-10 * abs(ds):
+            i, j = np.triu_indices(mu.size, 1)
+            value = np.prod(mu[i] * mu[j] - 1).real
+    return float(value), float(prob.unscale(z)[1])
+
+
+def _locate(prob, z0, t0, ds, index):
+    """Root of test function ``index`` on the arclength ``[0, ds]`` from ``z0``; returns ``p``.
+
+    Illinois (bracketing secant) iterations on the test function's value, each a corrected
+    point on the hyperplane normal to ``t0``, until the bracket is narrower than
+    :data:`LOCATE_TOL`; a failed corrector or a secant outside the bracket bisects instead.
+    Superlinear on the smooth test functions, so the location no longer depends on where the
+    continuation's steps happened to bracket it (that sign bisection stopped on the step).
+    """
+    ends = [_test_value(prob, z0, t0, s, index) for s in (0.0, ds)]
+    if None in ends:
+        return float(prob.unscale(z0)[1])
+    lo, hi = [0.0, ends[0][0]], [ds, ends[1][0]]
+    p_best, side = ends[1][1], 0
+    for _ in range(60):
+        if abs(hi[0] - lo[0]) < LOCATE_TOL or np.sign(lo[1]) == np.sign(hi[1]):
             break
-    return float(p_best)
+        s = hi[0] - hi[1] * (hi[0] - lo[0]) / (hi[1] - lo[1])
+        if not (min(lo[0], hi[0]) < s < max(lo[0], hi[0])):
+            s = 0.5 * (lo[0] + hi[0])
+        got = _test_value(prob, z0, t0, s, index)
+        if got is None:
+            s = 0.5 * (lo[0] + hi[0])
+            got = _test_value(prob, z0, t0, s, index)
+            if got is None:
+                break
+        value, p_best = got
+        if value == 0.0:
+            break
+        if np.sign(value) == np.sign(lo[1]):
+            lo = [s, value]
+            hi[1] *= 0.5 if side == -1 else 1.0  # Illinois: halve the stale end
+            side = -1
+        else:
+            hi = [s, value]
+            lo[1] *= 0.5 if side == 1 else 1.0
+            side = 1
+    return p_best
 
 
 def _locate_turn(prob, z0, t0, ds):
@@ -393,7 +477,7 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
             if hit[i] and i == 0 and onset is not None:  # the corner: a grazing turn
                 bifs.append(Bifurcation(name, onset))
             elif hit[i]:
-                where = _locate_turn(prob, z, t, ds) if i == 0 else _locate(prob, z, t, ds, i, sig)
+                where = _locate_turn(prob, z, t, ds) if i == 0 else _locate(prob, z, t, ds, i)
                 bifs.append(Bifurcation(name, where))
         z, t, sig, gz = z1, t1, sig1, gz1
         pts.append(new)
