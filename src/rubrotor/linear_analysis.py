@@ -35,7 +35,14 @@ import scipy.linalg
 import scipy.optimize
 import scipy.sparse.linalg
 
-from rubrotor.core.banded import OK, BandParts, Starts, refine_eigenpairs, unbalance_sweep
+from rubrotor.core.banded import (
+    OK,
+    BandParts,
+    SparseRows,
+    Starts,
+    refine_eigenpairs,
+    unbalance_sweep,
+)
 from rubrotor.errors import InputError
 from rubrotor.linear import LinearSystem, NodalBasis
 
@@ -416,7 +423,8 @@ def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
     equal eigenvalues get the shapes of extreme whirl (as in :func:`damped_modes`).
     """
     parts = _band_parts(system, speeds)
-    rows = _stations(system)[:, system.free].astype(complex)
+    rows = _stations(system)[:, system.free]
+    gather = _sparse_rows(rows)
     lam = np.full((speeds.size, n), np.nan + 0j)
     ok = np.zeros((speeds.size, n), bool)
     shapes = np.zeros((speeds.size, n, rows.shape[0]), complex)
@@ -426,7 +434,7 @@ def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
         lam0, vec0 = _ritz_starts(system, sub, speeds[sl], n)
         found = np.isfinite(lam0)
         lam0 = np.where(found, lam0, 1j)
-        ref = refine_eigenpairs(sub, speeds[sl], Starts(lam0, vec0), 1e-10, 8, rows)
+        ref = refine_eigenpairs(sub, speeds[sl], Starts(lam0, vec0), 1e-10, 8, gather)
         lam[sl], shapes[sl], steps = ref.lam, ref.shapes, ref.steps
         ok[sl] = (steps > 0) | ~found
         lam[sl] = np.where(found, lam[sl], np.nan)
@@ -437,6 +445,15 @@ def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
     for i, j0, j1 in _clusters(lam):
         shapes[i, j0:j1] = _circularise(eye, shapes[i, j0:j1].T).T
     return lam, shapes, ok
+
+
+def _sparse_rows(rows: np.ndarray) -> SparseRows:
+    """``rows`` (R, N) as a :class:`~rubrotor.core.banded.SparseRows` gather (its nonzeros)."""
+    nz = rows != 0
+    width = max(1, int(nz.sum(axis=1).max(initial=1)))
+    order = np.argsort(~nz, axis=1, kind="stable")[:, :width]
+    val = np.take_along_axis(rows, order, 1).astype(complex)
+    return SparseRows(np.ascontiguousarray(order, dtype=np.int64), np.ascontiguousarray(val))
 
 
 def _clusters(lam: np.ndarray):

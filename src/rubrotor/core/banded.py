@@ -21,6 +21,7 @@ __all__ = [
     "band_factor",
     "band_solve",
     "Refined",
+    "SparseRows",
     "Starts",
     "refine_eigenpairs",
     "unbalance_sweep",
@@ -36,6 +37,13 @@ Starts.__doc__ = """Starting eigenvalues ``lam`` (S, n) (1/s) and eigenvectors `
 Refined = namedtuple("Refined", "lam shapes steps")
 Refined.__doc__ = """Refined eigenvalues (S, n) (1/s), eigenvectors at output rows (S, n, R), and
 Newton steps (S, n), negative where the iteration did not converge."""
+
+SparseRows = namedtuple("SparseRows", "idx val")
+SparseRows.__doc__ = """Output rows as a gather: row ``r`` of ``R x`` is ``sum_k val[r, k] x[idx[r, k]]``.
+
+``idx`` (R, w) int64 and ``val`` (R, w) complex, padded with zero values; a nodal station picks
+one DOF (``w = 1``), so the whirl shapes of a large rotor cost a few operations per station
+instead of a dense ``R x N`` product."""
 
 _Work = namedtuple("_Work", "ab ipiv u")
 
@@ -205,12 +213,13 @@ def refine_eigenpairs(parts, speeds, starts, tol, max_iter, out_rows):
     the next error predicted from the last two steps, is below ``tol |lam|``. Speeds are shared
     among the numba threads in blocks.
 
-    Returns :class:`Refined`: eigenvalues ``(S, n)``; ``out_rows @ x`` of shape ``(S, n, R)``;
+    Returns :class:`Refined`: eigenvalues ``(S, n)``; ``out_rows`` (:class:`SparseRows`) applied
+    to ``x``, of shape ``(S, n, R)``;
     Newton steps taken, negative where ``max_iter`` passed without convergence.
     """
     n = parts.m.shape[0]
     ns, nm = starts.lam.shape
-    shapes = np.zeros((ns, nm, out_rows.shape[0]), np.complex128)
+    shapes = np.zeros((ns, nm, out_rows.idx.shape[0]), np.complex128)
     out = Refined(starts.lam.copy(), shapes, np.zeros((ns, nm), np.int64))
     nblk = min(ns, 64)
     for blk in prange(nblk):
@@ -222,10 +231,10 @@ def refine_eigenpairs(parts, speeds, starts, tol, max_iter, out_rows):
         for s in range(blk * ns // nblk, (blk + 1) * ns // nblk):
             for j in range(nm):
                 x = _newton(parts, s, speeds[s], starts, j, tol, max_iter, work, out)
-                for r in range(out_rows.shape[0]):
+                for r in range(out_rows.idx.shape[0]):
                     acc = 0j
-                    for i in range(n):
-                        acc += out_rows[r, i] * x[i]
+                    for k in range(out_rows.idx.shape[1]):
+                        acc += out_rows.val[r, k] * x[out_rows.idx[r, k]]
                     shapes[s, j, r] = acc
     return out
 
