@@ -41,6 +41,7 @@ from rubrotor.core.banded import (
     SparseRows,
     Starts,
     refine_eigenpairs,
+    refine_eigenpairs_serial,
     unbalance_sweep,
 )
 from rubrotor.errors import InputError
@@ -150,13 +151,6 @@ def _stations(system: LinearSystem) -> np.ndarray:
     return np.vstack([basis.rows(float(x)) for x in xs])
 
 
-def _whirl_form(rows: np.ndarray, shapes: np.ndarray) -> np.ndarray:
-    """Per station and shape, ``Im(conj(V) W)`` (``(S, k)``) and ``|V|^2 + |W|^2``."""
-    d = rows @ shapes
-    v, w = d[0::2], d[1::2]
-    return np.imag(np.conj(v) * w), np.abs(v) ** 2 + np.abs(w) ** 2
-
-
 def _circularise(rows: np.ndarray, shapes: np.ndarray) -> np.ndarray:
     """Rotate a cluster of equal-eigenvalue shapes into the combinations of extreme whirl."""
     d = rows @ shapes
@@ -164,19 +158,6 @@ def _circularise(rows: np.ndarray, shapes: np.ndarray) -> np.ndarray:
     h = (np.conj(v).T @ w - np.conj(w).T @ v) / 2j  # Hermitian whirl form
     _, u = np.linalg.eigh(h)
     return shapes @ u
-
-
-def _whirl_label(spin: np.ndarray, amp: np.ndarray) -> str:
-    big = amp > 1e-4 * amp.max()
-    turning = big & (np.abs(spin) > 1e-6 * amp)
-    if not turning.any():
-        return "mixed"
-    s = spin[turning]
-    if np.all(s < 0):
-        return "forward"
-    if np.all(s > 0):
-        return "backward"
-    return "mixed"
 
 
 def _eig_nearest_zero(mx, k: int):
@@ -202,13 +183,18 @@ def _eig_nearest_zero(mx, k: int):
 def _eig(system: LinearSystem, speed: float, n: int | None = None):
     """Eigenvalues with ``Im > 0`` (sorted) and the ``q`` part of their eigenvectors.
 
-    With ``n`` given on a large system, shift-invert Arnoldi (ARPACK) finds the ``2 n + 8``
-    eigenvalues nearest zero (twice as many if overdamped ones crowd out oscillating ones)
-    from one sparse LU of ``K`` instead of a dense solve of all ``2 N``; the tests check it
-    against the dense route.
+    With ``n`` given on a large system, the Campbell route at one speed (:func:`_newton_eig`:
+    projection starts, Newton on the banded quadratic eigenproblem); if one of its checks fails,
+    shift-invert Arnoldi (ARPACK) finds the ``2 n + 8`` eigenvalues nearest zero (twice as many
+    if overdamped ones crowd out oscillating ones) from one sparse LU of ``K``. Both instead of
+    a dense solve of all ``2 N``; the tests check them against the dense route.
     """
-    mx = system.matrices(speed)
     size = 2 * system.n_dof
+    if n is not None and size > 16 * n:
+        found = _newton_eig(system, speed, n)
+        if found is not None:
+            return found
+    mx = system.matrices(speed)
     lam = None
     if n is not None and size > 16 * n:
         k = 2 * n + 8
@@ -224,6 +210,36 @@ def _eig(system: LinearSystem, speed: float, n: int | None = None):
     lam, vec = lam[keep], vec[: system.n_dof, keep]
     order = np.argsort(lam.imag)
     return lam[order], vec[:, order]
+
+
+def _newton_eig(system: LinearSystem, speed: float, n: int):
+    """The ``n`` lowest modes at ``speed`` (rad/s) as :func:`campbell_data` finds them, with
+    full eigenvectors on the free DOFs; ``None`` when a check fails (fewer than ``n`` projected
+    modes, Newton not converged, a start that moved by more than 1e-3 of itself, or two
+    starts that converged to one eigenvalue), so that the caller takes another route."""
+    speeds = np.array([speed])
+    parts = _band_parts(system, speeds)
+    try:
+        lam0, vec0 = _ritz_starts(system, parts, speeds, n)
+    except np.linalg.LinAlgError:
+        return None
+    if not np.all(np.isfinite(lam0)):
+        return None
+    size = system.n_dof
+    every = SparseRows(np.arange(size)[:, None], np.ones((size, 1), complex))
+    ref = refine_eigenpairs_serial(parts, speeds, Starts(lam0, vec0), 1e-10, 8, every)
+    lam, start = ref.lam[0], lam0[0]
+    same = np.abs(lam[:, None] - lam[None, :]) <= 1e-7 * np.abs(lam)[:, None]
+    apart = np.abs(start[:, None] - start[None, :]) > 1e-5 * np.abs(start)[:, None]
+    if (
+        np.any(ref.steps <= 0)
+        or np.any(np.abs(lam - start) > 1e-3 * np.abs(start))
+        or np.any(same & apart)
+        or not np.all(lam.imag > OSCILLATING * np.abs(lam))
+    ):
+        return None
+    order = np.argsort(lam.imag)
+    return lam[order], ref.shapes[0].T[:, order]
 
 
 def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None) -> DampedModes:
@@ -272,13 +288,14 @@ def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None)
         if j - i > 1:
             full[:, i:j] = _circularise(rows, full[:, i:j])
         i = j
-    spin, amp = _whirl_form(rows, full)
     count = len(lam) if n is None else min(n, len(lam))
+    full = full[:, :count]
+    defl = rows @ full  # V, W at the stations, (2 S, count)
+    whirl = _whirl_labels(defl.T)
+    big = np.argmax(np.abs(defl), axis=0)
+    full = full / defl[big, np.arange(count)]  # unit largest deflection
     modes = []
     for k in range(count):
-        shape = full[:, k]
-        defl = rows @ shape
-        shape = shape / defl[np.argmax(np.abs(defl))]
         lk = complex(lam[k])
         modes.append(
             DampedMode(
@@ -286,9 +303,9 @@ def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None)
                 frequency_hz=lk.imag / TWO_PI,
                 damping_ratio=-lk.real / abs(lk),
                 log_dec=-TWO_PI * lk.real / lk.imag,
-                whirl=_whirl_label(spin[:, k], amp[:, k]),
+                whirl=whirl[k],
                 eigenvalue=lk,
-                shape=shape,
+                shape=full[:, k],
             )
         )
     return DampedModes(speed_rad_s=speed, modes=tuple(modes))
@@ -364,24 +381,106 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     return CampbellData(speeds=s, frequency_hz=f, log_dec=ld, whirl=wh)
 
 
-def _ritz_basis(system: LinearSystem, parts: BandParts, speed: float, n: int) -> np.ndarray:
+def _ritz_basis(
+    system: LinearSystem, parts: BandParts, speed: float, at: int, n: int
+) -> np.ndarray:
     """A mass-orthonormal basis (N, m) for starting values: the ``n + 6`` lowest undamped modes
-    of ``(K_sym, M)`` at ``speed`` (rad/s) and the static deflections under unit forces at the
-    support DOFs (residual flexibility: supports carry the damping and cross-coupling); all
-    DOFs when that is not fewer."""
-    mx = system.matrices(speed)
-    size = mx.M.shape[0]
-    ks = (mx.K + mx.K.T) / 2
+    of ``(K_sym, M)`` at ``speed`` (rad/s; sweep index ``at`` of ``parts``) and the static deflections under unit
+    forces at the support DOFs (residual flexibility: supports carry the damping and
+    cross-coupling); all DOFs when that is not fewer. On a large banded rotor the undamped modes
+    are Ritz vectors of a block shift-invert Krylov space (:func:`_krylov_modes`) and every
+    product is banded, instead of a dense ``O(N^3)`` eigen-solve."""
+    size = parts.m.shape[0]
     dofs = np.unique(parts.sup_row)
+    unit = np.zeros((size, dofs.size))
+    unit[dofs, np.arange(dofs.size)] = 1.0
+    if n + 6 + dofs.size < size and size > _KRYLOV_SIZE and parts.kl == parts.ku and (
+        2 * parts.kl + parts.ku + 1 < size // 4
+    ):
+        bands = (_stiffness_band(parts, at), parts.m, parts.kl, parts.ku)
+        lu = _BandLU(bands[0], parts.kl, parts.ku)
+        statics = lu.solve(unit)
+        span = np.hstack([_krylov_modes(lu, bands, n + 6, statics), statics])
+        kr, mr = (span.T @ _band_matmul(band, parts.kl, parts.ku, span) for band in bands[:2])
+        _, z = scipy.linalg.eigh((kr + kr.T) / 2, (mr + mr.T) / 2, check_finite=False)
+        return span @ z
+    mx = system.matrices(speed)
+    ks = (mx.K + mx.K.T) / 2
     if n + 6 + dofs.size >= size:
         _, phi = scipy.linalg.eigh(ks, mx.M, check_finite=False)
         return phi
     _, modes = scipy.linalg.eigh(ks, mx.M, subset_by_index=[0, n + 5], check_finite=False)
-    unit = np.zeros((size, dofs.size))
-    unit[dofs, np.arange(dofs.size)] = 1.0
     span = np.hstack([modes, np.linalg.solve(ks, unit)])
     _, z = scipy.linalg.eigh(span.T @ ks @ span, span.T @ mx.M @ span, check_finite=False)
     return span @ z
+
+
+_KRYLOV_SIZE = 120
+"""Above this many free DOFs (and a narrow band) the undamped modes of the Ritz basis come from
+a banded block Krylov space, not a dense ``O(N^3)`` eigen-solve."""
+
+
+class _BandLU:
+    """Real banded LU (LAPACK ``dgbtrf``) of a matrix in :func:`_to_band` storage."""
+
+    def __init__(self, band: np.ndarray, kl: int, ku: int):
+        ab = np.zeros((2 * kl + ku + 1, band.shape[0]))
+        ab[kl:] = band.T
+        self.kl, self.ku = kl, ku
+        self.lu, self.piv, info = scipy.linalg.lapack.dgbtrf(ab, kl, ku)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"singular banded matrix (dgbtrf info {info})")
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        x, info = scipy.linalg.lapack.dgbtrs(self.lu, self.kl, self.ku, b, self.piv)
+        return x
+
+
+def _band_matmul(band: np.ndarray, kl: int, ku: int, x: np.ndarray) -> np.ndarray:
+    """``a @ x`` for ``a`` in :func:`_to_band` storage (``a[i, j]`` at ``band[j, ku + i - j]``)."""
+    n = band.shape[0]
+    y = np.zeros_like(x)
+    for k in range(-kl, ku + 1):  # the diagonal a[i, i + k]
+        i0, i1 = max(0, -k), n - max(0, k)
+        y[i0:i1] += band[i0 + k : i1 + k, ku - k][:, None] * x[i0 + k : i1 + k]
+    return y
+
+
+def _stiffness_band(parts: BandParts, at: int) -> np.ndarray:
+    """Band of the symmetric part of ``K + K_s`` at sweep index ``at`` (needs ``kl == ku``)."""
+    kb = parts.k.copy()
+    np.add.at(kb, (parts.sup_col, parts.ku + parts.sup_row - parts.sup_col), parts.sup_k[at])
+    kt = np.zeros_like(kb)  # the transpose: a[j, i] sits at kb[i, ku + j - i]
+    n, ku = kb.shape[0], parts.ku
+    for r in range(kb.shape[1]):
+        d = r - ku  # kt[j, r] = a[j, j + d]... stored at kb[j + d, ku - d]
+        j0, j1 = max(0, -d), n - max(0, d)
+        kt[j0:j1, r] = kb[j0 + d : j1 + d, ku - d]
+    return (kb + kt) / 2
+
+
+def _krylov_modes(lu: _BandLU, bands, count: int, start: np.ndarray) -> np.ndarray:
+    """Ritz approximations (N, count) of the ``count`` lowest modes of ``(K, M)``.
+
+    ``bands = (K, M, kl, ku)`` in :func:`_to_band` storage, ``lu`` factorises ``K``. A block
+    Krylov space of ``K^-1 M`` three blocks deep (measured on a 244-DOF rotor: the exact lowest modes lie
+    in it to ~1e-9) from the static deflections ``start`` and a
+    seeded random block (so results are reproducible); its Ritz vectors of the lowest modes
+    are accurate enough for Newton's starting values (Newton makes the eigenpairs exact)."""
+    k, m, kl, ku = bands
+    rng = np.random.default_rng(12345)
+    size = k.shape[0]
+    block = np.hstack([start, lu.solve(rng.standard_normal((size, count)))])
+    blocks = []
+    for _ in range(2):
+        block, _ = np.linalg.qr(block)
+        blocks.append(block)
+        block = lu.solve(_band_matmul(m, kl, ku, block))
+    blocks.append(block)
+    q, _ = np.linalg.qr(np.hstack(blocks))
+    kq, mq = (q.T @ _band_matmul(band, kl, ku, q) for band in (k, m))
+    _, z = scipy.linalg.eigh((kq + kq.T) / 2, (mq + mq.T) / 2, subset_by_index=[0, count - 1])
+    return q @ z
 
 
 def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int):
@@ -391,11 +490,14 @@ def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: 
     ``numpy.linalg.eig``. Returns ``lam0`` (S, n), NaN where fewer than ``n`` oscillating modes
     were found, and ``vec0`` (S, n, N) on the free DOFs.
     """
-    phi = _ritz_basis(system, parts, float(speeds[speeds.size // 2]), n)
+    mid = speeds.size // 2
+    phi = _ritz_basis(system, parts, float(speeds[mid]), mid, n)
     size, m = phi.shape
-    f = np.ix_(system.free, system.free)
-    kr0, cr0, gr = (phi.T @ a[f] @ phi for a in (system.K, system.C, system.G))
-    mr_inv = np.linalg.inv(phi.T @ system.M[f] @ phi)
+    kr0, cr0, gr, mr = (
+        phi.T @ _band_matmul(a, parts.kl, parts.ku, phi)
+        for a in (parts.k, parts.c, parts.g, parts.m)
+    )
+    mr_inv = np.linalg.inv(mr)
     outer = phi[parts.sup_row][:, :, None] * phi[parts.sup_col][:, None, :]
     kr = kr0 + np.einsum("sp,pij->sij", parts.sup_k, outer)
     dr = cr0 + speeds[:, None, None] * gr + np.einsum("sp,pij->sij", parts.sup_c, outer)
@@ -471,7 +573,11 @@ def _clusters(lam: np.ndarray):
 
 
 def _whirl_labels(shapes: np.ndarray) -> np.ndarray:
-    """``_whirl_label`` of every shape at once: ``shapes`` (..., 2 stations) as ``V, W`` pairs."""
+    """The whirl of every shape at once (see the module docstring): ``shapes`` (..., 2 stations)
+    holds ``V, W`` pairs. A station counts when its orbit is significant (``|V|^2 + |W|^2`` above
+    1e-4 of the largest) and not flat (``|Im(conj(V) W)|`` above 1e-6 of it); ``"forward"`` or
+    ``"backward"`` when all such stations turn that way, ``"mixed"`` otherwise or when none
+    counts."""
     v, w = shapes[..., 0::2], shapes[..., 1::2]
     spin = np.imag(np.conj(v) * w)
     amp = np.abs(v) ** 2 + np.abs(w) ** 2
@@ -657,10 +763,12 @@ def _band_parts(system: LinearSystem, speeds: np.ndarray) -> BandParts:
     LU costs ``O(n b^2)``; a dense system (e.g. a modal one) is simply a band as wide as the
     matrix.
     """
-    f = np.ix_(system.free, system.free)
-    mats = [system.M[f], system.G[f], system.K[f], system.C[f]]
+    mats = [system.M, system.G, system.K, system.C]
+    if system.fixed:
+        f = np.ix_(system.free, system.free)
+        mats = [a[f] for a in mats]
     rows, cols, k, c = _support_values(system, speeds)
-    pattern = sum(np.abs(m) for m in mats) > 0
+    pattern = (mats[0] != 0) | (mats[1] != 0) | (mats[2] != 0) | (mats[3] != 0)
     pattern[rows, cols] = True
     r, cidx = np.nonzero(pattern)
     kl = int(max(0, (r - cidx).max(initial=0)))

@@ -24,6 +24,7 @@ __all__ = [
     "SparseRows",
     "Starts",
     "refine_eigenpairs",
+    "refine_eigenpairs_serial",
     "unbalance_sweep",
 ]
 
@@ -217,26 +218,45 @@ def refine_eigenpairs(parts, speeds, starts, tol, max_iter, out_rows):
     to ``x``, of shape ``(S, n, R)``;
     Newton steps taken, negative where ``max_iter`` passed without convergence.
     """
-    n = parts.m.shape[0]
     ns, nm = starts.lam.shape
     shapes = np.zeros((ns, nm, out_rows.idx.shape[0]), np.complex128)
     out = Refined(starts.lam.copy(), shapes, np.zeros((ns, nm), np.int64))
     nblk = min(ns, 64)
     for blk in prange(nblk):
-        work = _Work(
-            np.empty((n, 2 * parts.kl + parts.ku + 1), np.complex128),
-            np.empty(n, np.int64),
-            np.empty(n, np.complex128),
-        )
-        for s in range(blk * ns // nblk, (blk + 1) * ns // nblk):
-            for j in range(nm):
-                x = _newton(parts, s, speeds[s], starts, j, tol, max_iter, work, out)
-                for r in range(out_rows.idx.shape[0]):
-                    acc = 0j
-                    for k in range(out_rows.idx.shape[1]):
-                        acc += out_rows.val[r, k] * x[out_rows.idx[r, k]]
-                    shapes[s, j, r] = acc
+        _refine_block(parts, speeds, starts, tol, max_iter, out_rows, out, blk * ns // nblk,
+                      (blk + 1) * ns // nblk)  # fmt: skip
     return out
+
+
+@njit(cache=True)
+def refine_eigenpairs_serial(parts, speeds, starts, tol, max_iter, out_rows):
+    """:func:`refine_eigenpairs` on the calling thread only: for one or a few speeds, where
+    waking the thread pool (OpenMP barriers on a busy machine: milliseconds) would cost more
+    than the Newton steps."""
+    ns, nm = starts.lam.shape
+    shapes = np.zeros((ns, nm, out_rows.idx.shape[0]), np.complex128)
+    out = Refined(starts.lam.copy(), shapes, np.zeros((ns, nm), np.int64))
+    _refine_block(parts, speeds, starts, tol, max_iter, out_rows, out, 0, ns)
+    return out
+
+
+@njit(cache=True)
+def _refine_block(parts, speeds, starts, tol, max_iter, out_rows, out, s0, s1):
+    """Newton on the speeds ``s0 <= s < s1`` of :func:`refine_eigenpairs` (own work arrays)."""
+    n = parts.m.shape[0]
+    work = _Work(
+        np.empty((n, 2 * parts.kl + parts.ku + 1), np.complex128),
+        np.empty(n, np.int64),
+        np.empty(n, np.complex128),
+    )
+    for s in range(s0, s1):
+        for j in range(starts.lam.shape[1]):
+            x = _newton(parts, s, speeds[s], starts, j, tol, max_iter, work, out)
+            for r in range(out_rows.idx.shape[0]):
+                acc = 0j
+                for k in range(out_rows.idx.shape[1]):
+                    acc += out_rows.val[r, k] * x[out_rows.idx[r, k]]
+                out.shapes[s, j, r] = acc
 
 
 @njit(cache=True)
