@@ -394,8 +394,11 @@ def _ritz_basis(
     dofs = np.unique(parts.sup_row)
     unit = np.zeros((size, dofs.size))
     unit[dofs, np.arange(dofs.size)] = 1.0
-    if n + 6 + dofs.size < size and size > _KRYLOV_SIZE and parts.kl == parts.ku and (
-        2 * parts.kl + parts.ku + 1 < size // 4
+    if (
+        n + 6 + dofs.size < size
+        and size > _KRYLOV_SIZE
+        and parts.kl == parts.ku
+        and (2 * parts.kl + parts.ku + 1 < size // 4)
     ):
         bands = (_stiffness_band(parts, at), parts.m, parts.kl, parts.ku)
         lu = _BandLU(bands[0], parts.kl, parts.ku)
