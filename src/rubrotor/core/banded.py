@@ -19,6 +19,7 @@ __all__ = [
     "OK",
     "SINGULAR",
     "band_factor",
+    "band_matmul",
     "band_solve",
     "Refined",
     "SparseRows",
@@ -190,6 +191,21 @@ def _band_matvec(band, ku, x, scale, y):
         sx = scale * x[j]
         for r in range(max(0, ku - j), min(band.shape[1], ku + n - j)):
             y[j + r - ku] += band[j, r] * sx
+
+
+@njit(cache=True)
+def band_matmul(band, ku, x, out):
+    """``out <- a @ x`` for real ``a`` in compact band storage (``a[i, j]`` at ``[j, ku + i - j]``)
+    and a real block ``x`` (n, k)."""
+    n, k = x.shape
+    out[:] = 0.0
+    for j in range(n):
+        for r in range(max(0, ku - j), min(band.shape[1], ku + n - j)):
+            a = band[j, r]
+            if a != 0.0:
+                i = j + r - ku
+                for c in range(k):
+                    out[i, c] += a * x[j, c]
 
 
 @njit(cache=True)
