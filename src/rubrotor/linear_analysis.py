@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 import scipy.linalg
 import scipy.optimize
@@ -42,7 +43,7 @@ from rubrotor.core.banded import (
     Starts,
     band_matmul,
     refine_eigenpairs,
-    refine_eigenpairs_serial,
+    ritz_vectors,
     unbalance_sweep,
 )
 from rubrotor.errors import InputError
@@ -230,7 +231,12 @@ def _newton_eig(system: LinearSystem, speed: float, n: int):
         return None
     size = system.n_dof
     every = SparseRows(np.arange(size)[:, None], np.ones((size, 1), complex))
-    ref = refine_eigenpairs_serial(parts, speeds, Starts(lam0, vec0), 1e-10, 8, every)
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)  # one speed: waking the pool (OpenMP barriers) costs milliseconds
+    try:
+        ref = refine_eigenpairs(parts, speeds, Starts(lam0, vec0), 1e-10, 8, every)
+    finally:
+        numba.set_num_threads(threads)
     lam, start = ref.lam[0], lam0[0]
     same = np.abs(lam[:, None] - lam[None, :]) <= 1e-7 * np.abs(lam)[:, None]
     apart = np.abs(start[:, None] - start[None, :]) > 1e-5 * np.abs(start)[:, None]
@@ -398,7 +404,7 @@ def _ritz_basis(
     unit = np.zeros((size, dofs.size))
     unit[dofs, np.arange(dofs.size)] = 1.0
     if (
-        n + 6 + dofs.size < size
+        n + _EXTRA + dofs.size < size
         and size > _KRYLOV_SIZE
         and parts.kl == parts.ku
         and (2 * parts.kl + parts.ku + 1 < size // 4)
@@ -406,20 +412,23 @@ def _ritz_basis(
         bands = (_stiffness_band(parts, at), parts.m, parts.kl, parts.ku)
         lu = _BandLU(bands[0], parts.kl, parts.ku)
         statics = lu.solve(unit)
-        span = np.hstack([_krylov_modes(lu, bands, n + 6, statics), statics])
+        span = np.hstack([_krylov_modes(lu, bands, n + _EXTRA, statics), statics])
         kr, mr = (span.T @ _band_matmul(band, parts.kl, parts.ku, span) for band in bands[:2])
         _, z = scipy.linalg.eigh((kr + kr.T) / 2, (mr + mr.T) / 2, check_finite=False)
         return span @ z
     mx = system.matrices(speed)
     ks = (mx.K + mx.K.T) / 2
-    if n + 6 + dofs.size >= size:
+    if n + _EXTRA + dofs.size >= size:
         _, phi = scipy.linalg.eigh(ks, mx.M, check_finite=False)
         return phi
-    _, modes = scipy.linalg.eigh(ks, mx.M, subset_by_index=[0, n + 5], check_finite=False)
+    _, modes = scipy.linalg.eigh(ks, mx.M, subset_by_index=[0, n + _EXTRA - 1], check_finite=False)
     span = np.hstack([modes, np.linalg.solve(ks, unit)])
     _, z = scipy.linalg.eigh(span.T @ ks @ span, span.T @ mx.M @ span, check_finite=False)
     return span @ z
 
+
+_EXTRA = 6
+"""Undamped modes in the Ritz basis beyond the ``n`` wanted."""
 
 _KRYLOV_SIZE = 120
 """Above this many free DOFs (and a narrow band) the undamped modes of the Ritz basis come from
@@ -492,7 +501,9 @@ def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: 
     """Starting eigenpairs at every speed from a projection onto :func:`_ritz_basis`.
 
     The projected first-order problems of all speeds are solved in one batched
-    ``numpy.linalg.eig``. Returns ``lam0`` (S, n), NaN where fewer than ``n`` oscillating modes
+    ``numpy.linalg.eigvals`` and the projected shapes by one step of inverse iteration each
+    (:func:`rubrotor.core.banded.ritz_vectors`, compiled; cheaper than batched eigenvectors).
+    Returns ``lam0`` (S, n), NaN where fewer than ``n`` oscillating modes
     were found, and ``vec0`` (S, n, N) on the free DOFs.
     """
     mid = speeds.size // 2
@@ -510,14 +521,12 @@ def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: 
     a[:, :m, m:] = np.eye(m)
     a[:, m:, :m] = -mr_inv @ kr
     a[:, m:, m:] = -mr_inv @ dr
-    lam, y = np.linalg.eig(a)
+    lam = np.linalg.eigvals(a)
+    lam = np.where(lam.imag > OSCILLATING * np.abs(lam), lam, np.nan)
+    lam = np.take_along_axis(lam, np.argsort(np.where(np.isnan(lam), np.inf, lam.imag)), 1)
     lam0 = np.full((speeds.size, n), np.nan + 0j)
-    vec0 = np.zeros((speeds.size, n, size), complex)
-    for i in range(speeds.size):
-        keep = np.flatnonzero(lam[i].imag > OSCILLATING * np.abs(lam[i]))
-        keep = keep[np.argsort(lam[i, keep].imag)][:n]
-        lam0[i, : keep.size] = lam[i, keep]
-        vec0[i, : keep.size] = (phi @ y[i, :m, keep].T).T
+    lam0[:, : min(n, lam.shape[1])] = lam[:, :n]
+    vec0 = ritz_vectors(mr, dr, kr, lam0) @ phi.T
     return lam0, vec0
 
 
