@@ -121,8 +121,8 @@ def show(label, res, peer, ours, goal=None, unit=1e3, suffix="ms"):
     (wr, cr, _), (wo, co, _) = res[peer], res[ours]
     g = f" (goal {goal}x)" if goal else ""
     print(
-        f"  {label}: ROSS {wr * unit:.4g} {suffix}, ours {wo * unit:.4g} {suffix}: "
-        f"ratio {wr / wo:.1f}x wall, {cr / co:.1f}x CPU{g}"
+        f"  {label}: ROSS {wr * unit:.4g} {suffix} (CPU {cr * unit:.4g}), ours {wo * unit:.4g} "
+        f"{suffix} (CPU {co * unit:.4g}): ratio {wr / wo:.1f}x wall, {cr / co:.1f}x CPU{g}"
     )
 
 
