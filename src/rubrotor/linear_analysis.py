@@ -28,6 +28,7 @@ rotor.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from dataclasses import dataclass
 
 import numba
@@ -497,43 +498,59 @@ def _krylov_modes(lu: _BandLU, bands, count: int, start: np.ndarray) -> np.ndarr
     return q @ z
 
 
-def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int):
-    """Starting eigenpairs at every speed from a projection onto :func:`_ritz_basis`.
+Reduced = namedtuple("Reduced", "phi mr kr dr")
+Reduced.__doc__ = """A projection onto the Ritz basis ``phi`` (N, m): mass ``mr`` (m, m),
+stiffness ``kr`` and damping ``dr`` (S, m, m) at every speed of the sweep (supports included)."""
 
-    The projected first-order problems of all speeds are solved in one batched
-    ``numpy.linalg.eigvals`` and the projected shapes by one step of inverse iteration each
-    (:func:`rubrotor.core.banded.ritz_vectors`, compiled; cheaper than batched eigenvectors).
-    Returns ``lam0`` (S, n), NaN where fewer than ``n`` oscillating modes
-    were found, and ``vec0`` (S, n, N) on the free DOFs.
-    """
+
+def _reduced(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int) -> Reduced:
+    """The projection of the rotor at every speed (rad/s) onto :func:`_ritz_basis`."""
     mid = speeds.size // 2
     phi = _ritz_basis(system, parts, float(speeds[mid]), mid, n)
-    size, m = phi.shape
     kr0, cr0, gr, mr = (
         phi.T @ _band_matmul(a, parts.kl, parts.ku, phi)
         for a in (parts.k, parts.c, parts.g, parts.m)
     )
-    mr_inv = np.linalg.inv(mr)
     outer = phi[parts.sup_row][:, :, None] * phi[parts.sup_col][:, None, :]
     kr = kr0 + np.einsum("sp,pij->sij", parts.sup_k, outer)
     dr = cr0 + speeds[:, None, None] * gr + np.einsum("sp,pij->sij", parts.sup_c, outer)
-    a = np.zeros((speeds.size, 2 * m, 2 * m))
+    return Reduced(phi, mr, kr, dr)
+
+
+def _projected_lam(red: Reduced, idx: np.ndarray, n: int) -> np.ndarray:
+    """The ``n`` lowest oscillating eigenvalues (1/s) of the projected problems at sweep
+    indices ``idx`` (one batched ``numpy.linalg.eigvals``); NaN where there are fewer."""
+    m = red.mr.shape[0]
+    mr_inv = np.linalg.inv(red.mr)
+    a = np.zeros((idx.size, 2 * m, 2 * m))
     a[:, :m, m:] = np.eye(m)
-    a[:, m:, :m] = -mr_inv @ kr
-    a[:, m:, m:] = -mr_inv @ dr
+    a[:, m:, :m] = -mr_inv @ red.kr[idx]
+    a[:, m:, m:] = -mr_inv @ red.dr[idx]
     lam = np.linalg.eigvals(a)
     lam = np.where(lam.imag > OSCILLATING * np.abs(lam), lam, np.nan)
     lam = np.take_along_axis(lam, np.argsort(np.where(np.isnan(lam), np.inf, lam.imag)), 1)
-    lam0 = np.full((speeds.size, n), np.nan + 0j)
-    lam0[:, : min(n, lam.shape[1])] = lam[:, :n]
-    vec0 = ritz_vectors(mr, dr, kr, lam0) @ phi.T
-    return lam0, vec0
+    out = np.full((idx.size, n), np.nan + 0j)
+    out[:, : min(n, lam.shape[1])] = lam[:, :n]
+    return out
+
+
+def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int):
+    """Starting eigenpairs at every speed from a projection onto :func:`_ritz_basis`.
+
+    The projected eigenvalues come from :func:`_projected_lam` and the projected shapes from one
+    step of inverse iteration each (:func:`rubrotor.core.banded.ritz_vectors`, compiled;
+    cheaper than batched eigenvectors). Returns ``lam0`` (S, n), NaN where fewer than ``n``
+    oscillating modes were found, and ``vec0`` (S, n, N) on the free DOFs.
+    """
+    red = _reduced(system, parts, speeds, n)
+    lam0 = _projected_lam(red, np.arange(speeds.size), n)
+    return lam0, ritz_vectors(red.mr, red.dr, red.kr, lam0) @ red.phi.T
 
 
 def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
     """Eigenvalues (S, n), shapes at the whirl stations (S, n, 2 stations) and a success mask.
 
-    Ritz starting values (:func:`_ritz_starts`) refined by Newton on the full banded quadratic
+    Starting values (:func:`_refine_chunk`) refined by Newton on the full banded quadratic
     eigenproblem (:func:`rubrotor.core.banded.refine_eigenpairs`) until a step is below
     ``1e-10 |lam|`` (quadratic convergence: the error after it is at rounding level); clusters of
     equal eigenvalues get the shapes of extreme whirl (as in :func:`damped_modes`).
@@ -547,13 +564,7 @@ def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
     for c0 in range(0, speeds.size, 256):  # bounded memory for long sweeps
         sl = slice(c0, min(c0 + 256, speeds.size))
         sub = parts._replace(sup_k=parts.sup_k[sl], sup_c=parts.sup_c[sl])
-        lam0, vec0 = _ritz_starts(system, sub, speeds[sl], n)
-        found = np.isfinite(lam0)
-        lam0 = np.where(found, lam0, 1j)
-        ref = refine_eigenpairs(sub, speeds[sl], Starts(lam0, vec0), 1e-10, 8, gather)
-        lam[sl], shapes[sl], steps = ref.lam, ref.shapes, ref.steps
-        ok[sl] = (steps > 0) | ~found
-        lam[sl] = np.where(found, lam[sl], np.nan)
+        lam[sl], shapes[sl], ok[sl] = _refine_chunk(system, sub, speeds[sl], n, gather)
     order = np.argsort(np.where(np.isfinite(lam), lam.imag, np.inf), axis=1)
     lam = np.take_along_axis(lam, order, 1)
     shapes = np.take_along_axis(shapes, order[:, :, None], 1)
@@ -561,6 +572,60 @@ def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
     for i, j0, j1 in _clusters(lam):
         shapes[i, j0:j1] = _circularise(eye, shapes[i, j0:j1].T).T
     return lam, shapes, ok
+
+
+def _refine_chunk(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int, gather):
+    """The ``n`` lowest modes at every speed of one chunk: ``(lam, shapes, ok)`` unsorted.
+
+    On a small rotor ``n + 1`` branches are followed (so that a branch crossing the ``n``-th from
+    above is seen) and at every other speed (and the last) the starts are the projected
+    eigenvalues
+    (:func:`_projected_lam`); at the speeds in between they are the mean of the two refined
+    neighbours (a two-sided interpolation, far closer than the projection), with the projected
+    shapes at that value. Such a speed is redone from its projected eigenvalues when a branch
+    was not smooth across it (neighbours more than 1e-2 apart), Newton failed, a value moved
+    by more than 1e-3 from its start, or two starts met one eigenvalue."""
+    red = _reduced(system, parts, speeds, n)
+    size = speeds.size
+    # small rotors only: there the projected eigenvalues cost more than the Newton steps of the
+    # extra branch; on a large one (Newton dominant) every speed gets its projected starts
+    between = size >= 5 and system.n_dof <= _KRYLOV_SIZE
+    count = n + 1 if between else n
+    lam = np.full((size, count), np.nan + 0j)
+    shapes = np.zeros((size, count, gather.idx.shape[0]), complex)
+    ok = np.zeros((size, count), bool)
+
+    def solve(idx, lam0):
+        found = np.isfinite(lam0)
+        vec0 = ritz_vectors(red.mr, red.dr[idx], red.kr[idx], lam0) @ red.phi.T
+        sub = parts._replace(sup_k=parts.sup_k[idx], sup_c=parts.sup_c[idx])
+        start = Starts(np.where(found, lam0, 1j), vec0)
+        ref = refine_eigenpairs(sub, speeds[idx], start, 1e-10, 8, gather)
+        lam[idx] = np.where(found, ref.lam, np.nan)
+        shapes[idx], ok[idx] = ref.shapes, (ref.steps > 0) | ~found
+
+    key = np.unique(np.r_[0:size:2, size - 1]) if between else np.arange(size)
+    solve(key, _projected_lam(red, key, count))
+    odd = np.setdiff1d(np.arange(size), key)
+    if odd.size:
+        lo, hi = lam[odd - 1], lam[odd + 1]
+        guess = (lo + hi) / 2
+        smooth = np.abs(hi - lo) <= 1e-2 * np.abs(lo)  # False where NaN
+        solve(odd, np.where(smooth | ~np.isfinite(lo), guess, np.nan + 0j))
+        got = lam[odd]
+        same = np.abs(got[:, :, None] - got[:, None, :]) <= 1e-7 * np.abs(got)[:, :, None]
+        apart = np.abs(guess[:, :, None] - guess[:, None, :]) > 1e-5 * np.abs(guess)[:, :, None]
+        moved = np.abs(got - guess) > 1e-3 * np.abs(guess)
+        bad = (~smooth & np.isfinite(lo)) | ~ok[odd] | moved
+        redo = odd[bad.any(axis=1) | (same & apart).any(axis=(1, 2))]
+        if redo.size:
+            solve(redo, _projected_lam(red, redo, count))
+    order = np.argsort(np.where(np.isfinite(lam), lam.imag, np.inf), axis=1)[:, :n]
+    return (
+        np.take_along_axis(lam, order, 1),
+        np.take_along_axis(shapes, order[:, :, None], 1),
+        np.take_along_axis(ok, order, 1),
+    )
 
 
 def _sparse_rows(rows: np.ndarray) -> SparseRows:
