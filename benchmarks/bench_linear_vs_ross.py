@@ -13,14 +13,17 @@ among numba threads, so they are timed on one thread and on all cores.
 Our side is timed twice: plain SciPy on ``LinearSystem.matrices(speed)`` (dense ``eigvals`` of
 the first-order matrix; one complex solve per speed) and rubrotor's own ``damped_modes``,
 ``campbell_data`` and ``unbalance_response`` (which also classify whirl and damping).
-ROSS and ours run in turns (interleaved repeats, medians) and every line gives the ratio of wall
-times and of process CPU times: on a shared, loaded machine the CPU ratio is the steadier one
+ROSS and ours run in turns (interleaved repeats, medians; the garbage collector is run before
+and disabled during each timed call, as ``timeit`` does, so that neither side pays for
+collecting the other's objects) and every line gives the ratio of wall times and of process
+CPU times: on a shared, loaded machine the CPU ratio is the steadier one
 (both sides are single-threaded there); the goals are read on the 1-thread lines.
 """
 
 from __future__ import annotations
 
 import contextlib
+import gc
 import io
 import statistics
 import time
@@ -49,10 +52,13 @@ def thread_counts():
 def median_time(fn, reps=3):
     out, times = None, []
     for _ in range(reps):
+        gc.collect()
+        gc.disable()
         t0 = time.perf_counter()
         with contextlib.redirect_stdout(io.StringIO()):
             out = fn()
         times.append(time.perf_counter() - t0)
+        gc.enable()
     return statistics.median(times), out
 
 
@@ -108,11 +114,14 @@ def interleaved(fns, reps):
     out = {}
     for _ in range(reps):
         for k, fn in fns.items():
+            gc.collect()  # as timeit: no collection of the other side's garbage inside a timing
+            gc.disable()
             t0, c0 = time.perf_counter(), time.process_time()
             with contextlib.redirect_stdout(io.StringIO()):
                 out[k] = fn()
             wall[k].append(time.perf_counter() - t0)
             cpu[k].append(time.process_time() - c0)
+            gc.enable()
     return {k: (statistics.median(wall[k]), statistics.median(cpu[k]), out[k]) for k in fns}
 
 
