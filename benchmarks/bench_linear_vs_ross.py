@@ -1,7 +1,9 @@
 """rubrotor linear analyses vs ROSS on ROSS's own rotors, imported with ``rubrotor.from_ross``.
 
-Run: ``PYTHONPATH=src /work/venvs/ross23/bin/python benchmarks/bench_linear_vs_ross.py [example] [60]`` (a venv
-with ``pip install "rubrotor[ross]"``). Ours and ROSS in one process, medians of 3 repetitions.
+Run: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src /work/venvs/ross3/bin/python
+benchmarks/bench_linear_vs_ross.py [example] [60]`` (ROSS 3.1 on Python 3.13; ROSS 2.3 on 3.11
+works too; any venv with ``pip install "rubrotor[ross]"``). Ours and ROSS in one process,
+medians of 3 repetitions (ROSS's 200-speed Campbell of the 60-element rotor: one run).
 
 Rotors: ``ross.rotor_example()`` and a 60-element hollow steel rotor with two disks and
 anisotropic, cross-coupled, damped bearings built in ROSS. Ours is the same model (``from_ross``),
@@ -11,11 +13,17 @@ among numba threads, so they are timed on one thread and on all cores.
 Our side is timed twice: plain SciPy on ``LinearSystem.matrices(speed)`` (dense ``eigvals`` of
 the first-order matrix; one complex solve per speed) and rubrotor's own ``damped_modes``,
 ``campbell_data`` and ``unbalance_response`` (which also classify whirl and damping).
+ROSS and ours run in turns (interleaved repeats, medians; the garbage collector is run before
+and disabled during each timed call, as ``timeit`` does, so that neither side pays for
+collecting the other's objects) and every line gives the ratio of wall times and of process
+CPU times: on a shared, loaded machine the CPU ratio is the steadier one
+(both sides are single-threaded there); the goals are read on the 1-thread lines.
 """
 
 from __future__ import annotations
 
 import contextlib
+import gc
 import io
 import statistics
 import time
@@ -44,10 +52,13 @@ def thread_counts():
 def median_time(fn, reps=3):
     out, times = None, []
     for _ in range(reps):
+        gc.collect()
+        gc.disable()
         t0 = time.perf_counter()
         with contextlib.redirect_stdout(io.StringIO()):
             out = fn()
         times.append(time.perf_counter() - t0)
+        gc.enable()
     return statistics.median(times), out
 
 
@@ -93,63 +104,112 @@ def our_unbalance(sys, node_pos, speeds):
     return amp
 
 
+def interleaved(fns, reps):
+    """Time ``fns`` (name -> callable) in turns, ``reps`` rounds: each round runs every one once,
+    so a load change on the shared machine hits all of them alike. Returns name -> (median wall
+    s, median CPU s of this process, last result). CPU time is the load-proof figure for
+    single-threaded runs (ROSS here, ours on one numba thread)."""
+    wall = {k: [] for k in fns}
+    cpu = {k: [] for k in fns}
+    out = {}
+    for _ in range(reps):
+        for k, fn in fns.items():
+            gc.collect()  # as timeit: no collection of the other side's garbage inside a timing
+            gc.disable()
+            t0, c0 = time.perf_counter(), time.process_time()
+            with contextlib.redirect_stdout(io.StringIO()):
+                out[k] = fn()
+            wall[k].append(time.perf_counter() - t0)
+            cpu[k].append(time.process_time() - c0)
+            gc.enable()
+    return {k: (statistics.median(wall[k]), statistics.median(cpu[k]), out[k]) for k in fns}
+
+
+def show(label, res, peer, ours, goal=None, unit=1e3, suffix="ms"):
+    """One line: ROSS and ours, wall and CPU, and their ratios."""
+    (wr, cr, _), (wo, co, _) = res[peer], res[ours]
+    g = f" (goal {goal}x)" if goal else ""
+    print(
+        f"  {label}: ROSS {wr * unit:.4g} {suffix} (CPU {cr * unit:.4g}), ours {wo * unit:.4g} "
+        f"{suffix} (CPU {co * unit:.4g}): ratio {wr / wo:.1f}x wall, {cr / co:.1f}x CPU{g}"
+    )
+
+
 def run_case(name, r):
     """Print the frequency difference and the three timings for one ROSS rotor."""
     sys = from_ross(r)
     print(f"\n== {name}: {len(r.nodes_pos)} nodes, {sys.n_dof} lateral DOFs (ROSS {r.ndof})")
+    numba.set_num_threads(1)
     speed = 500.0
-    t_ross, modal = median_time(
-        lambda r=r: (
-            r.run_modal.cache_clear() if hasattr(r.run_modal, "cache_clear") else None,
-            r.run_modal(speed, num_modes=24),
-        )[1]
-    )
-    t_ours, ours = median_time(lambda sys=sys: our_frequencies(sys, speed, 8))
-    lam = np.asarray(modal.evalues)
-    wd = np.sort(lam.imag[lam.imag > 1e-3])
-    diff = max(np.min(np.abs(wd - f)) / f for f in ours)
-    print(f"modal @ {speed} rad/s: max rel. freq. diff (8 modes) {diff:.2e}")
-    print(
-        f"  one modal analysis: ROSS {t_ross * 1e3:.1f} ms, ours {t_ours * 1e3:.2f} ms, ratio {t_ross / t_ours:.1f}x"
-    )
-    t_dm, dm = median_time(lambda sys=sys: damped_modes(sys, speed, n=12), reps=7)
-    f_dm = np.array([m.frequency_hz for m in dm.modes]) * 2 * np.pi
-    diff_dm = max(np.min(np.abs(wd - f)) / f for f in f_dm)
-    print(
-        f"  damped_modes (n=12, as ROSS's 24 eigenvalues): {t_dm * 1e3:.2f} ms, "
-        f"ratio {t_ross / t_dm:.1f}x (goal 30x); freq. diff {diff_dm:.2e}"
-    )
     speeds = np.linspace(0, 1000, 200)
-    if r.ndof > 100:  # ROSS needs ~13 s per speed here: time 4 speeds once, scale to 200
-        t4, _ = median_time(lambda r=r: r.run_campbell(speeds[::50], frequencies=6), reps=1)
-        t_rc = t4 * 50
-        print(f"  ROSS Campbell EXTRAPOLATED: 4 speeds took {t4:.1f} s, x50")
-    else:
-        t_rc, _ = median_time(lambda r=r: r.run_campbell(speeds, frequencies=6))
-    t_oc, _ = median_time(lambda sys=sys: our_campbell(sys, speeds))
-    print(f"  Campbell 200 speeds: ROSS {t_rc:.2f} s, ours {t_oc:.3f} s, ratio {t_rc / t_oc:.1f}x")
-    campbell_data(sys, speeds, n=6)  # compile / load the kernels outside the timing
-    for threads in thread_counts():
-        numba.set_num_threads(threads)
-        t_cd, _ = median_time(lambda sys=sys: campbell_data(sys, speeds, n=6), reps=5)
-        print(
-            f"  campbell_data (n=6), {threads} numba thread(s): {t_cd:.3f} s, "
-            f"ratio {t_rc / t_cd:.1f}x (goal 100x)"
-        )
     n = r.disk_elements[0].n
-    sp = np.linspace(1, 1000, 500)
-    t_ru, _ = median_time(lambda r=r: r.run_unbalance_response(n, 1e-3, 0.0, sp))
-    t_ou, _ = median_time(lambda sys=sys: our_unbalance(sys, float(r.nodes_pos[n]), sp))
-    print(f"  unbalance 500 speeds: ROSS {t_ru:.2f} s, ours {t_ou:.3f} s, ratio {t_ru / t_ou:.1f}x")
     x = float(r.nodes_pos[n])
-    unbalance_response(sys, sp, [(x, 1e-3, 0.0)], [x])
-    for threads in thread_counts():
+    sp = np.linspace(1, 1000, 500)
+    # compile / load the kernels outside the timing
+    damped_modes(sys, speed, n=12), campbell_data(sys, speeds[:3], n=6)
+    unbalance_response(sys, sp[:3], [(x, 1e-3, 0.0)], [x])
+
+    def ross_modal():
+        if hasattr(r.run_modal, "cache_clear"):
+            r.run_modal.cache_clear()
+        return r.run_modal(speed, num_modes=24)
+
+    res = interleaved(
+        {
+            "ross": ross_modal,
+            "plain": lambda: our_frequencies(sys, speed, 8),
+            "ours": lambda: damped_modes(sys, speed, n=12),
+        },
+        reps=7,
+    )
+    lam = np.asarray(res["ross"][2].evalues)
+    wd = np.sort(lam.imag[lam.imag > 1e-3])
+    diff = max(np.min(np.abs(wd - f)) / f for f in res["plain"][2])
+    f_dm = np.array([m.frequency_hz for m in res["ours"][2].modes]) * 2 * np.pi
+    diff_dm = max(np.min(np.abs(wd - f)) / f for f in f_dm)
+    print(f"modal @ {speed} rad/s: max rel. freq. diff (8 modes) {diff:.2e}; ours {diff_dm:.2e}")
+    show("one modal analysis, plain SciPy eigvals", res, "ross", "plain")
+    show(
+        "one modal analysis, damped_modes (n=12, as ROSS's 24 eigenvalues)", res, "ross", "ours", 30
+    )
+
+    t4, _ = median_time(lambda: r.run_campbell(speeds[::50], frequencies=6), reps=1)
+    camp = {"ross": lambda: r.run_campbell(speeds, frequencies=6)}
+    if t4 > 4.0:  # ROSS 2.3 needs ~13 s per speed on the 60-element rotor: scale 4 speeds
+        camp = {}
+        print(f"  ROSS Campbell EXTRAPOLATED: 4 speeds took {t4:.1f} s, x50")
+    if sys.n_dof < 100:
+        camp["plain"] = lambda: our_campbell(sys, speeds)
+    camp["ours"] = lambda: campbell_data(sys, speeds, n=6)
+    res = interleaved(camp, reps=3 if t4 < 0.5 else 1)
+    if t4 > 4.0:
+        res["ross"] = (t4 * 50, t4 * 50, None)
+    if "plain" in res:
+        show("Campbell 200 speeds, plain SciPy eigvals", res, "ross", "plain", unit=1, suffix="s")
+    show("campbell_data (n=6), 1 numba thread", res, "ross", "ours", 100, unit=1, suffix="s")
+    for threads in thread_counts()[1:]:
+        numba.set_num_threads(threads)
+        t_cd, _ = median_time(lambda: campbell_data(sys, speeds, n=6), reps=5)
+        print(f"  campbell_data (n=6), {threads} numba threads: {t_cd:.3f} s, "
+              f"ratio {res['ross'][0] / t_cd:.1f}x wall")  # fmt: skip
+        numba.set_num_threads(1)
+
+    res = interleaved(
+        {
+            "ross": lambda: r.run_unbalance_response(n, 1e-3, 0.0, sp),
+            "plain": lambda: our_unbalance(sys, x, sp),
+            "ours": lambda: unbalance_response(sys, sp, [(x, 1e-3, 0.0)], [x]),
+        },
+        reps=5,
+    )
+    show("unbalance 500 speeds, plain numpy.linalg.solve", res, "ross", "plain")
+    show("unbalance_response, 1 numba thread", res, "ross", "ours", 100)
+    for threads in thread_counts()[1:]:
         numba.set_num_threads(threads)
         t_ur, _ = median_time(lambda: unbalance_response(sys, sp, [(x, 1e-3, 0.0)], [x]), reps=7)
-        print(
-            f"  unbalance_response, {threads} numba thread(s): {t_ur * 1e3:.2f} ms, "
-            f"ratio {t_ru / t_ur:.1f}x (goal 100x)"
-        )
+        print(f"  unbalance_response, {threads} numba threads: {t_ur * 1e3:.2f} ms, "
+              f"ratio {res['ross'][0] / t_ur:.1f}x wall")  # fmt: skip
+        numba.set_num_threads(1)
 
 
 def main():

@@ -19,10 +19,13 @@ __all__ = [
     "OK",
     "SINGULAR",
     "band_factor",
+    "band_matmul",
     "band_solve",
     "Refined",
+    "SparseRows",
     "Starts",
     "refine_eigenpairs",
+    "ritz_vectors",
     "unbalance_sweep",
 ]
 
@@ -36,6 +39,13 @@ Starts.__doc__ = """Starting eigenvalues ``lam`` (S, n) (1/s) and eigenvectors `
 Refined = namedtuple("Refined", "lam shapes steps")
 Refined.__doc__ = """Refined eigenvalues (S, n) (1/s), eigenvectors at output rows (S, n, R), and
 Newton steps (S, n), negative where the iteration did not converge."""
+
+SparseRows = namedtuple("SparseRows", "idx val")
+SparseRows.__doc__ = """Output rows as a gather: row ``r`` of ``R x`` is ``sum_k val[r, k] x[idx[r, k]]``.
+
+``idx`` (R, w) int64 and ``val`` (R, w) complex, padded with zero values; a nodal station picks
+one DOF (``w = 1``), so the whirl shapes of a large rotor cost a few operations per station
+instead of a dense ``R x N`` product."""
 
 _Work = namedtuple("_Work", "ab ipiv u")
 
@@ -174,22 +184,33 @@ def unbalance_sweep(parts, speeds, rhs, out_rows):
 
 
 @njit(cache=True)
-def _band_matvec(band, ku, x, scale, y):
-    """``y += scale * a @ x`` for ``a`` in compact band storage (``a[i, j]`` at ``[j, ku + i - j]``)."""
-    n = band.shape[0]
+def band_matmul(band, ku, x, out):
+    """``out <- a @ x`` for real ``a`` in compact band storage (``a[i, j]`` at ``[j, ku + i - j]``)
+    and a real block ``x`` (n, k)."""
+    n, k = x.shape
+    out[:] = 0.0
     for j in range(n):
-        sx = scale * x[j]
         for r in range(max(0, ku - j), min(band.shape[1], ku + n - j)):
-            y[j + r - ku] += band[j, r] * sx
+            a = band[j, r]
+            if a != 0.0:
+                i = j + r - ku
+                for c in range(k):
+                    out[i, c] += a * x[j, c]
 
 
 @njit(cache=True)
 def _derivative_apply(parts, s, omega, lam, x, y):
-    """``y <- T'(lam) x = (2 lam M + C + omega G + C_s) x`` at sweep index ``s``."""
+    """``y <- T'(lam) x = (2 lam M + C + omega G + C_s) x`` at sweep index ``s`` (one pass over
+    the bands)."""
+    n = parts.m.shape[0]
+    ku = parts.ku
     y[:] = 0.0
-    _band_matvec(parts.m, parts.ku, x, 2.0 * lam, y)
-    _band_matvec(parts.c, parts.ku, x, 1.0 + 0j, y)
-    _band_matvec(parts.g, parts.ku, x, omega + 0j, y)
+    two_lam = 2.0 * lam
+    for j in range(n):
+        xj = x[j]
+        for r in range(max(0, ku - j), min(parts.m.shape[1], ku + n - j)):
+            coef = two_lam * parts.m[j, r] + (parts.c[j, r] + omega * parts.g[j, r])
+            y[j + r - ku] += coef * xj
     for p in range(parts.sup_row.size):
         y[parts.sup_row[p]] += parts.sup_c[s, p] * x[parts.sup_col[p]]
 
@@ -205,29 +226,37 @@ def refine_eigenpairs(parts, speeds, starts, tol, max_iter, out_rows):
     the next error predicted from the last two steps, is below ``tol |lam|``. Speeds are shared
     among the numba threads in blocks.
 
-    Returns :class:`Refined`: eigenvalues ``(S, n)``; ``out_rows @ x`` of shape ``(S, n, R)``;
+    Returns :class:`Refined`: eigenvalues ``(S, n)``; ``out_rows`` (:class:`SparseRows`) applied
+    to ``x``, of shape ``(S, n, R)``;
     Newton steps taken, negative where ``max_iter`` passed without convergence.
     """
-    n = parts.m.shape[0]
     ns, nm = starts.lam.shape
-    shapes = np.zeros((ns, nm, out_rows.shape[0]), np.complex128)
+    shapes = np.zeros((ns, nm, out_rows.idx.shape[0]), np.complex128)
     out = Refined(starts.lam.copy(), shapes, np.zeros((ns, nm), np.int64))
     nblk = min(ns, 64)
     for blk in prange(nblk):
-        work = _Work(
-            np.empty((n, 2 * parts.kl + parts.ku + 1), np.complex128),
-            np.empty(n, np.int64),
-            np.empty(n, np.complex128),
-        )
-        for s in range(blk * ns // nblk, (blk + 1) * ns // nblk):
-            for j in range(nm):
-                x = _newton(parts, s, speeds[s], starts, j, tol, max_iter, work, out)
-                for r in range(out_rows.shape[0]):
-                    acc = 0j
-                    for i in range(n):
-                        acc += out_rows[r, i] * x[i]
-                    shapes[s, j, r] = acc
+        _refine_block(parts, speeds, starts, tol, max_iter, out_rows, out, blk * ns // nblk,
+                      (blk + 1) * ns // nblk)  # fmt: skip
     return out
+
+
+@njit(cache=True)
+def _refine_block(parts, speeds, starts, tol, max_iter, out_rows, out, s0, s1):
+    """Newton on the speeds ``s0 <= s < s1`` of :func:`refine_eigenpairs` (own work arrays)."""
+    n = parts.m.shape[0]
+    work = _Work(
+        np.empty((n, 2 * parts.kl + parts.ku + 1), np.complex128),
+        np.empty(n, np.int64),
+        np.empty(n, np.complex128),
+    )
+    for s in range(s0, s1):
+        for j in range(starts.lam.shape[1]):
+            x = _newton(parts, s, speeds[s], starts, j, tol, max_iter, work, out)
+            for r in range(out_rows.idx.shape[0]):
+                acc = 0j
+                for k in range(out_rows.idx.shape[1]):
+                    acc += out_rows.val[r, k] * x[out_rows.idx[r, k]]
+                out.shapes[s, j, r] = acc
 
 
 @njit(cache=True)
@@ -235,10 +264,14 @@ def _newton(parts, s, w, starts, j, tol, max_iter, work, out):
     """Newton iterations of :func:`refine_eigenpairs` for mode ``j`` at sweep index ``s``;
     writes ``out.lam``, ``out.steps`` and returns the eigenvector."""
     x = starts.vec[s, j].copy()
-    c = x / np.vdot(x, x).real
     lk = starts.lam[s, j]
-    last = 0.0
     out.steps[s, j] = -max_iter
+    norm2 = np.vdot(x, x).real
+    if not norm2 > 0.0:  # no start vector: not converged (no division by zero in a thread)
+        out.lam[s, j] = lk
+        return x
+    c = x / norm2
+    last = 0.0
     for it in range(max_iter):
         _assemble(parts, s, w, lk, work.ab)
         if band_factor(work.ab, parts.kl, parts.ku, work.ipiv) != OK:
@@ -247,6 +280,8 @@ def _newton(parts, s, w, starts, j, tol, max_iter, work, out):
         _derivative_apply(parts, s, w, lk, x, work.u)
         band_solve(work.ab, parts.kl, parts.ku, work.ipiv, work.u)
         d = np.vdot(c, work.u)
+        if d == 0.0:  # the start has no component along the eigenvector: give up
+            break
         step = -1.0 / d
         lk = lk + step
         x = work.u / d
@@ -260,3 +295,74 @@ def _newton(parts, s, w, starts, j, tol, max_iter, work, out):
         last = size
     out.lam[s, j] = lk
     return x
+
+
+@njit(cache=True)
+def ritz_vectors(mass, damping, stiffness, lam):
+    """Null vectors of small dense quadratic eigenproblems at known eigenvalues.
+
+    For every speed ``s`` and mode ``j`` solves ``T y = r_j`` (a fixed right-hand side that
+    differs between modes, so that equal eigenvalues get independent vectors) with
+    ``T = lam[s, j]^2 mass + lam[s, j] damping[s] + stiffness[s]`` (``mass`` (m, m),
+    ``damping``, ``stiffness`` (S, m, m), consistent units; ``lam`` (S, n) in 1/s, NaN to skip)
+    by LU with partial pivoting: ``lam`` being an eigenvalue to rounding, ``T`` is singular to
+    rounding and ``y`` is its null vector (one step of inverse iteration). Returns ``y`` (S, n, m)
+    normalised to unit length; a pivot below ``1e-16`` of the largest entry is raised to it (an
+    exactly singular ``T``: ``y`` is then a null vector exactly)."""
+    ns, nm = lam.shape
+    m = mass.shape[0]
+    out = np.zeros((ns, nm, m), np.complex128)
+    t = np.empty((m, m), np.complex128)
+    y = np.empty(m, np.complex128)
+    for s in range(ns):
+        for j in range(nm):
+            lk = lam[s, j]
+            if not (np.isfinite(lk.real) and np.isfinite(lk.imag)):
+                continue
+            size = 0.0
+            for a in range(m):
+                y[a] = np.cos(0.7 * a * (j + 1) + j) + 1j * np.sin(1.3 * a + 0.4 * j)
+                for b in range(m):
+                    t[a, b] = lk * lk * mass[a, b] + lk * damping[s, a, b] + stiffness[s, a, b]
+                    size = max(size, _abs1(t[a, b]))
+            _dense_solve(t, y, 1e-16 * size if size > 0.0 else 1.0)
+            big = 0.0
+            for a in range(m):
+                big = max(big, _abs1(y[a]))
+            y /= big
+            out[s, j] = y / np.sqrt(np.vdot(y, y).real)
+    return out
+
+
+@njit(cache=True)
+def _dense_solve(t, y, floor):
+    """``y <- t^-1 y`` by Gaussian elimination with partial pivoting (overwrites ``t``); a pivot
+    below ``floor`` (an exactly singular ``t``) is replaced by ``floor``."""
+    m = t.shape[0]
+    for k in range(m):
+        p = k
+        for i in range(k + 1, m):
+            if _abs1(t[i, k]) > _abs1(t[p, k]):
+                p = i
+        if p != k:
+            for c in range(m):
+                tmp = t[k, c]
+                t[k, c] = t[p, c]
+                t[p, c] = tmp
+            tmp = y[k]
+            y[k] = y[p]
+            y[p] = tmp
+        if _abs1(t[k, k]) < floor:
+            t[k, k] = floor
+        inv = 1.0 / t[k, k]
+        for i in range(k + 1, m):
+            f = t[i, k] * inv
+            if f != 0.0:
+                for c in range(k + 1, m):
+                    t[i, c] -= f * t[k, c]
+                y[i] -= f * y[k]
+    for k in range(m - 1, -1, -1):
+        acc = y[k]
+        for c in range(k + 1, m):
+            acc -= t[k, c] * y[c]
+        y[k] = acc / t[k, k]
