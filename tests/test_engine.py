@@ -368,6 +368,31 @@ def test_streamed_run_equals_in_memory_run(tmp_path):
         assert ds.attrs["status"] == "complete"
 
 
+def test_streamed_events_are_flushed_per_chunk(tmp_path, monkeypatch):
+    """A streamed run hands its events to the file chunk by chunk (chunks of 100 samples; a
+    2-event buffer, below the kernel's margin, grows to it) and the file holds exactly the
+    in-memory run's events, in order, with their contact index and kind (reference: the
+    in-memory run)."""
+    import xarray as xr
+
+    from rubrotor.engine import driver
+
+    system, stations, unb = general_case()
+    run = Run(speed=SPEED, duration=0.06, step=2e-5, save_every=2, initial="rest")
+    mem = simulate_general(system, run, stations, unb, gravity=GRAVITY, progress=False)
+    assert len(mem.events) > 3
+    monkeypatch.setattr(driver, "EVENT_BUFFER", 2)  # below the kernel's margin: grows once
+    path = tmp_path / "run.nc"
+    st = simulate_general(system, run, stations, unb, gravity=GRAVITY, progress=False,
+                          stream=str(path), chunk_samples=100)  # fmt: skip
+    assert st.status == "complete"
+    assert st.stats["contact_events"] == mem.stats["contact_events"]
+    ref = mem.to_dataset()
+    with xr.open_dataset(path) as ds:
+        for name in ("event_time", "event_contact", "event_kind"):
+            np.testing.assert_array_equal(ds[name].values, ref[name].values)
+
+
 def test_run_too_large_is_refused_before_it_starts():
     """A run whose samples cannot fit in memory is refused, naming the keys to change."""
     system, stations, unb = general_case()

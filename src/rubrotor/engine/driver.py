@@ -248,6 +248,7 @@ class _Chunks:
     ys: np.ndarray
     events: np.ndarray
     istate: np.ndarray = field(default_factory=lambda: np.zeros(N_ISTATE, np.int64))
+    flushed: int = 0  # events already handed to a sink (streamed runs)
 
 
 @dataclass(frozen=True)
@@ -520,6 +521,13 @@ def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: floa
             done += wrote
             st = int(state.istate[I_STATUS])
             lost = state.istate[I_EVENTS] > len(state.events)
+            if sink is not None and not lost:
+                flushed = _flush_events(state, sink)
+                if st == EVENT_BUFFER_FULL:
+                    if not flushed:  # smaller than the kernel's margin: grow it once
+                        state.events = np.concatenate([state.events, np.zeros_like(state.events)])
+                    state.istate[I_STATUS] = OK
+                    continue
             if st == EVENT_BUFFER_FULL and not lost and len(state.events) < EVENT_BUFFER_MAX:
                 state.events = np.concatenate([state.events, np.zeros_like(state.events)])
                 state.istate[I_STATUS] = OK
@@ -542,6 +550,15 @@ def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: floa
     return done, msg, _time.perf_counter() - t0
 
 
+def _flush_events(state: _Chunks, sink) -> int:
+    """Hand the chunk's events to the sink and empty the buffer (bounded memory); their count."""
+    ne = int(state.istate[I_EVENTS])
+    sink.write_events(state.events[:ne])
+    state.flushed += ne
+    state.istate[I_EVENTS] = 0
+    return ne
+
+
 def _check_call(method: str, stations) -> None:
     """Refuse an unknown stepper or a station that is not a :class:`RubStation`."""
     if method not in STEPPERS:
@@ -551,14 +568,15 @@ def _check_call(method: str, stations) -> None:
             raise InputError(f"contact[{i + 1}]", s, "a RubStation")
 
 
-def _add_counts(stats: dict, ist, method: str, plant: Plant, run: Run, wall: float) -> None:
+def _add_counts(stats: dict, state: _Chunks, method: str, plant: Plant, run: Run, wall: float):
     """The run's counters (named slots of the kernel's integer state) into ``stats``."""
+    ist = state.istate
     stats.update(
         method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
         eig_cond=plant.rotor.cond, steps=int(ist[I_STEP]), substeps=int(ist[I_SUBSTEPS]),
         newton_iterations=int(ist[I_NEWTON]), accepted_steps=int(ist[I_ACCEPTED]),
         rejected_steps=int(ist[I_REJECTED]), grazing_closures=int(ist[I_GRAZE]),
-        contact_events=int(ist[I_EVENTS]), wall_s=wall, residual=run.residual,
+        contact_events=int(ist[I_EVENTS]) + state.flushed, wall_s=wall, residual=run.residual,
     )  # fmt: skip
 
 
@@ -654,16 +672,17 @@ def simulate_general(
         done, msg, wall = _loop(chunk, n_samples, state, show, sample_dt, sink)
     except BaseException:
         if sink is not None:
-            sink.close(np.zeros((0, 2)), {}, ok=False)
+            sink.close({}, ok=False)
         raise
     ist = state.istate
-    _add_counts(stats, ist, method, plant, run, wall)
+    _add_counts(stats, state, method, plant, run, wall)
     n_out = done + 1
     events = state.events[: min(int(ist[I_EVENTS]), len(state.events))].copy()
     status = "complete" if not msg else "partial"
     final_state = final()
     if sink is not None:
-        sink.close(events, {"status": status, "status_message": msg, "speed_rad_s": plant.speed,
+        sink.write_events(events)
+        sink.close({"status": status, "status_message": msg, "speed_rad_s": plant.speed,
                             "integrator_stats": json.dumps(_jsonable(stats)), **(attrs or {}),
                             "final_state": json.dumps(final_state.tolist())})  # fmt: skip
         stats["stream"] = str(stream)
