@@ -1,7 +1,7 @@
 """Run-up through the first critical speed: how to re-diagonalise as the speed changes.
 
 Run from the repository root: ``python benchmarks/bench_engine_runup.py [--reps 3]``.
-Prints, never asserts; the table is copied into docs/runup.md.
+Prints, never asserts; the table is copied into docs/guide/simulation.md.
 
 Alternatives (``Run.runup_reduction``), both with the speed frozen per segment at its mid-speed:
 
@@ -16,10 +16,11 @@ Alternatives (``Run.runup_reduction``), both with the speed frozen per segment a
    (1 m shaft, 6 elements, 10 kg disk, anisotropic bearings; no contact), 0.6 to 1.4 times the
    steady peak speed in 0.3 s, 200 segments, 4 retained modes. Error: max over the run of the
    midspan ``(v, w)`` deviation relative to the largest amplitude.
-2. Cost on a large model: the 60-element rotor of benchmarks/bench_engine.py (244 DOFs, rub at a
-   disk against a flexible offset stator, gravity), 300 to 500 rad/s in 0.2 s, 8 modes, 100
-   segments: wall time of the whole call (median of ``--reps``) and the deviation of ``ritz``
-   from ``full`` (the SciPy reference of this stiff 244-DOF model with rub takes too long).
+2. Cost on a large model: the 60-element rotor of benchmarks/bench_engine.py (244 DOFs, gravity,
+   two unbalances), without contact and with rub at a disk against a flexible offset stator,
+   300 to 500 rad/s in 0.2 s, 8 modes, 100 segments: wall time of the whole call (median of
+   ``--reps``) and the deviation of ``ritz`` from ``full`` relative to the orbit (the SciPy
+   reference of this stiff 244-DOF model takes too long).
 """
 
 from __future__ import annotations
@@ -89,8 +90,8 @@ def accuracy(reps: int) -> None:
     print(f"1. small rotor ({system.n_dof} DOFs), run-up {base.speed:.0f} -> {base.speed_end:.0f}"
           f" rad/s in 0.3 s, 200 segments; SciPy reference {time.perf_counter() - t0:.0f} s")  # fmt: skip
     print(f"{'modes':>6}{'reduction':>11}{'basis':>7}{'rel error':>11}{'call ms':>10}")
-    for modes in (4, None):
-        for red in ("full", "ritz"):
+    for modes in (2, 4, None):
+        for red in ("full", "ritz") if modes else ("full",):
             run = dataclasses.replace(base, modes=modes, runup_reduction=red)
             wall, res = _median_call(
                 lambda run=run: simulate_general(system, run, unbalances=unb, progress=False), reps
@@ -104,24 +105,25 @@ def cost(reps: int) -> None:
     system, stations, unb = general_rotor()
     base = Run(speed=300.0, speed_end=500.0, duration=0.2, step=2e-5, save_every=5, modes=8,
                initial="static", speed_step=2.0)  # fmt: skip
-    print(f"\n2. 60-element rotor ({system.n_dof} DOFs), rub at a disk, run-up 300 -> 500 rad/s "
-          f"in 0.2 s, 100 segments, 8 modes")  # fmt: skip
-    print(f"{'reduction':>10}{'basis':>7}{'call s':>9}{'kernel s':>10}{'events':>8}"
+    print(f"\n2. 60-element rotor ({system.n_dof} DOFs), run-up 300 -> 500 rad/s in 0.2 s, "
+          f"100 segments, 8 modes, gravity")  # fmt: skip
+    print(f"{'case':>12}{'reduction':>10}{'basis':>7}{'call s':>9}{'events':>8}"
           f"{'deviation from full':>21}")  # fmt: skip
-    ref = None
-    for red in ("full", "ritz"):
-        run = dataclasses.replace(base, runup_reduction=red)
+    for case, st in (("no contact", []), ("rub at disk", stations)):
+        ref = None
+        for red in ("full", "ritz"):
+            run = dataclasses.replace(base, runup_reduction=red, probes=() if st else (0.5,))
 
-        def go(run=run):
-            return simulate_general(system, run, stations, unb, gravity=(-9.81, 0.0),
-                                    progress=False)  # fmt: skip
+            def go(run=run, st=st):
+                return simulate_general(system, run, st, unb, gravity=(-9.81, 0.0),
+                                        progress=False)  # fmt: skip
 
-        wall, res = _median_call(go, reps)
-        x = res.channels[:2]
-        ref = x if ref is None else ref
-        dev = np.max(np.abs(x - ref)) / np.max(np.abs(ref))
-        print(f"{red:>10}{res.stats['ritz_basis_size']:>7}{wall:9.2f}{res.stats['wall_s']:10.2f}"
-              f"{res.stats['contact_events']:8d}{dev:21.2e}")  # fmt: skip
+            wall, res = _median_call(go, reps)
+            x = res.channels[:2]
+            ref = x if ref is None else ref
+            dev = np.max(np.abs(x - ref)) / np.max(np.abs(ref))
+            print(f"{case:>12}{red:>10}{res.stats['ritz_basis_size']:>7}{wall:9.2f}"
+                  f"{res.stats['contact_events']:8d}{dev:21.2e}")  # fmt: skip
 
 
 def main() -> None:

@@ -445,7 +445,7 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     (``Drive``).
 
     Re-diagonalisation (``run.runup_reduction``), chosen by the measurements in
-    ``docs/runup.md``: ``"ritz"`` (default when modes are dropped) projects ``M``, ``C + Omega
+    ``docs/guide/simulation.md``: ``"ritz"`` (default when modes are dropped) projects ``M``, ``C + Omega
     G`` and the supports at each segment's speed on one fixed basis (:func:`_runup_basis`,
     some ``2 (modes + stations)`` to ``6 (modes + stations)`` vectors) and diagonalises that
     small system; ``"full"`` re-diagonalises the full model at every segment. Both agree with

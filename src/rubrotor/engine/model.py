@@ -142,7 +142,7 @@ class Run:
         How a run-up re-diagonalises at each speed step: the system projected on a fixed basis
         of the kept modes and static responses (``"ritz"``, a small eigenproblem) or the full
         model (``"full"``); see ``rubrotor.engine.driver._runup_factory`` and
-        ``docs/runup.md``. Used only when modes are dropped (``modes`` or ``cutoff``).
+        ``docs/guide/simulation.md``. Used only when modes are dropped (``modes`` or ``cutoff``).
     rtol : float, optional
         Adaptive steps: relative tolerance of the local error; ``step`` is then the output
         spacing (s), subdivided dyadically, and ``save_every`` must be 1.
@@ -170,7 +170,7 @@ class Run:
 
     def __post_init__(self):
         if self.runup_reduction not in RUNUP_REDUCTIONS:
-            raise InputError("speed.reduction", self.runup_reduction,
+            raise InputError("runup_reduction", self.runup_reduction,
                              " or ".join(f'"{s}"' for s in RUNUP_REDUCTIONS))  # fmt: skip
         if self.rtol is not None:
             _num("simulation.rtol", self.rtol, "1", 0, True)
