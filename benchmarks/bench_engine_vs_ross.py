@@ -114,11 +114,6 @@ def ours(system, position, radius, duration, damping, friction, **kw):
     return wall, res.stats["wall_s"], res.time, res.channels[:2], res.stats, setup
 
 
-def _median(fn, reps):
-    out = [fn() for _ in range(reps)]
-    return statistics.median(o[0] for o in out), out[-1]
-
-
 def _error(x, ref):
     n = min(x.shape[1], ref.shape[1])
     return float(np.max(np.abs(x[:, :n] - ref[:, :n])) / np.max(np.abs(ref[:, :n])))
@@ -153,31 +148,41 @@ def _reference(a, system, pos, radius):
 
 
 def _measure(a, rotor, system, pos, radius, ref, ross):
-    """Rows (label, whole s/rev short, whole s/rev long, marginal s/rev, setup s, error)."""
+    """Rows (label, whole s/rev short, whole s/rev long, marginal s/rev, setup s, error).
+
+    Repeats are interleaved: every repetition runs every variant at both lengths, so that the
+    load of this shared machine falls on ours and ROSS's alike; medians over repetitions."""
     revs = [d * SPEED / (2 * np.pi) for d in (a.duration, a.long)]
-    rows = []
     cases = [("ours fixed 1e-4 s, all modes", {}), ("ours fixed 1e-4 s, 12 modes", {"modes": 12}),
              ("ours adaptive rtol 1e-6, all modes", {"rtol": 1e-6}),
              ("ours adaptive rtol 1e-6, 12 modes", {"rtol": 1e-6, "modes": 12})]  # fmt: skip
-    for label, kw in cases:
-        err = _error(ours(system, pos, radius, a.duration, 0.0, 0.0, **kw)[3], ref)
-        walls, loops, setup = [], [], []
-        for d in (a.duration, a.long):
-            out = [ours(system, pos, radius, d, 40.0, 0.3, **kw) for _ in range(a.reps)]
-            walls.append(statistics.median(o[0] for o in out))
-            loops.append(statistics.median(o[0] - o[5] for o in out))  # call minus its setup
-            setup += [o[5] for o in out]
-        marg = (loops[1] - loops[0]) / (revs[1] - revs[0])
-        rows.append((label, walls[0] / revs[0], walls[1] / revs[1], marg,
-                     statistics.median(setup), err))  # fmt: skip
-    for label, kw in ross_variants(ross):
-        err = _error(ross_run(rotor, a.duration, 0.0, 0.0, **kw)[2], ref)
-        walls = []
-        for d in (a.duration, a.long):
-            reps = a.ross_reps if not kw or d == a.long else a.reps
-            walls.append(_median(lambda kw=kw, d=d: ross_run(rotor, d, 40.0, 0.3, **kw), reps)[0])
-        marg = (walls[1] - walls[0]) / (revs[1] - revs[0])
-        rows.append((label, walls[0] / revs[0], walls[1] / revs[1], marg, float("nan"), err))
+    variants = [(lb, kw, True) for lb, kw in cases]
+    variants += [(lb, kw, False) for lb, kw in ross_variants(ross)]
+    errs, runs = {}, {lb: ([], [], [], []) for lb, _, _ in variants}  # walls, loops per length
+    for lb, kw, mine in variants:
+        x = ours(system, pos, radius, a.duration, 0.0, 0.0, **kw)[3] if mine else (
+            ross_run(rotor, a.duration, 0.0, 0.0, **kw)[2])  # fmt: skip
+        errs[lb] = _error(x, ref)
+    setups = {lb: [] for lb, _, _ in variants}
+    for _ in range(a.reps):
+        for lb, kw, mine in variants:
+            for j, d in enumerate((a.duration, a.long)):
+                if mine:
+                    o = ours(system, pos, radius, d, 40.0, 0.3, **kw)
+                    runs[lb][j].append(o[0])
+                    runs[lb][2 + j].append(o[0] - o[5])  # the call minus its own setup
+                    setups[lb].append(o[5])
+                else:
+                    w = ross_run(rotor, d, 40.0, 0.3, **kw)[0]
+                    runs[lb][j].append(w)
+                    runs[lb][2 + j].append(w)
+    rows = []
+    med = statistics.median
+    for lb, _, mine in variants:
+        w0, w1, l0, l1 = (med(v) for v in runs[lb])
+        marg = (l1 - l0) / (revs[1] - revs[0])
+        st = med(setups[lb]) if mine else float("nan")
+        rows.append((lb, w0 / revs[0], w1 / revs[1], marg, st, errs[lb]))
     return rows, revs
 
 
@@ -201,10 +206,9 @@ def _verdict(rows, revs) -> None:
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--reps", type=int, default=3, help="interleaved repetitions (medians)")
     ap.add_argument("--duration", type=float, default=0.1, help="simulated time (s), short run")
     ap.add_argument("--long", type=float, default=2.0, help="simulated time (s), long run")
-    ap.add_argument("--ross-reps", type=int, default=1, help="repetitions of ROSS's full run")
     ap.add_argument("--reference", choices=("scipy", "engine"), default="scipy")
     a = ap.parse_args(argv)
     ross = _ross()
