@@ -105,9 +105,9 @@ def _particular(sm, b_u: np.ndarray, speed: float) -> np.ndarray:
     number estimated by LAPACK ``gecon`` instead of an SVD)."""
     import scipy.linalg
 
-    dyn = sm.K - speed**2 * sm.M + 1j * speed * sm.damping
     if not np.any(b_u):
         return np.zeros(len(b_u), complex)
+    dyn = sm.K - speed**2 * sm.M + 1j * speed * sm.damping
     lu = scipy.linalg.lu_factor(dyn, check_finite=False)
     rcond = scipy.linalg.lapack.zgecon(lu[0], np.abs(dyn).sum(axis=0).max(), norm="1")[0]
     if not rcond > 1e-14:
