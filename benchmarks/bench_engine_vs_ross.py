@@ -19,7 +19,7 @@ anisotropic bearings; the rotor of ROSS's own ``run_rubbing`` example), read int
   reference, relative to its largest amplitude. Reference (``--reference``): ``scipy`` (default),
   solve_ivp DOP853 rtol 1e-10, atol 1e-14 on all 136 DOFs (tests/engine_reference.py; this
   rotor's Rayleigh-damped shaft has overdamped modes near -7e6 1/s, so DOP853 needs steps below
-  1e-6 s: 529 s for 0.1 s on this loaded machine); ``engine``: our engine with every mode kept
+  1e-6 s: 312-529 s for 0.1 s on this loaded machine); ``engine``: our engine with every mode kept
   (no reduction) and adaptive steps at rtol 1e-10, atol 1e-15, seconds (its agreement with
   DOP853 full-DOF runs is tested in tests/test_engine.py and tests/test_engine_multi.py).
 * Time, on ROSS's contact as it is (damping 40 N s/m, friction 0.3; ours: radial dashpot 40 N s/m,
