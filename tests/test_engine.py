@@ -308,6 +308,30 @@ def test_runup_matches_scipy():
     assert errs[-1] < 1e-5
 
 
+def test_runup_ritz_reduction_equals_full_rediagonalisation():
+    """Run-up with 2 retained modes: re-diagonalising the system projected on one Ritz basis
+    (``runup_reduction="ritz"``) gives the samples of re-diagonalising the full model at every
+    segment, and both have the same error against the full-DOF SciPy reference (DOP853 with
+    Omega(t) in every evaluation; the error is the truncation to 2 modes)."""
+    system, unb = _runup_rotor()
+    wc = _steady_peak_speed(system, unb, np.linspace(100, 600, 501))
+    base = Run(speed=0.6 * wc, speed_end=1.4 * wc, duration=0.15, step=5e-5, save_every=2,
+               initial="static", probes=(0.5,), modes=2, speed_step=0.8 * wc / 100)  # fmt: skip
+    t, rot, _, _ = reference_run(system, base, [], unb, rtol=1e-9, atol=1e-13)
+    out = {}
+    for red in ("full", "ritz"):
+        res = simulate_general(system, dataclasses.replace(base, runup_reduction=red),
+                               unbalances=unb, progress=False)  # fmt: skip
+        assert res.stats["runup_reduction"] == red
+        out[red] = res.channels[:2]
+    scale = np.max(np.abs(rot[0]))
+    errs = {k: np.max(np.abs(rot[0] - v)) / scale for k, v in out.items()}
+    dev = np.max(np.abs(out["full"] - out["ritz"])) / scale
+    print("errors", errs, "ritz - full", dev)
+    assert errs["full"] < 2e-3 and abs(errs["ritz"] - errs["full"]) < 1e-6
+    assert dev < 1e-6
+
+
 def test_runup_peak_above_critical_coastdown_below():
     """Passing the critical speed at a finite rate shifts the response peak: above the steady
     peak speed (full-model steady response, closed form) when accelerating, below it when
@@ -366,6 +390,31 @@ def test_streamed_run_equals_in_memory_run(tmp_path):
         np.testing.assert_allclose(ds.time.values, ref.time.values, rtol=1e-15)
         np.testing.assert_array_equal(ds.event_time.values, ref.event_time.values)
         assert ds.attrs["status"] == "complete"
+
+
+def test_streamed_events_are_flushed_per_chunk(tmp_path, monkeypatch):
+    """A streamed run hands its events to the file chunk by chunk (chunks of 100 samples; a
+    2-event buffer, below the kernel's margin, grows to it) and the file holds exactly the
+    in-memory run's events, in order, with their contact index and kind (reference: the
+    in-memory run)."""
+    import xarray as xr
+
+    from rubrotor.engine import driver
+
+    system, stations, unb = general_case()
+    run = Run(speed=SPEED, duration=0.06, step=2e-5, save_every=2, initial="rest")
+    mem = simulate_general(system, run, stations, unb, gravity=GRAVITY, progress=False)
+    assert len(mem.events) > 3
+    monkeypatch.setattr(driver, "EVENT_BUFFER", 2)  # below the kernel's margin: grows once
+    path = tmp_path / "run.nc"
+    st = simulate_general(system, run, stations, unb, gravity=GRAVITY, progress=False,
+                          stream=str(path), chunk_samples=100)  # fmt: skip
+    assert st.status == "complete"
+    assert st.stats["contact_events"] == mem.stats["contact_events"]
+    ref = mem.to_dataset()
+    with xr.open_dataset(path) as ds:
+        for name in ("event_time", "event_contact", "event_kind"):
+            np.testing.assert_array_equal(ds[name].values, ref[name].values)
 
 
 def test_run_too_large_is_refused_before_it_starts():

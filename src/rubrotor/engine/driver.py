@@ -54,7 +54,14 @@ from rubrotor.core.engine_adaptive import (
     expo_adaptive,
 )
 from rubrotor.engine.model import RubStation, Run, static_load_vector, unbalance_phasor
-from rubrotor.engine.reduce import Modes, reduce_matrices
+from rubrotor.engine.reduce import (
+    Modes,
+    RitzBasis,
+    basis_from_modes,
+    reduce_auto,
+    reduce_matrices,
+    reduce_projected,
+)
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
 from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Plan, Steps
 from rubrotor.errors import InputError
@@ -94,12 +101,18 @@ def _stator_modes(st: RubStation):
 
 
 def _particular(sm, b_u: np.ndarray, speed: float) -> np.ndarray:
-    dyn = sm.K - speed**2 * sm.M + 1j * speed * sm.damping
+    """Steady unbalance response ``(K - Omega^2 M + i Omega D)^-1 b_u`` (one LU; its condition
+    number estimated by LAPACK ``gecon`` instead of an SVD)."""
+    import scipy.linalg
+
     if not np.any(b_u):
         return np.zeros(len(b_u), complex)
-    if np.linalg.cond(dyn) > 1e14:
+    dyn = sm.K - speed**2 * sm.M + 1j * speed * sm.damping
+    lu = scipy.linalg.lu_factor(dyn, check_finite=False)
+    rcond = scipy.linalg.lapack.zgecon(lu[0], np.abs(dyn).sum(axis=0).max(), norm="1")[0]
+    if not rcond > 1e-14:
         raise InputError("speed", speed, "a speed off an undamped critical speed (add damping)")
-    return np.linalg.solve(dyn, b_u)
+    return scipy.linalg.lu_solve(lu, b_u, check_finite=False)
 
 
 def _initial(run: Run, modes: Modes, q_s, Q, speed) -> np.ndarray:
@@ -116,7 +129,8 @@ def _initial(run: Run, modes: Modes, q_s, Q, speed) -> np.ndarray:
     return modes.project(shift)
 
 
-def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=(0.0, 0.0)):
+def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=(0.0, 0.0),
+                basis=None):  # fmt: skip
     """Reduce the rotor and assemble rows, particular solutions and initial state.
 
     Parameters
@@ -133,6 +147,10 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
         Constant point loads (N) at positions (m).
     gravity : (float, float)
         ``(g_y, g_z)`` (m/s^2) on the rotor's masses (not on the stators).
+    basis : rubrotor.engine.reduce.RitzBasis, optional
+        Diagonalise the system projected on this basis (run-up segments) instead of the full
+        model (:func:`rubrotor.engine.reduce.reduce_auto`: a few modes of a large model by
+        ARPACK, otherwise a dense eigen-decomposition).
 
     Returns
     -------
@@ -140,12 +158,15 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     """
     speed = float(run.speed)
     sm = system.matrices(speed)
-    modes = reduce_matrices(sm.M, sm.damping, sm.K, run.modes, run.cutoff)
-    Rq, Rv = (modes.Rq, modes.Rv) if run.residual else (0 * modes.Rq, 0 * modes.Rv)
     nc = len(stations)
     m = 2 * nc
     Bc = [system.force_map(s.contact.position) for s in stations]
     Bmat = np.hstack(Bc) if nc else np.zeros((sm.M.shape[0], 0))
+    if basis is not None:
+        modes = reduce_projected(sm.M, sm.damping, sm.K, basis, run.modes, run.cutoff)
+    else:
+        modes = reduce_auto(sm.M, sm.damping, sm.K, run.modes, run.cutoff, fmap=Bmat)
+    Rq, Rv = (modes.Rq, modes.Rv) if run.residual else (0 * modes.Rq, 0 * modes.Rv)
     st_modes = [_stator_modes(s) for s in stations]
     nsr = modes.size
     ns = nsr + sum(s.size for s in st_modes if s is not None)
@@ -170,7 +191,8 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
             raise InputError("unbalance.position", None, "an axial position (m)")
         b_u += unbalance_phasor(u, speed) * (system.force_map(u.position) @ np.array([1, -1j]))
     Q = _particular(sm, b_u, speed)
-    q_s = modes.Kinv @ static_load_vector(system, tuple(loads), gravity)
+    f_s = static_load_vector(system, tuple(loads), gravity)
+    q_s = np.linalg.solve(sm.K, f_s) if np.any(f_s) else np.zeros_like(f_s)
     offs = np.array([[s.offset_y, s.offset_z] for s in stations]).ravel()
     Pu = Bmat.T @ Q
     cps = np.array(
@@ -248,6 +270,7 @@ class _Chunks:
     ys: np.ndarray
     events: np.ndarray
     istate: np.ndarray = field(default_factory=lambda: np.zeros(N_ISTATE, np.int64))
+    flushed: int = 0  # events already handed to a sink (streamed runs)
 
 
 @dataclass(frozen=True)
@@ -394,12 +417,41 @@ def _transfer(y, F, a: Plant, b: Plant) -> np.ndarray:
     return out
 
 
+def _runup_basis(problem: Problem, run: Run, plant: Plant) -> RitzBasis | None:
+    """The fixed basis the run-up's segments are projected on (``run.runup_reduction ==
+    "ritz"``), or ``None`` to re-diagonalise the full model (``"full"``, or every mode kept).
+
+    The basis spans the kept modes (right and left displacement vectors) at the start, middle
+    and end speeds and the static responses to unit forces at the contacts and unbalance
+    planes at those speeds (:func:`rubrotor.engine.reduce.basis_from_modes`)."""
+    if run.runup_reduction == "full" or (run.modes is None and run.cutoff is None):
+        return None
+    system = problem.system
+    fmap = np.hstack([plant.Bmat] + [system.force_map(u.position) for u in problem.unbalances])
+    mods, Ks = [], []
+    for w in (run.speed, 0.5 * (run.speed + run.speed_end), run.speed_end):
+        sm = system.matrices(w)
+        mods.append(reduce_auto(sm.M, sm.damping, sm.K, run.modes, run.cutoff, fmap=fmap))
+        Ks.append(sm.K)
+    return basis_from_modes(mods, Ks, fmap)
+
+
 def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     """Stepper for a speed varying linearly from ``run.speed`` to ``run.speed_end``.
 
-    The rotor is re-diagonalised at the mid-speed of each segment (speed change at most
-    ``run.speed_step``); the state is carried across as the physical state. The unbalance
-    (with its angular-acceleration term) is an exact modal input per step (``Drive``).
+    The speed is frozen within each segment (speed change at most ``run.speed_step``), whose
+    modes are those at its mid-speed; the state is carried across segments as the physical
+    state. The unbalance (with its angular-acceleration term) is an exact modal input per step
+    (``Drive``).
+
+    Re-diagonalisation (``run.runup_reduction``), chosen by the measurements in
+    ``docs/guide/simulation.md``: ``"ritz"`` (default when modes are dropped) projects ``M``, ``C + Omega
+    G`` and the supports at each segment's speed on one fixed basis (:func:`_runup_basis`,
+    some ``2 (modes + stations)`` to ``6 (modes + stations)`` vectors) and diagonalises that
+    small system; ``"full"`` re-diagonalises the full model at every segment. Both agree with
+    the full-DOF SciPy reference to the same error (the frozen-speed error per segment
+    dominates), and the Ritz route costs a small eigenproblem per segment instead of a
+    ``2 n``-sized one. With every mode kept there is nothing to project: the full route.
     """
     w0, w1 = run.speed, run.speed_end
     alpha = (w1 - w0) / run.duration
@@ -411,14 +463,18 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     b0 = np.zeros(problem.system.n_dof, complex)
     for u in problem.unbalances:
         b0 += unbalance_phasor(u, 1.0) * (problem.system.force_map(u.position) @ np.array([1, -1j]))
+    basis = _runup_basis(problem, run, plant)
 
     def segment(index: int):
         t_mid = min((index + 0.5) * seg_samples * dt, run.duration)
         w = w0 + alpha * t_mid
-        r = dataclasses.replace(run, speed=w, initial="static")
-        new = build_plant(problem.system, r, problem.stations, (), problem.loads, problem.gravity)
+        r = dataclasses.replace(run, speed=w, initial=run.initial if index == 0 else "static")
+        new = build_plant(problem.system, r, problem.stations, (), problem.loads, problem.gravity,
+                          basis=basis)  # fmt: skip
         if cur["index"] >= 0:
             k["y"] = _transfer(k["y"], k["F"], cur["plant"], new)
+        else:
+            k["y"] = new.y0.copy()
         ub = np.zeros(new.lam.size, complex)
         ub[: new.n_rotor] = new.rotor.U @ b0
         u_conj = np.zeros(new.lam.size, complex)
@@ -429,7 +485,6 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
                    control=Control(0.0, 0.0, 0.0, 0.0, np.zeros(len(steps.h))))  # fmt: skip
 
     segment(0)
-    k["y"] = cur["plant"].y0.copy() if run.initial == "static" else k["y"]
 
     def chunk(offset: int, count: int, done: int) -> int:
         index = done // seg_samples
@@ -443,7 +498,9 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
                           cur["drive"], cur["control"])  # fmt: skip
 
     stats = {"step_s": run.step, "segments": n_seg, "speed_end_rad_s": w1,
-             "angular_acceleration_rad_s2": alpha}  # fmt: skip
+             "angular_acceleration_rad_s2": alpha,
+             "runup_reduction": "full" if basis is None else "ritz",
+             "ritz_basis_size": 0 if basis is None else basis.T.shape[1]}  # fmt: skip
 
     def final():
         return physical_state(cur["plant"], k["y"], k["F"], 1.0)
@@ -520,6 +577,13 @@ def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: floa
             done += wrote
             st = int(state.istate[I_STATUS])
             lost = state.istate[I_EVENTS] > len(state.events)
+            if sink is not None and not lost:
+                flushed = _flush_events(state, sink)
+                if st == EVENT_BUFFER_FULL:
+                    if not flushed:  # smaller than the kernel's margin: grow it once
+                        state.events = np.concatenate([state.events, np.zeros_like(state.events)])
+                    state.istate[I_STATUS] = OK
+                    continue
             if st == EVENT_BUFFER_FULL and not lost and len(state.events) < EVENT_BUFFER_MAX:
                 state.events = np.concatenate([state.events, np.zeros_like(state.events)])
                 state.istate[I_STATUS] = OK
@@ -542,6 +606,15 @@ def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: floa
     return done, msg, _time.perf_counter() - t0
 
 
+def _flush_events(state: _Chunks, sink) -> int:
+    """Hand the chunk's events to the sink and empty the buffer (bounded memory); their count."""
+    ne = int(state.istate[I_EVENTS])
+    sink.write_events(state.events[:ne])
+    state.flushed += ne
+    state.istate[I_EVENTS] = 0
+    return ne
+
+
 def _check_call(method: str, stations) -> None:
     """Refuse an unknown stepper or a station that is not a :class:`RubStation`."""
     if method not in STEPPERS:
@@ -551,14 +624,15 @@ def _check_call(method: str, stations) -> None:
             raise InputError(f"contact[{i + 1}]", s, "a RubStation")
 
 
-def _add_counts(stats: dict, ist, method: str, plant: Plant, run: Run, wall: float) -> None:
+def _add_counts(stats: dict, state: _Chunks, method: str, plant: Plant, run: Run, wall: float):
     """The run's counters (named slots of the kernel's integer state) into ``stats``."""
+    ist = state.istate
     stats.update(
         method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
         eig_cond=plant.rotor.cond, steps=int(ist[I_STEP]), substeps=int(ist[I_SUBSTEPS]),
         newton_iterations=int(ist[I_NEWTON]), accepted_steps=int(ist[I_ACCEPTED]),
         rejected_steps=int(ist[I_REJECTED]), grazing_closures=int(ist[I_GRAZE]),
-        contact_events=int(ist[I_EVENTS]), wall_s=wall, residual=run.residual,
+        contact_events=int(ist[I_EVENTS]) + state.flushed, wall_s=wall, residual=run.residual,
     )  # fmt: skip
 
 
@@ -654,16 +728,17 @@ def simulate_general(
         done, msg, wall = _loop(chunk, n_samples, state, show, sample_dt, sink)
     except BaseException:
         if sink is not None:
-            sink.close(np.zeros((0, 2)), {}, ok=False)
+            sink.close({}, ok=False)
         raise
     ist = state.istate
-    _add_counts(stats, ist, method, plant, run, wall)
+    _add_counts(stats, state, method, plant, run, wall)
     n_out = done + 1
     events = state.events[: min(int(ist[I_EVENTS]), len(state.events))].copy()
     status = "complete" if not msg else "partial"
     final_state = final()
     if sink is not None:
-        sink.close(events, {"status": status, "status_message": msg, "speed_rad_s": plant.speed,
+        sink.write_events(events)
+        sink.close({"status": status, "status_message": msg, "speed_rad_s": plant.speed,
                             "integrator_stats": json.dumps(_jsonable(stats)), **(attrs or {}),
                             "final_state": json.dumps(final_state.tolist())})  # fmt: skip
         stats["stream"] = str(stream)

@@ -14,6 +14,7 @@ from rubrotor.forces import Contact, RadialLoad, Unbalance
 __all__ = ["Stator", "RubStation", "Run", "INITIAL_STATES"]
 
 INITIAL_STATES = ("rest", "static", "steady")
+RUNUP_REDUCTIONS = ("ritz", "full")
 
 
 def _num(field: str, value, unit: str, minimum: float | None = None, strict=False) -> float:
@@ -137,6 +138,11 @@ class Run:
         over ``duration``.
     speed_step : float, optional
         Largest speed change (rad/s) between re-diagonalisations; default 1/200 of the range.
+    runup_reduction : {"ritz", "full"}
+        How a run-up re-diagonalises at each speed step: the system projected on a fixed basis
+        of the kept modes and static responses (``"ritz"``, a small eigenproblem) or the full
+        model (``"full"``); see ``rubrotor.engine.driver._runup_factory`` and
+        ``docs/guide/simulation.md``. Used only when modes are dropped (``modes`` or ``cutoff``).
     rtol : float, optional
         Adaptive steps: relative tolerance of the local error; ``step`` is then the output
         spacing (s), subdivided dyadically, and ``save_every`` must be 1.
@@ -160,8 +166,12 @@ class Run:
     speed_step: float | None = None
     rtol: float | None = None
     atol: float = 1e-10
+    runup_reduction: str = "ritz"
 
     def __post_init__(self):
+        if self.runup_reduction not in RUNUP_REDUCTIONS:
+            raise InputError("runup_reduction", self.runup_reduction,
+                             " or ".join(f'"{s}"' for s in RUNUP_REDUCTIONS))  # fmt: skip
         if self.rtol is not None:
             _num("simulation.rtol", self.rtol, "1", 0, True)
             _num("simulation.atol", self.atol, "m", 0, True)

@@ -21,6 +21,13 @@ from rubrotor.errors import InputError
 
 __all__ = ["check_size", "NetcdfSink", "STATION_VARS", "CONTACT_VARS"]
 
+TIME_CHUNK = 4096
+"""Samples per HDF5 chunk of every time series (32 KiB of float64)."""
+EVENT_CHUNK = 4096
+"""Events per HDF5 chunk."""
+CACHE_BYTES = 1 << 20
+"""HDF5 chunk cache per variable (bytes)."""
+
 STATION_VARS = (("v", "m"), ("w", "m"), ("v_dot", "m/s"), ("w_dot", "m/s"))
 CONTACT_VARS = (
     ("stator_y", "m"), ("stator_z", "m"), ("stator_y_dot", "m/s"), ("stator_z_dot", "m/s"),
@@ -110,9 +117,16 @@ class NetcdfSink:
         self.nc.createDimension("time", None)
         self.nc.createDimension("station", self.S)
         self.nc.createDimension("contact", n_contacts)
-        t = self.nc.createVariable("time", "f8", ("time",))
+        self.nc.createDimension("event", None)
+        self.n_events = 0
+        for name, typ, unit in (("event_time", "f8", "s"), ("event_contact", "i8", None),
+                                ("event_kind", "i1", None)):  # fmt: skip
+            ev = self.nc.createVariable(name, typ, ("event",), chunksizes=(EVENT_CHUNK,))
+            if unit:
+                ev.units = unit
+        t = self.nc.createVariable("time", "f8", ("time",), chunksizes=(TIME_CHUNK,))
         t.units = "s"
-        tau = self.nc.createVariable("tau", "f8", ("time",))
+        tau = self.nc.createVariable("tau", "f8", ("time",), chunksizes=(TIME_CHUNK,))
         tau.units = "rad"
         st = self.nc.createVariable("station", "f8", ("station",))
         st.units = "m"
@@ -120,12 +134,21 @@ class NetcdfSink:
         self.nc.createVariable("contact", "i8", ("contact",))[:] = np.arange(n_contacts)
         for name, unit in STATION_VARS:
             self.nc.createVariable(
-                name, "f8", ("station", "time"), chunksizes=(1, 4096)
+                name, "f8", ("station", "time"), chunksizes=(1, TIME_CHUNK)
             ).units = unit
         for name, unit in CONTACT_VARS:
             v = self.nc.createVariable(name, "f8", ("contact", "time"),
-                                       chunksizes=(1, 4096) if n_contacts else None)  # fmt: skip
+                                       chunksizes=(1, TIME_CHUNK) if n_contacts else None)  # fmt: skip
             v.units = unit
+        self._bound_caches()
+
+    def _bound_caches(self) -> None:
+        """A small HDF5 chunk cache per variable: samples are appended in time order, so a
+        filled chunk is never read again; the default cache kept every chunk written (about
+        20 MiB per 1e5 revolutions) until close."""
+        for var in self.nc.variables.values():
+            if var.chunking() != "contiguous":
+                var.set_var_chunk_cache(size=CACHE_BYTES, nelems=127, preemption=1.0)
 
     def write(self, block: np.ndarray) -> None:
         """Append ``block`` (channels x samples, the kernel's layout)."""
@@ -143,15 +166,21 @@ class NetcdfSink:
                 self.nc[name][:, a:b] = block[[4 * self.S + 8 * c + i for c in range(self.nct)]]
         self.n = b
 
-    def close(self, events: np.ndarray, attrs: dict, ok: bool = True) -> None:
-        """Write the events and attributes, close and rename onto the target (or discard)."""
+    def write_events(self, events: np.ndarray) -> None:
+        """Append contact events (``(n, 2)``: time (s), ``+/-(contact index + 1)``)."""
+        k = len(events)
+        if k == 0:
+            return
+        a, b = self.n_events, self.n_events + k
+        self.nc["event_time"][a:b] = events[:, 0]
+        self.nc["event_contact"][a:b] = np.abs(events[:, 1]).astype(np.int64) - 1
+        self.nc["event_kind"][a:b] = np.sign(events[:, 1]).astype(np.int8)
+        self.n_events = b
+
+    def close(self, attrs: dict, ok: bool = True) -> None:
+        """Write the attributes, close and rename onto the target (or discard)."""
         try:
             if ok:
-                self.nc.createDimension("event", len(events))
-                self.nc.createVariable("event_time", "f8", ("event",))[:] = events[:, 0]
-                kind = self.nc.createVariable("event_contact", "i8", ("event",))
-                kind[:] = np.abs(events[:, 1]).astype(int) - 1
-                self.nc.createVariable("event_kind", "i1", ("event",))[:] = np.sign(events[:, 1])
                 for key, val in attrs.items():
                     self.nc.setncattr(key, val if isinstance(val, str) else json.dumps(val))
         finally:
