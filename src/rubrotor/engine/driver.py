@@ -301,14 +301,20 @@ def _control(plant: Plant, steps: Steps, run: Run) -> Control:
     return Control(1.0, float(run.rtol), float(run.atol), a_f, np.ascontiguousarray(errc))
 
 
-def _plan(plant: Plant, run: Run, levels: int) -> Plan:
-    """The adaptive kernel's plan: look-ahead rows and empty per-level tables (filled on use)."""
+def _plan(plant: Plant, run: Run, levels: int, order: int = 2) -> Plan:
+    """The adaptive kernel's plan: look-ahead rows and empty per-level tables (filled on use)
+    for contact steps of ``order`` 2 (linear force hold) or 4 (quadratic collocation)."""
     lam, beta, c = plant.lam, plant.beta, plant.contacts
     ns, m = beta.shape
     L = LEVELS_UP + levels + 1
-    tab = (np.zeros((L, ns), complex), np.zeros((L, ns), complex), np.zeros((L, ns), complex),
-           np.zeros((L, m, ns), complex), np.zeros((L, m, ns), complex), np.zeros((L, m, m)),
-           np.zeros((L, m, m)), np.zeros((L, m, m)), np.zeros((L, m, m)))  # fmt: skip
+    o2, o4 = (L, 1)[order == 4], (1, L)[order == 4]  # the other order's tables stay 1 row
+    tab = (np.zeros((o2, ns), complex), np.zeros((o2, ns), complex), np.zeros((o2, ns), complex),
+           np.zeros((o2, m, ns), complex), np.zeros((o2, m, ns), complex), np.zeros((o2, m, m)),
+           np.zeros((o2, m, m)), np.zeros((o2, m, m)), np.zeros((o2, m, m)))  # fmt: skip
+    tab4 = (np.zeros((o4, ns), complex), np.zeros((o4, ns), complex),
+            np.zeros((o4, 6, ns), complex), *(np.zeros((o4, m, ns), complex) for _ in range(4)),
+            np.zeros((o4, 2 * m, m)), np.zeros((o4, 2 * m, m)), np.zeros((o4, 2 * m, 2 * m)),
+            np.zeros((o4, 2 * m, 2 * m)))  # fmt: skip
     gmin = float(np.min(c.cp[:, 4])) if m else 0.0
     H = float(run.step)
     return Plan(
@@ -317,11 +323,11 @@ def _plan(plant: Plant, run: Run, levels: int) -> Plan:
         Wv=np.ascontiguousarray(c.Cv[:, None, :] * beta.T[None]),
         Ca=np.ascontiguousarray(np.abs(c.Cd * lam[None, :] ** 2)), EH=np.exp(lam * H), H=H,
         J=levels - 1, hmin=H / 2.0 ** (levels - 1), tol_x=1e-3 * (run.atol + run.rtol * gmin),
-        have=np.zeros(L, np.int64), tab=tab,
+        have=np.zeros(L, np.int64), tab=tab, order=order, tab4=tab4,
     )  # fmt: skip
 
 
-def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
+def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks, order=2):
     """Adaptive steps (``run.rtol``): exact free flight to each sample or located onset,
     contact steps by the error estimate alone, samples from the steps' interpolants
     (:func:`rubrotor.core.engine_adaptive.expo_adaptive`). Stepper ``"free-flight"``: opt-in
@@ -332,7 +338,7 @@ def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
             "simulation.rtol", None, 'a relative tolerance > 0 for method "free-flight"'
         )
     levels = max(run.sublevels, ADAPTIVE_LEVELS - 1) + 1
-    plan = _plan(plant, run, levels)
+    plan = _plan(plant, run, levels, order)
     c = plant.contacts
     a_f = float(np.max(np.abs(np.real(c.Cv @ plant.beta)).sum(axis=1), initial=0.0))
     control = Control(1.0, float(run.rtol), float(run.atol), a_f, np.zeros(1))
@@ -354,6 +360,14 @@ def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
         return physical_state(plant, k["y"], k["F"], z)
 
     return chunk, lambda: _first_sample(state, k, plant), stats, final
+
+
+def _collocation_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
+    """Stepper ``"collocation"``: the ``"free-flight"`` stepper (exact free flight, located
+    onsets, samples from the steps' interpolants) with contact steps of order 4: the force held
+    quadratic through its values at the step's start, midpoint and end, both new values solved
+    implicitly (exponential Lobatto collocation); error from the force's fourth difference."""
+    return _adaptive_factory(problem, plant, run, state, order=4)
 
 
 def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
@@ -454,6 +468,7 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
 STEPPERS = {
     "exponential": _fixed_factory,
     "free-flight": _adaptive_factory,
+    "collocation": _collocation_factory,
     "runup": _runup_factory,
 }
 """Method name -> factory ``(problem, plant, run, state) -> (chunk, first_sample, stats, final)``."""
