@@ -102,17 +102,27 @@ def phi012(z):
     return ez, p1, (p1 - 1.0) / z
 
 
+_C3 = np.array([1.0 / math.factorial(j + 3) for j in range(16)])
+"""Taylor coefficients of ``phi3``: ``1 / (j + 3)!``, ``j = 0..15``."""
+
+
 @njit(cache=True, inline="always")
 def phi0123(z):
     """``(e^z, phi1(z), phi2(z), phi3(z))`` for complex ``z``; ``phi3 = (phi2 - 1/2)/z``, by
-    the series ``phi3 = sum_j z^j / (j + 3)!`` (12 or 20 terms) below ``|z| = 1``."""
+    its Taylor series (16 terms, remainder below ``1e-17``) for ``|z| < 1``, evaluated by
+    Estrin's scheme (short dependency chains: ~4x faster than Horner's), ``phi2 = 1/2 + z
+    phi3``, ``phi1 = 1 + z phi2`` there."""
     ez = np.exp(z)
-    az = abs(z)
-    if az < 1.0:
-        acc = 1.0 + 0j
-        for k in range(15 if az < 0.25 else 23, 3, -1):  # remainder below 1e-19
-            acc = 1.0 + z * (acc * (1.0 / k))
-        p3 = acc * (1.0 / 6.0)
+    if z.real * z.real + z.imag * z.imag < 1.0:
+        c = _C3
+        z2 = z * z
+        z4 = z2 * z2
+        z8 = z4 * z4
+        a0 = (c[0] + c[1] * z) + (c[2] + c[3] * z) * z2
+        a1 = (c[4] + c[5] * z) + (c[6] + c[7] * z) * z2
+        a2 = (c[8] + c[9] * z) + (c[10] + c[11] * z) * z2
+        a3 = (c[12] + c[13] * z) + (c[14] + c[15] * z) * z2
+        p3 = (a0 + a1 * z4) + (a2 + a3 * z4) * z8
         p2 = 0.5 + z * p3
         return ez, 1.0 + z * p2, p2, p3
     p1 = (ez - 1.0) / z
@@ -630,7 +640,7 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
             continue
         new = False
         for r in range(m):
-            if Fn[r] != 0.0:
+            if Fn[r] != 0.0 or (quad and Fmid[r] != 0.0):  # any stage in contact
                 new = True
         # radial displacements at the step's end and changes of contact state
         pmax = 0.0
@@ -647,11 +657,21 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
             if was != now:
                 changed = True
                 g = cp[i, 4]
-                if abs(dprev[i] - g) > tol_x:
+                # a force released inside the clearance (a dashpot's pull clipped to zero)
+                # passes through zero continuously: no crossing to locate, the error control
+                # refines the kink
+                released = was and dnew[i] > g
+                if abs(dprev[i] - g) > tol_x and not released:
                     at_start = False
                     den = dnew[i] - dprev[i]
                     f = (g - dprev[i]) / den if den != 0.0 else 0.5
                     frac = min(frac, min(max(f, 0.0), 1.0))
+            elif quad and (Fmid[2 * i] != 0.0 or Fmid[2 * i + 1] != 0.0) != now:
+                # the midpoint stage alone differs: a contact (or a separation) that begins
+                # and ends inside the step; halve it until a step's end sees it
+                changed = True
+                at_start = False
+                frac = min(frac, 0.5)
         if changed and not at_start and not finest:
             istate[I_REJECTED] += 1
             hloc = max(plan.hmin, h * min(0.9, max(0.98 * frac, 1e-3)))
