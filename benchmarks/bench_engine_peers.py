@@ -122,18 +122,37 @@ def peer_run(solver, rhs, plant, t_eval, rtol, atol):
     return usol[:, :ns] + 1j * usol[:, ns:], ok
 
 
+METHODS = ("exponential", "free-flight", "collocation")
+
+
+def _ours(system, plant, run, stations, unb, gravity, reps):
+    """Each stepper's median call (the user-level entry with the plant prebuilt) and the median
+    time inside its compiled chunk calls (``stats['wall_s']``: kernel plus numba dispatch)."""
+    rows = {}
+    for meth in METHODS:
+
+        def go(meth=meth):
+            return simulate_general(system, run, stations, unb, gravity=gravity, progress=False,
+                                    plant=plant, method=meth)  # fmt: skip
+
+        go()
+        calls, kern, r = [], [], None
+        for _ in range(reps):
+            t0 = time.perf_counter()
+            r = go()
+            calls.append(time.perf_counter() - t0)
+            kern.append(r.stats["wall_s"])
+        rows[meth] = (statistics.median(calls), statistics.median(kern), r)
+    return rows
+
+
 def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
     from numbalsoda import dop853, lsoda
 
     plant = build_plant(system, run, stations, unb, gravity=gravity)
     rhs = make_rhs(plant)
-
-    def ours():  # the plant (reduction) is shared with the peers: built once, outside
-        return simulate_general(system, run, stations, unb, gravity=gravity, progress=False,
-                                plant=plant)  # fmt: skip
-
-    r = ours()
-    t_all = r.time
+    ours = _ours(system, plant, run, stations, unb, gravity, reps)
+    t_all = ours["exponential"][2].time
     t_cmp = t_all[::EVERY]
     # the reference writes every sample: with only the compared ones (8x sparser) DOP853 takes
     # steps long enough to pass over short contacts and ends on another orbit, even at 1e-12
@@ -144,32 +163,45 @@ def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
     def err_of(disp):
         return float(np.max(np.abs(disp - ref)) / scale)
 
-    t_ours, r = _median(ours, reps)
-    e_ours = err_of(r.channels[:2, ::EVERY])
-    print(f"{label}: {revs} rev, {t_all.size} samples, {plant.lam.size} complex modes")
-    print(f"  rubrotor   rtol {run.rtol:.0e}: {t_ours * 1e3 / revs:8.4f} ms/rev  error {e_ours:.2e}"
-          f"  (steps {r.stats['accepted_steps']}, free jumps {r.stats.get('free_advances')})")  # fmt: skip
+    print(f"{label}: {revs} rev, {t_all.size} samples, {plant.lam.size} complex modes, "
+          f"rtol {run.rtol:.0e}")  # fmt: skip
+    errs = {}
+    for meth, (tc, tk, r) in ours.items():
+        errs[meth] = err_of(r.channels[:2, ::EVERY])
+        s = r.stats
+        print(f"  rubrotor {meth:12s}: {tc * 1e3 / revs:8.4f} ms/rev call, {tk * 1e3 / revs:8.4f} "
+              f"kernel, fixed {(tc - tk) * 1e3:6.3f} ms/call  error {errs[meth]:.2e}  (contact "
+              f"steps {s['accepted_steps']} + {s['rejected_steps']} rejected, Newton "
+              f"{s['newton_iterations']}, free jumps {s.get('free_advances')})")  # fmt: skip
     for name, solver in (("DOP853", dop853), ("LSODA", lsoda)):
         for what, tt in (("all samples", t_all), ("compared only", t_cmp)):
             stride = EVERY if tt is t_all else 1
+            errors = {}
 
             def go(tol, tt=tt, s=solver):
                 return peer_run(s, rhs, plant, tt, tol, tol * 1e-4)
 
-            chosen = None
-            for tol in TOLS:  # loosest tolerance at least as accurate as ours
-                y, ok = go(tol)
-                if ok and err_of(contact_disp(plant, y[::stride], t_cmp)) <= e_ours:
-                    chosen = tol
-                    break
-            if chosen is None:
-                print(f"  {name:7s} {what:13s}: no rtol down to 1e-11 reaches our error")
-                continue
-            tp, (y, ok) = _median(lambda c=chosen, go=go: go(c), reps)
-            e = err_of(contact_disp(plant, y[::stride], t_cmp))
-            print(f"  {name:7s} rtol {chosen:.0e} {what:13s}: {tp * 1e3 / revs:8.4f} ms/rev  "
-                  f"error {e:.2e}  ratio peer/ours {tp / t_ours:7.1f}")  # fmt: skip
-    return t_ours, r
+            def error(tol, go=go, stride=stride, errors=errors):
+                if tol not in errors:
+                    y, ok = go(tol)
+                    errors[tol] = err_of(contact_disp(plant, y[::stride], t_cmp)) if ok else np.inf
+                return errors[tol]
+
+            times = {}
+            for meth in METHODS:  # loosest tolerance at least as accurate as ours
+                chosen = next((tol for tol in TOLS if error(tol) <= errs[meth]), None)
+                if chosen is None:
+                    print(f"  {name:7s} {what:13s} vs {meth:12s}: no rtol down to 1e-11 reaches "
+                          f"its error")  # fmt: skip
+                    continue
+                if chosen not in times:
+                    times[chosen] = _median(lambda c=chosen, go=go: go(c), reps)[0]
+                tp = times[chosen]
+                tc, tk = ours[meth][0], ours[meth][1]
+                print(f"  {name:7s} rtol {chosen:.0e} {what:13s}: {tp * 1e3 / revs:8.4f} ms/rev "
+                      f"error {error(chosen):.2e}  vs {meth:12s} ratio peer/ours {tp / tc:6.1f} "
+                      f"(call), {tp / tk:6.1f} (kernel)")  # fmt: skip
+    return ours
 
 
 def seed_case(revs, reps):
@@ -180,8 +212,8 @@ def seed_case(revs, reps):
     run = Run(speed=w, duration=integ.total_time(w), step=integ.output_spacing(w),
               rtol=integ.rtol, atol=integ.atol)  # fmt: skip
     system = continuous_system(sc.shaft)
-    compare("seed case 1", system, stn, [sc.unbalance], run, revs, reps)
-    return system, sc, run
+    ours = compare("seed case 1", system, stn, [sc.unbalance], run, revs, reps)
+    return system, sc, run, ours
 
 
 @nb.njit(cache=True)
@@ -193,24 +225,46 @@ def _dot(x, reps):
     return acc
 
 
-def floor(system, sc, run, reps):
+def floor(system, sc, run, reps, ours, meth="collocation"):
+    """The arithmetic a free sample and a contact step cannot avoid against the measured time."""
     far = [RubStation(dataclasses.replace(sc.contact, radius=sc.shaft.diameter / 2, clearance=1.0))]
     plant = build_plant(system, run, far, [sc.unbalance])
-    t, r = _median(lambda: simulate_general(system, run, far, [sc.unbalance], progress=False,
-                                            plant=plant), reps)  # fmt: skip
+    walls = []
+    for _ in range(reps + 1):
+        r = simulate_general(system, run, far, [sc.unbalance], progress=False, plant=plant,
+                             method=meth)  # fmt: skip
+        walls.append(r.stats["wall_s"])
     ns = plant.lam.size
+    m = plant.beta.shape[1]
     n = r.time.size - 1
-    flops = 6 * ns + 4 * 2 * ns  # advance ns complex modes; v, w, v', w' rows (real parts)
-    per = r.stats["wall_s"] / n
+    per = statistics.median(walls[1:]) / n
     x = np.random.default_rng(0).standard_normal(1 << 12)
     _dot(x, 1)
     tm, _ = _median(lambda: _dot(x, 1000), reps)  # compiled scalar dot, in cache
     rate = 2 * x.size * 1000 / tm
-    print(f"floor, free flight (clearance opened): {per * 1e9:.0f} ns per sample measured "
-          f"(kernel); unavoidable arithmetic {flops} flops per sample ({ns} complex modes "
-          f"advanced + 4 output rows) = {flops / rate * 1e9:.0f} ns at the measured "
+    flops = 6 * ns + 4 * 2 * ns  # advance ns complex modes; v, w, v', w' rows (real parts)
+    print(f"floor ({meth}), free flight (clearance opened): {per * 1e9:.0f} ns per sample "
+          f"measured (kernel); unavoidable arithmetic {flops} flops per sample ({ns} complex "
+          f"modes advanced + 4 output rows) = {flops / rate * 1e9:.0f} ns at the measured "
           f"{rate / 1e9:.2f} Gflop/s of a compiled dot product; measured / floor = "
           f"{per * rate / flops:.1f}")  # fmt: skip
+    tc, tk, rc = ours[meth]
+    s = rc.stats
+    attempts = s["accepted_steps"] + s["rejected_steps"]
+    if not attempts:
+        return
+    t_contact = tk - per * (rc.time.size - 1)  # what the free samples do not explain
+    it = s["newton_iterations"] / attempts
+    q = 2 * m  # stacked stage unknowns
+    # stage rows (2 stages x d, v x m rows x ns, 2 flops), per Newton iteration two law
+    # evaluations (~30 flops each), the q x q Jacobian (4 q^2) and its LU (2 q^3 / 3), the
+    # update (3 complex multiply-adds per mode) and the stage inputs beta F (2 m ns, 2 flops)
+    cflops = 8 * m * ns + it * (60 + 4 * q * q + 2 * q**3 / 3) + 24 * ns + 4 * m * ns
+    print(f"floor ({meth}), contact step: {t_contact / attempts * 1e9:.0f} ns per step attempt "
+          f"measured (kernel time of the contact run beyond its samples at the free cost, "
+          f"{attempts} attempts, {it:.1f} Newton iterations each); unavoidable arithmetic "
+          f"{cflops:.0f} flops = {cflops / rate * 1e9:.0f} ns; measured / floor = "
+          f"{t_contact / attempts * rate / cflops:.1f}")  # fmt: skip
 
 
 def general_rotor(reps, revs=20):
@@ -241,7 +295,7 @@ if __name__ == "__main__":
     a = ap.parse_args()
     if a.case in ("seed", "all"):
         for revs in (20, 200):
-            system, sc, run = seed_case(revs, a.reps)
-        floor(system, sc, run, a.reps)
+            system, sc, run, ours = seed_case(revs, a.reps)
+        floor(system, sc, run, a.reps, ours)
     if a.case in ("general", "all"):
         general_rotor(a.reps)
