@@ -31,7 +31,24 @@ Contact
     A change of contact state inside a step (a separation, or an onset of another contact) is
     located by regula falsi on the radial displacement (the step shortened to the estimated
     crossing) until the crossing lies at a step's start within ``tol_x`` or the step reaches
-    the finest ``H / 2^J``.
+    the finest ``H / 2^J``. A force the law releases inside the clearance (a dashpot's pull
+    clipped to zero) is continuous there: it is left to the error control.
+
+Order-4 contact steps (``plan.order == 4``, stepper ``"collocation"``)
+    The force is held quadratic through ``F_n, F_m, F_{n+1}`` at ``0, h/2, h`` and both new
+    values are solved implicitly from the contact law at the midpoint and at the end
+    (exponential collocation at the Lobatto points; the linear part still exact)::
+
+        y(s) = e^{lam s} y_n + beta (w0(s) F_n + wm(s) F_m + w1(s) F_{n+1}),
+        int_0^s e^{lam (s - r)} (r / h)^k dr = k! s^{k+1} phi_{k+1}(lam s) / h^k
+
+    (:func:`colloc_weights`). The local error is Simpson's, estimated from the force's fourth
+    divided difference over this and the previous step (:func:`quad_error`); without a
+    history (an onset, a chunk's start), from the quadratic-against-linear difference. A step
+    whose midpoint alone is in contact (a contact shorter than the step) is halved. Samples
+    inside a step: the first from the weights at its offset, the next ones advanced by one
+    output spacing each with precomputed ``H^k phi_k(lam H)``. Measured order 3.9 against 2.0
+    (tests/test_engine_collocation.py).
 """
 
 import math

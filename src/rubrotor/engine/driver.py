@@ -64,6 +64,8 @@ from rubrotor.results import _jsonable
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "STEPPERS"]
 
 ADAPTIVE_LEVELS = 21
+DEFAULT_ADAPTIVE = "collocation"
+"""The stepper of a run with ``rtol`` when no method is named."""
 EVENT_BUFFER = 1 << 16
 EVENT_BUFFER_MAX = 1 << 26
 
@@ -330,13 +332,11 @@ def _plan(plant: Plant, run: Run, levels: int, order: int = 2) -> Plan:
 def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks, order=2):
     """Adaptive steps (``run.rtol``): exact free flight to each sample or located onset,
     contact steps by the error estimate alone, samples from the steps' interpolants
-    (:func:`rubrotor.core.engine_adaptive.expo_adaptive`). Stepper ``"free-flight"``: opt-in
-    while its error per ``rtol`` is above the ``"exponential"`` stepper's (it holds the contact
-    force linear over a step, that one quadratic)."""
+    (:func:`rubrotor.core.engine_adaptive.expo_adaptive`). Stepper ``"free-flight"``: the
+    contact force held linear over a step (order 2); ``order=4`` is ``"collocation"``."""
     if run.rtol is None:
-        raise InputError(
-            "simulation.rtol", None, 'a relative tolerance > 0 for method "free-flight"'
-        )
+        name = "collocation" if order == 4 else "free-flight"
+        raise InputError("simulation.rtol", None, f'a relative tolerance > 0 for method "{name}"')
     levels = max(run.sublevels, ADAPTIVE_LEVELS - 1) + 1
     plan = _plan(plant, run, levels, order)
     c = plant.contacts
@@ -585,7 +585,7 @@ def simulate_general(
     loads=(),
     gravity=(0.0, 0.0),
     *,
-    method: str = "exponential",
+    method: str | None = None,
     progress: bool | None = None,
     stream: str | None = None,
     chunk_samples: int = 1 << 14,
@@ -602,9 +602,12 @@ def simulate_general(
         Speed (rad/s), duration (s), step (s), reduction, initial state, probes.
     stations, unbalances, loads, gravity
         As in ``build_plant``.
-    method : {"exponential", "free-flight"}
-        Stepper (``STEPPERS``); ``"runup"`` is chosen when ``run.speed_end`` is set;
-        ``"free-flight"`` (with ``run.rtol``) advances exactly between contacts.
+    method : {"exponential", "free-flight", "collocation"}, optional
+        Stepper (``STEPPERS``). Default: ``"collocation"`` (:data:`DEFAULT_ADAPTIVE`) with
+        ``run.rtol`` (exact free flight between contacts, order-4 contact steps chosen by the
+        error estimate alone), ``"exponential"`` (fixed steps) without; ``"free-flight"`` is the
+        same as ``"collocation"`` with order-2 contact steps; ``"runup"`` is chosen when
+        ``run.speed_end`` is set.
     progress : bool, optional
         Progress on stderr for long runs (default: when stderr is a terminal).
     stream : str, optional
@@ -629,6 +632,8 @@ def simulate_general(
     InputError
         Bad input, or an output too large for memory (or disk when streamed), before running.
     """
+    if method is None:
+        method = "exponential" if run.rtol is None else DEFAULT_ADAPTIVE
     _check_call(method, stations)
     problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity))
     if run.speed_end is not None:
