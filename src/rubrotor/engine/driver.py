@@ -557,13 +557,17 @@ def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: floa
     return done, msg, _time.perf_counter() - t0
 
 
-def _check_call(method: str, stations) -> None:
-    """Refuse an unknown stepper or a station that is not a :class:`RubStation`."""
+def _check_call(method: str | None, stations, run: Run) -> str:
+    """The stepper (default by ``run.rtol``); refuse an unknown one or a station that is not a
+    :class:`RubStation`."""
+    if method is None:
+        method = "exponential" if run.rtol is None else DEFAULT_ADAPTIVE
     if method not in STEPPERS:
         raise InputError("simulation.method", method, " or ".join(f'"{k}"' for k in STEPPERS))
     for i, s in enumerate(stations):
         if not isinstance(s, RubStation):
             raise InputError(f"contact[{i + 1}]", s, "a RubStation")
+    return method
 
 
 def _add_counts(stats: dict, ist, method: str, plant: Plant, run: Run, wall: float) -> None:
@@ -603,11 +607,9 @@ def simulate_general(
     stations, unbalances, loads, gravity
         As in ``build_plant``.
     method : {"exponential", "free-flight", "collocation"}, optional
-        Stepper (``STEPPERS``). Default: ``"collocation"`` (:data:`DEFAULT_ADAPTIVE`) with
-        ``run.rtol`` (exact free flight between contacts, order-4 contact steps chosen by the
-        error estimate alone), ``"exponential"`` (fixed steps) without; ``"free-flight"`` is the
-        same as ``"collocation"`` with order-2 contact steps; ``"runup"`` is chosen when
-        ``run.speed_end`` is set.
+        Stepper (``STEPPERS``): by default ``"collocation"`` with ``run.rtol`` (exact free
+        flight, order-4 contact steps by the error estimate), else ``"exponential"`` (fixed
+        steps); ``"free-flight"``: order-2 contact steps; ``"runup"`` with ``run.speed_end``.
     progress : bool, optional
         Progress on stderr for long runs (default: when stderr is a terminal).
     stream : str, optional
@@ -632,9 +634,7 @@ def simulate_general(
     InputError
         Bad input, or an output too large for memory (or disk when streamed), before running.
     """
-    if method is None:
-        method = "exponential" if run.rtol is None else DEFAULT_ADAPTIVE
-    _check_call(method, stations)
+    method = _check_call(method, stations, run)
     problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity))
     if run.speed_end is not None:
         method = "runup"
