@@ -9,8 +9,12 @@ displacement error at the contact over the compared samples (every 8th output sa
 to the orbit's size, against a tight reference (numbalsoda DOP853, rtol 1e-12, atol 1e-16: an
 independent integrator). Each peer runs at the loosest tolerance of 1e-3 ... 1e-11 that is at
 least as accurate as ours (work-precision), (a) writing every output sample we write and (b)
-writing only the compared samples. Times are medians of ``--reps`` calls after a warm-up
-(compilation excluded); ``ms/rev`` is per revolution.
+writing only the compared samples. Ours: the three steppers of the general engine
+(``"exponential"``; ``"free-flight"``, order-2 contact steps; ``"collocation"``, order-4, the
+default with ``rtol``), each timed as the whole call (plant prebuilt, as the peers get their
+``cfunc`` prebuilt) and as its compiled chunk calls alone (``kernel``). Times are medians of
+``--reps`` rounds after a warm-up (compilation excluded), each round running every stepper and
+every peer once (interleaved); ``ms/rev`` is per revolution.
 
 Cases:
 1. seed case 1 (3 continuous modes as 12 complex modes, Hertz rub, 128 samples per revolution),
@@ -32,6 +36,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import gc
 import math
 import statistics
 import time
@@ -125,25 +130,41 @@ def peer_run(solver, rhs, plant, t_eval, rtol, atol):
 METHODS = ("exponential", "free-flight", "collocation")
 
 
-def _ours(system, plant, run, stations, unb, gravity, reps):
-    """Each stepper's median call (the user-level entry with the plant prebuilt) and the median
-    time inside its compiled chunk calls (``stats['wall_s']``: kernel plus numba dispatch)."""
-    rows = {}
-    for meth in METHODS:
+def _ours_fn(system, plant, run, stations, unb, gravity):
+    """One call per stepper (the user-level entry with the plant prebuilt)."""
 
-        def go(meth=meth):
-            return simulate_general(system, run, stations, unb, gravity=gravity, progress=False,
-                                    plant=plant, method=meth)  # fmt: skip
+    def make(meth):
+        return lambda: simulate_general(system, run, stations, unb, gravity=gravity,
+                                        progress=False, plant=plant, method=meth)  # fmt: skip
 
-        go()
-        calls, kern, r = [], [], None
-        for _ in range(reps):
+    return {meth: make(meth) for meth in METHODS}
+
+
+def _interleaved(ours, peers, reps):
+    """Medians over ``reps`` rounds, each round timing every stepper of ours (whole call and
+    ``stats['wall_s']``, the compiled chunk calls with their numba dispatch) and every peer
+    run once, so that a load spike on this shared machine hits all of them alike; the garbage
+    collector is off inside a round (as in ``timeit``)."""
+    t_call = {k: [] for k in ours}
+    t_kern = {k: [] for k in ours}
+    t_peer = {k: [] for k in peers}
+    last = {}
+    for _ in range(reps):
+        gc.collect()
+        gc.disable()  # as timeit: a collection would land on whichever call allocates next
+        for k, fn in ours.items():
             t0 = time.perf_counter()
-            r = go()
-            calls.append(time.perf_counter() - t0)
-            kern.append(r.stats["wall_s"])
-        rows[meth] = (statistics.median(calls), statistics.median(kern), r)
-    return rows
+            last[k] = fn()
+            t_call[k].append(time.perf_counter() - t0)
+            t_kern[k].append(last[k].stats["wall_s"])
+        for k, fn in peers.items():
+            t0 = time.perf_counter()
+            fn()
+            t_peer[k].append(time.perf_counter() - t0)
+        gc.enable()
+    med = statistics.median
+    return ({k: (med(t_call[k]), med(t_kern[k]), last[k]) for k in ours},
+            {k: med(v) for k, v in t_peer.items()})  # fmt: skip
 
 
 def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
@@ -151,8 +172,9 @@ def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
 
     plant = build_plant(system, run, stations, unb, gravity=gravity)
     rhs = make_rhs(plant)
-    ours = _ours(system, plant, run, stations, unb, gravity, reps)
-    t_all = ours["exponential"][2].time
+    fns = _ours_fn(system, plant, run, stations, unb, gravity)
+    first = {meth: fn() for meth, fn in fns.items()}  # warm-up (compilation excluded)
+    t_all = first["exponential"].time
     t_cmp = t_all[::EVERY]
     # the reference writes every sample: with only the compared ones (8x sparser) DOP853 takes
     # steps long enough to pass over short contacts and ends on another orbit, even at 1e-12
@@ -163,44 +185,43 @@ def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
     def err_of(disp):
         return float(np.max(np.abs(disp - ref)) / scale)
 
+    errs = {meth: err_of(r.channels[:2, ::EVERY]) for meth, r in first.items()}
+    # each peer at the loosest tolerance at least as accurate as each of our steppers
+    peers, chosen, perr = {}, {}, {}
+    for name, solver in (("DOP853", dop853), ("LSODA", lsoda)):
+        for what, tt in (("all samples", t_all), ("compared only", t_cmp)):
+            stride = EVERY if tt is t_all else 1
+            errors = {}
+            for tol in TOLS:
+                y, ok = peer_run(solver, rhs, plant, tt, tol, tol * 1e-4)
+                errors[tol] = err_of(contact_disp(plant, y[::stride], t_cmp)) if ok else np.inf
+                if errors[tol] <= min(errs.values()):
+                    break
+            for meth in METHODS:
+                tol = next((t for t in TOLS if errors.get(t, np.inf) <= errs[meth]), None)
+                chosen[name, what, meth] = tol
+                if tol is not None:
+                    perr[name, what, tol] = errors[tol]
+                    peers[name, what, tol] = (lambda s=solver, tt=tt, tol=tol:
+                                              peer_run(s, rhs, plant, tt, tol, tol * 1e-4))  # fmt: skip
+    ours, tpeer = _interleaved(fns, peers, reps)
     print(f"{label}: {revs} rev, {t_all.size} samples, {plant.lam.size} complex modes, "
-          f"rtol {run.rtol:.0e}")  # fmt: skip
-    errs = {}
+          f"rtol {run.rtol:.0e}; medians of {reps} interleaved rounds")  # fmt: skip
     for meth, (tc, tk, r) in ours.items():
-        errs[meth] = err_of(r.channels[:2, ::EVERY])
         s = r.stats
         print(f"  rubrotor {meth:12s}: {tc * 1e3 / revs:8.4f} ms/rev call, {tk * 1e3 / revs:8.4f} "
               f"kernel, fixed {(tc - tk) * 1e3:6.3f} ms/call  error {errs[meth]:.2e}  (contact "
               f"steps {s['accepted_steps']} + {s['rejected_steps']} rejected, Newton "
               f"{s['newton_iterations']}, free jumps {s.get('free_advances')})")  # fmt: skip
-    for name, solver in (("DOP853", dop853), ("LSODA", lsoda)):
-        for what, tt in (("all samples", t_all), ("compared only", t_cmp)):
-            stride = EVERY if tt is t_all else 1
-            errors = {}
-
-            def go(tol, tt=tt, s=solver):
-                return peer_run(s, rhs, plant, tt, tol, tol * 1e-4)
-
-            def error(tol, go=go, stride=stride, errors=errors):
-                if tol not in errors:
-                    y, ok = go(tol)
-                    errors[tol] = err_of(contact_disp(plant, y[::stride], t_cmp)) if ok else np.inf
-                return errors[tol]
-
-            times = {}
-            for meth in METHODS:  # loosest tolerance at least as accurate as ours
-                chosen = next((tol for tol in TOLS if error(tol) <= errs[meth]), None)
-                if chosen is None:
-                    print(f"  {name:7s} {what:13s} vs {meth:12s}: no rtol down to 1e-11 reaches "
-                          f"its error")  # fmt: skip
-                    continue
-                if chosen not in times:
-                    times[chosen] = _median(lambda c=chosen, go=go: go(c), reps)[0]
-                tp = times[chosen]
-                tc, tk = ours[meth][0], ours[meth][1]
-                print(f"  {name:7s} rtol {chosen:.0e} {what:13s}: {tp * 1e3 / revs:8.4f} ms/rev "
-                      f"error {error(chosen):.2e}  vs {meth:12s} ratio peer/ours {tp / tc:6.1f} "
-                      f"(call), {tp / tk:6.1f} (kernel)")  # fmt: skip
+    for (name, what, meth), tol in chosen.items():
+        if tol is None:
+            print(f"  {name:7s} {what:13s} vs {meth:12s}: no rtol down to 1e-11 reaches its error")
+            continue
+        tp = tpeer[name, what, tol]
+        tc, tk = ours[meth][0], ours[meth][1]
+        print(f"  {name:7s} rtol {tol:.0e} {what:13s}: {tp * 1e3 / revs:8.4f} ms/rev error "
+              f"{perr[name, what, tol]:.2e}  vs {meth:12s} ratio peer/ours {tp / tc:6.1f} "
+              f"(call), {tp / tk:6.1f} (kernel)")  # fmt: skip
     return ours
 
 
@@ -231,8 +252,11 @@ def floor(system, sc, run, reps, ours, meth="collocation"):
     plant = build_plant(system, run, far, [sc.unbalance])
     walls = []
     for _ in range(reps + 1):
+        gc.collect()
+        gc.disable()
         r = simulate_general(system, run, far, [sc.unbalance], progress=False, plant=plant,
                              method=meth)  # fmt: skip
+        gc.enable()
         walls.append(r.stats["wall_s"])
     ns = plant.lam.size
     m = plant.beta.shape[1]
