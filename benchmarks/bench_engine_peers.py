@@ -277,18 +277,28 @@ def floor(system, sc, run, reps, ours, meth="collocation"):
     attempts = s["accepted_steps"] + s["rejected_steps"]
     if not attempts:
         return
-    t_contact = tk - per * (rc.time.size - 1)  # what the free samples do not explain
+    S = rc.stations.size
+    n_cs = int(np.sum(rc.channels[4 * S + 6, 1:] > 0.0))  # samples written in contact
+    n_free = rc.time.size - 1 - n_cs
+    t_contact = tk - per * n_free  # beyond the free samples at their measured cost
     it = s["newton_iterations"] / attempts
     q = 2 * m  # stacked stage unknowns
-    # stage rows (2 stages x d, v x m rows x ns, 2 flops), per Newton iteration two law
+    # a step: stage rows (2 stages x d, v x m rows x ns, 2 flops), per Newton iteration two law
     # evaluations (~30 flops each), the q x q Jacobian (4 q^2) and its LU (2 q^3 / 3), the
     # update (3 complex multiply-adds per mode) and the stage inputs beta F (2 m ns, 2 flops)
     cflops = 8 * m * ns + it * (60 + 4 * q * q + 2 * q**3 / 3) + 24 * ns + 4 * m * ns
-    print(f"floor ({meth}), contact step: {t_contact / attempts * 1e9:.0f} ns per step attempt "
-          f"measured (kernel time of the contact run beyond its samples at the free cost, "
-          f"{attempts} attempts, {it:.1f} Newton iterations each); unavoidable arithmetic "
-          f"{cflops:.0f} flops = {cflops / rate * 1e9:.0f} ns; measured / floor = "
-          f"{t_contact / attempts * rate / cflops:.1f}")  # fmt: skip
+    # a sample in contact: the interpolant advanced one spacing (4 complex products and three
+    # 3-term real combinations per mode, 42 flops), the output rows as a free sample, the
+    # contact rows (2 m ns) and the law (~30 flops)
+    sflops = 42 * ns + 8 * ns + 4 * m * ns + 30
+    floor_t = (attempts * cflops + n_cs * sflops) / rate
+    print(f"floor ({meth}), contact: {t_contact * 1e3:.2f} ms measured beyond the free samples "
+          f"({attempts} step attempts, {it:.1f} Newton iterations each, and {n_cs} samples "
+          f"written in contact = {t_contact / attempts * 1e9:.0f} ns per attempt with its "
+          f"samples); unavoidable arithmetic {cflops:.0f} flops per attempt + {sflops} per "
+          f"contact sample = {floor_t * 1e3:.2f} ms; measured / floor = {t_contact / floor_t:.1f}")  # fmt: skip
+    print(f"  whole run: kernel {tk * 1e3:.2f} ms = free samples {per * n_free * 1e3:.2f} ms "
+          f"({n_free} at {per * 1e9:.0f} ns) + contact {t_contact * 1e3:.2f} ms")  # fmt: skip
 
 
 def general_rotor(reps, revs=20):
