@@ -3,8 +3,8 @@
 Run: ``python benchmarks/bench_engine.py [--reps 3]``. Prints, never asserts.
 
 0. Seed case 1 at default settings (adaptive, rtol 1e-6, default output spacing), 20 revolutions:
-   old adaptive kernel against the new one (the same step control; the new one has no quadratic
-   force hold yet).
+   old adaptive kernel against the new engine's default stepper for runs with rtol
+   (``"collocation"``: exact free flight, order-4 contact steps chosen by the error estimate).
 1. Seed case 1 (3 continuous modes, d(tau) = 0.001, 20 revolutions, every 32nd step saved) through
    the old complex-coordinate engine (rubrotor.simulation) and the general engine (the same shaft
    as a LinearSystem): median wall time per call, steps per second, ratio new/old; also with the

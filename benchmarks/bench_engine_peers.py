@@ -9,8 +9,12 @@ displacement error at the contact over the compared samples (every 8th output sa
 to the orbit's size, against a tight reference (numbalsoda DOP853, rtol 1e-12, atol 1e-16: an
 independent integrator). Each peer runs at the loosest tolerance of 1e-3 ... 1e-11 that is at
 least as accurate as ours (work-precision), (a) writing every output sample we write and (b)
-writing only the compared samples. Times are medians of ``--reps`` calls after a warm-up
-(compilation excluded); ``ms/rev`` is per revolution.
+writing only the compared samples. Ours: the three steppers of the general engine
+(``"exponential"``; ``"free-flight"``, order-2 contact steps; ``"collocation"``, order-4, the
+default with ``rtol``), each timed as the whole call (plant prebuilt, as the peers get their
+``cfunc`` prebuilt) and as its compiled chunk calls alone (``kernel``). Times are medians of
+``--reps`` rounds after a warm-up (compilation excluded), each round running every stepper and
+every peer once (interleaved); ``ms/rev`` is per revolution.
 
 Cases:
 1. seed case 1 (3 continuous modes as 12 complex modes, Hertz rub, 128 samples per revolution),
@@ -32,6 +36,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import gc
 import math
 import statistics
 import time
@@ -122,18 +127,54 @@ def peer_run(solver, rhs, plant, t_eval, rtol, atol):
     return usol[:, :ns] + 1j * usol[:, ns:], ok
 
 
+METHODS = ("exponential", "free-flight", "collocation")
+
+
+def _ours_fn(system, plant, run, stations, unb, gravity):
+    """One call per stepper (the user-level entry with the plant prebuilt)."""
+
+    def make(meth):
+        return lambda: simulate_general(system, run, stations, unb, gravity=gravity,
+                                        progress=False, plant=plant, method=meth)  # fmt: skip
+
+    return {meth: make(meth) for meth in METHODS}
+
+
+def _interleaved(ours, peers, reps):
+    """Medians over ``reps`` rounds, each round timing every stepper of ours (whole call and
+    ``stats['wall_s']``, the compiled chunk calls with their numba dispatch) and every peer
+    run once, so that a load spike on this shared machine hits all of them alike; the garbage
+    collector is off inside a round (as in ``timeit``)."""
+    t_call = {k: [] for k in ours}
+    t_kern = {k: [] for k in ours}
+    t_peer = {k: [] for k in peers}
+    last = {}
+    for _ in range(reps):
+        gc.collect()
+        gc.disable()  # as timeit: a collection would land on whichever call allocates next
+        for k, fn in ours.items():
+            t0 = time.perf_counter()
+            last[k] = fn()
+            t_call[k].append(time.perf_counter() - t0)
+            t_kern[k].append(last[k].stats["wall_s"])
+        for k, fn in peers.items():
+            t0 = time.perf_counter()
+            fn()
+            t_peer[k].append(time.perf_counter() - t0)
+        gc.enable()
+    med = statistics.median
+    return ({k: (med(t_call[k]), med(t_kern[k]), last[k]) for k in ours},
+            {k: med(v) for k, v in t_peer.items()})  # fmt: skip
+
+
 def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
     from numbalsoda import dop853, lsoda
 
     plant = build_plant(system, run, stations, unb, gravity=gravity)
     rhs = make_rhs(plant)
-
-    def ours():  # the plant (reduction) is shared with the peers: built once, outside
-        return simulate_general(system, run, stations, unb, gravity=gravity, progress=False,
-                                plant=plant)  # fmt: skip
-
-    r = ours()
-    t_all = r.time
+    fns = _ours_fn(system, plant, run, stations, unb, gravity)
+    first = {meth: fn() for meth, fn in fns.items()}  # warm-up (compilation excluded)
+    t_all = first["exponential"].time
     t_cmp = t_all[::EVERY]
     # the reference writes every sample: with only the compared ones (8x sparser) DOP853 takes
     # steps long enough to pass over short contacts and ends on another orbit, even at 1e-12
@@ -144,32 +185,44 @@ def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
     def err_of(disp):
         return float(np.max(np.abs(disp - ref)) / scale)
 
-    t_ours, r = _median(ours, reps)
-    e_ours = err_of(r.channels[:2, ::EVERY])
-    print(f"{label}: {revs} rev, {t_all.size} samples, {plant.lam.size} complex modes")
-    print(f"  rubrotor   rtol {run.rtol:.0e}: {t_ours * 1e3 / revs:8.4f} ms/rev  error {e_ours:.2e}"
-          f"  (steps {r.stats['accepted_steps']}, free jumps {r.stats.get('free_advances')})")  # fmt: skip
+    errs = {meth: err_of(r.channels[:2, ::EVERY]) for meth, r in first.items()}
+    # each peer at the loosest tolerance at least as accurate as each of our steppers
+    peers, chosen, perr = {}, {}, {}
     for name, solver in (("DOP853", dop853), ("LSODA", lsoda)):
         for what, tt in (("all samples", t_all), ("compared only", t_cmp)):
             stride = EVERY if tt is t_all else 1
-
-            def go(tol, tt=tt, s=solver):
-                return peer_run(s, rhs, plant, tt, tol, tol * 1e-4)
-
-            chosen = None
-            for tol in TOLS:  # loosest tolerance at least as accurate as ours
-                y, ok = go(tol)
-                if ok and err_of(contact_disp(plant, y[::stride], t_cmp)) <= e_ours:
-                    chosen = tol
+            errors = {}
+            for tol in TOLS:
+                y, ok = peer_run(solver, rhs, plant, tt, tol, tol * 1e-4)
+                errors[tol] = err_of(contact_disp(plant, y[::stride], t_cmp)) if ok else np.inf
+                if errors[tol] <= min(errs.values()):
                     break
-            if chosen is None:
-                print(f"  {name:7s} {what:13s}: no rtol down to 1e-11 reaches our error")
-                continue
-            tp, (y, ok) = _median(lambda c=chosen, go=go: go(c), reps)
-            e = err_of(contact_disp(plant, y[::stride], t_cmp))
-            print(f"  {name:7s} rtol {chosen:.0e} {what:13s}: {tp * 1e3 / revs:8.4f} ms/rev  "
-                  f"error {e:.2e}  ratio peer/ours {tp / t_ours:7.1f}")  # fmt: skip
-    return t_ours, r
+            for meth in METHODS:
+                tol = next((t for t in TOLS if errors.get(t, np.inf) <= errs[meth]), None)
+                chosen[name, what, meth] = tol
+                if tol is not None:
+                    perr[name, what, tol] = errors[tol]
+                    peers[name, what, tol] = (lambda s=solver, tt=tt, tol=tol:
+                                              peer_run(s, rhs, plant, tt, tol, tol * 1e-4))  # fmt: skip
+    ours, tpeer = _interleaved(fns, peers, reps)
+    print(f"{label}: {revs} rev, {t_all.size} samples, {plant.lam.size} complex modes, "
+          f"rtol {run.rtol:.0e}; medians of {reps} interleaved rounds")  # fmt: skip
+    for meth, (tc, tk, r) in ours.items():
+        s = r.stats
+        print(f"  rubrotor {meth:12s}: {tc * 1e3 / revs:8.4f} ms/rev call, {tk * 1e3 / revs:8.4f} "
+              f"kernel, fixed {(tc - tk) * 1e3:6.3f} ms/call  error {errs[meth]:.2e}  (contact "
+              f"steps {s['accepted_steps']} + {s['rejected_steps']} rejected, Newton "
+              f"{s['newton_iterations']}, free jumps {s.get('free_advances')})")  # fmt: skip
+    for (name, what, meth), tol in chosen.items():
+        if tol is None:
+            print(f"  {name:7s} {what:13s} vs {meth:12s}: no rtol down to 1e-11 reaches its error")
+            continue
+        tp = tpeer[name, what, tol]
+        tc, tk = ours[meth][0], ours[meth][1]
+        print(f"  {name:7s} rtol {tol:.0e} {what:13s}: {tp * 1e3 / revs:8.4f} ms/rev error "
+              f"{perr[name, what, tol]:.2e}  vs {meth:12s} ratio peer/ours {tp / tc:6.1f} "
+              f"(call), {tp / tk:6.1f} (kernel)")  # fmt: skip
+    return ours
 
 
 def seed_case(revs, reps):
@@ -180,8 +233,8 @@ def seed_case(revs, reps):
     run = Run(speed=w, duration=integ.total_time(w), step=integ.output_spacing(w),
               rtol=integ.rtol, atol=integ.atol)  # fmt: skip
     system = continuous_system(sc.shaft)
-    compare("seed case 1", system, stn, [sc.unbalance], run, revs, reps)
-    return system, sc, run
+    ours = compare("seed case 1", system, stn, [sc.unbalance], run, revs, reps)
+    return system, sc, run, ours
 
 
 @nb.njit(cache=True)
@@ -193,24 +246,59 @@ def _dot(x, reps):
     return acc
 
 
-def floor(system, sc, run, reps):
+def floor(system, sc, run, reps, ours, meth="collocation"):
+    """The arithmetic a free sample and a contact step cannot avoid against the measured time."""
     far = [RubStation(dataclasses.replace(sc.contact, radius=sc.shaft.diameter / 2, clearance=1.0))]
     plant = build_plant(system, run, far, [sc.unbalance])
-    t, r = _median(lambda: simulate_general(system, run, far, [sc.unbalance], progress=False,
-                                            plant=plant), reps)  # fmt: skip
+    walls = []
+    for _ in range(reps + 1):
+        gc.collect()
+        gc.disable()
+        r = simulate_general(system, run, far, [sc.unbalance], progress=False, plant=plant,
+                             method=meth)  # fmt: skip
+        gc.enable()
+        walls.append(r.stats["wall_s"])
     ns = plant.lam.size
+    m = plant.beta.shape[1]
     n = r.time.size - 1
-    flops = 6 * ns + 4 * 2 * ns  # advance ns complex modes; v, w, v', w' rows (real parts)
-    per = r.stats["wall_s"] / n
+    per = statistics.median(walls[1:]) / n
     x = np.random.default_rng(0).standard_normal(1 << 12)
     _dot(x, 1)
     tm, _ = _median(lambda: _dot(x, 1000), reps)  # compiled scalar dot, in cache
     rate = 2 * x.size * 1000 / tm
-    print(f"floor, free flight (clearance opened): {per * 1e9:.0f} ns per sample measured "
-          f"(kernel); unavoidable arithmetic {flops} flops per sample ({ns} complex modes "
-          f"advanced + 4 output rows) = {flops / rate * 1e9:.0f} ns at the measured "
+    flops = 6 * ns + 4 * 2 * ns  # advance ns complex modes; v, w, v', w' rows (real parts)
+    print(f"floor ({meth}), free flight (clearance opened): {per * 1e9:.0f} ns per sample "
+          f"measured (kernel); unavoidable arithmetic {flops} flops per sample ({ns} complex "
+          f"modes advanced + 4 output rows) = {flops / rate * 1e9:.0f} ns at the measured "
           f"{rate / 1e9:.2f} Gflop/s of a compiled dot product; measured / floor = "
           f"{per * rate / flops:.1f}")  # fmt: skip
+    tc, tk, rc = ours[meth]
+    s = rc.stats
+    attempts = s["accepted_steps"] + s["rejected_steps"]
+    if not attempts:
+        return
+    S = rc.stations.size
+    n_cs = int(np.sum(rc.channels[4 * S + 6, 1:] > 0.0))  # samples written in contact
+    n_free = rc.time.size - 1 - n_cs
+    t_contact = tk - per * n_free  # beyond the free samples at their measured cost
+    it = s["newton_iterations"] / attempts
+    q = 2 * m  # stacked stage unknowns
+    # a step: stage rows (2 stages x d, v x m rows x ns, 2 flops), per Newton iteration two law
+    # evaluations (~30 flops each), the q x q Jacobian (4 q^2) and its LU (2 q^3 / 3), the
+    # update (3 complex multiply-adds per mode) and the stage inputs beta F (2 m ns, 2 flops)
+    cflops = 8 * m * ns + it * (60 + 4 * q * q + 2 * q**3 / 3) + 24 * ns + 4 * m * ns
+    # a sample in contact: the interpolant advanced one spacing (4 complex products and three
+    # 3-term real combinations per mode, 42 flops), the output rows as a free sample, the
+    # contact rows (2 m ns) and the law (~30 flops)
+    sflops = 42 * ns + 8 * ns + 4 * m * ns + 30
+    floor_t = (attempts * cflops + n_cs * sflops) / rate
+    print(f"floor ({meth}), contact: {t_contact * 1e3:.2f} ms measured beyond the free samples "
+          f"({attempts} step attempts, {it:.1f} Newton iterations each, and {n_cs} samples "
+          f"written in contact = {t_contact / attempts * 1e9:.0f} ns per attempt with its "
+          f"samples); unavoidable arithmetic {cflops:.0f} flops per attempt + {sflops} per "
+          f"contact sample = {floor_t * 1e3:.2f} ms; measured / floor = {t_contact / floor_t:.1f}")  # fmt: skip
+    print(f"  whole run: kernel {tk * 1e3:.2f} ms = free samples {per * n_free * 1e3:.2f} ms "
+          f"({n_free} at {per * 1e9:.0f} ns) + contact {t_contact * 1e3:.2f} ms")  # fmt: skip
 
 
 def general_rotor(reps, revs=20):
@@ -241,7 +329,7 @@ if __name__ == "__main__":
     a = ap.parse_args()
     if a.case in ("seed", "all"):
         for revs in (20, 200):
-            system, sc, run = seed_case(revs, a.reps)
-        floor(system, sc, run, a.reps)
+            system, sc, run, ours = seed_case(revs, a.reps)
+        floor(system, sc, run, a.reps, ours)
     if a.case in ("general", "all"):
         general_rotor(a.reps)

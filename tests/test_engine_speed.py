@@ -22,7 +22,8 @@ from rubrotor.engine.model import RubStation, Run
 from rubrotor.integrator import Integrator
 from rubrotor.scenario import load_scenario
 
-FREE = "free-flight"  # the opt-in stepper with exact free flight between contacts
+FREE = "free-flight"  # exact free flight between contacts, order-2 contact steps
+EXACT_FREE = ["free-flight", "collocation"]  # "collocation": order 4, the default with rtol
 
 SEED1 = Path(__file__).parents[1] / "src/rubrotor/scenarios/seed_case1.toml"
 
@@ -49,7 +50,8 @@ def _free_radius(plant, speed):
     return radius
 
 
-def test_grazing_contact_between_two_samples_is_found(seed):
+@pytest.mark.parametrize("method", EXACT_FREE)
+def test_grazing_contact_between_two_samples_is_found(seed, method):
     """The clearance is set just below a local maximum of the free orbit radius, so that the
     orbit dips into the stator for less than a tenth of the output spacing, between two
     samples that both lie outside the contact. The adaptive run finds this contact: its onset
@@ -81,7 +83,7 @@ def test_grazing_contact_between_two_samples_is_found(seed):
     assert off - on < 0.2 * H
     stn = [_station(sc, clearance=g)]
     run = Run(speed=w, duration=(n + 3) * H, step=H, rtol=1e-6)
-    res = simulate_general(system, run, stn, [sc.unbalance], method=FREE, progress=False)
+    res = simulate_general(system, run, stn, [sc.unbalance], method=method, progress=False)
     assert res.status == "complete"
     ev = res.events
     print("events", ev, "closed form", on, off, "H", H)
@@ -96,7 +98,8 @@ def test_grazing_contact_between_two_samples_is_found(seed):
     assert fixed.stats["contact_events"] == 0
 
 
-def test_free_flight_is_exact_and_costs_no_steps(seed):
+@pytest.mark.parametrize("method", EXACT_FREE)
+def test_free_flight_is_exact_and_costs_no_steps(seed, method):
     """Without contact the adaptive run takes no step at all (one exact jump per sample) and
     its samples equal the closed-form free trajectory to rounding."""
     sc, system = seed
@@ -104,7 +107,7 @@ def test_free_flight_is_exact_and_costs_no_steps(seed):
     far = _station(sc, clearance=1.0)
     H = Integrator(revolutions=2).output_spacing(w)
     run = Run(speed=w, duration=256 * H, step=H, rtol=1e-6)
-    res = simulate_general(system, run, [far], [sc.unbalance], method=FREE, progress=False)
+    res = simulate_general(system, run, [far], [sc.unbalance], method=method, progress=False)
     plant = build_plant(system, run, [far], [sc.unbalance])
     c = plant.contacts
     p = c.d0[:, None] + np.real(np.outer(c.Pu, np.exp(1j * w * res.time)))

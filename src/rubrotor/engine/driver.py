@@ -71,6 +71,8 @@ from rubrotor.results import _jsonable
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "STEPPERS"]
 
 ADAPTIVE_LEVELS = 21
+DEFAULT_ADAPTIVE = "collocation"
+"""The stepper of a run with ``rtol`` when no method is named."""
 EVENT_BUFFER = 1 << 16
 EVENT_BUFFER_MAX = 1 << 26
 
@@ -324,14 +326,20 @@ def _control(plant: Plant, steps: Steps, run: Run) -> Control:
     return Control(1.0, float(run.rtol), float(run.atol), a_f, np.ascontiguousarray(errc))
 
 
-def _plan(plant: Plant, run: Run, levels: int) -> Plan:
-    """The adaptive kernel's plan: look-ahead rows and empty per-level tables (filled on use)."""
+def _plan(plant: Plant, run: Run, levels: int, order: int = 2) -> Plan:
+    """The adaptive kernel's plan: look-ahead rows and empty per-level tables (filled on use)
+    for contact steps of ``order`` 2 (linear force hold) or 4 (quadratic collocation)."""
     lam, beta, c = plant.lam, plant.beta, plant.contacts
     ns, m = beta.shape
     L = LEVELS_UP + levels + 1
-    tab = (np.zeros((L, ns), complex), np.zeros((L, ns), complex), np.zeros((L, ns), complex),
-           np.zeros((L, m, ns), complex), np.zeros((L, m, ns), complex), np.zeros((L, m, m)),
-           np.zeros((L, m, m)), np.zeros((L, m, m)), np.zeros((L, m, m)))  # fmt: skip
+    o2, o4 = (L, 1)[order == 4], (1, L)[order == 4]  # the other order's tables stay 1 row
+    tab = (np.zeros((o2, ns), complex), np.zeros((o2, ns), complex), np.zeros((o2, ns), complex),
+           np.zeros((o2, m, ns), complex), np.zeros((o2, m, ns), complex), np.zeros((o2, m, m)),
+           np.zeros((o2, m, m)), np.zeros((o2, m, m)), np.zeros((o2, m, m)))  # fmt: skip
+    tab4 = (np.zeros((o4, ns), complex), np.zeros((o4, ns), complex),
+            np.zeros((o4, 6, ns), complex), *(np.zeros((o4, m, ns), complex) for _ in range(4)),
+            np.zeros((o4, 2 * m, m)), np.zeros((o4, 2 * m, m)), np.zeros((o4, 2 * m, 2 * m)),
+            np.zeros((o4, 2 * m, 2 * m)))  # fmt: skip
     gmin = float(np.min(c.cp[:, 4])) if m else 0.0
     H = float(run.step)
     return Plan(
@@ -340,22 +348,20 @@ def _plan(plant: Plant, run: Run, levels: int) -> Plan:
         Wv=np.ascontiguousarray(c.Cv[:, None, :] * beta.T[None]),
         Ca=np.ascontiguousarray(np.abs(c.Cd * lam[None, :] ** 2)), EH=np.exp(lam * H), H=H,
         J=levels - 1, hmin=H / 2.0 ** (levels - 1), tol_x=1e-3 * (run.atol + run.rtol * gmin),
-        have=np.zeros(L, np.int64), tab=tab,
+        have=np.zeros(L, np.int64), tab=tab, order=order, tab4=tab4,
     )  # fmt: skip
 
 
-def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
+def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks, order=2):
     """Adaptive steps (``run.rtol``): exact free flight to each sample or located onset,
     contact steps by the error estimate alone, samples from the steps' interpolants
-    (:func:`rubrotor.core.engine_adaptive.expo_adaptive`). Stepper ``"free-flight"``: opt-in
-    while its error per ``rtol`` is above the ``"exponential"`` stepper's (it holds the contact
-    force linear over a step, that one quadratic)."""
+    (:func:`rubrotor.core.engine_adaptive.expo_adaptive`). Stepper ``"free-flight"``: the
+    contact force held linear over a step (order 2); ``order=4`` is ``"collocation"``."""
     if run.rtol is None:
-        raise InputError(
-            "simulation.rtol", None, 'a relative tolerance > 0 for method "free-flight"'
-        )
+        name = "collocation" if order == 4 else "free-flight"
+        raise InputError("simulation.rtol", None, f'a relative tolerance > 0 for method "{name}"')
     levels = max(run.sublevels, ADAPTIVE_LEVELS - 1) + 1
-    plan = _plan(plant, run, levels)
+    plan = _plan(plant, run, levels, order)
     c = plant.contacts
     a_f = float(np.max(np.abs(np.real(c.Cv @ plant.beta)).sum(axis=1), initial=0.0))
     control = Control(1.0, float(run.rtol), float(run.atol), a_f, np.zeros(1))
@@ -377,6 +383,14 @@ def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
         return physical_state(plant, k["y"], k["F"], z)
 
     return chunk, lambda: _first_sample(state, k, plant), stats, final
+
+
+def _collocation_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
+    """Stepper ``"collocation"``: the ``"free-flight"`` stepper (exact free flight, located
+    onsets, samples from the steps' interpolants) with contact steps of order 4: the force held
+    quadratic through its values at the step's start, midpoint and end, both new values solved
+    implicitly (exponential Lobatto collocation); error from the force's fourth difference."""
+    return _adaptive_factory(problem, plant, run, state, order=4)
 
 
 def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
@@ -511,6 +525,7 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
 STEPPERS = {
     "exponential": _fixed_factory,
     "free-flight": _adaptive_factory,
+    "collocation": _collocation_factory,
     "runup": _runup_factory,
 }
 """Method name -> factory ``(problem, plant, run, state) -> (chunk, first_sample, stats, final)``."""
@@ -615,13 +630,17 @@ def _flush_events(state: _Chunks, sink) -> int:
     return ne
 
 
-def _check_call(method: str, stations) -> None:
-    """Refuse an unknown stepper or a station that is not a :class:`RubStation`."""
+def _check_call(method: str | None, stations, run: Run) -> str:
+    """The stepper (default by ``run.rtol``); refuse an unknown one or a station that is not a
+    :class:`RubStation`."""
+    if method is None:
+        method = "exponential" if run.rtol is None else DEFAULT_ADAPTIVE
     if method not in STEPPERS:
         raise InputError("simulation.method", method, " or ".join(f'"{k}"' for k in STEPPERS))
     for i, s in enumerate(stations):
         if not isinstance(s, RubStation):
             raise InputError(f"contact[{i + 1}]", s, "a RubStation")
+    return method
 
 
 def _add_counts(stats: dict, state: _Chunks, method: str, plant: Plant, run: Run, wall: float):
@@ -644,7 +663,7 @@ def simulate_general(
     loads=(),
     gravity=(0.0, 0.0),
     *,
-    method: str = "exponential",
+    method: str | None = None,
     progress: bool | None = None,
     stream: str | None = None,
     chunk_samples: int = 1 << 14,
@@ -661,9 +680,10 @@ def simulate_general(
         Speed (rad/s), duration (s), step (s), reduction, initial state, probes.
     stations, unbalances, loads, gravity
         As in ``build_plant``.
-    method : {"exponential", "free-flight"}
-        Stepper (``STEPPERS``); ``"runup"`` is chosen when ``run.speed_end`` is set;
-        ``"free-flight"`` (with ``run.rtol``) advances exactly between contacts.
+    method : {"exponential", "free-flight", "collocation"}, optional
+        Stepper (``STEPPERS``): by default ``"collocation"`` with ``run.rtol`` (exact free
+        flight, order-4 contact steps by the error estimate), else ``"exponential"`` (fixed
+        steps); ``"free-flight"``: order-2 contact steps; ``"runup"`` with ``run.speed_end``.
     progress : bool, optional
         Progress on stderr for long runs (default: when stderr is a terminal).
     stream : str, optional
@@ -688,7 +708,7 @@ def simulate_general(
     InputError
         Bad input, or an output too large for memory (or disk when streamed), before running.
     """
-    _check_call(method, stations)
+    method = _check_call(method, stations, run)
     problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity))
     if run.speed_end is not None:
         method = "runup"

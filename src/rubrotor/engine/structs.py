@@ -36,12 +36,16 @@ direct contact acceleration per N (m/(s^2 N)), ``errc`` (L,) displacement per N 
 zero- against first-order hold at each level (m/N)."""
 
 Plan = namedtuple(
-    "Plan", ["lam", "BT", "Wd", "Wv", "Ca", "EH", "H", "J", "hmin", "tol_x", "have", "tab"]
-)
+    "Plan",
+    ["lam", "BT", "Wd", "Wv", "Ca", "EH", "H", "J", "hmin", "tol_x", "have", "tab", "order",
+     "tab4"],
+)  # fmt: skip
 """The adaptive kernel's plan (:mod:`rubrotor.core.engine_adaptive`): modes ``lam`` (ns,)
 (1/s), ``BT`` (m, ns) modal input transposed, ``Wd, Wv`` (m, m, ns) ``Cd_rj beta_jc`` and
 ``Cv_rj beta_jc``, ``Ca`` (m, ns) ``|Cd_rj lam_j^2|`` (look-ahead bound), ``EH`` (ns,)
 ``e^{lam H}``, ``H`` the output spacing (s), ``J`` the finest level (``hmin = H / 2^J``, s),
 ``tol_x`` (m) the gap at which an onset counts as located, ``have`` (L,) int flags and ``tab``
 the per-level coefficient tables ``(E, G0, G1, CdE, CvE, Q0d, Q0v, Sd, Sv)`` filled on first use
-(row ``L - 1`` for a non-dyadic step)."""
+(row ``L - 1`` for a non-dyadic step); ``order`` 2 (force held linear over a contact step) or
+4 (quadratic, collocation at ``0, h/2, h``) and ``tab4`` its tables ``(E, Em, W, CdE, CvE,
+CdEm, CvEm, P0d, P0v, S2d, S2v)`` (:func:`rubrotor.core.engine_adaptive._fill4`)."""
