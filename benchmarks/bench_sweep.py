@@ -51,15 +51,24 @@ def _vary(points: int) -> dict:
     return {"speed.critical_multiple": np.linspace(0.5, 3.0, points)}
 
 
+def _cpu() -> float:
+    """CPU seconds of this process and of its finished (joined) children."""
+    import resource
+
+    a, b = (resource.getrusage(w) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN))
+    return a.ru_utime + a.ru_stime + b.ru_utime + b.ru_stime
+
+
 def child(points: int, workers: int, out: str) -> None:
-    """One timed sweep in this process (after a warm-up point); pickles (seconds, Dataset)."""
+    """One timed sweep in this process (after a warm-up point); pickles
+    ``((wall seconds, CPU seconds), Dataset)``; the pool's workers are joined by ``sweep``."""
     from rubrotor.sweep import sweep
 
     sc = _scenario()
     sweep(sc, {"speed.critical_multiple": [1.5]}, workers=1, **KW)
-    t = time.perf_counter()
+    t, c = time.perf_counter(), _cpu()
     ds = sweep(sc, _vary(points), workers=workers, **KW)
-    el = time.perf_counter() - t
+    el = (time.perf_counter() - t, _cpu() - c)
     with open(out, "wb") as fh:
         pickle.dump((el, ds), fh)
 
@@ -90,15 +99,19 @@ def against_baseline(points: int, repeats: int, baseline: str) -> None:
             xr.testing.assert_identical(res["ours"], res["baseline"])
     print(f"against the baseline package {baseline} (fresh process per sweep, interleaved):")
     print("  Datasets of ours and the baseline: identical (xarray.testing.assert_identical)")
+    print(f"  load average at the end: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     for w in (1, 2):
-        mb = statistics.median(times[("baseline", w)])
-        mo = statistics.median(times[("ours", w)])
-        print(
-            f"  {w} worker{'s' if w > 1 else ' '}: baseline {points / mb:6.1f} points/s, "
-            f"ours {points / mo:6.1f} points/s, ratio {mb / mo:5.2f}x  "
-            f"(runs baseline {[round(x, 2) for x in times[('baseline', w)]]}, "
-            f"ours {[round(x, 2) for x in times[('ours', w)]]})"
-        )
+        for k, what in ((0, "wall"), (1, "CPU ")):
+            b = [x[k] for x in times[("baseline", w)]]
+            o = [x[k] for x in times[("ours", w)]]
+            mb, mo = statistics.median(b), statistics.median(o)
+            print(
+                f"  {w} worker{'s' if w > 1 else ' '} {what}: baseline {points / mb:6.1f} "
+                f"points/s, ours {points / mo:6.1f} points/s, ratio {mb / mo:5.2f}x  "
+                f"(s: baseline {[round(x, 2) for x in b]}, ours {[round(x, 2) for x in o]})"
+            )
+    print("  (CPU = points per CPU second of the sweep's processes: the measure that other")
+    print("   jobs on a shared machine disturb least; wall = points per elapsed second)")
 
 
 def point_split(sc, reps: int = 20) -> None:
