@@ -100,3 +100,16 @@ def test_point_scenarios_equal_with_changes(keys, values):
     assert scenario_to_dict(got) == scenario_to_dict(ref)
     cached = "speed.rpm" not in keys and "shaft.length" not in keys
     assert (points.critical is not None) == cached
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_largest_first_equals_a_full_stable_sort(seed):
+    """Reference: ``np.argsort(-mag[idx], kind="stable")`` of all peaks (ties in index order)."""
+    from rubrotor.sweep import _largest_first
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(1, 60))
+    mag = rng.integers(0, 6, size=200).astype(float)  # many ties
+    idx = np.sort(rng.choice(200, size=n, replace=False))
+    ref = idx[np.argsort(-mag[idx], kind="stable")][:10]
+    assert np.array_equal(_largest_first(idx, mag, 10), ref)

@@ -180,6 +180,18 @@ def _window_tables(n: int, samples_per_rev: int):
     return w, w.sum(), freq, positive
 
 
+def _largest_first(idx: np.ndarray, mag: np.ndarray, count: int) -> np.ndarray:
+    """The first ``count`` of ``idx`` stably sorted by decreasing ``mag[idx]`` (ties keep their
+    order), without sorting all of them: only those at least as large as the ``count``-th
+    largest value (ties included) are sorted."""
+    m = -mag[idx]
+    if m.size > count:
+        cut = np.partition(m, count - 1)[count - 1]
+        keep = np.flatnonzero(m <= cut)
+        return idx[keep[np.argsort(m[keep], kind="stable")]][:count]
+    return idx[np.argsort(m, kind="stable")]
+
+
 def _spectrum(p: np.ndarray, samples_per_rev: int, revs: int):
     """Peaks, forward share and line fraction of the complex signal ``p`` (see module doc)."""
     n = p.size
@@ -199,8 +211,7 @@ def _spectrum(p: np.ndarray, samples_per_rev: int, revs: int):
     is_peak[1:-1] &= mag[1:-1] >= mag[2:]
     is_peak[-1] = mag[-1] > mag[-2] and mag[-1] >= mag[0]
     is_peak[0] = False
-    idx = np.flatnonzero(is_peak)
-    idx = idx[np.argsort(-mag[idx], kind="stable")]
+    idx = _largest_first(np.flatnonzero(is_peak), mag, 10)
     lines = np.zeros(n, bool)
     for i in idx[:10]:
         lines[(i + np.arange(-2, 3)) % n] = True
