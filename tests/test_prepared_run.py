@@ -113,3 +113,30 @@ def test_lazy_unbalance_force_is_the_closed_form(tmp_path):
     # a lazy variable survives a netCDF round trip and equals its loaded self
     ds.to_netcdf(tmp_path / "r.nc")
     xr.testing.assert_identical(xr.load_dataset(tmp_path / "r.nc"), ds.load())
+
+
+def test_engine_dataset_views_the_result_channels():
+    """Reference: the engine's channel layout (rows ``4 s + k`` per station, ``4 S + 8 i + k``
+    per contact, :mod:`rubrotor.core.engine`)."""
+    from rubrotor.engine.continuous import continuous_system
+    from rubrotor.engine.driver import simulate_general
+    from rubrotor.engine.model import RubStation, Run
+    from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS
+
+    sc, integ = CASE1, Integrator(revolutions=3)
+    run = Run(speed=sc.speed, duration=integ.total_time(sc.speed), probes=(0.1, 0.3),
+              step=integ.output_spacing(sc.speed), rtol=integ.rtol, atol=integ.atol)  # fmt: skip
+    stn = [RubStation(dataclasses.replace(sc.contact, radius=sc.shaft.diameter / 2))]
+    res = simulate_general(continuous_system(sc.shaft), run, stn, [sc.unbalance], progress=False)
+    ds = res.to_dataset()
+    S = len(res.stations)
+    assert S == 3 and res.events.size > 0
+    for k, (name, _) in enumerate(STATION_VARS):
+        assert np.shares_memory(ds[name].values, res.channels)
+        for s in range(S):
+            assert np.array_equal(ds[name].values[s], res.channels[4 * s + k])
+    for k, (name, _) in enumerate(CONTACT_VARS):
+        assert np.shares_memory(ds[name].values, res.channels)
+        assert np.array_equal(ds[name].values[0], res.channels[4 * S + k])
+    fn = res.channels[4 * S + 6]
+    assert np.array_equal(ds["in_contact"].values[0], (fn > 0).astype(np.int8))
