@@ -164,13 +164,18 @@ class _Problem:
         self.sx, self.sp = sx, sp
 
     def at(self, p):
-        """The scenario at key value ``p`` (cached: rebuilding one solves its critical speeds)."""
+        """The scenario at key value ``p`` (cached: rebuilding one solves its critical speeds;
+        :class:`rubrotor.sweep.PointScenarios` solves them once for the unswept shaft)."""
+        from rubrotor.sweep import PointScenarios
+
         p = float(p)
         cache = self.__dict__.setdefault("_at", {})
+        if "_points" not in self.__dict__:
+            self._points = PointScenarios(self.scenario, [self.key])
         if p not in cache:
             if len(cache) > 64:
                 cache.clear()
-            cache[p] = self.scenario.with_changes(**{self.key: p})
+            cache[p] = self._points([p])
         return cache[p]
 
     def residual(self, z):

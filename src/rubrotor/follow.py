@@ -90,15 +90,16 @@ def run_follow_chunk(task: dict) -> dict:
     """
     from rubrotor.errors import RubrotorError
     from rubrotor.scenario import scenario_from_dict
-    from rubrotor.sweep import _empty_metrics, _point_scenario, simulate_point
+    from rubrotor.sweep import PointScenarios, _empty_metrics, simulate_point
 
     base = scenario_from_dict(task["scenario"])
+    point_scenario = PointScenarios(base, [task["key"]])
     state = task["start"]
     metrics = []
     for value in task["values"]:
         started = 0 if state is None else 1
         try:
-            sc = _point_scenario(base, [task["key"]], [value])
+            sc = point_scenario([value])
             m, state = simulate_point(
                 sc,
                 task["transient"],

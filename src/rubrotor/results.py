@@ -14,6 +14,8 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from xarray.backends import BackendArray
+from xarray.core import indexing
 
 from rubrotor import __version__
 from rubrotor.errors import InputError
@@ -44,10 +46,55 @@ def _jsonable(obj):
     return obj
 
 
+class _Phasor:
+    """``amplitude e^{i speed t}`` (N) at the sample times, computed on first use, then kept."""
+
+    def __init__(self, amplitude: complex, speed: float, t: np.ndarray) -> None:
+        self.amplitude, self.speed, self.t = amplitude, speed, t
+        self._values = None
+
+    def values(self) -> np.ndarray:
+        if self._values is None:
+            self._values = self.amplitude * np.exp(1j * self.speed * self.t)
+        return self._values
+
+
+class _LazyPart(BackendArray):
+    """The real or imaginary part of a :class:`_Phasor`, as a lazily loaded xarray array.
+
+    A derived variable the user may never read (the unbalance force, one complex exponential
+    per sample) costs nothing until it is read; then it is computed once for both parts.
+    """
+
+    def __init__(self, phasor: _Phasor, part: str) -> None:
+        self.phasor, self.part = phasor, part
+        self.shape = phasor.t.shape
+        self.dtype = np.dtype(float)
+
+    def _raw(self, key):
+        return getattr(self.phasor.values(), self.part)[key]
+
+    def __getitem__(self, key):
+        return indexing.explicit_indexing_adapter(
+            key, self.shape, indexing.IndexingSupport.BASIC, self._raw
+        )
+
+
+def _lazy(array: BackendArray) -> indexing.LazilyIndexedArray:
+    return indexing.LazilyIndexedArray(array)
+
+
+def _var(dims, data, attrs: dict) -> xr.Variable:
+    return xr.Variable(dims, data, attrs, fastpath=True)
+
+
 def to_dataset(
     result, parameters: dict | None = None, scenario_text: str = "", name: str = ""
 ) -> xr.Dataset:
     """Build the results Dataset of a :class:`rubrotor.simulation.SimulationResult`.
+
+    The sample variables are views of the result's arrays (no copy); the unbalance force is
+    computed when first read (it is a closed form of the time).
 
     Parameters
     ----------
@@ -77,23 +124,19 @@ def to_dataset(
     t = result.time
     nst = len(result.stations)
     coords = {
-        "time": ("time", t, {"units": "s", "long_name": "time"}),
-        "tau": (
-            "time",
-            result.speed * t,
-            {"units": "rad", "long_name": "dimensionless time Omega t"},
+        "time": _var("time", t, {"units": "s", "long_name": "time"}),
+        "tau": _var(
+            "time", result.speed * t, {"units": "rad", "long_name": "dimensionless time Omega t"}
         ),
     }
     data = {}
     for i, (name_v, unit, long) in enumerate(_STATION_VARS):
-        data[name_v] = (
-            "time",
-            ch[i],
-            {"units": unit, "long_name": f"{long} at the contact station"},
+        data[name_v] = _var(
+            "time", ch[i], {"units": unit, "long_name": f"{long} at the contact station"}
         )
     b = 6 * nst
-    data["normal_force"] = ("time", ch[b], {"units": "N", "long_name": "normal contact force"})
-    data["friction_force"] = (
+    data["normal_force"] = _var("time", ch[b], {"units": "N", "long_name": "normal contact force"})
+    data["friction_force"] = _var(
         "time",
         ch[b + 1],
         {
@@ -101,31 +144,33 @@ def to_dataset(
             "long_name": "friction force along the tangent i*n (positive = spin direction)",
         },
     )
-    data["in_contact"] = (
+    data["in_contact"] = _var(
         "time",
-        (ch[b] > 0).astype(np.int8),
+        (ch[b] > 0).view(np.int8),  # a bool array read as 0/1 bytes: no second pass
         {"units": "1", "long_name": "rotor touches the stator", "flag_values": "0 1"},
     )
-    fu = result.unbalance_force * np.exp(1j * result.speed * t)
-    data["unbalance_force_y"] = ("time", fu.real, {"units": "N", "long_name": "unbalance force, y"})
-    data["unbalance_force_z"] = ("time", fu.imag, {"units": "N", "long_name": "unbalance force, z"})
+    fu = _Phasor(result.unbalance_force, result.speed, t)
+    for axis, part in (("y", "real"), ("z", "imag")):
+        data[f"unbalance_force_{axis}"] = _var(
+            "time",
+            _lazy(_LazyPart(fu, part)),
+            {"units": "N", "long_name": f"unbalance force, {axis}"},
+        )
     if nst > 1:
-        coords["probe"] = (
-            "probe",
-            result.stations[1:],
-            {"units": "m", "long_name": "probe axial position"},
+        coords["probe"] = _var(
+            "probe", result.stations[1:], {"units": "m", "long_name": "probe axial position"}
         )
         for i, (name_v, unit, long) in enumerate(_STATION_VARS):
-            rows = ch[[6 * s + i for s in range(1, nst)]]
-            data[f"probe_{name_v}"] = (
-                ("probe", "time"),
-                rows,
-                {"units": unit, "long_name": f"{long} at probe"},
+            rows = ch[6 + i : b : 6]  # stations 1 .. S - 1: a strided view
+            data[f"probe_{name_v}"] = _var(
+                ("probe", "time"), rows, {"units": unit, "long_name": f"{long} at probe"}
             )
     ev = result.events
-    coords["event"] = ("event", np.arange(len(ev)), {"long_name": "contact event index"})
-    data["event_time"] = ("event", np.abs(ev), {"units": "s", "long_name": "contact event time"})
-    data["event_kind"] = (
+    coords["event"] = _var("event", np.arange(len(ev)), {"long_name": "contact event index"})
+    data["event_time"] = _var(
+        "event", np.abs(ev), {"units": "s", "long_name": "contact event time"}
+    )
+    data["event_kind"] = _var(
         "event",
         np.sign(ev).astype(np.int8),
         {"units": "1", "long_name": "+1 contact onset, -1 separation"},

@@ -16,6 +16,7 @@ no-contact multipliers equal ``exp(lambda T)`` to 1e-12).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -23,7 +24,7 @@ import numpy as np
 
 from rubrotor.errors import InputError
 from rubrotor.integrator import Integrator
-from rubrotor.simulation import RotorState, simulate_scenario
+from rubrotor.simulation import PreparedRun, RotorState, simulate_scenario
 
 STEPS_PER_REVOLUTION = 1024
 FD_STEP = 6e-6
@@ -69,12 +70,24 @@ def strobe(scenario, x: np.ndarray, k: int = 1, steps: int = STEPS_PER_REVOLUTIO
     ndarray
         The state vector after ``k`` revolutions (m, m/s).
     """
-    res = simulate_scenario(
-        scenario, _integrator(k, steps, False), progress=False, start=vector_state(x)
-    )
+    res = _prepared(scenario, k, steps).run(start=vector_state(x))
     if res.final_state is None:
         raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")
     return state_vector(res.final_state)
+
+
+@functools.lru_cache(maxsize=8)
+def _cached_run(scenario, k: int, steps: int) -> PreparedRun:
+    return PreparedRun.from_scenario(scenario, _integrator(k, steps, False))
+
+
+def _prepared(scenario, k: int, steps: int) -> PreparedRun:
+    """The map's simulation, set up once per (equal) scenario: a Newton step's ``4 n`` finite
+    differences all run the same model from different states (the array-level path)."""
+    try:
+        return _cached_run(scenario, k, steps)
+    except TypeError:  # an unhashable scenario: set up each time
+        return PreparedRun.from_scenario(scenario, _integrator(k, steps, False))
 
 
 def monodromy(scenario, x: np.ndarray, k: int = 1, steps: int = STEPS_PER_REVOLUTION):

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from rubrotor.engine.model import Run
-from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, check_size
+from rubrotor.engine.stream import check_size
 from rubrotor.errors import InputError, ScenarioError
 
 __all__ = ["engine_problem", "simulate_engine", "STREAM_SAMPLES"]
@@ -174,33 +174,41 @@ def _attrs(scenario, res_stats: dict, run: Run, t0: float) -> dict:
 
 
 def _dataset(res, scenario, run: Run, t0: float):
-    ds = res.to_dataset()
-    ds = ds.assign_coords(time=ds["time"] + t0)
-    ds["time"].attrs.update(units="s", long_name="time")
-    t = ds["time"].values - t0
+    """The results Dataset, built once from views of the run's arrays (see the module doc)."""
+    import xarray as xr
+
+    from rubrotor.engine.driver import result_dataset
+
+    time = res.time + t0
+    t = time - t0
     alpha = 0.0 if run.speed_end is None else (run.speed_end - run.speed) / run.duration
-    ds = ds.assign_coords(tau=("time", run.speed * (t + t0) + 0.5 * alpha * t**2))
-    ds["tau"].attrs.update(units="rad", long_name="spin angle")
-    for name, unit in STATION_VARS + CONTACT_VARS:
-        ds[name].attrs.setdefault("units", unit)
-    _accelerations(ds)
-    ds.attrs.update(_attrs(scenario, res.stats, run, t0))
-    ds.attrs["end_time_s"] = t0 + float(res.time[-1]) if res.time.size else t0
-    ds.attrs["final_state"] = json.dumps(res.final_state.tolist())
-    return ds
+    coords = {
+        "time": xr.Variable("time", time, {"units": "s", "long_name": "time"}),
+        "tau": xr.Variable("time", run.speed * (t + t0) + 0.5 * alpha * t**2,
+                           {"units": "rad", "long_name": "spin angle"}),
+    }  # fmt: skip
+    attrs = _attrs(scenario, res.stats, run, t0)
+    attrs["end_time_s"] = t0 + float(res.time[-1]) if res.time.size else t0
+    attrs["final_state"] = json.dumps(res.final_state.tolist())
+    data = _accelerations(res, time)
+    return result_dataset(res, coords=coords, data=data, attrs=attrs)
 
 
-def _accelerations(ds) -> None:
+def _accelerations(res, t: np.ndarray) -> dict:
     """``v_ddot, w_ddot`` (m/s^2): central differences of the saved velocities (order 2)."""
-    t = ds["time"].values
-    for a in ("v", "w"):
-        vel = ds[f"{a}_dot"].values
+    import xarray as xr
+
+    S = len(res.stations)
+    out = {}
+    for k, a in ((2, "v"), (3, "w")):
+        vel = res.channels[k : 4 * S : 4]  # the v_dot / w_dot rows of every station
         acc = np.gradient(vel, t, axis=1) if t.size > 1 else np.zeros_like(vel)
-        ds[f"{a}_ddot"] = (("station", "time"), acc, {
+        out[f"{a}_ddot"] = xr.Variable(("station", "time"), acc, {
             "units": "m/s^2",
             "long_name": f"acceleration along {'y' if a == 'v' else 'z'} (central difference of "
             "the saved velocity)",
         })  # fmt: skip
+    return out
 
 
 def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):

@@ -6,6 +6,8 @@ plans the run (rows, particular solution, initial state), asks the stepper table
 :data:`rubrotor.steppers.STEPPERS` for the method's chunk function, runs one shared chunk loop
 (progress, Ctrl-C, event-buffer growth and status between chunks, never per step) and returns a
 :class:`SimulationResult`. :func:`rubrotor.results.to_dataset` turns that into an xarray Dataset.
+:class:`PreparedRun` splits that in two, set up once (modal system, rows, coefficients) and run
+many times from different start states: the array-level path of sweeps and continuation.
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ from rubrotor.steppers import STEPPERS, Plan, Rows, RunState
 
 __all__ = [
     "ModalSystem",
+    "PreparedRun",
     "RotorState",
     "SimulationResult",
     "assemble",
@@ -52,6 +55,8 @@ INITIAL_STATES = ("rest", "steady")
 EVENT_BUFFER = 200_000
 """Initial length of the contact-event buffer; it doubles when full, up to ``EVENT_BUFFER_MAX``."""
 EVENT_BUFFER_MAX = 1 << 26
+SMALL_OUTPUT = 1 << 26
+"""Saved samples of at most this many bytes (64 MiB) are not checked against the free memory."""
 
 
 def assemble(shaft: Shaft, speed: float, damping: ModalDamping | None = None) -> ModalSystem:
@@ -105,9 +110,11 @@ class RotorState:
     phase: float = 0.0
 
 
-@dataclass
+@dataclass(frozen=True)
 class SimulationResult:
-    """Raw simulation output (SI units); see :func:`rubrotor.results.to_dataset`.
+    """Raw simulation output (SI units, frozen); see :func:`rubrotor.results.to_dataset`.
+
+    ``channels`` is a view of the compiled kernel's output buffer (no copy).
 
     Attributes
     ----------
@@ -242,6 +249,8 @@ def _available_memory() -> int:
 
 def _check_output_size(nbytes: int, integrator: Integrator) -> None:
     """Refuse, before it starts, a run whose saved samples cannot fit in half the free memory."""
+    if nbytes <= SMALL_OUTPUT:
+        return  # no need to read /proc/meminfo (0.1 ms) on every short run
     limit = _available_memory() // 2
     if nbytes > limit:
         raise InputError(
@@ -260,10 +269,14 @@ def _check_station(name: str, x: float, length: float) -> float:
     return float(x)
 
 
-def _check_call(shaft: Shaft, speed, initial: str, track_energy: bool) -> float:
-    """The spin speed (rad/s) as a float, after checking the arguments that need no model."""
+def _check_initial(initial) -> None:
     if initial not in INITIAL_STATES:
         raise InputError("initial.state", initial, " or ".join(f'"{x}"' for x in INITIAL_STATES))
+
+
+def _check_call(shaft: Shaft, speed, initial: str, track_energy: bool) -> float:
+    """The spin speed (rad/s) as a float, after checking the arguments that need no model."""
+    _check_initial(initial)
     if track_energy and shaft.formulation == "seed-eq1" and shaft.theory == "timoshenko":
         raise InputError(
             "track_energy", True, 'shaft.formulation = "two-field" (the seed form has no energy)'
@@ -508,6 +521,139 @@ def _energy_balance(plan: Plan, st: RunState, e0: float, n_out: int, contact) ->
     }
 
 
+class PreparedRun:
+    """A simulation set up once and run many times: the array-level path (no Dataset).
+
+    Building it checks the arguments, assembles and diagonalises the modal system, solves the
+    particular (steady) solution, packs the output rows and the contact law, sizes the sample
+    grid and precomputes the stepper's coefficients; :meth:`run` then only allocates the
+    output buffers, runs the compiled kernel from a start state and wraps its arrays (no copy)
+    in a frozen :class:`SimulationResult`. :func:`simulate_system` is ``PreparedRun(...).run()``;
+    sweeps, follow sweeps and repeated runs of one model (shooting, continuation) build one per
+    parameter point and call :meth:`run` for each start state.
+
+    Parameters
+    ----------
+    shaft, speed, integrator, unbalance, contact, load, damping, track_energy
+        As in :func:`simulate_system` (speed in rad/s).
+
+    Attributes
+    ----------
+    plan : rubrotor.steppers.Plan
+        Modal system, forces, rows and run settings (SI).
+    stations : ndarray
+        Axial positions (m) of the output stations (contact station first).
+    n_samples : int
+        Saved samples after the first.
+    sample_dt : float
+        Spacing of the saved samples (s).
+    """
+
+    def __init__(
+        self,
+        shaft: Shaft,
+        speed: float,
+        integrator: Integrator,
+        unbalance: Unbalance | None = None,
+        contact: Contact | None = None,
+        load: RadialLoad | None = None,
+        damping: ModalDamping | None = None,
+        *,
+        track_energy: bool = False,
+    ) -> None:
+        self.speed = _check_call(shaft, speed, "rest", track_energy)
+        self.shaft, self.integrator, self.contact, self.load = shaft, integrator, contact, load
+        unbalance = unbalance or Unbalance(0.0)
+        self.plan, self.stations = _plan(
+            shaft, self.speed, integrator, unbalance, contact, load, damping, track_energy
+        )
+        self.method = integrator.method
+        self.n_samples, self.sample_dt = _sample_grid(integrator, self.speed)
+        nbytes = n_channels(len(self.stations)) * (self.n_samples + 1) * 8
+        _check_output_size(nbytes, integrator)
+        self.kind = self.method if self.method == "abm" or self.plan.h is not None else "adaptive"
+        # a stepper's coefficients depend on the plan only; with energy tracking it also holds
+        # the start state's energy, so it is then rebuilt per run
+        self._stepper = None
+
+    @classmethod
+    def from_scenario(cls, scenario, integrator: Integrator, *, track_energy: bool = False):
+        """The prepared run of a scenario's shaft, speed (rad/s), forces and damping."""
+        return cls(scenario.shaft, scenario.speed, integrator, scenario.unbalance,
+                   scenario.contact, scenario.load, scenario.damping,
+                   track_energy=track_energy)  # fmt: skip
+
+    def _stepper_for(self, st: RunState):
+        if self.plan.track_energy:
+            return STEPPERS[self.kind](self.plan, st)
+        if self._stepper is None:
+            self._stepper = STEPPERS[self.kind](self.plan, st)
+        return self._stepper
+
+    def run(
+        self,
+        *,
+        initial: str = "rest",
+        start: RotorState | None = None,
+        progress: bool | None = False,
+        chunk_samples: int = 1 << 15,
+    ) -> SimulationResult:
+        """Run the prepared simulation from rest, the steady orbit or ``start``.
+
+        Parameters
+        ----------
+        initial : {"rest", "steady"}
+            Initial state when ``start`` is None (see :func:`simulate_system`).
+        start : RotorState, optional
+            Physical state to start from.
+        progress : bool, optional
+            Progress on stderr for long runs (None: when stderr is a terminal).
+        chunk_samples : int
+            Samples computed per compiled call.
+
+        Returns
+        -------
+        SimulationResult
+            Frozen; ``channels`` is a view of the kernel's output buffer (no copy).
+        """
+        _check_initial(initial)
+        plan, speed, n_samples, sample_dt = self.plan, self.speed, self.n_samples, self.sample_dt
+        y, f_start = _initial_y(plan, self.method, initial, start, self.load)
+        st = _run_state(plan, y, f_start, n_samples + 1)
+        stepper = self._stepper_for(st)
+        show = sys.stderr.isatty() if progress is None else progress
+        st, done, interrupted, wall = _loop(
+            stepper.chunk, st, n_samples, chunk_samples, show, sample_dt, speed
+        )
+        code = int(st.istate[I_STATUS])
+        complete = code == OK and not interrupted
+        n_out, t_stop = 1 + done, done * sample_dt
+        integ = self.integrator
+        stats = {"method": self.method, "order": integ.order, "modes": self.shaft.modes,
+                 "eig_cond": plan.sysm.cond, **stepper.stats, "wall_s": wall,
+                 **stepper.counts(st), "contact_events": int(st.istate[I_EVENTS])}  # fmt: skip
+        final = None
+        if complete:
+            final = _state_of(plan.sysm, stepper.full_state(st), speed * t_stop)
+        work = {}
+        if stepper.e0 is not None:  # energy tracked (fixed-step exponential)
+            work = _energy_balance(plan, st, stepper.e0, n_out, self.contact)
+        return SimulationResult(
+            time=np.arange(n_out) * sample_dt,
+            stations=self.stations,
+            channels=st.out[:, :n_out],
+            status="complete" if complete else "partial",
+            message=_status_message(code, interrupted, t_stop, sample_dt, plan.max_disp, st),
+            stats=stats,
+            events=st.events[: min(int(st.istate[I_EVENTS]), st.events.size)].copy(),
+            work=work,
+            speed=speed,
+            unbalance_force=plan.fu0,
+            unbalance_position=plan.a_u,
+            final_state=final,
+        )
+
+
 def simulate_system(
     shaft: Shaft,
     speed: float,
@@ -524,6 +670,9 @@ def simulate_system(
     start: RotorState | None = None,
 ) -> SimulationResult:
     """Simulate the rotor from rest, from its steady no-contact orbit or from a given state.
+
+    ``PreparedRun(shaft, speed, integrator, ...).run(initial=..., start=...)``: build a
+    :class:`PreparedRun` yourself to run one model from several start states.
 
     Parameters
     ----------
@@ -561,47 +710,11 @@ def simulate_system(
     SimulationResult
         With ``final_state`` (:class:`RotorState`) when the run completed.
     """
-    speed = _check_call(shaft, speed, initial, track_energy)
-    unbalance = unbalance or Unbalance(0.0)
-    plan, stations = _plan(
-        shaft, speed, integrator, unbalance, contact, load, damping, track_energy
-    )
-    method = integrator.method
-    y, f_start = _initial_y(plan, method, initial, start, load)
-    n_samples, sample_dt = _sample_grid(integrator, speed)
-    _check_output_size(n_channels(len(stations)) * (n_samples + 1) * 8, integrator)
-    st = _run_state(plan, y, f_start, n_samples + 1)
-    kind = method if method == "abm" or plan.h is not None else "adaptive"
-    stepper = STEPPERS[kind](plan, st)
-    show = sys.stderr.isatty() if progress is None else progress
-    st, done, interrupted, wall = _loop(
-        stepper.chunk, st, n_samples, chunk_samples, show, sample_dt, speed
-    )
-    code = int(st.istate[I_STATUS])
-    complete = code == OK and not interrupted
-    n_out, t_stop = 1 + done, done * sample_dt
-    stats = {"method": method, "order": integrator.order, "modes": shaft.modes,
-             "eig_cond": plan.sysm.cond, **stepper.stats, "wall_s": wall, **stepper.counts(st),
-             "contact_events": int(st.istate[I_EVENTS])}  # fmt: skip
-    final = None
-    if complete:
-        final = _state_of(plan.sysm, stepper.full_state(st), speed * t_stop)
-    work = {}
-    if stepper.e0 is not None:  # energy tracked (fixed-step exponential)
-        work = _energy_balance(plan, st, stepper.e0, n_out, contact)
-    return SimulationResult(
-        time=np.arange(n_out) * sample_dt,
-        stations=stations,
-        channels=st.out[:, :n_out],
-        status="complete" if complete else "partial",
-        message=_status_message(code, interrupted, t_stop, sample_dt, plan.max_disp, st),
-        stats=stats,
-        events=st.events[: min(int(st.istate[I_EVENTS]), st.events.size)].copy(),
-        work=work,
-        speed=speed,
-        unbalance_force=plan.fu0,
-        unbalance_position=plan.a_u,
-        final_state=final,
+    _check_initial(initial)
+    prepared = PreparedRun(shaft, speed, integrator, unbalance, contact, load, damping,
+                           track_energy=track_energy)  # fmt: skip
+    return prepared.run(
+        initial=initial, start=start, progress=progress, chunk_samples=chunk_samples
     )
 
 

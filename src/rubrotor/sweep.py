@@ -45,6 +45,8 @@ exactly on ``t = k 2 pi / Omega``), with ``P = v + i w`` (m) the contact-station
 from __future__ import annotations
 
 import contextlib
+import dataclasses
+import functools
 import json
 import math
 import os
@@ -166,36 +168,55 @@ def parse_vary(text: str, log: bool = False) -> tuple[str, np.ndarray]:
 
 
 # ---- per-point reduction -----------------------------------------------------------------------
-def _periodic_hann(n: int) -> np.ndarray:
-    return 0.5 - 0.5 * np.cos(2 * np.pi * np.arange(n) / n)
+@functools.lru_cache(maxsize=8)
+def _window_tables(n: int, samples_per_rev: int):
+    """Periodic Hann window, its gain, FFT bin frequencies (cycles per revolution) and the
+    positive-frequency mask of an ``n``-sample window: the same at every point of a sweep."""
+    w = 0.5 - 0.5 * np.cos(2 * np.pi * np.arange(n) / n)
+    freq = np.fft.fftfreq(n, d=1.0 / samples_per_rev)
+    positive = freq > 0
+    for a in (w, freq, positive):
+        a.flags.writeable = False
+    return w, w.sum(), freq, positive
+
+
+def _largest_first(idx: np.ndarray, mag: np.ndarray, count: int) -> np.ndarray:
+    """The first ``count`` of ``idx`` stably sorted by decreasing ``mag[idx]`` (ties keep their
+    order), without sorting all of them: only those at least as large as the ``count``-th
+    largest value (ties included) are sorted."""
+    m = -mag[idx]
+    if m.size > count:
+        cut = np.partition(m, count - 1)[count - 1]
+        keep = np.flatnonzero(m <= cut)
+        return idx[keep[np.argsort(m[keep], kind="stable")]][:count]
+    return idx[np.argsort(m, kind="stable")]
 
 
 def _spectrum(p: np.ndarray, samples_per_rev: int, revs: int):
     """Peaks, forward share and line fraction of the complex signal ``p`` (see module doc)."""
     n = p.size
-    w = _periodic_hann(n)
+    w, gain, freq, positive = _window_tables(n, samples_per_rev)
     X = np.fft.fft((p - p.mean()) * w)
     mag = np.abs(X)
     power = mag**2
     power[0] = 0.0
     total = power.sum()
-    freq = np.fft.fftfreq(n, d=1.0 / samples_per_rev)  # cycles per revolution
     out_f = np.full(N_PEAKS, np.nan)
     out_a = np.full(N_PEAKS, np.nan)
     if total <= 0 or not np.isfinite(total):
         return out_f, out_a, np.nan, np.nan
-    left = np.roll(mag, 1)
-    right = np.roll(mag, -1)
-    is_peak = (mag > left) & (mag >= right)
+    # local maxima (circular neighbours, as np.roll would give, without the two copies)
+    is_peak = np.empty(n, bool)
+    np.greater(mag[1:-1], mag[:-2], out=is_peak[1:-1])
+    is_peak[1:-1] &= mag[1:-1] >= mag[2:]
+    is_peak[-1] = mag[-1] > mag[-2] and mag[-1] >= mag[0]
     is_peak[0] = False
-    idx = np.flatnonzero(is_peak)
-    idx = idx[np.argsort(-mag[idx], kind="stable")]
+    idx = _largest_first(np.flatnonzero(is_peak), mag, 10)
     lines = np.zeros(n, bool)
     for i in idx[:10]:
         lines[(i + np.arange(-2, 3)) % n] = True
     lines[0] = False
     line_fraction = float(power[lines].sum() / total)
-    gain = w.sum()
     for j, i in enumerate(idx[:N_PEAKS]):
         a, b, c = (np.log(max(mag[(i + d) % n], 1e-300)) for d in (-1, 0, 1))
         den = a - 2 * b + c
@@ -203,7 +224,7 @@ def _spectrum(p: np.ndarray, samples_per_rev: int, revs: int):
         delta = min(max(delta, -0.5), 0.5)
         out_f[j] = freq[i] + delta / revs
         out_a[j] = float(np.exp(b - 0.25 * (a - c) * delta)) / gain
-    forward = float(power[freq > 0].sum() / total)
+    forward = float(power[positive].sum() / total)
     return out_f, out_a, forward, line_fraction
 
 
@@ -247,13 +268,42 @@ def point_metrics(
         Arrays and scalars keyed by the Dataset variable names.
     """
     n_rev = samples_per_revolution
-    k = revolutions - transient_revolutions
     i0, i1 = transient_revolutions * n_rev, revolutions * n_rev
-    out = _empty_metrics(k)
     if not complete or p.size < i1 + 1:
-        return out
-    pw = p[i0:i1]
-    fn = normal_force[i0:i1]
+        return _empty_metrics(revolutions - transient_revolutions)
+    return window_metrics(p[i0:i1], normal_force[i0:i1], events, speed, transient_revolutions,
+                          revolutions, samples_per_revolution, lyapunov)  # fmt: skip
+
+
+def window_metrics(
+    pw: np.ndarray,
+    fn: np.ndarray,
+    events: np.ndarray,
+    speed: float,
+    transient_revolutions: int,
+    revolutions: int,
+    samples_per_revolution: int,
+    lyapunov: float = np.nan,
+) -> dict:
+    """:func:`point_metrics` of the kept window alone (the samples ``T N .. R N - 1``).
+
+    Parameters
+    ----------
+    pw : ndarray, complex, shape ((R - T) N,)
+        ``v + i w`` at the contact station (m) over the kept window.
+    fn : ndarray, shape ((R - T) N,)
+        Normal contact force (N) over the kept window.
+    events, speed, transient_revolutions, revolutions, samples_per_revolution, lyapunov
+        As in :func:`point_metrics` (s, rad/s, counts, 1/s).
+
+    Returns
+    -------
+    dict
+        Arrays and scalars keyed by the Dataset variable names.
+    """
+    n_rev = samples_per_revolution
+    k = revolutions - transient_revolutions
+    out = _empty_metrics(k)
     z = pw[::n_rev]
     absp = np.abs(pw)
     out["poincare_v"] = z.real.copy()
@@ -330,6 +380,51 @@ def _point_scenario(base, keys: Sequence[str], values: Sequence[float]):
     return base.with_changes(**changes)
 
 
+class PointScenarios:
+    """The scenario of each point of a sweep, equal to ``base.with_changes(...)`` of its keys.
+
+    Validating a scenario with its speed given as ``speed.critical_multiple`` computes the
+    shaft's first forward critical speed (a root search on the whirl frequencies, about 5 ms);
+    when no ``shaft.*`` key is swept that speed is the same at every point, so it is computed
+    once here and each point is built with ``speed.rad_per_s = multiple x critical`` (the same
+    product the scenario loader forms, so the same bits), then given back its
+    ``critical_multiple`` form.
+
+    Parameters
+    ----------
+    base : rubrotor.scenario.Scenario
+        The sweep's base scenario.
+    keys : sequence of str
+        The swept ``"section.key"`` names.
+    """
+
+    def __init__(self, base, keys: Sequence[str]) -> None:
+        self.base, self.keys = base, list(keys)
+        self.critical = None
+        spec = getattr(base, "speed_spec", None) or ("", None)
+        swept_speed = [k for k in self.keys if k.startswith("speed.")]
+        by_multiple = swept_speed == ["speed.critical_multiple"] or (
+            not swept_speed and spec[0] == "critical_multiple"
+        )
+        if by_multiple and base.shaft is not None and not any(k.startswith("shaft.") for k in keys):
+            from rubrotor.modal import first_forward_critical
+
+            self.critical = first_forward_critical(base.shaft)
+
+    def __call__(self, values: Sequence[float]):
+        """The point's validated scenario (``values`` in the order of ``keys``)."""
+        if self.critical is None:
+            return _point_scenario(self.base, self.keys, values)
+        changes = dict(zip(self.keys, values, strict=True))
+        multiple = changes.pop("speed.critical_multiple", self.base.speed_spec[1])
+        keys, vals = list(changes), list(changes.values())
+        keys.append("speed.rad_per_s")
+        vals.append(float(multiple) * self.critical)
+        sc = _point_scenario(self.base, keys, vals)
+        spec = dict(sc._spec, speed={"critical_multiple": multiple})
+        return dataclasses.replace(sc, speed_spec=("critical_multiple", multiple), _spec=spec)
+
+
 def simulate_point(
     scenario,
     transient_revolutions: int,
@@ -362,7 +457,7 @@ def simulate_point(
         The state after ``R`` revolutions (None when the run did not complete).
     """
     from rubrotor.integrator import Integrator
-    from rubrotor.simulation import simulate_scenario
+    from rubrotor.simulation import PreparedRun
 
     base = scenario.simulation
     kw = {}
@@ -371,29 +466,27 @@ def simulate_point(
     integ = Integrator(
         revolutions=revolutions, output_dtau=2 * math.pi / samples_per_revolution, **kw
     )
-    r = simulate_scenario(scenario, integ, progress=False, start=start)
-    complete = r.status == "complete"
+    # the array-level path: no Dataset, the kernel's buffer read in place
+    r = PreparedRun.from_scenario(scenario, integ).run(
+        initial=getattr(scenario, "initial", "rest"), start=start
+    )
+    n_rev = samples_per_revolution
+    i0, i1 = transient_revolutions * n_rev, revolutions * n_rev
+    if r.status != "complete" or r.time.size < i1 + 1:
+        return _empty_metrics(revolutions - transient_revolutions), r.final_state
     lam = np.nan
-    if lyapunov and complete:
+    if lyapunov:
         from rubrotor.lyapunov import lyapunov_exponents
 
         kept = revolutions - transient_revolutions
         lam = float(
             lyapunov_exponents(scenario, revolutions=kept, start=r.final_state).exponents[0]
         )
-    nst = len(r.stations)
-    metrics = point_metrics(
-        r.time,
-        r.channels[0] + 1j * r.channels[1],
-        r.channels[6 * nst],
-        r.events,
-        r.speed,
-        transient_revolutions,
-        revolutions,
-        samples_per_revolution,
-        complete=complete,
-        lyapunov=lam,
-    )
+    ch = r.channels
+    pw = ch[0, i0:i1] + 1j * ch[1, i0:i1]
+    fn = ch[6 * len(r.stations), i0:i1]
+    metrics = window_metrics(pw, fn, r.events, r.speed, transient_revolutions, revolutions,
+                             samples_per_revolution, lam)  # fmt: skip
     return metrics, r.final_state
 
 
@@ -415,10 +508,11 @@ def run_chunk(task: dict) -> dict:
     from rubrotor.scenario import scenario_from_dict
 
     base = scenario_from_dict(task["scenario"])
+    point_scenario = PointScenarios(base, task["keys"])
     metrics = []
     for values in task["points"]:
         try:
-            sc = _point_scenario(base, task["keys"], values)
+            sc = point_scenario(values)
             m = simulate_point(
                 sc,
                 task["transient"],

@@ -68,7 +68,7 @@ from rubrotor.errors import InputError
 from rubrotor.modal_system import phi_functions
 from rubrotor.results import _jsonable
 
-__all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "STEPPERS"]
+__all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "result_dataset", "STEPPERS"]
 
 ADAPTIVE_LEVELS = 21
 DEFAULT_ADAPTIVE = "collocation"
@@ -571,8 +571,9 @@ class EngineResult:
     final_state: np.ndarray
 
     def to_dataset(self):
-        """The results as an xarray Dataset (dims ``time``, ``station``, ``contact``, ``event``)."""
-        return _dataset(self)
+        """The results as an xarray Dataset (dims ``time``, ``station``, ``contact``, ``event``);
+        its sample variables view ``channels`` (no copy)."""
+        return result_dataset(self)
 
 
 def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: float, sink=None):
@@ -782,35 +783,59 @@ _STATION = STATION_VARS
 _CONTACT = CONTACT_VARS
 
 
-def _dataset(res: EngineResult):
+def _var(dims, data, attrs: dict):
+    import xarray as xr
+
+    return xr.Variable(dims, data, attrs, fastpath=True)
+
+
+def result_dataset(res: EngineResult, *, coords=None, data=None, attrs=None):
+    """The results as an xarray Dataset whose sample variables view ``res.channels`` (no copy).
+
+    Parameters
+    ----------
+    res : EngineResult
+        The run.
+    coords, data : dict of str to xarray.Variable, optional
+        Coordinates and variables that replace or extend the defaults (``time`` in s from 0,
+        ``tau = Omega t`` in rad).
+    attrs : dict, optional
+        Attributes added to the defaults.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
     import xarray as xr
 
     from rubrotor import __version__
 
     ch = res.channels
-    S = len(res.stations)
-    coords = {
-        "time": ("time", res.time, {"units": "s"}),
-        "tau": ("time", res.speed * res.time, {"units": "rad", "long_name": "Omega t"}),
-        "station": ("station", res.stations, {"units": "m", "long_name": "axial position"}),
-        "contact": ("contact", np.arange(res.n_contacts), {"long_name": "contact index"}),
+    S, nc = len(res.stations), res.n_contacts
+    crd = {
+        "time": _var("time", res.time, {"units": "s"}),
+        "tau": _var("time", res.speed * res.time, {"units": "rad", "long_name": "Omega t"}),
+        "station": _var("station", res.stations, {"units": "m", "long_name": "axial position"}),
+        "contact": _var("contact", np.arange(nc), {"long_name": "contact index"}),
+        **(coords or {}),
     }
-    data = {}
-    for k, (nm, unit) in enumerate(_STATION):
-        data[nm] = (("station", "time"), ch[[4 * s + k for s in range(S)]], {"units": unit})
-    for k, (nm, unit) in enumerate(_CONTACT):
-        rows = ch[[4 * S + 8 * i + k for i in range(res.n_contacts)]]
-        data[nm] = (("contact", "time"), rows, {"units": unit})
-    data["in_contact"] = (("contact", "time"), (data["normal_force"][1] > 0).astype(np.int8), {})
+    dv = {}
+    for k, (nm, unit) in enumerate(_STATION):  # rows 4 s + k: a strided view
+        dv[nm] = _var(("station", "time"), ch[k : 4 * S : 4], {"units": unit})
+    for k, (nm, unit) in enumerate(_CONTACT):  # rows 4 S + 8 i + k
+        dv[nm] = _var(("contact", "time"), ch[4 * S + k : 4 * S + 8 * nc : 8], {"units": unit})
+    dv["in_contact"] = _var(("contact", "time"), (dv["normal_force"].data > 0).view(np.int8), {})
     ev = res.events
-    data["event_time"] = ("event", ev[:, 0], {"units": "s"})
-    data["event_contact"] = ("event", np.abs(ev[:, 1]).astype(int) - 1, {})
-    data["event_kind"] = ("event", np.sign(ev[:, 1]).astype(np.int8), {"long_name": "+1 onset"})
-    attrs = {
+    dv["event_time"] = _var("event", ev[:, 0], {"units": "s"})
+    dv["event_contact"] = _var("event", np.abs(ev[:, 1]).astype(int) - 1, {})
+    dv["event_kind"] = _var("event", np.sign(ev[:, 1]).astype(np.int8), {"long_name": "+1 onset"})
+    dv.update(data or {})
+    at = {
         "status": res.status,
         "status_message": res.message,
         "speed_rad_s": res.speed,
         "integrator_stats": json.dumps(_jsonable(res.stats)),
         "rubrotor_version": __version__,
+        **(attrs or {}),
     }
-    return xr.Dataset(data, coords, attrs)
+    return xr.Dataset(dv, crd, at)
