@@ -32,12 +32,11 @@ import scipy.optimize
 from rubrotor.errors import InputError
 from rubrotor.shooting import (
     STEPS_PER_REVOLUTION,
-    PeriodicOrbit,
+    _Map,
     monodromy,
     multipliers_of,
     shoot,
     state_vector,
-    strobe,
     vector_state,
 )
 
@@ -156,41 +155,73 @@ def branches_dataset(branches) -> object:
     return xr.Dataset(data, attrs={"key": branches[0].key, "branches": len(branches)})
 
 
+SPEED_KEYS = ("speed.critical_multiple", "speed.rad_per_s", "speed.hz", "speed.rpm")
+"""Keys the spin speed is proportional to: continued by :meth:`_Map.at_speed` (no re-validation
+of the scenario, no critical-speed solve, the modal system kept unless gyroscopic)."""
+
+
 class _Problem:
     """Residual and Jacobian of the continuation in scaled unknowns."""
 
     def __init__(self, scenario, key, k, steps, sx, sp):
         self.scenario, self.key, self.k, self.steps = scenario, key, k, steps
         self.sx, self.sp = sx, sp
+        self._maps: dict = {}
+        self._radius: dict = {}
 
     def at(self, p):
-        """The scenario at key value ``p`` (cached: rebuilding one solves its critical speeds)."""
+        """The scenario at key value ``p``."""
+        return self.scenario.with_changes(**{self.key: float(p)})
+
+    def map_at(self, p):
+        """The prepared map at key value ``p`` (cached; speed keys only rescale the speed)."""
         p = float(p)
-        cache = self.__dict__.setdefault("_at", {})
+        cache = self._maps
         if p not in cache:
             if len(cache) > 64:
                 cache.clear()
-            cache[p] = self.scenario.with_changes(**{self.key: p})
+            base = self.__dict__.get("_base")
+            if base is None and self.key in SPEED_KEYS:
+                sc = self.at(self.sp)
+                base = self._base = (_Map(sc, self.k, self.steps), sc.speed / self.sp)
+            if base is not None:
+                cache[p] = base[0].at_speed(base[1] * p)
+            else:
+                cache[p] = _Map(self.at(p), self.k, self.steps)
         return cache[p]
 
     def residual(self, z):
         """Scaled ``G / s_x`` alone (one run of the map)."""
         x, p = self.unscale(z)
-        return (strobe(self.at(p), x, self.k, self.steps) - x) / self.sx
+        return (self.map_at(p).run(x)[0] - x) / self.sx
 
     def unscale(self, z):
         return z[:-1] * self.sx, z[-1] * self.sp
 
     def evaluate(self, z):
-        """Scaled ``G / s_x``, its Jacobian in ``z`` and the monodromy matrix at ``z``."""
+        """Scaled ``G / s_x``, its Jacobian in ``z`` and the monodromy matrix at ``z``.
+
+        The monodromy comes from the map's variational equations (one run); the derivative in
+        the key by central differences of the map at ``p +- 1e-6 |p|``. The largest radius of
+        the run is kept for :meth:`radius`.
+        """
         x, p = self.unscale(z)
-        px, jac = monodromy(self.at(p), x, self.k, self.steps)
+        px, jac, rmax = self.map_at(p).run(x, True)
+        self._radius = {z.tobytes(): rmax}
         h = 1e-6 * abs(p)
-        up = strobe(self.at(p + h), x, self.k, self.steps)
-        gp = (up - strobe(self.at(p - h), x, self.k, self.steps)) / (2 * h)
+        up = self.map_at(p + h).run(x)[0]
+        gp = (up - self.map_at(p - h).run(x)[0]) / (2 * h)
         gx = (jac - np.eye(x.size)) * self.sx / self.sx[:, None]
         gz = np.column_stack([gx, gp * self.sp / self.sx])
         return (px - x) / self.sx, gz, jac
+
+    def radius(self, z) -> float:
+        """Largest contact-station radius (m) of the map run from ``z``."""
+        got = self._radius.get(z.tobytes())
+        if got is None:
+            x, p = self.unscale(z)
+            got = self.map_at(p).run(x)[2]
+        return got
 
 
 def _tangent(gz, previous):
@@ -385,8 +416,7 @@ def _locate_turn(prob, z0, t0, ds):
 def _point(prob, z, jac) -> BranchPoint:
     x, p = prob.unscale(z)
     mu = multipliers_of(jac)
-    orbit = PeriodicOrbit(prob.at(p), vector_state(x), prob.k, 0.0, mu, True, 0.0, 0, prob.steps)
-    return BranchPoint(float(p), vector_state(x), orbit.max_radius(), mu, bool(abs(mu[0]) < 1))
+    return BranchPoint(float(p), vector_state(x), prob.radius(z), mu, bool(abs(mu[0]) < 1))
 
 
 def _radius(b: Bifurcation, p0: BranchPoint, p1: BranchPoint) -> Bifurcation:
