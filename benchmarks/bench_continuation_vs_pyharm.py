@@ -1,32 +1,43 @@
-"""Continuation of the one-mode rotor's full-annular-rub branch: rubrotor against pyHarm.
+"""Continuation of the one-mode rotor's rub branches: rubrotor against pyHarm.
 
-The same rotor in both codes: one Euler-Bernoulli mode of ``one_mode_annular_rub.toml``
-(modal mass ``m``, stiffness ``k``, damping ``c = 2 zeta sqrt(k m)``, mode shape 1 at midspan),
-unbalance ``u = m_e e`` at midspan, a radial penalty contact ``f = -k_c (r - g)_+ (e_r + mu e_t)``
-with friction ``mu`` opposing the forward spin. rubrotor continues it by shooting (fixed-step
-exponential map, finite-difference monodromy, Floquet multipliers at every point); pyHarm
-(``pyharm-os``, optional group ``pyharm``) by harmonic balance with its arc-length corrector.
-pyHarm ships no rotor-stator contact with friction, so :class:`RadialPenaltyContact` below adds
-one through pyHarm's documented plugin route (a subclass of its node-to-node element base,
-registered by ``Maestro({"plugin": [...]})``), evaluated by alternating frequency/time (AFT)
-with its analytic Jacobian.
+The same rotor in both codes: one Euler-Bernoulli mode (modal mass ``m``, stiffness ``k``,
+damping ``c = 2 zeta sqrt(k m)``, mode shape 1 at midspan), unbalance ``u = m_e e`` at midspan,
+a radial penalty contact ``f = -k_c (r - g)_+ (e_r + mu e_t)`` with friction ``mu`` opposing the
+forward spin, and for the partial rub a constant side load. rubrotor continues by shooting
+(fixed-step exponential map prepared once per key value, monodromy from the map's variational
+equations, Floquet multipliers at every point; optionally Richardson-extrapolated points);
+pyHarm (``pyharm-os``, optional group ``pyharm``) by harmonic balance with its arc-length
+corrector. pyHarm ships no rotor-stator contact with friction, so :class:`RadialPenaltyContact`
+below adds one through pyHarm's documented plugin route (a subclass of its node-to-node element
+base, registered by ``Maestro({"plugin": [...]})``), evaluated by alternating frequency/time
+(AFT) with its analytic Jacobian; the side load is its ``GOForcing`` on harmonic 0.
 
-Both continue the speed from 1.8 down to 1.2 x the first critical speed: down the no-contact
-orbit to contact onset (a non-smooth turning point), back up the unstable rub branch to its
-fold and down the stable rub branch. Accuracy of every branch point: its relative distance
-(in ``(r, W)`` scaled by the point) to the closed-form curve ``[(k - m W^2) r + k_c (r - g)]^2 +
-[c W r + mu k_c (r - g)]^2 = (u W^2)^2`` (or the linear response without contact). The
-synchronous orbit is a circle, so its contact force is a pure first harmonic and harmonic
-balance with one harmonic is exact for it: pyHarm's error is its solver tolerance, whatever
-the harmonic count; rubrotor's is the second-order error of the time-stepping map, which
-falls with the steps per revolution.
+1. Full annular rub (``one_mode_annular_rub.toml``), speed from 1.8 down to 1.2 x the first
+   critical speed: down the no-contact orbit to contact onset (a non-smooth turning point),
+   back up the unstable rub branch to its fold and down the stable rub branch. Accuracy of
+   every point: its relative distance (in ``(r, W)`` scaled by the point) to the closed-form
+   curve ``[(k - m W^2) r + k_c (r - g)]^2 + [c W r + mu k_c (r - g)]^2 = (u W^2)^2`` (or the
+   linear response without contact). The orbit is a circle, so its contact force is a pure
+   first harmonic and harmonic balance with one harmonic is exact: pyHarm's error is its
+   solver tolerance; rubrotor's is the time-stepping error (second order, fourth with
+   Richardson).
+2. Partial rub (``one_mode_partial_rub.toml``, one impact per revolution), period-1 branch from
+   1.9 to 2.05 x critical (below its period doubling): harmonic balance is not exact; pyHarm's
+   harmonic count is raised (5 .. 40) to reach rubrotor's error. Accuracy of every point: the
+   relative error of its largest radius against shooting at 16384 steps per revolution at that
+   speed (itself checked against 32768).
 
-Run (pyHarm lives in its own venv, which sees the system site packages):
+Time per point: wall time from one accepted point to the next (interleaved repeats in one
+process, per point the median over the repeats; numba/jax compilation excluded by a warm-up).
+Printed per row: mean (total / points), median and worst point; the location of bifurcations
+and contact onset, which only rubrotor does, is reported apart. Per pair: the mean ratio and
+the every-point ratio ``our worst point / pyHarm's best point`` (below 1: each of our points
+cost less than each of pyHarm's), with whether our largest error is at most pyHarm's.
+
+Run (pyHarm lives in its own venv, which sees the system site packages), from a scratch
+directory (pyHarm writes ``.pyHarm/`` into the working directory):
 ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src /work/venvs/pyharm/bin/python
-benchmarks/bench_continuation_vs_pyharm.py [REPEATS]``. Prints, per configuration, the median
-wall time per branch point (interleaved repeats, one process, numba/jax compilation excluded by
-a warm-up), the ratio, the largest and median errors and the turning points each finds
-against the closed form's.
+benchmarks/bench_continuation_vs_pyharm.py [REPEATS]``.
 """
 
 from __future__ import annotations
@@ -294,10 +305,13 @@ def run_pyharm(p: dict, crit: float, nh: int, nti: int, ds: float, tol: float, s
 
 
 def _measure(rows: dict, repeats: int) -> dict:
-    """Run every row ``repeats`` times, interleaved; keep the run of median total time.
+    """Run every row ``repeats`` times, interleaved; medians over the repeats.
 
     ``rows[label]() -> (w, r, turns, per_point_times, located)``; returns ``label -> (total s,
-    w, r, turns, per-point times, located)``.
+    w, r, turns, per-point times, located)`` with the median total and, per point, the median
+    of that point's time over the repeats (both codes are deterministic, so the points are the
+    same in every repeat; the median removes the scheduler's pauses on the shared cores, which
+    would otherwise decide the worst point).
     """
     runs: dict = {label: [] for label in rows}
     for _ in range(repeats):
@@ -305,7 +319,12 @@ def _measure(rows: dict, repeats: int) -> dict:
             t0 = time.perf_counter()
             out = run()
             runs[label].append((time.perf_counter() - t0, *out))
-    return {label: sorted(got, key=lambda x: x[0])[len(got) // 2] for label, got in runs.items()}
+    res = {}
+    for label, got in runs.items():
+        mid = sorted(got, key=lambda x: x[0])[len(got) // 2]
+        pps = [g[4] for g in got if g[4].shape == mid[4].shape]
+        res[label] = (*mid[:4], np.median(np.stack(pps), axis=0), mid[5])
+    return res
 
 
 def _line(label: str, total: float, w, err, pp, mask) -> str:

@@ -2,10 +2,15 @@
 
 Unknowns ``z = (x / s_x, p / s_p)``: the shooting state (see :mod:`rubrotor.shooting`) and the
 continued key's value, scaled by their magnitudes at the start so that the arclength weighs
-both alike. Residual ``G(x, p) = P(x; p) - x`` (the stroboscopic map at ``p``); tangent = null
-vector of ``[G_x s_x, G_p s_p]`` (SVD, oriented along the previous one); predictor
-``z + ds t``; corrector = Newton on ``[G; t . (z - z_pred)] = 0``; ``ds`` halves on failure
-and grows by 1.5 after a corrector of <= 3 iterations.
+both alike. Residual ``G(x, p) = P(x; p) - x`` (the stroboscopic map at ``p``, a prepared
+:class:`rubrotor.shooting._Map` per key value; for the speed keys only its speed-dependent
+coefficients are rebuilt); ``G_x`` from the map's variational equations (exact, one run),
+``G_p`` by central differences in ``p``; tangent = null vector of ``[G_x s_x, G_p s_p]`` (SVD,
+oriented along the previous one); predictor ``z + ds t``; corrector = quasi-Newton (Broyden)
+on ``[G; t . (z - z_pred)] = 0`` from the previous point's Jacobian, full Newton if that
+fails; ``ds`` halves on failure and grows by 1.5 after a quick corrector. Optionally each point
+is Richardson-extrapolated to zero step from the maps of ``N`` and ``2 N`` steps
+(:func:`_extrapolate`).
 
 Bifurcations, between consecutive points, from sign changes of test functions:
 
@@ -337,9 +342,9 @@ LOCATE_TOL = 100 * CORRECTOR_TOL
 """Width (scaled arclength, ~ relative key value) to which a test function's root is bracketed.
 
 Tied to the corrector: the corrected points carry a relative error ~ ``CORRECTOR_TOL`` and the
-difference monodromy one of ``eps / h + h^2 ~ 1e-10`` (see :mod:`rubrotor.shooting`), so the
-test functions are known to ~1e-10 relative; a hundred times the corrector tolerance is the
-finest bracket the secant can still order reliably.
+difference derivative in the key one of ``eps / h + h^2 ~ 1e-10`` (the monodromy itself is
+exact to rounding), so the test functions are known to ~1e-10 relative; a hundred times the
+corrector tolerance is the finest bracket the secant can still order reliably.
 """
 
 

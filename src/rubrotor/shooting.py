@@ -114,10 +114,14 @@ class _Map:
             beta_c, beta_u, beta_l = (sysm.force_input(a) for a in (a_c, a_u, a_l))
             cdc = np.ascontiguousarray(sysm.displacement_row(a_c))
             cvc = np.ascontiguousarray(sysm.velocity_row(a_c))
-            self.fixed = (sysm, beta_c, beta_u, beta_l, cdc, cvc)
+            qi, qdi, vinv = sysm.q_index, sysm.qd_index, sysm.Vinv
+            # real state vector -> eigen-coordinates (columns: unit Re q, Im q, Re q', Im q')
+            to_eig = np.hstack([vinv[:, qi], 1j * vinv[:, qi], vinv[:, qdi], 1j * vinv[:, qdi]])
+            from_eig = np.ascontiguousarray(sysm.V[np.concatenate([qi, qdi])].T)
+            self.fixed = (sysm, beta_c, beta_u, beta_l, cdc, cvc, to_eig, from_eig)
         else:
             self.fixed = base.fixed
-        sysm, beta_c, beta_u, beta_l, cdc, cvc = self.fixed
+        sysm, beta_c, beta_u, beta_l, cdc, cvc, self._to_eig, self._from_eig = self.fixed
         self.sysm, self.speed = sysm, speed
         fu0 = unb.magnitude * speed**2 * complex(math.cos(unb.phase), math.sin(unb.phase))
         fl = complex(sc.load.force_y, sc.load.force_z) if sc.load is not None else 0j
@@ -145,37 +149,28 @@ class _Map:
 
     def eigen(self, x: np.ndarray) -> np.ndarray:
         """Shifted eigen-coordinates of a state vector (m, m/s) at unbalance angle 0."""
-        return self._linear(x) - self.y_u - self.y_l
+        return self._to_eig @ x - self.y_u - self.y_l
 
-    def _linear(self, x: np.ndarray) -> np.ndarray:
-        sysm, n = self.sysm, x.size // 4
-        xc = np.zeros(sysm.V.shape[0], complex)
-        xc[sysm.q_index] = x[:n] + 1j * x[n : 2 * n]
-        xc[sysm.qd_index] = x[2 * n : 3 * n] + 1j * x[3 * n :]
-        return sysm.Vinv @ xc
-
-    def physical(self, ys: np.ndarray, offset: np.ndarray | None = None) -> np.ndarray:
-        """State vectors (m, m/s) of eigen-coordinates ``ys`` (rows) plus ``offset``."""
-        sysm = self.sysm
-        xc = np.atleast_2d(ys) @ sysm.V.T
-        if offset is not None:
-            xc = xc + sysm.V @ offset
-        q, qd = xc[:, sysm.q_index], xc[:, sysm.qd_index]
-        return np.concatenate([q.real, q.imag, qd.real, qd.imag], axis=1)
+    def physical(self, ys: np.ndarray) -> np.ndarray:
+        """State vectors (m, m/s, rows) of unshifted eigen-coordinates ``ys`` (rows)."""
+        xs = np.atleast_2d(ys) @ self._from_eig
+        n = xs.shape[1] // 2
+        return np.concatenate([xs.real[:, :n], xs.imag[:, :n], xs.real[:, n:], xs.imag[:, n:]],
+                              axis=1)  # fmt: skip
 
     def run(self, x: np.ndarray, jacobian: bool = False):
         """``(P(x), dP/dx or None, largest contact-station radius m)`` of one map run."""
         x = np.asarray(x, float)
         y = self.eigen(x)
         if jacobian:  # unit perturbations of each real state component, in eigen-coordinates
-            q = np.array([self._linear(e) for e in np.eye(x.size)])
+            q = np.ascontiguousarray(self._to_eig.T)
         else:
             q = np.zeros((0, y.size), complex)
         out = np.zeros(2)
         z = expo_strobe(y, q, self.coef, self.cp, out)
         if out[1] != 0:
             raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")
-        px = self.physical(y, self.y_u * z + self.y_l)[0]
+        px = self.physical(y + self.y_u * z + self.y_l)[0]
         return px, (self.physical(q).T if jacobian else None), float(out[0])
 
 
