@@ -328,15 +328,16 @@ def _measure(rows: dict, repeats: int) -> dict:
 
 
 def _line(label: str, total: float, w, err, pp, mask) -> str:
-    """One row: points, mean / median / worst time per point (ms), error max / median.
+    """One row: points, mean / best / median / worst time per point (ms), error max / median.
 
     ``worst`` leaves out the first point (setup and first solve) and the points during which
     a bifurcation or contact onset was located (``mask``; their worst is given apart).
     """
     plain = pp[1:][~mask[1:]]
     loc = f", worst with a location {1e3 * pp[mask].max():.1f}" if mask.any() else ""
-    return (f"{label}: {len(w)} points, {1e3 * total / len(w):.2f} ms/point mean "
-            f"(median {1e3 * np.median(pp):.2f}, worst {1e3 * plain.max():.2f}{loc}); "
+    return (f"{label}: {len(w)} points, {1e3 * total / len(w):.2f} ms/point mean (best "
+            f"{1e3 * plain.min():.2f}, median {1e3 * np.median(pp):.2f}, worst "
+            f"{1e3 * plain.max():.2f}{loc}); "
             f"error max {err.max():.1e}, median {np.median(err):.1e}")  # fmt: skip
 
 

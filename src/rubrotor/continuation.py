@@ -410,17 +410,28 @@ def _locate(prob, z0, t0, ds, index):
     return p_best
 
 
-def _locate_turn(prob, z0, t0, ds):
+def _locate_turn(prob, z0, t0, ds, gz0=None):
     """The extremal key value along the arclength in ``[0, ds]`` from ``z0`` (a fold).
 
     Brent's bounded search of ``p(s)``; also exact at the non-smooth turning point of contact
-    onset, where the finite-difference tangent is smeared over the difference increment.
+    onset, where the finite-difference tangent is smeared over the difference increment. Each
+    ``p(s)`` by Broyden iterations from ``z0``'s Jacobian ``gz0`` (one map run each), full
+    Newton where they fail.
     """
     sign = 1.0 if t0[-1] > 0 else -1.0
 
     def minus_p(s):
-        out = _correct(prob, z0 + s * t0, t0, max_iter=20)
-        return np.inf if out is None else -sign * prob.unscale(out[0])[1]
+        z = None
+        if gz0 is not None:
+            try:
+                z = _solve_on_plane(prob, z0 + s * t0, t0, np.vstack([gz0, t0]), None,
+                                    tol=CORRECTOR_TOL, max_iter=20)  # fmt: skip
+            except (InputError, np.linalg.LinAlgError):
+                z = None
+        if z is None:
+            out = _correct(prob, z0 + s * t0, t0, max_iter=20)
+            z = None if out is None else out[0]
+        return np.inf if z is None else -sign * prob.unscale(z)[1]
 
     res = scipy.optimize.minimize_scalar(
         minus_p, bounds=(0.0, ds), method="bounded", options={"xatol": 1e-7 * abs(ds)}
@@ -583,7 +594,7 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
             if hit[i] and i == 0 and onset is not None:  # the corner: a grazing turn
                 bifs.append(Bifurcation(name, onset))
             elif hit[i]:
-                where = _locate_turn(prob, z, t, ds) if i == 0 else _locate(prob, z, t, ds, i)
+                where = _locate_turn(prob, z, t, ds, gz) if i == 0 else _locate(prob, z, t, ds, i)
                 bifs.append(Bifurcation(name, where))
         z, t, sig, gz = z1, t1, sig1, gz1
         pts.append(new)
