@@ -410,7 +410,7 @@ def _locate(prob, z0, t0, ds, index):
     return p_best
 
 
-def _locate_turn(prob, z0, t0, ds, gz0=None):
+def _locate_turn(prob, z0, t0, ds, gz0=None, bounds=None):
     """The extremal key value along the arclength in ``[0, ds]`` from ``z0`` (a fold).
 
     Brent's bounded search of ``p(s)``; also exact at the non-smooth turning point of contact
@@ -433,10 +433,28 @@ def _locate_turn(prob, z0, t0, ds, gz0=None):
             z = None if out is None else out[0]
         return np.inf if z is None else -sign * prob.unscale(z)[1]
 
+    lo, hi = bounds or (0.0, ds)
     res = scipy.optimize.minimize_scalar(
-        minus_p, bounds=(0.0, ds), method="bounded", options={"xatol": 1e-7 * abs(ds)}
+        minus_p, bounds=(lo, hi), method="bounded", options={"xatol": 1e-7 * abs(ds)}
     )
+    if bounds is not None and min(res.x - lo, hi - res.x) < 1e-3 * abs(ds):
+        return None  # the extremum is not inside the bracket
     return float(-sign * res.fun)
+
+
+def _richardson_fold(prob, z0, t0, ds, gz0, p_coarse):
+    """A fold's key value extrapolated to zero step from its location with ``N`` and ``2 N``.
+
+    The fold of the ``2 N`` map is located the same way (Brent's search of the extremal key
+    value on the hyperplanes normal to ``t0``, bracket widened by ``ds / 2`` on each side as
+    the fold moves by ``O(h^2)``); with the even error expansion of the scheme ``(4 p_2N -
+    p_N) / 3`` is fourth order. If the fine fold is not inside the bracket ``p_coarse`` stays.
+    """
+    fine = _Problem(prob.scenario, prob.key, prob.k, 2 * prob.steps, prob.sx, prob.sp)
+    fine._maps = prob._maps  # cached by (key value, steps): shared
+    fine.__dict__["_bases"] = prob.__dict__.setdefault("_bases", {})
+    p_fine = _locate_turn(fine, z0, t0, ds, gz0, bounds=(-0.5 * ds, 1.5 * ds))
+    return p_coarse if p_fine is None else (4 * p_fine - p_coarse) / 3
 
 
 def _point(prob, z, jac, gz=None, t=None) -> BranchPoint:
@@ -532,10 +550,11 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     transient_revolutions : int
         Revolutions from the guess before the first Newton shooting.
     richardson : bool
-        Report each point's state and largest radius extrapolated to zero step from the maps
-        of ``steps`` and ``2 steps`` per revolution (see :func:`_extrapolate`; fourth order on
-        orbits in permanent contact or without contact); the multipliers, stability and
-        bifurcations stay those of the ``steps`` map.
+        Report each point's state and largest radius, and each fold's key value, extrapolated
+        to zero step from the maps of ``steps`` and ``2 steps`` per revolution (see
+        :func:`_extrapolate`, :func:`_richardson_fold`; fourth order on orbits in permanent
+        contact or without contact); the multipliers, stability and the other bifurcations
+        stay those of the ``steps`` map.
 
     Returns
     -------
@@ -595,6 +614,8 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
                 bifs.append(Bifurcation(name, onset))
             elif hit[i]:
                 where = _locate_turn(prob, z, t, ds, gz) if i == 0 else _locate(prob, z, t, ds, i)
+                if i == 0 and prob.richardson:
+                    where = _richardson_fold(prob, z, t, ds, gz, where)
                 bifs.append(Bifurcation(name, where))
         z, t, sig, gz = z1, t1, sig1, gz1
         pts.append(new)
