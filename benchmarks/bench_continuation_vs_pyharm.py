@@ -428,7 +428,8 @@ def partial(repeats: int) -> None:
     print(f"== partial rub (side load {p['fy']:g} N), {span[0]} -> {span[1]} x critical ==")
     rows = {f"rubrotor {n} steps/rev{' + Richardson ' + str(2 * n) if rich else ''}":
             functools.partial(run_ours, sc, p, n, rich, span, ds_max=0.01)
-            for n, rich in ((256, False), (1024, False), (2048, False), (1024, True))}  # fmt: skip
+            for n, rich in ((256, False), (1024, False), (2048, False), (4096, False),
+                            (1024, True))}  # fmt: skip
     ours = list(rows)
     for nh in PARTIAL_HARMONICS:
         rows[f"pyHarm nh={nh} ds={PARTIAL_DS}"] = pyharm_row(p, nh, PARTIAL_DS, span)
