@@ -1,16 +1,18 @@
 """Continuation of the one-mode rotor's rub branch against a state-carrying sweep of its range.
 
-The continuation corrects each predictor by chord iterations (one map run each, the previous
-point's Jacobian) and builds the finite-difference Jacobian once per point; contact onset is
-located on the free orbit's grazing condition instead of a search across the corner (profiled:
-that search and the full-Newton corrector were 1/3 and 2/3 of the 200-point time).
+The continuation runs the stroboscopic map prepared once per key value (only its
+speed-dependent coefficients rebuilt when the speed is continued) with the monodromy from the
+map's variational equations in the same compiled run, corrects each predictor by Broyden
+iterations from the previous point's Jacobian (one map run each), and locates contact onset on
+the free orbit's grazing condition.
 Run: ``PYTHONPATH=src python benchmarks/bench_continuation.py [POINTS] [REPEATS]``.
 
-Measured (2 shared cores, 200 points, medians of 3): continuation 55.8 s (279 ms per point;
-102 s before the chord corrector), follow sweep up+down 52.5 s (ratio 0.94). The continuation
-finds both turning points (onset 1.377674297309, equal to the closed form to 1e-15; fold
-1.6413023), the 73 unstable orbits between them, and no other bifurcation; the sweep's jumps
-lag the fold and onset by up to two sweep steps (slow drift near a turning point).
+Measured (2 shared, loaded cores, 200 points, medians of 3): continuation 0.85 s (4 ms per
+point; 55.8 s, 279 ms per point, with the finite-difference monodromy on the simulation driver),
+follow sweep up+down 14.0 s (ratio 16.5). The continuation finds both turning points (onset
+1.377674297309, equal to the closed form to 1e-15; fold 1.6413023 at 1024 steps/rev), the 55
+unstable orbits between them, and no other bifurcation; the sweep's jumps lag the fold and
+onset by up to two sweep steps (slow drift near a turning point).
 
 pyHarm (``pyharm-os`` 1.2.2, optional group ``pyharm``) on the same rotor with a radial penalty
 contact: ``benchmarks/bench_continuation_vs_pyharm.py``. Prints the

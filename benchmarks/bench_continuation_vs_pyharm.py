@@ -1,32 +1,43 @@
-"""Continuation of the one-mode rotor's full-annular-rub branch: rubrotor against pyHarm.
+"""Continuation of the one-mode rotor's rub branches: rubrotor against pyHarm.
 
-The same rotor in both codes: one Euler-Bernoulli mode of ``one_mode_annular_rub.toml``
-(modal mass ``m``, stiffness ``k``, damping ``c = 2 zeta sqrt(k m)``, mode shape 1 at midspan),
-unbalance ``u = m_e e`` at midspan, a radial penalty contact ``f = -k_c (r - g)_+ (e_r + mu e_t)``
-with friction ``mu`` opposing the forward spin. rubrotor continues it by shooting (fixed-step
-exponential map, finite-difference monodromy, Floquet multipliers at every point); pyHarm
-(``pyharm-os``, optional group ``pyharm``) by harmonic balance with its arc-length corrector.
-pyHarm ships no rotor-stator contact with friction, so :class:`RadialPenaltyContact` below adds
-one through pyHarm's documented plugin route (a subclass of its node-to-node element base,
-registered by ``Maestro({"plugin": [...]})``), evaluated by alternating frequency/time (AFT)
-with its analytic Jacobian.
+The same rotor in both codes: one Euler-Bernoulli mode (modal mass ``m``, stiffness ``k``,
+damping ``c = 2 zeta sqrt(k m)``, mode shape 1 at midspan), unbalance ``u = m_e e`` at midspan,
+a radial penalty contact ``f = -k_c (r - g)_+ (e_r + mu e_t)`` with friction ``mu`` opposing the
+forward spin, and for the partial rub a constant side load. rubrotor continues by shooting
+(fixed-step exponential map prepared once per key value, monodromy from the map's variational
+equations, Floquet multipliers at every point; optionally Richardson-extrapolated points);
+pyHarm (``pyharm-os``, optional group ``pyharm``) by harmonic balance with its arc-length
+corrector. pyHarm ships no rotor-stator contact with friction, so :class:`RadialPenaltyContact`
+below adds one through pyHarm's documented plugin route (a subclass of its node-to-node element
+base, registered by ``Maestro({"plugin": [...]})``), evaluated by alternating frequency/time
+(AFT) with its analytic Jacobian; the side load is its ``GOForcing`` on harmonic 0.
 
-Both continue the speed from 1.8 down to 1.2 x the first critical speed: down the no-contact
-orbit to contact onset (a non-smooth turning point), back up the unstable rub branch to its
-fold and down the stable rub branch. Accuracy of every branch point: its relative distance
-(in ``(r, W)`` scaled by the point) to the closed-form curve ``[(k - m W^2) r + k_c (r - g)]^2 +
-[c W r + mu k_c (r - g)]^2 = (u W^2)^2`` (or the linear response without contact). The
-synchronous orbit is a circle, so its contact force is a pure first harmonic and harmonic
-balance with one harmonic is exact for it: pyHarm's error is its solver tolerance, whatever
-the harmonic count; rubrotor's is the second-order error of the time-stepping map, which
-falls with the steps per revolution.
+1. Full annular rub (``one_mode_annular_rub.toml``), speed from 1.8 down to 1.2 x the first
+   critical speed: down the no-contact orbit to contact onset (a non-smooth turning point),
+   back up the unstable rub branch to its fold and down the stable rub branch. Accuracy of
+   every point: its relative distance (in ``(r, W)`` scaled by the point) to the closed-form
+   curve ``[(k - m W^2) r + k_c (r - g)]^2 + [c W r + mu k_c (r - g)]^2 = (u W^2)^2`` (or the
+   linear response without contact). The orbit is a circle, so its contact force is a pure
+   first harmonic and harmonic balance with one harmonic is exact: pyHarm's error is its
+   solver tolerance; rubrotor's is the time-stepping error (second order, fourth with
+   Richardson).
+2. Partial rub (``one_mode_partial_rub.toml``, one impact per revolution), period-1 branch from
+   1.9 to 2.05 x critical (below its period doubling): harmonic balance is not exact; pyHarm's
+   harmonic count is raised (5 .. 40) to reach rubrotor's error. Accuracy of every point: the
+   relative error of its largest radius against shooting at 16384 steps per revolution at that
+   speed (itself checked against 32768).
 
-Run (pyHarm lives in its own venv, which sees the system site packages):
+Time per point: wall time from one accepted point to the next (interleaved repeats in one
+process, per point the median over the repeats; numba/jax compilation excluded by a warm-up).
+Printed per row: mean (total / points), median and worst point; the location of bifurcations
+and contact onset, which only rubrotor does, is reported apart. Per pair: the mean ratio and
+the every-point ratio ``our worst point / pyHarm's best point`` (below 1: each of our points
+cost less than each of pyHarm's), with whether our largest error is at most pyHarm's.
+
+Run (pyHarm lives in its own venv, which sees the system site packages), from a scratch
+directory (pyHarm writes ``.pyHarm/`` into the working directory):
 ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src /work/venvs/pyharm/bin/python
-benchmarks/bench_continuation_vs_pyharm.py [REPEATS]``. Prints, per configuration, the median
-wall time per branch point (interleaved repeats, one process, numba/jax compilation excluded by
-a warm-up), the ratio, the largest and median errors and the turning points each finds
-against the closed form's.
+benchmarks/bench_continuation_vs_pyharm.py [REPEATS]``.
 """
 
 from __future__ import annotations
@@ -34,7 +45,6 @@ from __future__ import annotations
 import functools
 import logging
 import math
-import statistics
 import sys
 import time
 from importlib import resources
@@ -42,6 +52,7 @@ from importlib import resources
 import numpy as np
 import scipy.optimize
 
+from rubrotor import continuation, shooting
 from rubrotor.continuation import continue_orbit
 from rubrotor.model import modal_matrices
 from rubrotor.scenario import load_scenario
@@ -61,6 +72,7 @@ def one_mode(sc) -> dict:
         m=m, k=k, c=2 * sc.damping.ratios[0] * math.sqrt(k * m), u=sc.unbalance.magnitude,
         kc=sc.contact.stiffness, mu=sc.contact.friction, g=sc.contact.clearance,
         crit=sc.with_changes(**{KEY: 1.0}).speed,
+        fy=sc.load.force_y if sc.load is not None else 0.0,
     )  # fmt: skip
 
 
@@ -117,13 +129,51 @@ def turning_points(w) -> list[float]:
 
 
 # ---- rubrotor ----------------------------------------------------------------------------------
-def run_ours(sc, p: dict, steps: int, points: int = 200):
-    """rubrotor's branch: speeds (rad/s), largest radii (m) and located folds (rad/s)."""
-    branch = continue_orbit(sc, KEY, START, STOP, steps=steps, points=points)
+def _stamps(module, name: str, accepted=lambda self, out: True):
+    """Wrap ``module.name`` to record ``perf_counter()`` after each call that ``accepted``."""
+    orig = getattr(module, name)
+    stamps: list = []
+
+    @functools.wraps(orig)
+    def wrapped(*args, **kwargs):
+        out = orig(*args, **kwargs)
+        if accepted(args[0] if args else None, out):
+            stamps.append(time.perf_counter())
+        return out
+
+    setattr(module, name, wrapped)
+    return stamps, lambda: setattr(module, name, orig)
+
+
+def per_point(t0: float, stamps: list) -> np.ndarray:
+    """Wall time (s) of each branch point: from the previous point (or the start) to it."""
+    return np.diff(np.concatenate([[t0], stamps]))
+
+
+def run_ours(sc, p: dict, steps: int, richardson: bool, span, points: int = 200, ds_max=0.2):
+    """rubrotor's branch: speeds (rad/s), largest radii (m), folds (rad/s), per-point times (s)
+    and which points' intervals hold the location of a bifurcation or of contact onset."""
+    stamps, restore = _stamps(continuation, "_point")
+    located, restores = [], []
+    for name in ("_locate", "_locate_turn", "_onset"):
+        got, undo = _stamps(continuation, name, lambda self, out: out is not None)
+        located.append(got)
+        restores.append(undo)
+    t0 = time.perf_counter()
+    try:
+        branch = continue_orbit(sc, KEY, *span, steps=steps, points=points, ds_max=ds_max,
+                                richardson=richardson)  # fmt: skip
+    finally:
+        for undo in (restore, *restores):
+            undo()
     w = np.array([q.value for q in branch.points]) * p["crit"]
     r = np.array([q.max_radius_m for q in branch.points])
     folds = sorted(b.value * p["crit"] for b in branch.bifurcations if b.type == "fold")
-    return w, r, folds
+    edges = np.concatenate([[t0], stamps])
+    at = np.searchsorted(edges, np.concatenate(located)) - 1  # interval of each location
+    mask = np.zeros(len(stamps), bool)
+    mask[np.clip(at, 0, len(stamps) - 1)] = True
+    return w, r, folds, np.diff(edges), mask
 
 
 # ---- pyHarm ------------------------------------------------------------------------------------
@@ -191,8 +241,11 @@ def pyharm_contact_class():
     return RadialPenaltyContact
 
 
-def pyharm_input(p: dict, crit: float, nh: int, nti: int, ds: float, tol: float) -> dict:
+def pyharm_input(p: dict, crit: float, nh: int, nti: int, ds: float, tol: float, span) -> dict:
     eye = np.eye(2)
+    load = {"side_load": {"type": "GOForcing", "connect": {"rotor": [0]}, "dirs": [0],
+                          "amp": p["fy"], "ho": 0, "dto": 0}} if p["fy"] else {}  # fmt: skip
+    lo, hi = sorted(span)
     return {
         "plugin": [] if _REGISTERED else [pyharm_contact_class()],
         "system": {"type": "Base", "nh": nh, "nti": nti,
@@ -206,10 +259,11 @@ def pyharm_input(p: dict, crit: float, nh: int, nti: int, ds: float, tol: float)
                             "amp": p["u"], "ho": 1, "dto": 2, "phi": math.pi / 2},
             "stator": {"type": "RadialPenaltyContact", "connect": {"rotor": [0]}, "dirs": [0, 1],
                        "g": p["g"], "k": p["kc"], "mu": p["mu"], "s": 1.0},
+            **load,
         },
         "analysis": {"branch": {
-            "study": "frf", "puls_inf": STOP * crit, "puls_sup": START * crit,
-            "sign_ds": -1, "ds0": ds, "ds_max": ds, "ds_min": 1e-8,
+            "study": "frf", "puls_inf": lo * crit, "puls_sup": hi * crit,
+            "sign_ds": -1 if span[1] < span[0] else 1, "ds0": ds, "ds_max": ds, "ds_min": 1e-8,
             "predictor": "tangent", "corrector": "arc_length", "solver": "NewtonRaphson",
             "solver_options": {"tol_residual": tol, "tol_delta_x": tol, "max_iter": 50},
             "stopper": "bounds", "verbose": VERBOSE,
@@ -217,75 +271,196 @@ def pyharm_input(p: dict, crit: float, nh: int, nti: int, ds: float, tol: float)
     }  # fmt: skip
 
 
-def run_pyharm(p: dict, crit: float, nh: int, nti: int, ds: float, tol: float):
-    """pyHarm's branch: accepted points' speeds (rad/s) and largest radii (m)."""
+def run_pyharm(p: dict, crit: float, nh: int, nti: int, ds: float, tol: float, span):
+    """pyHarm's branch: accepted points' speeds (rad/s), largest radii (m), per-point times (s).
+
+    The radius is the largest of the harmonic series on 4096 instants per revolution (what
+    the series represents, not only its ``nti`` AFT samples).
+    """
     import pyHarm
+    from pyHarm.Analysis.FRF_NonLinear import FRF_NonLinear
     from pyHarm.DynamicOperator import compute_DFT
 
     if not VERBOSE:
         logging.disable(logging.WARNING)  # pyHarm's banner and per-point log lines
+    stamps, restore = _stamps(FRF_NonLinear, "makeStep",
+                              lambda self, out: self.SolList[-1].flag_accepted)  # fmt: skip
+    t0 = time.perf_counter()
     try:
-        maestro = pyHarm.Maestro(pyharm_input(p, crit, nh, nti, ds, tol))
+        maestro = pyHarm.Maestro(pyharm_input(p, crit, nh, nti, ds, tol, span))
         _REGISTERED.append(True)  # the factory keeps the plugin: register it once
         maestro.operate()
     finally:
+        restore()
         logging.disable(logging.NOTSET)
     edf = maestro.system.expl_dofs
-    dft = compute_DFT(nti, nh)["ft"]
+    dft = compute_DFT(4096, nh)["ft"]
     ix = edf[(edf["sub"] == "rotor") & (edf["dof_num"] == 0)].index.to_numpy()
     iy = edf[(edf["sub"] == "rotor") & (edf["dof_num"] == 1)].index.to_numpy()
     sols = [s for s in maestro.nls["branch"].SolList if s.flag_accepted]
     w = np.array([s.x[-1] for s in sols]) * crit
     r = np.array([np.max(np.hypot(s.x[ix] @ dft, s.x[iy] @ dft)) for s in sols]) * p["g"]
-    return w, r
+    # per-point times from the second accepted point on (the first is solved before any step)
+    return w, r, per_point(t0, stamps)
 
 
-def _report(name: str, seconds: float, w, r, turns, p: dict, exact) -> float:
-    e = curve_error(p, r, w)
-    per = seconds / len(w)
-    crit = p["crit"]
-    print(f"{name}: {len(w)} points, {seconds:.2f} s, {1e3 * per:.2f} ms per branch point; "
-          f"error max {e.max():.1e}, median {np.median(e):.1e}")  # fmt: skip
-    print(
-        f"    turning points (x critical): {[round(t / crit, 9) for t in turns]}; "
-        f"errors {[f'{abs(t - x) / x:.1e}' for t, x in zip(sorted(turns), exact, strict=False)]}"
-    )
-    return per
+def _measure(rows: dict, repeats: int) -> dict:
+    """Run every row ``repeats`` times, interleaved; medians over the repeats.
+
+    ``rows[label]() -> (w, r, turns, per_point_times, located)``; returns ``label -> (total s,
+    w, r, turns, per-point times, located)`` with the median total and, per point, the median
+    of that point's time over the repeats (both codes are deterministic, so the points are the
+    same in every repeat; the median removes the scheduler's pauses on the shared cores, which
+    would otherwise decide the worst point).
+    """
+    runs: dict = {label: [] for label in rows}
+    for _ in range(repeats):
+        for label, run in rows.items():
+            t0 = time.perf_counter()
+            out = run()
+            runs[label].append((time.perf_counter() - t0, *out))
+    res = {}
+    for label, got in runs.items():
+        mid = sorted(got, key=lambda x: x[0])[len(got) // 2]
+        pps = [g[4] for g in got if g[4].shape == mid[4].shape]
+        res[label] = (*mid[:4], np.median(np.stack(pps), axis=0), mid[5])
+    return res
+
+
+def _line(label: str, total: float, w, err, pp, mask) -> str:
+    """One row: points, mean / best / median / worst time per point (ms), error max / median.
+
+    ``worst`` leaves out the first point (setup and first solve) and the points during which
+    a bifurcation or contact onset was located (``mask``; their worst is given apart).
+    """
+    plain = pp[1:][~mask[1:]]
+    loc = f", worst with a location {1e3 * pp[mask].max():.1f}" if mask.any() else ""
+    return (f"{label}: {len(w)} points, {1e3 * total / len(w):.2f} ms/point mean (best "
+            f"{1e3 * plain.min():.2f}, median {1e3 * np.median(pp):.2f}, worst "
+            f"{1e3 * plain.max():.2f}{loc}); "
+            f"error max {err.max():.1e}, median {np.median(err):.1e}")  # fmt: skip
+
+
+def _ratios(res: dict, errors: dict, ours: list, theirs: list) -> None:
+    """Time ratios ours / pyHarm: mean per point and the every-point one, with accuracy verdict.
+
+    Every point: ``max over our points / min over pyHarm's points`` of the time per point
+    (the first point of each, which holds the setup and the first solve, and our points that
+    located a bifurcation or contact onset, which pyHarm does not do, left out): below 1 means
+    each of those points of ours cost less than any of pyHarm's.
+    """
+    for a in ours:
+        for b in theirs:
+            ta, tb = res[a], res[b]
+            mean = (ta[0] / len(ta[1])) / (tb[0] / len(tb[1]))
+            every = ta[4][1:][~ta[5][1:]].max() / tb[4][1:].min()
+            acc = "equal-or-better accuracy" if errors[a].max() <= errors[b].max() else (
+                f"LESS accurate ({errors[a].max():.0e} vs {errors[b].max():.0e})")  # fmt: skip
+            ok = "faster on every point" if every < 1 else "NOT faster on every point"
+            print(f"  {a} / {b}: mean {mean:.2f}, every point (max/min) {every:.2f} -> {ok}, "
+                  f"{acc}")  # fmt: skip
+
+
+def annular(repeats: int) -> None:
+    """The full annular rub (a circular orbit: harmonic balance with one harmonic is exact)."""
+    sc = load_scenario(resources.files("rubrotor") / "scenarios" / "one_mode_annular_rub.toml")
+    p = one_mode(sc)
+    exact = closed_form_turns(p)
+    print(f"== full annular rub, {START} -> {STOP} x critical ==\nclosed form: contact onset "
+          f"{exact[0] / p['crit']:.12f}, fold {exact[1] / p['crit']:.12f} x critical "
+          f"({p['crit']:.3f} rad/s)")  # fmt: skip
+    span = (START, STOP)
+    rows = {f"rubrotor {n} steps/rev{' + Richardson ' + str(2 * n) if rich else ''}":
+            functools.partial(run_ours, sc, p, n, rich, span)
+            for n, rich in ((256, False), (1024, False), (128, True), (256, True))}  # fmt: skip
+    ours = list(rows)
+    for nh, ds in ((1, 0.15), (1, 0.05), (3, 0.15)):
+        rows[f"pyHarm nh={nh} ds={ds}"] = pyharm_row(p, nh, ds, span)
+    res = _measure(rows, repeats)
+    errors = {}
+    for label, (total, w, r, turns, pp, mask) in res.items():
+        errors[label] = curve_error(p, r, w)
+        print(_line(label, total, w, errors[label], pp, mask))
+        terr = [f"{abs(t - x) / x:.1e}" for t, x in zip(sorted(turns), exact, strict=False)]
+        print(f"    turning points (x critical): {[round(t / p['crit'], 9) for t in turns]}; "
+              f"errors {terr}")  # fmt: skip
+    print("time per point, rubrotor / pyHarm:")
+    _ratios(res, errors, ours, [k for k in res if k not in ours])
+
+
+def pyharm_row(p: dict, nh: int, ds: float, span):
+    """A row running pyHarm with ``nh`` harmonics (``16 (2 nh + 1)`` AFT instants), step ``ds``;
+    its turning points from the parabola through three points around each turn."""
+
+    def run():
+        w, r, pp = run_pyharm(p, p["crit"], nh, 16 * (2 * nh + 1), ds, 1e-10, span)
+        return w, r, turning_points(w), pp, np.zeros(pp.size, bool)
+
+    return run
+
+
+def reference_radii(sc, p: dict, w, guesses, steps: int) -> np.ndarray:
+    """Largest radii (m) of the period-1 orbits at speeds ``w`` (rad/s) by shooting at ``steps``.
+
+    ``guesses``: ``(speed rad/s, RotorState)`` pairs of a coarser branch; each orbit starts
+    from the nearest one's state.
+    """
+    ws = np.array([g[0] for g in guesses])
+    out = []
+    for wi in w:
+        sci = sc.with_changes(**{KEY: float(wi / p["crit"])})
+        orb = shooting.shoot(sci, guesses[int(np.argmin(np.abs(ws - wi)))][1], steps=steps)
+        out.append(shooting._Map(sci, 1, steps).run(shooting.state_vector(orb.state))[2])
+    return np.array(out)
+
+
+PARTIAL_SPAN = (1.9, 2.05)
+"""Period-1 partial rub of ``one_mode_partial_rub.toml`` (x critical), up to just below its
+period doubling at 2.0575."""
+REFERENCE_STEPS = 16384
+
+
+def partial(repeats: int) -> None:
+    """The partial rub (one impact per revolution): harmonic balance is no longer exact."""
+    sc = load_scenario(resources.files("rubrotor") / "scenarios" / "one_mode_partial_rub.toml")
+    p = one_mode(sc)
+    span = PARTIAL_SPAN
+    print(f"== partial rub (side load {p['fy']:g} N), {span[0]} -> {span[1]} x critical ==")
+    rows = {f"rubrotor {n} steps/rev{' + Richardson ' + str(2 * n) if rich else ''}":
+            functools.partial(run_ours, sc, p, n, rich, span, ds_max=0.01)
+            for n, rich in ((256, False), (1024, False), (2048, False), (4096, False),
+                            (1024, True))}  # fmt: skip
+    ours = list(rows)
+    for nh in PARTIAL_HARMONICS:
+        rows[f"pyHarm nh={nh} ds={PARTIAL_DS}"] = pyharm_row(p, nh, PARTIAL_DS, span)
+    res = _measure(rows, repeats)
+    guide = continue_orbit(sc, KEY, *span, steps=1024, points=400, ds_max=0.01)
+    guesses = [(q.value * p["crit"], q.state) for q in guide.points]
+    errors = {}
+    for label, (total, w, r, _, pp, mask) in res.items():
+        ref = reference_radii(sc, p, w, guesses, REFERENCE_STEPS)
+        errors[label] = np.abs(r - ref) / ref
+        print(_line(label, total, w, errors[label], pp, mask))
+    w_chk = np.array([guesses[0][0], guesses[len(guesses) // 2][0], guesses[-1][0]])
+    a = reference_radii(sc, p, w_chk, guesses, REFERENCE_STEPS)
+    b = reference_radii(sc, p, w_chk, guesses, 2 * REFERENCE_STEPS)
+    print(f"  (errors against shooting at {REFERENCE_STEPS} steps/rev, itself within "
+          f"{np.max(np.abs(a - b) / b):.1e} of {2 * REFERENCE_STEPS} steps/rev)")
+    print("time per point, rubrotor / pyHarm:")
+    _ratios(res, errors, ours, [k for k in res if k not in ours])
+
+
+PARTIAL_HARMONICS = (5, 10, 20, 40)
+PARTIAL_DS = 0.005
 
 
 def main(repeats: int = 3) -> None:
     sc = load_scenario(resources.files("rubrotor") / "scenarios" / "one_mode_annular_rub.toml")
     p = one_mode(sc)
-    exact = closed_form_turns(p)
-    print(f"closed form: contact onset {exact[0] / p['crit']:.12f}, fold "
-          f"{exact[1] / p['crit']:.12f} x critical ({p['crit']:.3f} rad/s)")  # fmt: skip
-    ours = {steps: [] for steps in (256, 1024)}
-    theirs = {(nh, ds): [] for nh, ds in ((1, 0.15), (1, 0.05), (3, 0.15))}
-    run_ours(sc, p, 256, points=3)
-    run_pyharm(p, p["crit"], 1, 64, 0.5, 1e-10)  # warm-up: numba / jax compilation
-    out = {}
-    for _ in range(repeats):
-        for steps, times in ours.items():
-            t0 = time.perf_counter()
-            out[steps] = run_ours(sc, p, steps)
-            times.append(time.perf_counter() - t0)
-        for (nh, ds), times in theirs.items():
-            t0 = time.perf_counter()
-            out[nh, ds] = run_pyharm(p, p["crit"], nh, 16 * (2 * nh + 1), ds, 1e-10)
-            times.append(time.perf_counter() - t0)
-    per = {}
-    for steps, times in ours.items():
-        w, r, folds = out[steps]
-        per[steps] = _report(f"rubrotor shooting, {steps} steps/rev", statistics.median(times),
-                             w, r, folds, p, exact)  # fmt: skip
-    for (nh, ds), times in theirs.items():
-        w, r = out[nh, ds]
-        per[nh, ds] = _report(f"pyHarm HBM, {nh} harmonic(s), ds {ds}", statistics.median(times),
-                              w, r, turning_points(w), p, exact)  # fmt: skip
-    for steps in ours:
-        for key in theirs:
-            print(f"time per point, rubrotor {steps} steps / pyHarm nh={key[0]} ds={key[1]}: "
-                  f"{per[steps] / per[key]:.1f}")  # fmt: skip
+    run_ours(sc, p, 64, True, (START, STOP), points=3)
+    run_pyharm(p, p["crit"], 1, 64, 0.5, 1e-10, (START, STOP))  # warm-up: numba / jax
+    annular(repeats)
+    partial(repeats)
 
 
 if __name__ == "__main__":

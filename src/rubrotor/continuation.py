@@ -2,10 +2,15 @@
 
 Unknowns ``z = (x / s_x, p / s_p)``: the shooting state (see :mod:`rubrotor.shooting`) and the
 continued key's value, scaled by their magnitudes at the start so that the arclength weighs
-both alike. Residual ``G(x, p) = P(x; p) - x`` (the stroboscopic map at ``p``); tangent = null
-vector of ``[G_x s_x, G_p s_p]`` (SVD, oriented along the previous one); predictor
-``z + ds t``; corrector = Newton on ``[G; t . (z - z_pred)] = 0``; ``ds`` halves on failure
-and grows by 1.5 after a corrector of <= 3 iterations.
+both alike. Residual ``G(x, p) = P(x; p) - x`` (the stroboscopic map at ``p``, a prepared
+:class:`rubrotor.shooting._Map` per key value; for the speed keys only its speed-dependent
+coefficients are rebuilt); ``G_x`` from the map's variational equations (exact, one run),
+``G_p`` by central differences in ``p``; tangent = null vector of ``[G_x s_x, G_p s_p]`` (SVD,
+oriented along the previous one); predictor ``z + ds t``; corrector = quasi-Newton (Broyden)
+on ``[G; t . (z - z_pred)] = 0`` from the previous point's Jacobian, full Newton if that
+fails; ``ds`` halves on failure and grows by 1.5 after a quick corrector. Optionally each point
+is Richardson-extrapolated to zero step from the maps of ``N`` and ``2 N`` steps
+(:func:`_extrapolate`).
 
 Bifurcations, between consecutive points, from sign changes of test functions:
 
@@ -32,12 +37,11 @@ import scipy.optimize
 from rubrotor.errors import InputError
 from rubrotor.shooting import (
     STEPS_PER_REVOLUTION,
-    PeriodicOrbit,
+    _Map,
     monodromy,
     multipliers_of,
     shoot,
     state_vector,
-    strobe,
     vector_state,
 )
 
@@ -156,12 +160,19 @@ def branches_dataset(branches) -> object:
     return xr.Dataset(data, attrs={"key": branches[0].key, "branches": len(branches)})
 
 
+SPEED_KEYS = ("speed.critical_multiple", "speed.rad_per_s", "speed.hz", "speed.rpm")
+"""Keys the spin speed is proportional to: continued by :meth:`_Map.at_speed` (no re-validation
+of the scenario, no critical-speed solve, the modal system kept unless gyroscopic)."""
+
+
 class _Problem:
     """Residual and Jacobian of the continuation in scaled unknowns."""
 
-    def __init__(self, scenario, key, k, steps, sx, sp):
+    def __init__(self, scenario, key, k, steps, sx, sp, richardson=False):
         self.scenario, self.key, self.k, self.steps = scenario, key, k, steps
-        self.sx, self.sp = sx, sp
+        self.sx, self.sp, self.richardson = sx, sp, richardson
+        self._maps: dict = {}
+        self._radius: dict = {}
 
     def at(self, p):
         """The scenario at key value ``p`` (cached: rebuilding one solves its critical speeds;
@@ -178,24 +189,58 @@ class _Problem:
             cache[p] = self._points([p])
         return cache[p]
 
-    def residual(self, z):
+    def map_at(self, p, steps=None):
+        """The prepared map at key value ``p`` (cached; speed keys only rescale the speed).
+
+        ``steps`` (default the problem's) per revolution: Richardson's second map.
+        """
+        p, steps = float(p), steps or self.steps
+        cache = self._maps
+        if (p, steps) not in cache:
+            if len(cache) > 64:
+                cache.clear()
+            bases = self.__dict__.setdefault("_bases", {})
+            if steps not in bases and self.key in SPEED_KEYS:
+                sc = self.at(self.sp)
+                bases[steps] = (_Map(sc, self.k, steps), sc.speed / self.sp)
+            if steps in bases:
+                cache[p, steps] = bases[steps][0].at_speed(bases[steps][1] * p)
+            else:
+                cache[p, steps] = _Map(self.at(p), self.k, steps)
+        return cache[p, steps]
+
+    def residual(self, z, steps=None):
         """Scaled ``G / s_x`` alone (one run of the map)."""
         x, p = self.unscale(z)
-        return (strobe(self.at(p), x, self.k, self.steps) - x) / self.sx
+        return (self.map_at(p, steps).run(x)[0] - x) / self.sx
 
     def unscale(self, z):
         return z[:-1] * self.sx, z[-1] * self.sp
 
-    def evaluate(self, z):
-        """Scaled ``G / s_x``, its Jacobian in ``z`` and the monodromy matrix at ``z``."""
+    def evaluate(self, z, steps=None):
+        """Scaled ``G / s_x``, its Jacobian in ``z`` and the monodromy matrix at ``z``.
+
+        The monodromy comes from the map's variational equations (one run); the derivative in
+        the key by central differences of the map at ``p +- 1e-6 |p|``. The largest radius of
+        the run is kept for :meth:`radius`.
+        """
         x, p = self.unscale(z)
-        px, jac = monodromy(self.at(p), x, self.k, self.steps)
+        px, jac, rmax = self.map_at(p, steps).run(x, True)
+        self._radius = {z.tobytes(): rmax}
         h = 1e-6 * abs(p)
-        up = strobe(self.at(p + h), x, self.k, self.steps)
-        gp = (up - strobe(self.at(p - h), x, self.k, self.steps)) / (2 * h)
+        up = self.map_at(p + h, steps).run(x)[0]
+        gp = (up - self.map_at(p - h, steps).run(x)[0]) / (2 * h)
         gx = (jac - np.eye(x.size)) * self.sx / self.sx[:, None]
         gz = np.column_stack([gx, gp * self.sp / self.sx])
         return (px - x) / self.sx, gz, jac
+
+    def radius(self, z) -> float:
+        """Largest contact-station radius (m) of the map run from ``z``."""
+        got = self._radius.get(z.tobytes())
+        if got is None:
+            x, p = self.unscale(z)
+            got = self.map_at(p).run(x)[2]
+        return got
 
 
 def _tangent(gz, previous):
@@ -206,20 +251,27 @@ def _tangent(gz, previous):
 
 
 def _chord(prob, z_pred, t, gz0, tol=1e-11, max_iter=12):
-    """Chord iterations with the previous point's Jacobian ``gz0`` (one map run each).
+    """Quasi-Newton (Broyden) iterations from the previous point's Jacobian ``gz0``.
 
-    Returns ``(z, gz, jac, iterations)`` when the step and the scaled residual at the final
-    Jacobian evaluation are below ``tol``, else None (the caller then runs full Newton).
+    One map run each: the augmented Jacobian ``[G_z; t]`` starts as the previous point's and
+    takes Broyden's rank-one update after every step (its last row, the linear arclength
+    condition, stays exact), which turns the chord's linear convergence superlinear. Returns
+    ``(z, gz, jac, iterations)`` when the step and the scaled residual at the final Jacobian
+    evaluation are below ``tol``, else None (the caller then runs full Newton).
     """
-    lu = scipy.linalg.lu_factor(np.vstack([gz0, t]))
+    a = np.vstack([gz0, t])
     z = z_pred.copy()
+    g_old = dz = None
     for it in range(1, max_iter + 1):
         try:
-            g = prob.residual(z)
+            g = np.concatenate([prob.residual(z), [t @ (z - z_pred)]])
         except InputError:
             return None
-        dz = scipy.linalg.lu_solve(lu, -np.concatenate([g, [t @ (z - z_pred)]]))
+        if dz is not None:
+            a += np.outer(g - g_old - a @ dz, dz) / (dz @ dz)
+        dz = np.linalg.solve(a, -g)
         z = z + dz
+        g_old = g
         if not np.all(np.isfinite(z)):
             return None
         scale = max(1.0, np.linalg.norm(z))
@@ -301,9 +353,9 @@ LOCATE_TOL = 100 * CORRECTOR_TOL
 """Width (scaled arclength, ~ relative key value) to which a test function's root is bracketed.
 
 Tied to the corrector: the corrected points carry a relative error ~ ``CORRECTOR_TOL`` and the
-difference monodromy one of ``eps / h + h^2 ~ 1e-10`` (see :mod:`rubrotor.shooting`), so the
-test functions are known to ~1e-10 relative; a hundred times the corrector tolerance is the
-finest bracket the secant can still order reliably.
+difference derivative in the key one of ``eps / h + h^2 ~ 1e-10`` (the monodromy itself is
+exact to rounding), so the test functions are known to ~1e-10 relative; a hundred times the
+corrector tolerance is the finest bracket the secant can still order reliably.
 """
 
 
@@ -369,29 +421,111 @@ def _locate(prob, z0, t0, ds, index):
     return p_best
 
 
-def _locate_turn(prob, z0, t0, ds):
+def _locate_turn(prob, z0, t0, ds, gz0=None, bounds=None):
     """The extremal key value along the arclength in ``[0, ds]`` from ``z0`` (a fold).
 
     Brent's bounded search of ``p(s)``; also exact at the non-smooth turning point of contact
-    onset, where the finite-difference tangent is smeared over the difference increment.
+    onset, where the finite-difference tangent is smeared over the difference increment. Each
+    ``p(s)`` by Broyden iterations from ``z0``'s Jacobian ``gz0`` (one map run each), full
+    Newton where they fail.
     """
     sign = 1.0 if t0[-1] > 0 else -1.0
 
     def minus_p(s):
-        out = _correct(prob, z0 + s * t0, t0, max_iter=20)
-        return np.inf if out is None else -sign * prob.unscale(out[0])[1]
+        z = None
+        if gz0 is not None:
+            try:
+                z = _solve_on_plane(prob, z0 + s * t0, t0, np.vstack([gz0, t0]), None,
+                                    tol=CORRECTOR_TOL, max_iter=20)  # fmt: skip
+            except (InputError, np.linalg.LinAlgError):
+                z = None
+        if z is None:
+            out = _correct(prob, z0 + s * t0, t0, max_iter=20)
+            z = None if out is None else out[0]
+        return np.inf if z is None else -sign * prob.unscale(z)[1]
 
+    lo, hi = bounds or (0.0, ds)
     res = scipy.optimize.minimize_scalar(
-        minus_p, bounds=(0.0, ds), method="bounded", options={"xatol": 1e-7 * abs(ds)}
+        minus_p, bounds=(lo, hi), method="bounded", options={"xatol": 1e-7 * abs(ds)}
     )
+    if bounds is not None and min(res.x - lo, hi - res.x) < 1e-3 * abs(ds):
+        return None  # the extremum is not inside the bracket
     return float(-sign * res.fun)
 
 
-def _point(prob, z, jac) -> BranchPoint:
+def _richardson_fold(prob, z0, t0, ds, gz0, p_coarse):
+    """A fold's key value extrapolated to zero step from its location with ``N`` and ``2 N``.
+
+    The fold of the ``2 N`` map is located the same way (Brent's search of the extremal key
+    value on the hyperplanes normal to ``t0``, bracket widened by ``ds / 2`` on each side as
+    the fold moves by ``O(h^2)``); with the even error expansion of the scheme ``(4 p_2N -
+    p_N) / 3`` is fourth order. If the fine fold is not inside the bracket ``p_coarse`` stays.
+    """
+    fine = _Problem(prob.scenario, prob.key, prob.k, 2 * prob.steps, prob.sx, prob.sp)
+    fine._maps = prob._maps  # cached by (key value, steps): shared
+    fine.__dict__["_bases"] = prob.__dict__.setdefault("_bases", {})
+    p_fine = _locate_turn(fine, z0, t0, ds, gz0, bounds=(-0.5 * ds, 1.5 * ds))
+    return p_coarse if p_fine is None else (4 * p_fine - p_coarse) / 3
+
+
+def _point(prob, z, jac, gz=None, t=None) -> BranchPoint:
+    """The branch point at ``z``; with ``prob.richardson`` extrapolated (:func:`_extrapolate`)."""
     x, p = prob.unscale(z)
     mu = multipliers_of(jac)
-    orbit = PeriodicOrbit(prob.at(p), vector_state(x), prob.k, 0.0, mu, True, 0.0, 0, prob.steps)
-    return BranchPoint(float(p), vector_state(x), orbit.max_radius(), mu, bool(abs(mu[0]) < 1))
+    radius = prob.radius(z)
+    if prob.richardson:
+        z, radius = _extrapolate(prob, z, jac, radius, gz, t)
+        x, p = prob.unscale(z)
+    return BranchPoint(float(p), vector_state(x), radius, mu, bool(abs(mu[0]) < 1))
+
+
+def _extrapolate(prob, z, jac, radius, gz=None, t=None):
+    """Richardson extrapolation of a branch point (scaled ``z``) and its radius to zero step.
+
+    The exponential scheme with the linear force hold is symmetric (swapping the ends of a
+    step and the sign of ``h`` gives the same step, since ``e^z (phi1 - phi2)(-z) = phi2(z)``),
+    so on a smooth orbit its error expands in even powers of the step. The point ``z_2`` of
+    the branch of the map with twice the steps on the hyperplane through ``z`` normal to the
+    tangent ``t`` (default: the same key value) gives ``(4 z_2 - z) / 3`` with an ``O(h^4)``
+    error; the hyperplane, not a fixed key value, keeps this regular through folds. ``z_2`` by
+    quasi-Newton iterations from ``z`` with ``[G_z; t]`` of the ``steps`` map (within
+    ``O(h^2)`` of the fine map's, so each iteration gains about that factor), restarted with
+    the fine map's own Jacobian if that fails. Contact onsets and separations inside a step
+    break the smooth expansion (partial rub): there the extrapolation is not fourth order.
+    """
+    n = z.size - 1
+    if gz is None or t is None:
+        gz = np.column_stack([(jac - np.eye(n)) * prob.sx / prob.sx[:, None], np.zeros(n)])
+        t = np.eye(n + 1)[-1]
+    fine = 2 * prob.steps
+    for a in (gz, None):
+        try:
+            if a is None:
+                a = prob.evaluate(z, fine)[1]
+            z2 = _solve_on_plane(prob, z, t, np.vstack([a, t]), fine)
+        except InputError:
+            continue
+        if z2 is not None:
+            x2, p2 = prob.unscale(z2)
+            r2 = prob.map_at(p2, fine).run(x2)[2]
+            return (4 * z2 - z) / 3, (4 * r2 - radius) / 3
+    return z, radius
+
+
+def _solve_on_plane(prob, z0, t, a, steps, tol=1e-12, max_iter=10):
+    """``G(z) = 0`` for the map of ``steps`` on ``t . (z - z0) = 0`` by Broyden from ``a``."""
+    z, g_old, dz = z0.copy(), None, None
+    for _ in range(max_iter):
+        g = np.concatenate([prob.residual(z, steps), [t @ (z - z0)]])
+        if dz is not None:
+            a += np.outer(g - g_old - a @ dz, dz) / (dz @ dz)
+        dz = np.linalg.solve(a, -g)
+        z, g_old = z + dz, g
+        if not np.all(np.isfinite(z)):
+            return None
+        if np.linalg.norm(dz) <= tol * max(1.0, np.linalg.norm(z)):
+            return z
+    return None
 
 
 def _radius(b: Bifurcation, p0: BranchPoint, p1: BranchPoint) -> Bifurcation:
@@ -402,7 +536,8 @@ def _radius(b: Bifurcation, p0: BranchPoint, p1: BranchPoint) -> Bifurcation:
 
 def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None, k: int = 1,
                    steps: int = STEPS_PER_REVOLUTION, points: int = 200, ds: float = 0.02,
-                   ds_max: float = 0.2, transient_revolutions: int = 100) -> Branch:  # fmt: skip
+                   ds_max: float = 0.2, transient_revolutions: int = 100,
+                   richardson: bool = False) -> Branch:  # fmt: skip
     """Continue a periodic orbit of ``k`` revolutions in ``key`` from ``start`` towards ``stop``.
 
     Parameters
@@ -425,6 +560,12 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         First and largest arclength step (scaled units, dimensionless).
     transient_revolutions : int
         Revolutions from the guess before the first Newton shooting.
+    richardson : bool
+        Report each point's state and largest radius, and each fold's key value, extrapolated
+        to zero step from the maps of ``steps`` and ``2 steps`` per revolution (see
+        :func:`_extrapolate`, :func:`_richardson_fold`; fourth order on orbits in permanent
+        contact or without contact); the multipliers, stability and the other bifurcations
+        stay those of the ``steps`` map.
 
     Returns
     -------
@@ -437,6 +578,7 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     sc0 = scenario.with_changes(**{key: float(start)})
     orbit = shoot(sc0, guess, k, steps=steps, transient_revolutions=transient_revolutions)
     prob = _problem(scenario, key, k, steps, state_vector(orbit.state), start)
+    prob.richardson = bool(richardson)
     z = np.concatenate([state_vector(orbit.state) / prob.sx, [start / abs(start)]])
     g, gz, jac = prob.evaluate(z)
     t = _tangent(gz, None)
@@ -459,7 +601,7 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
     ``first`` replaces the first branch point (default: the point at ``z``).
     """
     lo, hi = bounds
-    pts, bifs, grazings = [first or _point(prob, z, jac)], [], []
+    pts, bifs, grazings = [first or _point(prob, z, jac, gz, t)], [], []
     sig = _tests(gz, t, jac)
     while len(pts) < points:
         out = _chord(prob, z + ds * t, t, gz)
@@ -476,13 +618,15 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
         sig1 = _tests(gz1, t1, jac1)
         hit = _changed(sig, sig1)
         found = int(np.sum(hit))
-        new = _point(prob, z1, jac1)
+        new = _point(prob, z1, jac1, gz1, t1)
         onset = _onset(prob, pts[-1], new)
         for i, name in enumerate(BIFURCATIONS):
             if hit[i] and i == 0 and onset is not None:  # the corner: a grazing turn
                 bifs.append(Bifurcation(name, onset))
             elif hit[i]:
-                where = _locate_turn(prob, z, t, ds) if i == 0 else _locate(prob, z, t, ds, i)
+                where = _locate_turn(prob, z, t, ds, gz) if i == 0 else _locate(prob, z, t, ds, i)
+                if i == 0 and prob.richardson:
+                    where = _richardson_fold(prob, z, t, ds, gz, where)
                 bifs.append(Bifurcation(name, where))
         z, t, sig, gz = z1, t1, sig1, gz1
         pts.append(new)

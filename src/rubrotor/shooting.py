@@ -1,30 +1,43 @@
 """Periodic orbits by shooting: Newton on the stroboscopic map over k revolutions.
 
 The map ``P(x)`` takes the physical modal state ``x`` (real vector ``[Re q, Im q, Re q', Im q']``,
-m and m/s) at unbalance angle 0 to the state ``k`` revolutions later, by
-:func:`rubrotor.simulation.simulate_system` with ``start=`` and the fixed-step exponential
-integrator. A fixed step makes ``P`` a smooth function of ``x`` (an adaptive step sequence
-changes discontinuously with the start state, which breaks Newton's quadratic convergence).
-The fixed point is the periodic orbit of the discrete scheme, second order in the step.
+m and m/s) at unbalance angle 0 to the state ``k`` revolutions later by the fixed-step
+exponential scheme of the simulation (:func:`rubrotor.core.integrate.expo_fixed`, same
+arithmetic), run by :class:`_Map`: the modal system, contact law and step coefficients are
+prepared once per parameter value and the compiled kernel :func:`rubrotor.core.shoot.expo_strobe`
+runs on plain arrays. A fixed step makes ``P`` a smooth function of ``x`` (an adaptive step
+sequence changes discontinuously with the start state, which breaks Newton's quadratic
+convergence). The fixed point is the periodic orbit of the discrete scheme, second order in the
+step.
 
-Monodromy: central finite differences of ``P``. Between contacts the scheme propagates the
-linear rotor exactly, so ``P`` is affine there and central differences are exact to rounding;
-in contact the truncation error is ``O(h^2 P''')`` and the rounding error ``O(eps |x| / h)``,
-balanced at a relative increment ``h ~ eps^(1/3) ~ 6e-6`` (measured in the tests: the
-no-contact multipliers equal ``exp(lambda T)`` to 1e-12).
+Monodromy: the exact Jacobian of the discrete map, propagated in the same compiled run by the
+variational equations of the scheme (:mod:`rubrotor.core.shoot`, which says why the full matrix
+needs no re-orthonormalisation over ``k`` revolutions): one run instead of the ``2 dim + 1`` of
+central differences, and no difference error. :func:`monodromy_fd` keeps the central
+differences as a second route for the tests.
 """
 
 from __future__ import annotations
 
-import functools
 import math
+from collections import namedtuple
 from dataclasses import dataclass
 
 import numpy as np
 
+from rubrotor.core.shoot import expo_strobe, phi12
 from rubrotor.errors import InputError
+from rubrotor.forces import Unbalance
 from rubrotor.integrator import Integrator
-from rubrotor.simulation import PreparedRun, RotorState, simulate_scenario
+from rubrotor.model import modal_matrices
+from rubrotor.simulation import (
+    RotorState,
+    _particular,
+    _positions,
+    assemble,
+    contact_parameters,
+    simulate_scenario,
+)
 
 STEPS_PER_REVOLUTION = 1024
 FD_STEP = 6e-6
@@ -51,6 +64,116 @@ def _integrator(k: int, steps: int, save: bool) -> Integrator:
     )
 
 
+MapStep = namedtuple(
+    "MapStep",
+    ["E", "G0", "G1", "sd", "sv", "cdc", "cvc", "part_c", "part_lc", "vel_cz", "omega", "h",
+     "n_steps", "max_disp"],
+)  # fmt: skip
+"""Coefficients of :func:`rubrotor.core.shoot.expo_strobe` (see there; SI units)."""
+
+
+def _gyroscopic(shaft) -> bool:
+    """Whether the modal system changes with the spin speed (gyroscopic terms, seed form)."""
+    if shaft.formulation == "seed-eq1" and shaft.theory == "timoshenko":
+        return True
+    return any(np.any(modal_matrices(shaft, n).G != 0) for n in range(1, shaft.modes + 1))
+
+
+class _Map:
+    """The stroboscopic map of one scenario, prepared once for many runs.
+
+    Holds the assembled modal system, the contact law and the step coefficients, and runs the
+    compiled kernel :func:`rubrotor.core.shoot.expo_strobe` on plain arrays (no simulation
+    driver, no result objects). :meth:`at_speed` re-derives only what depends on the spin speed
+    (step in seconds, propagators, unbalance force and its steady response, surface speed),
+    reusing the modal system unless it is gyroscopic.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        Rotor, speed (rad/s), unbalance, contact, load, damping.
+    k : int
+        Revolutions per map.
+    steps : int
+        Fixed steps per revolution.
+    speed : float, optional
+        Spin speed (rad/s) instead of the scenario's.
+    sysm : ModalSystem, optional
+        The modal system at ``speed`` when already assembled.
+    """
+
+    def __init__(self, scenario, k: int, steps: int, speed: float | None = None, base=None):
+        self.scenario, self.k, self.steps = scenario, int(k), int(steps)
+        speed = float(scenario.speed if speed is None else speed)
+        sc = scenario
+        unb = sc.unbalance or Unbalance(0.0)
+        if base is None:  # the modal system and what only it and the positions fix
+            a_u, a_c, a_l, _ = _positions(sc.shaft, _integrator(k, steps, False), unb,
+                                          sc.contact, sc.load)  # fmt: skip
+            sysm = assemble(sc.shaft, speed, sc.damping)
+            beta_c, beta_u, beta_l = (sysm.force_input(a) for a in (a_c, a_u, a_l))
+            cdc = np.ascontiguousarray(sysm.displacement_row(a_c))
+            cvc = np.ascontiguousarray(sysm.velocity_row(a_c))
+            qi, qdi, vinv = sysm.q_index, sysm.qd_index, sysm.Vinv
+            # real state vector -> eigen-coordinates (columns: unit Re q, Im q, Re q', Im q')
+            to_eig = np.hstack([vinv[:, qi], 1j * vinv[:, qi], vinv[:, qdi], 1j * vinv[:, qdi]])
+            from_eig = np.ascontiguousarray(sysm.V[np.concatenate([qi, qdi])].T)
+            self.fixed = (sysm, beta_c, beta_u, beta_l, cdc, cvc, to_eig, from_eig)
+        else:
+            self.fixed = base.fixed
+        sysm, beta_c, beta_u, beta_l, cdc, cvc, self._to_eig, self._from_eig = self.fixed
+        self.sysm, self.speed = sysm, speed
+        fu0 = unb.magnitude * speed**2 * complex(math.cos(unb.phase), math.sin(unb.phase))
+        fl = complex(sc.load.force_y, sc.load.force_z) if sc.load is not None else 0j
+        self.y_u, self.y_l = _particular(sysm, speed, beta_u, beta_l, fu0, fl, unb)
+        self.cp = contact_parameters(sc.shaft, speed, sc.contact)
+        h = 2 * math.pi / steps / speed
+        p1, p2 = np.empty_like(sysm.lam), np.empty_like(sysm.lam)
+        phi12(sysm.lam * h, p1, p2)
+        g1 = h * p2 * beta_c
+        part_c = complex(cdc @ self.y_u)
+        self.coef = MapStep(
+            np.exp(sysm.lam * h), (h * p1 - h * p2) * beta_c, g1, complex(cdc @ g1),
+            complex(cvc @ g1), cdc, cvc, part_c, complex(cdc @ self.y_l), 1j * speed * part_c,
+            speed, h, self.k * self.steps, 1.0,
+        )  # fmt: skip
+
+    def at_speed(self, speed: float) -> _Map:
+        """The same map at another spin speed (rad/s): only speed-dependent parts rebuilt."""
+        moving = self.__dict__.get("_gyro")
+        if moving is None:
+            moving = self._gyro = _gyroscopic(self.scenario.shaft)
+        other = _Map(self.scenario, self.k, self.steps, speed, None if moving else self)
+        other._gyro = moving
+        return other
+
+    def eigen(self, x: np.ndarray) -> np.ndarray:
+        """Shifted eigen-coordinates of a state vector (m, m/s) at unbalance angle 0."""
+        return self._to_eig @ x - self.y_u - self.y_l
+
+    def physical(self, ys: np.ndarray) -> np.ndarray:
+        """State vectors (m, m/s, rows) of unshifted eigen-coordinates ``ys`` (rows)."""
+        xs = np.atleast_2d(ys) @ self._from_eig
+        n = xs.shape[1] // 2
+        return np.concatenate([xs.real[:, :n], xs.imag[:, :n], xs.real[:, n:], xs.imag[:, n:]],
+                              axis=1)  # fmt: skip
+
+    def run(self, x: np.ndarray, jacobian: bool = False):
+        """``(P(x), dP/dx or None, largest contact-station radius m)`` of one map run."""
+        x = np.asarray(x, float)
+        y = self.eigen(x)
+        if jacobian:  # unit perturbations of each real state component, in eigen-coordinates
+            q = np.ascontiguousarray(self._to_eig.T)
+        else:
+            q = np.zeros((0, y.size), complex)
+        out = np.zeros(2)
+        z = expo_strobe(y, q, self.coef, self.cp, out)
+        if out[1] != 0:
+            raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")
+        px = self.physical(y + self.y_u * z + self.y_l)[0]
+        return px, (self.physical(q).T if jacobian else None), float(out[0])
+
+
 def strobe(scenario, x: np.ndarray, k: int = 1, steps: int = STEPS_PER_REVOLUTION) -> np.ndarray:
     """The stroboscopic map: the state vector ``k`` revolutions after ``x``.
 
@@ -70,47 +193,40 @@ def strobe(scenario, x: np.ndarray, k: int = 1, steps: int = STEPS_PER_REVOLUTIO
     ndarray
         The state vector after ``k`` revolutions (m, m/s).
     """
-    res = _prepared(scenario, k, steps).run(start=vector_state(x))
-    if res.final_state is None:
-        raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")
-    return state_vector(res.final_state)
-
-
-@functools.lru_cache(maxsize=8)
-def _cached_run(scenario, k: int, steps: int) -> PreparedRun:
-    return PreparedRun.from_scenario(scenario, _integrator(k, steps, False))
-
-
-def _prepared(scenario, k: int, steps: int) -> PreparedRun:
-    """The map's simulation, set up once per (equal) scenario: a Newton step's ``4 n`` finite
-    differences all run the same model from different states (the array-level path)."""
-    try:
-        return _cached_run(scenario, k, steps)
-    except TypeError:  # an unhashable scenario: set up each time
-        return PreparedRun.from_scenario(scenario, _integrator(k, steps, False))
+    return _Map(scenario, k, steps).run(x)[0]
 
 
 def monodromy(scenario, x: np.ndarray, k: int = 1, steps: int = STEPS_PER_REVOLUTION):
-    """Jacobian ``dP/dx`` of :func:`strobe` by central differences (dimensionless blocks).
+    """``P(x)`` and the exact Jacobian ``dP/dx`` of the discrete map (one compiled run).
 
     Returns
     -------
     px : ndarray
         ``P(x)``.
     jac : ndarray, shape (4n, 4n)
-        The monodromy matrix of the discrete map.
+        The monodromy matrix of the discrete map (variational equations of the scheme,
+        :mod:`rubrotor.core.shoot`).
     """
-    px = strobe(scenario, x, k, steps)
+    px, jac, _ = _Map(scenario, k, steps).run(x, True)
+    return px, jac
+
+
+def monodromy_fd(scenario, x: np.ndarray, k: int = 1, steps: int = STEPS_PER_REVOLUTION):
+    """``P(x)`` and ``dP/dx`` by central differences of the map (the second route, for checks).
+
+    Between contacts the map is affine, so central differences are exact to rounding; in
+    contact their error is ``O(d^2 P''') + O(eps |x| / d)`` for an increment ``d``, balanced
+    at a relative increment ``d ~ eps^(1/3) ~ 6e-6`` (:data:`FD_STEP`).
+    """
+    mp = _Map(scenario, k, steps)
+    px = mp.run(x)[0]
     scale = np.full(x.size, max(np.max(np.abs(x[: x.size // 2])), 1e-9))
     scale[x.size // 2 :] = max(np.max(np.abs(x[x.size // 2 :])), 1e-9 * scenario.speed)
     jac = np.empty((x.size, x.size))
     for j in range(x.size):
-        h = FD_STEP * scale[j]
         e = np.zeros(x.size)
-        e[j] = h
-        jac[:, j] = (strobe(scenario, x + e, k, steps) - strobe(scenario, x - e, k, steps)) / (
-            2 * h
-        )
+        e[j] = FD_STEP * scale[j]
+        jac[:, j] = (mp.run(x + e)[0] - mp.run(x - e)[0]) / (2 * e[j])
     return px, jac
 
 
@@ -179,15 +295,19 @@ def multipliers_of(jac: np.ndarray) -> np.ndarray:
 
 
 def newton_orbit(scenario, x0, k=1, steps=STEPS_PER_REVOLUTION, tol=1e-12, max_iter=30):
-    """Newton iterations on ``P(x) - x = 0``; returns ``(x, jac, residual, iterations)``."""
+    """Newton iterations on ``P(x) - x = 0``; returns ``(x, jac, residual, iterations)``.
+
+    ``scenario`` may also be a prepared :class:`_Map` (of ``k`` revolutions, ``steps``).
+    """
+    mp = scenario if isinstance(scenario, _Map) else _Map(scenario, k, steps)
     x = np.asarray(x0, float).copy()
     for it in range(1, max_iter + 1):
-        px, jac = monodromy(scenario, x, k, steps)
+        px, jac, _ = mp.run(x, True)
         r = px - x
         dx = np.linalg.solve(jac - np.eye(x.size), -r)
         x = x + dx
         if np.linalg.norm(dx) <= tol * max(np.linalg.norm(x), 1e-30):
-            px, jac = monodromy(scenario, x, k, steps)
+            px, jac, _ = mp.run(x, True)
             res = np.linalg.norm(px - x) / max(np.linalg.norm(x), 1e-30)
             return x, jac, res, it
     raise InputError(
@@ -232,7 +352,7 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
     x0 = state_vector(guess)
     if transient_revolutions:
         x0 = strobe(scenario, x0, int(transient_revolutions), steps)
-    x, jac, residual, it = newton_orbit(scenario, x0, k, steps, tol)
+    x, jac, residual, it = newton_orbit(_Map(scenario, k, steps), x0, k, steps, tol)
     mu = multipliers_of(jac)
     return PeriodicOrbit(
         scenario=scenario,

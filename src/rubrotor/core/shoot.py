@@ -1,0 +1,204 @@
+"""Compiled stroboscopic map of the fixed-step exponential scheme and its exact Jacobian.
+
+One call runs the fixed-step exponential step of :func:`rubrotor.core.integrate.expo_fixed`
+(same arithmetic, same contact solve, same phasor recurrence, so the end state is the one a
+simulation from the same start gives) over ``n_steps`` steps, from the contact force of the start
+state, without saving samples; it returns the largest contact-station radius on the way.
+
+With tangent vectors ``Q`` (rows, complex eigen-coordinates) it also propagates the exact
+derivative of the DISCRETE map (the variational equations of the scheme, as
+:mod:`rubrotor.core.tangent` derives them): ``dy_{k+1} = E dy_k + G0 dF_k + G1 dF_{k+1}`` with
+``dF_k = J_k (dP_k, dV_k)`` (``J_k`` the exact 2 x 4 force Jacobian, friction-sign derivative
+included) and ``dF_{k+1}`` from the implicit function theorem on the contact equation,
+``(I - J_{k+1} S) dF_{k+1} = J_{k+1} (dpd, dud)``. The linear part is exact, so without contact
+the propagated matrix is ``E^n`` to rounding.
+
+Unlike the Lyapunov kernel the vectors are NOT re-orthonormalised: shooting needs the monodromy
+matrix itself, not its growth rates. Over the ``k`` revolutions of one shooting period this is
+well conditioned: each column is a product of ``n`` step Jacobians applied forward, whose
+rounding error is ``~ n eps`` relative to the norm of the product, and that norm is bounded by
+``max |mu|`` (the largest Floquet multiplier, order 1 to 10 on the orbits one continues; a
+strongly unstable orbit is found with a larger ``k`` only if its multiplier stays far from
+overflow, ``|mu| << 1e300``). Columns along decaying directions shrink to ``~ |mu_min|`` and lose
+their relative accuracy, but only their absolute error ``~ n eps max |mu|`` matters for the
+Newton step and for the multipliers near the unit circle that decide stability and
+bifurcations; the collapse of all vectors onto the leading direction that forces Benettin's
+re-orthonormalisation only matters over the thousands of revolutions of a Lyapunov run.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from rubrotor.core.contact import contact_force_jac_exact, solve_contact
+from rubrotor.core.integrate import SAFE_FASTMATH
+from rubrotor.core.tangent import _force_tangent
+
+__all__ = ["expo_strobe", "phi12"]
+
+OK, DIVERGED, CONTACT_FAILED = 0, 1, 2
+
+
+@njit(cache=True, fastmath=SAFE_FASTMATH)
+def expo_strobe(y, Q, k, cp, out):
+    """Run the stroboscopic map from the shifted eigen-coordinates ``y`` (in place).
+
+    Parameters
+    ----------
+    y : ndarray, complex (ns,)
+        Shifted eigen-coordinates at unbalance phase 0; overwritten by the end state.
+    Q : ndarray, complex (m, ns)
+        Tangent vectors as rows (``m = 0``: the map alone); overwritten by their images.
+    k : namedtuple (:class:`rubrotor.shooting.MapStep`)
+        ``E, G0, G1`` (ns,) step coefficients, ``sd, sv`` contact-station displacement (m/N)
+        and velocity (m/(s N)) per N of the new force, contact rows ``cdc, cvc`` (ns,),
+        ``part_c`` (m) and ``vel_cz`` (m/s) the particular solution at the contact station per
+        unit phasor, ``part_lc`` (m) its constant-load part, ``omega`` (rad/s), ``h`` (s),
+        ``n_steps``, ``max_disp`` (m).
+    cp : ndarray
+        Packed contact law (:data:`rubrotor.core.contact.CP_FIELDS`).
+    out : ndarray (2,)
+        Filled with the largest contact-station radius (m) over the start and every step,
+        and the status (0 complete, 1 diverged, 2 contact solve failed).
+
+    Returns
+    -------
+    complex
+        The unbalance phasor ``exp(i omega t)`` at the end.
+    """
+    E, G0, G1, sd, sv, cdc, cvc = k.E, k.G0, k.G1, k.sd, k.sv, k.cdc, k.cvc
+    omega, h = k.omega, k.h
+    part_c, part_lc, vel_cz = k.part_c, k.part_lc, k.vel_cz
+    ns = y.shape[0]
+    m = Q.shape[0]
+    jac = np.zeros((2, 4))
+    jk = np.zeros((2, 4))
+    cdE = cdc * E
+    cvE = cvc * E
+    cdG0 = 0j
+    cvG0 = 0j
+    for j in range(ns):
+        cdG0 += cdc[j] * G0[j]
+        cvG0 += cvc[j] * G0[j]
+    z = 1.0 + 0j
+    P = part_c + part_lc
+    V = vel_cz + 0j
+    for j in range(ns):
+        P += cdc[j] * y[j]
+        V += cvc[j] * y[j]
+    fy, fz, fn, ft = contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
+    F = complex(fy, fz)
+    Fp = 0j
+    rmax2 = P.real * P.real + P.imag * P.imag
+    maxd2 = k.max_disp * k.max_disp
+    rot = complex(math.cos(omega * h), math.sin(omega * h))
+    dFk = np.zeros(m, np.complex128)
+    status = OK
+    a11 = a12 = a21 = a22 = det = 1.0
+    for step in range(1, k.n_steps + 1):
+        if step % 1024 == 0:
+            zn = complex(math.cos(omega * h * step), math.sin(omega * h * step))
+        else:
+            zn = z * rot
+        pd = part_c * zn + part_lc
+        ud = vel_cz * zn
+        for j in range(ns):
+            yj = y[j]
+            pd += cdE[j] * yj
+            ud += cvE[j] * yj
+        if F != 0j:
+            pd += cdG0 * F
+            ud += cvG0 * F
+        for i in range(m):  # force derivative at the current state, per tangent vector
+            dFk[i] = 0j
+            if F != 0j:
+                dP = 0j
+                dV = 0j
+                for j in range(ns):
+                    dP += cdc[j] * Q[i, j]
+                    dV += cvc[j] * Q[i, j]
+                dFk[i] = _force_tangent(jk, dP, dV)
+        F0 = F
+        if F != 0j and Fp != 0j:
+            F0 = 2.0 * F - Fp
+        Fn, it, fn_c, ft_c = solve_contact(pd, ud, sd, sv, F0, cp, jac)
+        if it < 0:
+            status = CONTACT_FAILED
+            break
+        if F != 0j or Fn != 0j:
+            for j in range(ns):
+                y[j] = E[j] * y[j] + G0[j] * F + G1[j] * Fn
+        else:
+            for j in range(ns):
+                y[j] = E[j] * y[j]
+        P = pd + sd * Fn
+        V = ud + sv * Fn
+        if m > 0:
+            jk[:, :] = 0.0
+            if Fn != 0j:
+                contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
+                # Newton matrix I - J S of the contact solve (S: complex dF -> (sd dF, sv dF))
+                a11 = 1.0 - (jk[0, 0] * sd.real + jk[0, 1] * sd.imag
+                             + jk[0, 2] * sv.real + jk[0, 3] * sv.imag)  # fmt: skip
+                a12 = -(-jk[0, 0] * sd.imag + jk[0, 1] * sd.real
+                        - jk[0, 2] * sv.imag + jk[0, 3] * sv.real)  # fmt: skip
+                a21 = -(jk[1, 0] * sd.real + jk[1, 1] * sd.imag
+                        + jk[1, 2] * sv.real + jk[1, 3] * sv.imag)  # fmt: skip
+                a22 = 1.0 - (-jk[1, 0] * sd.imag + jk[1, 1] * sd.real
+                             - jk[1, 2] * sv.imag + jk[1, 3] * sv.real)  # fmt: skip
+                det = a11 * a22 - a12 * a21
+            for i in range(m):
+                dFn = 0j
+                if Fn != 0j:
+                    dpd = cdG0 * dFk[i]
+                    dud = cvG0 * dFk[i]
+                    for j in range(ns):
+                        dpd += cdE[j] * Q[i, j]
+                        dud += cvE[j] * Q[i, j]
+                    b = _force_tangent(jk, dpd, dud)
+                    dFn = complex((a22 * b.real - a12 * b.imag) / det,
+                                  (-a21 * b.real + a11 * b.imag) / det)  # fmt: skip
+                for j in range(ns):
+                    Q[i, j] = E[j] * Q[i, j] + G0[j] * dFk[i] + G1[j] * dFn
+        Fp = F
+        F = Fn
+        z = zn
+        d2 = P.real * P.real + P.imag * P.imag
+        if d2 > rmax2:
+            rmax2 = d2
+        if not (d2 <= maxd2):
+            status = DIVERGED
+            break
+    out[0] = math.sqrt(rmax2)
+    out[1] = status
+    return z
+
+
+@njit(cache=True)
+def phi12(z, p1, p2):
+    """``phi1 = (e^z - 1)/z`` and ``phi2 = (e^z - 1 - z)/z^2`` into ``p1, p2`` (complex arrays).
+
+    The arithmetic of :func:`rubrotor.modal_system.phi_functions` (Taylor series of 20 terms
+    below ``|z| = 0.25``, the recurrence above), compiled, for maps rebuilt at every key value.
+    """
+    for i in range(z.shape[0]):
+        zi = z[i]
+        if abs(zi) < 0.25:
+            term = 1.0 + 0j
+            a1 = 0j
+            a2 = 0j
+            fact1 = 1.0  # (j + 1)!
+            fact2 = 2.0  # (j + 2)!
+            for j in range(20):
+                a1 = a1 + term / fact1
+                a2 = a2 + term / fact2
+                term = term * zi
+                fact1 *= j + 2
+                fact2 *= j + 3
+            p1[i] = a1
+            p2[i] = a2
+        else:
+            e = (np.exp(zi) - 1) / zi
+            p1[i] = e
+            p2[i] = (e - 1) / zi
