@@ -444,8 +444,10 @@ def partial(repeats: int) -> None:
     w_chk = np.array([guesses[0][0], guesses[len(guesses) // 2][0], guesses[-1][0]])
     a = reference_radii(sc, p, w_chk, guesses, REFERENCE_STEPS)
     b = reference_radii(sc, p, w_chk, guesses, 2 * REFERENCE_STEPS)
-    print(f"  (errors against shooting at {REFERENCE_STEPS} steps/rev, itself within "
-          f"{np.max(np.abs(a - b) / b):.1e} of {2 * REFERENCE_STEPS} steps/rev)")
+    print(
+        f"  (errors against shooting at {REFERENCE_STEPS} steps/rev, itself within "
+        f"{np.max(np.abs(a - b) / b):.1e} of {2 * REFERENCE_STEPS} steps/rev)"
+    )
     print("time per point, rubrotor / pyHarm:")
     _ratios(res, errors, ours, [k for k in res if k not in ours])
 

@@ -751,10 +751,9 @@ def simulate_general(
         if sink is not None:
             sink.close({}, ok=False)
         raise
-    ist = state.istate
     _add_counts(stats, state, method, plant, run, wall)
     n_out = done + 1
-    events = state.events[: min(int(ist[I_EVENTS]), len(state.events))].copy()
+    events = state.events[: min(int(state.istate[I_EVENTS]), len(state.events))].copy()
     status = "complete" if not msg else "partial"
     final_state = final()
     if sink is not None:
