@@ -33,7 +33,7 @@ from numba import njit
 
 from rubrotor.core.contact import contact_force_jac_exact, solve_contact
 from rubrotor.core.integrate import SAFE_FASTMATH
-from rubrotor.core.tangent import _force_tangent
+from rubrotor.core.tangent import _force_tangent, implicit_force_tangent, newton_matrix
 
 __all__ = ["expo_strobe", "phi12"]
 
@@ -95,7 +95,7 @@ def expo_strobe(y, Q, k, cp, out):
     rot = complex(math.cos(omega * h), math.sin(omega * h))
     dFk = np.zeros(m, np.complex128)
     status = OK
-    a11 = a12 = a21 = a22 = det = 1.0
+    nm = (1.0, 0.0, 0.0, 1.0, 1.0)  # I - J S out of contact (unused there)
     for step in range(1, k.n_steps + 1):
         if step % 1024 == 0:
             zn = complex(math.cos(omega * h * step), math.sin(omega * h * step))
@@ -138,27 +138,11 @@ def expo_strobe(y, Q, k, cp, out):
             jk[:, :] = 0.0
             if Fn != 0j:
                 contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
-                # Newton matrix I - J S of the contact solve (S: complex dF -> (sd dF, sv dF))
-                a11 = 1.0 - (jk[0, 0] * sd.real + jk[0, 1] * sd.imag
-                             + jk[0, 2] * sv.real + jk[0, 3] * sv.imag)  # fmt: skip
-                a12 = -(-jk[0, 0] * sd.imag + jk[0, 1] * sd.real
-                        - jk[0, 2] * sv.imag + jk[0, 3] * sv.real)  # fmt: skip
-                a21 = -(jk[1, 0] * sd.real + jk[1, 1] * sd.imag
-                        + jk[1, 2] * sv.real + jk[1, 3] * sv.imag)  # fmt: skip
-                a22 = 1.0 - (-jk[1, 0] * sd.imag + jk[1, 1] * sd.real
-                             - jk[1, 2] * sv.imag + jk[1, 3] * sv.real)  # fmt: skip
-                det = a11 * a22 - a12 * a21
+                nm = newton_matrix(jk, sd, sv)
             for i in range(m):
                 dFn = 0j
                 if Fn != 0j:
-                    dpd = cdG0 * dFk[i]
-                    dud = cvG0 * dFk[i]
-                    for j in range(ns):
-                        dpd += cdE[j] * Q[i, j]
-                        dud += cvE[j] * Q[i, j]
-                    b = _force_tangent(jk, dpd, dud)
-                    dFn = complex((a22 * b.real - a12 * b.imag) / det,
-                                  (-a21 * b.real + a11 * b.imag) / det)  # fmt: skip
+                    dFn = implicit_force_tangent(jk, nm, dFk[i], Q[i], cdE, cvE, cdG0, cvG0)
                 for j in range(ns):
                     Q[i, j] = E[j] * Q[i, j] + G0[j] * dFk[i] + G1[j] * dFn
         Fp = F

@@ -70,6 +70,35 @@ def _force_tangent(jac, dP, dV):
     )
 
 
+@njit(cache=True, inline="always")
+def newton_matrix(jk, sd, sv):
+    """``(a11, a12, a21, a22, det)`` of the contact solve's Newton matrix ``I - J S``.
+
+    ``J`` (2 x 4 real) is the force Jacobian ``jk`` at the solved state and ``S`` maps a complex
+    force increment ``dF`` to ``(sd dF, sv dF)`` (m/N, m/(s N)).
+    """
+    a11 = 1.0 - (jk[0, 0] * sd.real + jk[0, 1] * sd.imag + jk[0, 2] * sv.real + jk[0, 3] * sv.imag)
+    a12 = -(-jk[0, 0] * sd.imag + jk[0, 1] * sd.real - jk[0, 2] * sv.imag + jk[0, 3] * sv.real)
+    a21 = -(jk[1, 0] * sd.real + jk[1, 1] * sd.imag + jk[1, 2] * sv.real + jk[1, 3] * sv.imag)
+    a22 = 1.0 - (-jk[1, 0] * sd.imag + jk[1, 1] * sd.real - jk[1, 2] * sv.imag + jk[1, 3] * sv.real)
+    return a11, a12, a21, a22, a11 * a22 - a12 * a21
+
+
+@njit(cache=True, inline="always")
+def implicit_force_tangent(jk, nm, dF, q, cdE, cvE, cdG0, cvG0):
+    """The new force's increment ``dF_{k+1}`` (N) of tangent vector ``q`` (implicit function
+    theorem on the contact equation): ``(I - J S)^-1 J (dpd, dud)``, ``nm`` from
+    :func:`newton_matrix`, ``dF`` the old force's increment."""
+    dpd = cdG0 * dF
+    dud = cvG0 * dF
+    for j in range(q.shape[0]):
+        dpd += cdE[j] * q[j]
+        dud += cvE[j] * q[j]
+    b = _force_tangent(jk, dpd, dud)
+    a11, a12, a21, a22, det = nm
+    return complex((a22 * b.real - a12 * b.imag) / det, (-a21 * b.real + a11 * b.imag) / det)
+
+
 @njit(cache=True, fastmath=SAFE_FASTMATH)
 def expo_tangent(
     y, cstate, istate, n_steps, renorm_every, Q, logs,
@@ -111,6 +140,7 @@ def expo_tangent(
         V += cvc[j] * y[j]
     contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
     dFk = np.zeros(m, np.complex128)
+    nm = (1.0, 0.0, 0.0, 1.0, 1.0)  # I - J S out of contact (unused there)
     done = 0
     for _ in range(n_steps):
         step += 1
@@ -151,32 +181,11 @@ def expo_tangent(
         jk[:, :] = 0.0
         if Fn != 0j:
             contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
-            # Newton matrix I - J S of the contact solve (S: complex dF -> (sd dF, sv dF))
-            a11 = 1.0 - (
-                jk[0, 0] * sd.real + jk[0, 1] * sd.imag + jk[0, 2] * sv.real + jk[0, 3] * sv.imag
-            )
-            a12 = -(
-                -jk[0, 0] * sd.imag + jk[0, 1] * sd.real - jk[0, 2] * sv.imag + jk[0, 3] * sv.real
-            )
-            a21 = -(
-                jk[1, 0] * sd.real + jk[1, 1] * sd.imag + jk[1, 2] * sv.real + jk[1, 3] * sv.imag
-            )
-            a22 = 1.0 - (
-                -jk[1, 0] * sd.imag + jk[1, 1] * sd.real - jk[1, 2] * sv.imag + jk[1, 3] * sv.real
-            )
-            det = a11 * a22 - a12 * a21
+            nm = newton_matrix(jk, sd, sv)
         for i in range(m):
             dFn = 0j
             if Fn != 0j:
-                dpd = cdG0 * dFk[i]
-                dud = cvG0 * dFk[i]
-                for j in range(ns):
-                    dpd += cdE[j] * Q[i, j]
-                    dud += cvE[j] * Q[i, j]
-                b = _force_tangent(jk, dpd, dud)
-                dFn = complex(
-                    (a22 * b.real - a12 * b.imag) / det, (-a21 * b.real + a11 * b.imag) / det
-                )
+                dFn = implicit_force_tangent(jk, nm, dFk[i], Q[i], cdE, cvE, cdG0, cvG0)
             for j in range(ns):
                 Q[i, j] = E[j] * Q[i, j] + G0[j] * dFk[i] + G1[j] * dFn
         Fp = F
