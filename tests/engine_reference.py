@@ -9,7 +9,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from rubrotor.core.contact import contact_force, pack_contact
-from rubrotor.engine.model import static_load_vector, unbalance_phasor
+from rubrotor.engine.model import speed_at, spin_angle, static_load_vector, unbalance_phasor
 
 
 def reference_run(
@@ -26,7 +26,6 @@ def reference_run(
 ):
     """Sample times (s), rotor displacement at each contact (nc, 2, T), stator (nc, 2, T)."""
     w = run.speed
-    alpha = 0.0 if run.speed_end is None else (run.speed_end - w) / run.duration
     sm = system.matrices(w)
     M, D, K = sm.M, sm.damping, sm.K
     C, G = sm.C, sm.G
@@ -66,8 +65,8 @@ def reference_run(
 
     def rhs(t, x):
         q, qd = x[:n], x[n : 2 * n]
-        wt = w + alpha * t
-        th = w * t + 0.5 * alpha * t * t
+        wt, alpha = (float(v) for v in speed_at(run, t))  # piecewise-linear speed profile
+        th = float(spin_angle(run, t))
         f = f_s + np.real((wt**2 - 1j * alpha) * b_u * np.exp(1j * th))
         Dt = C + wt * G
         dx = np.empty_like(x)

@@ -332,6 +332,40 @@ def test_runup_ritz_reduction_equals_full_rediagonalisation():
     assert dev < 1e-6
 
 
+def test_speed_table_profile_matches_scipy():
+    """A speed table (run-up through the critical, hold, coast-down, rows on the sample grid):
+    against DOP853 on the full model with the same piecewise-linear Omega(t), its exact spin
+    angle and the angular-acceleration term in every evaluation (tests/engine_reference.py),
+    the error falls with the speed step like the linear profile's (frozen speed per segment).
+    A two-row table is the linear profile: same samples to rounding."""
+    system, unb = _runup_rotor()
+    wc = _steady_peak_speed(system, unb, np.linspace(100, 600, 501))
+    table = ((0.0, 0.6 * wc), (0.12, 1.3 * wc), (0.16, 1.3 * wc), (0.3, 0.9 * wc))
+    run = Run(speed=1.0, duration=0.3, step=5e-5, save_every=2, initial="static",
+              probes=(0.5,), speed_table=table)  # fmt: skip
+    assert run.speed == 0.6 * wc and run.speed_end == 0.9 * wc
+    t, rot, _, _ = reference_run(system, run, [], unb, rtol=1e-9, atol=1e-13)
+    scale = np.max(np.abs(rot[0]))
+    errs = []
+    for step in (0.05 * wc, 0.025 * wc, 0.0125 * wc, 0.0025 * wc):
+        res = simulate_general(system, dataclasses.replace(run, speed_step=step),
+                               unbalances=unb, progress=False)  # fmt: skip
+        errs.append(np.max(np.abs(rot[0] - res.channels[:2])) / scale)
+        print("segments", res.stats["segments"], "error", errs[-1])
+    slope = np.polyfit(np.log([1, 2, 4]), np.log(errs[:3]), 1)[0]
+    print("error slope against segments", slope)
+    assert slope < -0.8 and errs[-1] < 1e-5
+    lin = Run(speed=0.6 * wc, speed_end=1.4 * wc, duration=0.1, step=5e-5, save_every=2,
+              initial="static", probes=(0.5,))  # fmt: skip
+    tab = dataclasses.replace(lin, speed_end=None,
+                              speed_table=((0.0, 0.6 * wc), (0.1, 1.4 * wc)))  # fmt: skip
+    a, b = (simulate_general(system, r, unbalances=unb, progress=False) for r in (lin, tab))
+    assert a.stats["segments"] == b.stats["segments"]
+    np.testing.assert_allclose(
+        b.channels, a.channels, rtol=0, atol=1e-12 * np.abs(a.channels).max()
+    )
+
+
 def test_runup_peak_above_critical_coastdown_below():
     """Passing the critical speed at a finite rate shifts the response peak: above the steady
     peak speed (full-model steady response, closed form) when accelerating, below it when

@@ -108,6 +108,12 @@ BAD = [
     ({"speed": {"profile": "linear", "from": 1.0, "to": 2.0, "rpm": 3}}, "speed.rpm"),
     ({"speed": {"rad_per_s": 300.0, "to": 2.0}}, "speed.to"),
     ({"speed": {"times": [0, 1], "speeds": [1, 2]}}, "speed.times"),
+    ({"speed": {"profile": "table", "times": [0, 0.02]}}, "speed.speeds"),
+    ({"speed": {"profile": "table", "times": [0, 0.02], "speeds": [300, 310, 320]}}, "speed.times"),
+    ({"speed": {"profile": "table", "times": [0, "a"], "speeds": [300, 310]}}, "speed.times"),
+    ({"speed": {"profile": "table", "times": [0, 0.02], "speeds": [300, -1]}}, "speed.speeds"),
+    ({"speed": {"profile": "table", "times": [0, 0.02], "speeds": [1, 2], "to": 3}}, "speed.to"),
+    ({"speed": {"profile": "linear", "from": 1, "to": 2, "times": [0, 1]}}, "speed.times"),
     ({"initial": {"state": "moving"}}, "initial.state"),
     ({"initial": {"state": "file"}}, "initial.path"),
     ({"initial": {"state": "static", "path": "x.nc"}}, "initial.path"),
@@ -142,11 +148,11 @@ def test_keys_parse_into_engine_objects():
     seed = rubrotor.load_scenario(SCENARIOS / "seed_case1.toml")
     assert seed.engine is None
     for key, row in ENGINE_KEYS.items():  # every key read is a row of the one schema
-        assert row.dotted == key and row.kind in ("number", "int", "str", "bool")
+        assert row.dotted == key and row.kind in ("number", "int", "str", "bool", "list")
         assert row.minimum is None or row.maximum is None or row.minimum <= row.maximum, key
 
 
-def _direct(duration=0.02, initial="rest", unb_phase=0.3):
+def _direct(duration=0.02, initial="rest", unb_phase=0.3, table=None):
     """The BASE scenario built by hand through the API."""
     steel = Material("steel", 211e9, 7810, poisson_ratio=0.3)
     rotor = Rotor(
@@ -157,7 +163,8 @@ def _direct(duration=0.02, initial="rest", unb_phase=0.3):
     )  # fmt: skip
     c = Contact(1e-4, 2e7, 200, 0.2, position=0.5, law="linear", radius=0.1)
     st = RubStation(c, -2e-5, 0.0, Stator.isotropic(20, 5e6, 500))
-    run = Run(speed=300.0, duration=duration, step=5e-5, save_every=2, initial=initial)
+    run = Run(speed=300.0, duration=duration, step=5e-5, save_every=2, initial=initial,
+              speed_table=table)  # fmt: skip
     return simulate_general(rotor.linear_system((0.5,)), run, [st],
                             [Unbalance(2e-4, 0.5, unb_phase)], gravity=(-9.81, 0.0),
                             progress=False)  # fmt: skip
@@ -175,6 +182,44 @@ def test_scenario_equals_direct_api_run():
     for name, unit in (("v", "m"), ("w_dot", "m/s"), ("v_ddot", "m/s^2"),
                        ("normal_force", "N"), ("stator_y", "m")):  # fmt: skip
         assert ds[name].attrs["units"] == unit
+
+
+def test_speed_table_scenario_equals_direct_api_run(tmp_path, capsys):
+    """``[speed] profile = "table"`` (up, then down) builds exactly ``Run(speed_table=...)``
+    (reference: the run built by hand through the API); its Dataset's spin angle is the exact
+    integral of the table; a table that stops before the run's end, or off the sample grid, is
+    refused naming ``speed.table``; a table with revolutions instead of a duration names
+    ``simulation.revolutions``; the CLI exits 2 without a traceback."""
+    times, speeds = [0.0, 0.012, 0.02], [300.0, 360.0, 330.0]
+    sc = scenario_from_dict(spec(speed={"profile": "table", "times": times, "speeds": speeds}))
+    ds = rubrotor.simulate(sc, progress=False)
+    ref = _direct(table=tuple(zip(times, speeds, strict=True)))
+    assert ds.attrs["status"] == "complete" and ref.stats["segments"] > 1
+    assert np.array_equal(ds["v"].values[0], ref.channels[0])
+    t = ds["time"].values
+    up = 300 * t + 0.5 * 5000 * t**2
+    down = 300 * 0.012 + 0.5 * 5000 * 0.012**2 + 360 * (t - 0.012) - 0.5 * 3750 * (t - 0.012) ** 2
+    np.testing.assert_allclose(ds["tau"].values, np.where(t <= 0.012, up, down), rtol=1e-12)
+    for tab, field in (({"times": [0, 0.01], "speeds": [300, 310]}, "speed.table"),
+                       ({"times": [0, 0.01005, 0.03], "speeds": [300, 310, 320]}, "speed.table")):  # fmt: skip
+        bad = scenario_from_dict(spec(speed={"profile": "table", **tab}))
+        with pytest.raises(rubrotor.InputError) as err:
+            rubrotor.simulate(bad, progress=False)
+        assert err.value.field == field
+    revs = spec(speed={"profile": "table", "times": times, "speeds": speeds},
+                simulation={"revolutions": 1, "dt": 5e-5, "save_every": 2})  # fmt: skip
+    with pytest.raises(rubrotor.InputError) as err:
+        rubrotor.simulate(scenario_from_dict(revs), progress=False)
+    assert err.value.field == "simulation.revolutions"
+    path = tmp_path / "short.toml"
+    text = (SCENARIOS / "runup_rub.toml").read_text()
+    text = text.replace(
+        'profile = "linear"', 'profile = "table"\ntimes = [0.0, 0.5]\nspeeds = [150.0, 450.0]'
+    )
+    text = text.replace("from = 150.0", "").replace("to = 450.0", "")
+    path.write_text(text)
+    assert main(["simulate", str(path), "--out", str(tmp_path / "r.nc")]) == 2
+    assert "speed.table" in capsys.readouterr().err
 
 
 def test_restart_from_file_continues_the_run(tmp_path):

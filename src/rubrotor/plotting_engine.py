@@ -72,15 +72,18 @@ def _spectrum(ax, ds) -> None:
 
 
 def _runup(ax, ds) -> None:
-    t = ds["time"].values - float(ds.attrs.get("start_time_s", 0.0))
-    w0, w1 = float(ds.attrs["speed_rad_s"]), float(ds.attrs["speed_end_rad_s"])
-    rpm = (w0 + (w1 - w0) * t / t[-1]) * 60 / (2 * math.pi)
+    t = ds["time"].values
+    w = np.gradient(ds["tau"].values, t)  # the spin speed of any profile (rad/s)
+    rpm = w * 60 / (2 * math.pi)
     for i, x in enumerate(ds["station"].values):
         r = np.hypot(ds["v"].values[i], ds["w"].values[i])
         ax.plot(rpm, r * UM, lw=0.7, label=f"x = {x:g} m")
     ax.set_xlabel("spin speed (rev/min)")
     ax.set_ylabel("radial displacement |(v, w)| (um)")
-    ax.set_title("run-up: amplitude against speed" if w1 > w0 else "coast-down")
+    title = "run-up" if w[-1] > w[0] else "coast-down"
+    if np.any(np.diff(w) > 1e-9 * w.max()) and np.any(np.diff(w) < -1e-9 * w.max()):
+        title = "speed profile"
+    ax.set_title(f"{title}: amplitude against speed")
     ax.legend(loc="upper left", fontsize=7)
 
 

@@ -15,7 +15,8 @@ allowed. The new keys, their kinds, units and ranges are listed in :data:`ENGINE
     [[load]]      position (m), force_y, force_z (N)
     [gravity]     y, z (m/s^2) on the rotor's shaft and disk masses
     [speed]       profile = "constant" (default) | "linear" with from, to (rad/s) over the run
-                  and step (rad/s, largest speed change between re-diagonalisations)
+                  | "table" with times (s) and speeds (rad/s), linear between rows; step
+                  (rad/s, largest speed change between re-diagonalisations)
     [initial]     state = "rest" | "steady" | "static" | "file" with path (a results file of
                   the general engine; the run continues from its final state)
     [simulation]  besides today's keys: modes (retained count), cutoff (rad/s), residual (bool)
@@ -41,7 +42,8 @@ _ENGINE_NAMES = (
     *(f"contact.stator_{q}{a}" for q in ("mass", "stiffness", "damping") for a in ("", "_y", "_z")),
     "unbalance.position", "unbalance.magnitude", "unbalance.phase", "unbalance.phase_deg",
     "load.position", "load.force_y", "load.force_z", "gravity.y", "gravity.z",
-    "speed.profile", "speed.from", "speed.to", "speed.step", "initial.state", "initial.path",
+    "speed.profile", "speed.from", "speed.to", "speed.step", "speed.times", "speed.speeds",
+    "initial.state", "initial.path",
     "simulation.modes", "simulation.cutoff", "simulation.residual",
 )  # fmt: skip
 ENGINE_KEYS: dict[str, Key] = {n: key_row(*n.split(".")) for n in _ENGINE_NAMES}
@@ -58,10 +60,10 @@ class Builders(NamedTuple):
     build_contact: Callable
 
 
-PROFILES = ("constant", "linear")
+PROFILES = ("constant", "linear", "table")
 ENGINE_INITIAL = ("static", "file")
 _CONTACT_NEW = tuple(k.split(".", 1)[1] for k in ENGINE_KEYS if k.startswith("contact."))
-_SPEED_NEW = ("profile", "from", "to", "step")
+_SPEED_NEW = ("profile", "from", "to", "step", "times", "speeds")
 _SIM_NEW = ("modes", "cutoff", "residual")
 
 
@@ -94,6 +96,8 @@ class EngineSpec:
         Retain the modes with ``|lambda| <= cutoff`` (rad/s).
     residual : bool
         Static correction of the dropped modes at the contact stations.
+    speed_table : tuple of (float, float) or None
+        ``[speed] profile = "table"``: rows of time (s) and speed (rad/s).
     """
 
     stations: tuple = ()
@@ -107,6 +111,7 @@ class EngineSpec:
     modes: int | None = None
     cutoff: float | None = None
     residual: bool = True
+    speed_table: tuple | None = None
 
     @property
     def positions(self) -> tuple[float, ...]:
@@ -192,30 +197,23 @@ def _split_speed(base: dict, extras: dict) -> None:
     sp = base.get("speed")
     if not isinstance(sp, Mapping):
         return
-    for key in ("times", "speeds", "table"):
-        if key in sp:
-            raise _err(
-                f"speed.{key}",
-                sp[key],
-                'speed.profile = "constant" or "linear" (from, to): a table of times and speeds '
-                "is not supported by the engine yet (split the run into linear segments and "
-                'restart each with [initial] state = "file")',
-            )
     if not any(k in sp for k in _SPEED_NEW):
         return
     profile = _value("speed.profile", sp.get("profile", "constant"))
     if profile not in PROFILES:
-        raise _err(
-            "speed.profile",
-            profile,
-            '"constant" or "linear" (a table of times and speeds is not supported yet)',
-        )
+        raise _err("speed.profile", profile, '"constant", "linear" or "table"')
     rest = {k: v for k, v in sp.items() if k not in _SPEED_NEW}
+    owners = {"from": "linear", "to": "linear", "step": "linear or table", "times": "table",
+              "speeds": "table"}  # fmt: skip
+    for k, owner in owners.items():
+        if k in sp and profile not in owner.split(" or "):
+            allowed = " or ".join(f'"{o}"' for o in owner.split(" or "))
+            raise _err(f"speed.{k}", sp[k], f"to be given only with speed.profile = {allowed}")
     if profile == "constant":
-        for k in ("from", "to", "step"):
-            if k in sp:
-                raise _err(f"speed.{k}", sp[k], 'to be given only with speed.profile = "linear"')
         base["speed"] = rest
+        return
+    if profile == "table":
+        _split_table(sp, rest, base, extras)
         return
     if "step" in sp:
         _value("speed.step", sp["step"])
@@ -231,6 +229,25 @@ def _split_speed(base: dict, extras: dict) -> None:
         )
     base["speed"] = {"rad_per_s": sp["from"]}
     extras["speed"] = {k: sp[k] for k in _SPEED_NEW if k in sp}
+
+
+def _split_table(sp: Mapping, rest: dict, base: dict, extras: dict) -> None:
+    """``[speed] profile = "table"``: ``times`` (s) and ``speeds`` (rad/s), equal lengths >= 2."""
+    for k in ("times", "speeds"):
+        if k not in sp:
+            raise _err(f"speed.{k}", None, 'a list of numbers with speed.profile = "table"')
+        _value(f"speed.{k}", sp[k])
+    if "step" in sp:
+        _value("speed.step", sp["step"])
+    times, speeds = list(sp["times"]), list(sp["speeds"])
+    if len(times) < 2 or len(times) != len(speeds):
+        raise _err("speed.times / speed.speeds", (times, speeds), "two lists of equal length >= 2")
+    if rest:
+        raise _err("speed." + ", speed.".join(rest), tuple(rest.values()),
+                   'no other speed key with speed.profile = "table"')  # fmt: skip
+    base["speed"] = {"rad_per_s": speeds[0]}
+    extras["speed"] = {"table": tuple(zip(map(float, times), map(float, speeds), strict=True)),
+                       **({"step": sp["step"]} if "step" in sp else {})}  # fmt: skip
 
 
 def _renamed(exc: InputError, section: str, index: int) -> ScenarioError:
@@ -389,11 +406,13 @@ def build_engine(extras: dict, parts: dict, builders: Builders) -> EngineSpec:
     else:
         loads = () if parts["load"] is None else (parts["load"],)
     gravity = _gravity(extras["gravity"]) if "gravity" in extras else (0.0, 0.0)
-    speed_end = extras["speed"]["to"] if "speed" in extras else None
+    speed_end = extras.get("speed", {}).get("to")
+    speed_table = extras.get("speed", {}).get("table")
     speed_step = extras.get("speed", {}).get("step")
     state, path = _initial(extras["initial"]) if "initial" in extras else (parts["initial"], None)
-    if speed_end is not None and state not in ("rest", "static"):
-        raise _err("initial.state", state, '"rest" or "static" with speed.profile = "linear"')
+    if (speed_end is not None or speed_table) and state not in ("rest", "static"):
+        raise _err("initial.state", state,
+                   '"rest" or "static" with speed.profile = "linear" or "table"')  # fmt: skip
     sim = extras.get("simulation", {})
     modes = _value("simulation.modes", sim["modes"]) if "modes" in sim else None
     cutoff = _value("simulation.cutoff", sim["cutoff"]) if "cutoff" in sim else None
@@ -401,7 +420,7 @@ def build_engine(extras: dict, parts: dict, builders: Builders) -> EngineSpec:
         raise _err("simulation.modes / simulation.cutoff", (modes, cutoff), "at most one")
     residual = _value("simulation.residual", sim.get("residual", True))
     return EngineSpec(stations, unb, loads, gravity, speed_end, speed_step, state, path, modes,
-                      cutoff, residual)  # fmt: skip
+                      cutoff, residual, speed_table)  # fmt: skip
 
 
 def _contact_dict(contact) -> dict:

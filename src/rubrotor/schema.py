@@ -411,8 +411,13 @@ _ENGINE = (
        _closed(-1e4, 1e4), default=0.0),
     _k("gravity", "z", "number", "m/s^2", "Gravity along z on the shaft and disk masses",
        _closed(-1e4, 1e4), default=0.0),
-    _k("speed", "profile", "str", "", "Speed against time: constant, or linear from ... to over "
-       "the run (run-up, coast-down)", choices=("constant", "linear"), default="constant"),
+    _k("speed", "profile", "str", "", "Speed against time: constant, linear from ... to over "
+       "the run (run-up, coast-down), or a table of times and speeds (linear between rows)",
+       choices=("constant", "linear", "table"), default="constant"),
+    _k("speed", "times", "list", "s", "Times of a speed table (from 0, increasing, up to "
+       "simulation.duration, on the sample grid)", _closed(0.0)),
+    _k("speed", "speeds", "list", "rad/s", "Speeds of a speed table, one per time",
+       _closed(1e-6, 1e7)),
     _k("speed", "from", "number", "rad/s", "Speed at the start of a linear profile",
        _closed(1e-6, 1e7)),
     _k("speed", "to", "number", "rad/s", "Speed at the end of a linear profile",

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rubrotor.engine.model import Run
+from rubrotor.engine.model import Run, spin_angle
 from rubrotor.engine.stream import check_size
 from rubrotor.errors import InputError, ScenarioError
 
@@ -101,16 +101,19 @@ def engine_problem(scenario, integrator=None):
         raise InputError("simulation", None, "a [simulation] section (revolutions or duration)")
     if integ.method != "exponential":
         raise ScenarioError("simulation.method", integ.method, '"exponential" (general engine)')
-    speed, end = scenario.speed, eng.speed_end
+    speed, end, table = scenario.speed, eng.speed_end, eng.speed_table
     if speed <= 0:
         raise ScenarioError("speed", speed, "a spin speed > 0 (rad/s) for a time simulation")
     system = _system(scenario, integ.probes)
     step = integ.step_seconds(speed)
     adaptive = step is None
-    if adaptive and end is not None:
+    if adaptive and (end is not None or table):
         raise ScenarioError(
-            "simulation.dt", None, 'a fixed step (dt or dtau) with speed.profile = "linear"'
+            "simulation.dt", None, 'a fixed step (dt or dtau) with a "linear" or "table" profile'
         )
+    if table and integ.duration is None:
+        raise ScenarioError("simulation.revolutions", integ.revolutions,
+                            'simulation.duration (s) instead, with speed.profile = "table"')  # fmt: skip
     unb, t0, initial = eng.unbalances, 0.0, eng.initial
     if initial == "file":
         initial, t0 = _restart(eng.initial_path, speed, system.n_dof)
@@ -122,6 +125,7 @@ def engine_problem(scenario, integrator=None):
         save_every=1 if adaptive else integ.save_every, modes=eng.modes, cutoff=eng.cutoff,
         residual=eng.residual, initial=initial, probes=integ.probes,
         max_displacement=integ.max_displacement, speed_end=end, speed_step=eng.speed_step,
+        speed_table=table,
         rtol=integ.rtol if adaptive else None, atol=integ.atol,
     )  # fmt: skip
     kwargs = dict(stations=eng.stations, unbalances=unb, loads=eng.loads, gravity=eng.gravity)
@@ -162,6 +166,8 @@ def _attrs(scenario, res_stats: dict, run: Run, t0: float) -> dict:
     }
     if run.speed_end is not None:
         a["speed_end_rad_s"] = run.speed_end
+    if run.speed_table is not None:
+        a["speed_table"] = json.dumps(run.speed_table)  # rows of time (s), speed (rad/s)
     st = scenario.engine.stations
     if st:
         a["contact_position_m"] = float(st[0].contact.position)
@@ -181,10 +187,9 @@ def _dataset(res, scenario, run: Run, t0: float):
 
     time = res.time + t0
     t = time - t0
-    alpha = 0.0 if run.speed_end is None else (run.speed_end - run.speed) / run.duration
     coords = {
         "time": xr.Variable("time", time, {"units": "s", "long_name": "time"}),
-        "tau": xr.Variable("time", run.speed * (t + t0) + 0.5 * alpha * t**2,
+        "tau": xr.Variable("time", spin_angle(run, t) + run.speed * t0,
                            {"units": "rad", "long_name": "spin angle"}),
     }  # fmt: skip
     attrs = _attrs(scenario, res.stats, run, t0)

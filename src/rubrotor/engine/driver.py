@@ -53,7 +53,14 @@ from rubrotor.core.engine_adaptive import (
     T_TIME,
     expo_adaptive,
 )
-from rubrotor.engine.model import RubStation, Run, static_load_vector, unbalance_phasor
+from rubrotor.engine.model import (
+    RubStation,
+    Run,
+    speed_at,
+    spin_angle,
+    static_load_vector,
+    unbalance_phasor,
+)
 from rubrotor.engine.reduce import (
     Modes,
     RitzBasis,
@@ -443,15 +450,43 @@ def _runup_basis(problem: Problem, run: Run, plant: Plant) -> RitzBasis | None:
     system = problem.system
     fmap = np.hstack([plant.Bmat] + [system.force_map(u.position) for u in problem.unbalances])
     mods, Ks = [], []
-    for w in (run.speed, 0.5 * (run.speed + run.speed_end), run.speed_end):
+    _, ww = run.speed_profile()
+    for w in (ww.min(), 0.5 * (ww.min() + ww.max()), ww.max()):
         sm = system.matrices(w)
         mods.append(reduce_auto(sm.M, sm.damping, sm.K, run.modes, run.cutoff, fmap=fmap))
         Ks.append(sm.K)
     return basis_from_modes(mods, Ks, fmap)
 
 
+def _runup_segments(run: Run, dt: float):
+    """Segment bounds (sample indices), the profile's break samples and, per profile interval,
+    the drive's ``(omega0 (rad/s), alpha (rad/s^2), phase (rad))``.
+
+    Each interval of the piecewise-linear speed profile is cut into segments of at most
+    ``run.speed_step`` speed change (equal in time, rounded to samples), so no segment straddles
+    a break. In interval ``i`` the kernel's drive sees ``Omega = omega0 + alpha t`` and the spin
+    angle ``omega0 t + alpha t^2 / 2`` from ``t = 0``; ``phase`` adds what the earlier intervals
+    turned beyond that, so the unbalance phase is the exact integral of the profile."""
+    tt, ww = run.speed_profile()
+    n_total = int(math.floor(run.duration / dt + 1e-9))
+    brk = np.minimum(np.rint(tt / dt).astype(np.int64), n_total)
+    bounds = [0]
+    drives = []
+    for i in range(tt.size - 1):
+        n_i = max(1, math.ceil(abs(ww[i + 1] - ww[i]) / run.speed_step - 1e-9))
+        n_i = min(n_i, max(1, int(brk[i + 1] - brk[i])))
+        bounds += [int(round(brk[i] + (brk[i + 1] - brk[i]) * (j + 1) / n_i)) for j in range(n_i)]
+        alpha = (ww[i + 1] - ww[i]) / (tt[i + 1] - tt[i])
+        om0 = ww[i] - alpha * tt[i]
+        phase = float(spin_angle(run, tt[i])) - (om0 * tt[i] + 0.5 * alpha * tt[i] ** 2)
+        drives.append((om0, alpha, phase))
+    bounds[-1] = max(bounds[-1], n_total)
+    return np.unique(np.array(bounds, np.int64)), brk[:-1], drives
+
+
 def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
-    """Stepper for a speed varying linearly from ``run.speed`` to ``run.speed_end``.
+    """Stepper for a speed varying in time: linearly from ``run.speed`` to ``run.speed_end``, or
+    piecewise linearly through ``run.speed_table`` (``Run.speed_profile``).
 
     The speed is frozen within each segment (speed change at most ``run.speed_step``), whose
     modes are those at its mid-speed; the state is carried across segments as the physical
@@ -467,11 +502,9 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     dominates), and the Ritz route costs a small eigenproblem per segment instead of a
     ``2 n``-sized one. With every mode kept there is nothing to project: the full route.
     """
-    w0, w1 = run.speed, run.speed_end
-    alpha = (w1 - w0) / run.duration
-    n_seg = max(1, math.ceil(abs(w1 - w0) / run.speed_step))
     dt = run.step * run.save_every
-    seg_samples = max(1, math.ceil(run.duration / dt / n_seg))
+    bounds, brk, drives = _runup_segments(run, dt)
+    n_seg = bounds.size - 1
     k = _kernel_state(plant, run)
     cur = {"index": -1, "plant": plant}
     b0 = np.zeros(problem.system.n_dof, complex)
@@ -480,9 +513,10 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     basis = _runup_basis(problem, run, plant)
 
     def segment(index: int):
-        t_mid = min((index + 0.5) * seg_samples * dt, run.duration)
-        w = w0 + alpha * t_mid
-        r = dataclasses.replace(run, speed=w, initial=run.initial if index == 0 else "static")
+        t_mid = 0.5 * (bounds[index] + bounds[index + 1]) * dt
+        w = float(speed_at(run, t_mid)[0])
+        r = dataclasses.replace(run, speed=w, speed_table=None, speed_end=None,
+                                initial=run.initial if index == 0 else "static")  # fmt: skip
         new = build_plant(problem.system, r, problem.stations, (), problem.loads, problem.gravity,
                           basis=basis)  # fmt: skip
         if cur["index"] >= 0:
@@ -493,7 +527,10 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
         ub[: new.n_rotor] = new.rotor.U @ b0
         u_conj = np.zeros(new.lam.size, complex)
         u_conj[: new.n_rotor] = new.rotor.U @ b0.conj()
-        drive = Drive(new.lam, 0.5 * ub, 0.5 * u_conj, w0, alpha, 1.0)
+        # the profile's interval holding this segment (segments never straddle a break)
+        om0, alpha, phase = drives[np.searchsorted(brk, bounds[index], side="right") - 1]
+        rot = complex(math.cos(phase), math.sin(phase))
+        drive = Drive(new.lam, 0.5 * ub * rot, 0.5 * u_conj * rot.conjugate(), om0, alpha, 1.0)
         steps = _steps(new, run.step, run.sublevels + 1)
         cur.update(index=index, plant=new, steps=steps, drive=drive,
                    control=Control(0.0, 0.0, 0.0, 0.0, np.zeros(len(steps.h))))  # fmt: skip
@@ -501,18 +538,18 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     segment(0)
 
     def chunk(offset: int, count: int, done: int) -> int:
-        index = done // seg_samples
+        index = int(np.searchsorted(bounds, done, side="right")) - 1
         if index != cur["index"]:
             segment(index)
-        count = min(count, (index + 1) * seg_samples - done)
+        count = min(count, int(bounds[index + 1]) - done)
         p = cur["plant"]
         return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
                           count, run.save_every, state.out, state.ys, offset, cur["steps"],
                           p.contacts, p.outputs, p.speed, 0.0, state.events,
                           cur["drive"], cur["control"])  # fmt: skip
 
-    stats = {"step_s": run.step, "segments": n_seg, "speed_end_rad_s": w1,
-             "angular_acceleration_rad_s2": alpha,
+    stats = {"step_s": run.step, "segments": n_seg, "speed_end_rad_s": run.speed_end,
+             "angular_acceleration_rad_s2": [float(d[1]) for d in drives],
              "runup_reduction": "full" if basis is None else "ritz",
              "ritz_basis_size": 0 if basis is None else basis.T.shape[1]}  # fmt: skip
 

@@ -136,6 +136,12 @@ class Run:
     speed_end : float, optional
         Run-up or coast-down: the speed varies linearly from ``speed`` to ``speed_end`` (rad/s)
         over ``duration``.
+    speed_table : sequence of (float, float), optional
+        A speed profile as a table of ``(time (s), speed (rad/s))`` rows, linear between rows
+        (run-up, hold, coast-down in one run): times start at 0, increase strictly, reach
+        ``duration`` and are whole multiples of the sample spacing ``step * save_every`` (the
+        unbalance drive changes its angular acceleration there). Replaces ``speed`` and
+        ``speed_end`` (set from the table's first row and its value at ``duration``).
     speed_step : float, optional
         Largest speed change (rad/s) between re-diagonalisations; default 1/200 of the range.
     runup_reduction : {"ritz", "full"}
@@ -163,6 +169,7 @@ class Run:
     save_state: bool = False
     max_displacement: float | None = None
     speed_end: float | None = None
+    speed_table: tuple | None = None
     speed_step: float | None = None
     rtol: float | None = None
     atol: float = 1e-10
@@ -177,12 +184,13 @@ class Run:
             _num("simulation.atol", self.atol, "m", 0, True)
             if self.save_every != 1:
                 raise InputError("simulation.save_every", self.save_every, "1 with adaptive steps")
+        if self.speed_table is not None:
+            self._set_table()
         if self.speed_end is not None:
             _num("speed.to", self.speed_end, "rad/s", 0, True)
             if self.speed_step is None:
-                object.__setattr__(
-                    self, "speed_step", abs(self.speed_end - self.speed) / 200 or 1.0
-                )
+                tt, ww = self.speed_profile()
+                object.__setattr__(self, "speed_step", np.sum(np.abs(np.diff(ww))) / 200 or 1.0)
             _num("speed.step", self.speed_step, "rad/s", 0, True)
         _num("speed", self.speed, "rad/s", 0, True)
         _num("simulation.duration", self.duration, "s", 0, True)
@@ -196,6 +204,66 @@ class Run:
             )
         if not isinstance(self.sublevels, int) or not 0 <= self.sublevels <= 30:
             raise InputError("simulation.sublevels", self.sublevels, "an integer 0..30")
+
+    def _set_table(self) -> None:
+        """Check ``speed_table`` and set ``speed``/``speed_end`` from it."""
+        allowed = (
+            "rows (time s, speed rad/s): >= 2 rows, times from 0 strictly increasing to "
+            ">= simulation.duration, whole multiples of the sample spacing, speeds >= 0"
+        )
+        try:
+            tab = np.array(self.speed_table, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError("speed.table", self.speed_table, allowed) from None
+        dt = self.step * self.save_every
+        ok = (tab.ndim == 2 and tab.shape[1] == 2 and tab.shape[0] >= 2
+              and np.all(np.isfinite(tab)) and tab[0, 0] == 0.0 and np.all(np.diff(tab[:, 0]) > 0)
+              and tab[-1, 0] >= self.duration * (1 - 1e-12) and np.all(tab[:, 1] >= 0))  # fmt: skip
+        if ok:
+            k = tab[:, 0] / dt
+            ok = bool(np.all(np.abs(k - np.rint(k)) <= 1e-6 * np.maximum(1.0, k)))
+        if not ok:
+            raise InputError("speed.table", self.speed_table, allowed)
+        object.__setattr__(self, "speed_table", tuple(map(tuple, tab.tolist())))
+        object.__setattr__(self, "speed", float(tab[0, 1]))
+        object.__setattr__(self, "speed_end", float(np.interp(self.duration, tab[:, 0], tab[:, 1])))
+
+    def speed_profile(self) -> tuple[np.ndarray, np.ndarray]:
+        """Break times (s, from 0 to ``duration``) and speeds (rad/s) of the piecewise-linear
+        profile: one row for a constant speed, two for a linear run-up, the table's rows (cut at
+        ``duration``) for a table."""
+        if self.speed_table is not None:
+            tab = np.array(self.speed_table)
+            inside = tab[:, 0] < self.duration * (1 - 1e-12)
+            tt = np.append(tab[inside, 0], self.duration)
+            return tt, np.interp(tt, tab[:, 0], tab[:, 1])
+        if self.speed_end is None:
+            return np.array([0.0]), np.array([self.speed])
+        return np.array([0.0, self.duration]), np.array([self.speed, self.speed_end])
+
+
+def spin_angle(run: Run, t) -> np.ndarray:
+    """Spin angle (rad) at times ``t`` (s): the exact integral of the piecewise-linear speed."""
+    tt, ww = run.speed_profile()
+    t = np.asarray(t, float)
+    if tt.size == 1:
+        return ww[0] * t
+    a = np.diff(ww) / np.diff(tt)
+    theta = np.concatenate([[0.0], np.cumsum(0.5 * (ww[1:] + ww[:-1]) * np.diff(tt))])
+    i = np.clip(np.searchsorted(tt, t, side="right") - 1, 0, tt.size - 2)
+    s = t - tt[i]
+    return theta[i] + ww[i] * s + 0.5 * a[i] * s * s
+
+
+def speed_at(run: Run, t) -> np.ndarray:
+    """Spin speed (rad/s) at times ``t`` (s) and the angular acceleration (rad/s^2) there."""
+    tt, ww = run.speed_profile()
+    t = np.asarray(t, float)
+    if tt.size == 1:
+        return np.full(t.shape, ww[0]), np.zeros(t.shape)
+    a = np.diff(ww) / np.diff(tt)
+    i = np.clip(np.searchsorted(tt, t, side="right") - 1, 0, tt.size - 2)
+    return ww[i] + a[i] * (t - tt[i]), a[i]
 
 
 def unbalance_phasor(u: Unbalance, speed: float) -> complex:
