@@ -174,14 +174,17 @@ def test_chaotic_partial_rub_has_a_converged_positive_exponent_and_periodic_a_ne
     References: on the periodic orbit, ``ln|mu_max| / T`` with the Floquet multipliers of the
     shooting module (finite-difference monodromy, a route independent of the tangent kernel);
     on the chaotic motion, convergence is shown by doubling the averaging length (the
-    estimates of 200, 400, 800 and 1600 revolutions at 1024 steps per revolution agree to
-    5 %: measured 0.690, 0.672, 0.681, 0.678 per revolution) and no
+    estimates of 400, 800 and 1600 revolutions at 1024 steps per revolution agree to
+    5 %: measured 0.672, 0.681, 0.678 per revolution; a build whose compiled kernels round
+    differently follows another chaotic trajectory and gave 0.676, 0.692, 0.682. At 200
+    revolutions the two gave 0.690 and 0.624: that average is too short to converge, so it
+    is not used) and no
     Poincare period within 12 revolutions in a brute-force run.
     """
     est = [
         lyapunov_exponents(CHAOTIC, revolutions=n, transient_revolutions=300,
                            steps_per_revolution=1024).per_revolution[0]
-        for n in (200, 400, 800, 1600)
+        for n in (400, 800, 1600)
     ]  # fmt: skip
     assert min(est) > 0.5 and (max(est) - min(est)) < 0.05 * np.mean(est)
     m, _ = simulate_point(CHAOTIC, 300, 500, 64, lyapunov=True)
