@@ -1,8 +1,9 @@
 """rubrotor linear analyses vs ROSS on ROSS's own rotors, imported with ``rubrotor.from_ross``.
 
 Run: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src /work/venvs/ross3/bin/python
-benchmarks/bench_linear_vs_ross.py [example] [60]`` (ROSS 3.1 on Python 3.13; ROSS 2.3 on 3.11
-works too; any venv with ``pip install "rubrotor[ross]"``). Ours and ROSS in one process,
+benchmarks/bench_linear_vs_ross.py [example] [60] [modal]`` (``modal``: the modal analysis
+only; ROSS 3.1 on Python 3.13; ROSS 2.3 on 3.11 works too; any venv with
+``pip install "rubrotor[ross]"``). Ours and ROSS in one process,
 medians of 3 repetitions (ROSS's 200-speed Campbell of the 60-element rotor: one run).
 
 Rotors: ``ross.rotor_example()`` and a 60-element hollow steel rotor with two disks and
@@ -135,8 +136,9 @@ def show(label, res, peer, ours, goal=None, unit=1e3, suffix="ms"):
     )
 
 
-def run_case(name, r):
-    """Print the frequency difference and the three timings for one ROSS rotor."""
+def run_case(name, r, modal_only=False):
+    """Print the frequency difference and the three timings for one ROSS rotor (the modal
+    analysis only with ``modal_only``)."""
     sys = from_ross(r)
     print(f"\n== {name}: {len(r.nodes_pos)} nodes, {sys.n_dof} lateral DOFs (ROSS {r.ndof})")
     numba.set_num_threads(1)
@@ -172,6 +174,8 @@ def run_case(name, r):
     show(
         "one modal analysis, damped_modes (n=12, as ROSS's 24 eigenvalues)", res, "ross", "ours", 30
     )
+    if modal_only:
+        return
 
     t4, _ = median_time(lambda: r.run_campbell(speeds[::50], frequencies=6), reps=1)
     camp = {"ross": lambda: r.run_campbell(speeds, frequencies=6)}
@@ -215,11 +219,12 @@ def run_case(name, r):
 def main():
     print(f"ROSS {ross.__version__}; numpy {np.__version__}")
     print("ours: plain scipy.linalg.eigvals / numpy.linalg.solve, then rubrotor.linear_analysis")
-    which = argv[1:] or ["example", "60"]
+    which = [a for a in argv[1:] if a != "modal"] or ["example", "60"]
+    modal_only = "modal" in argv[1:]
     if "example" in which:
-        run_case("rotor_example", ross.rotor_example())
+        run_case("rotor_example", ross.rotor_example(), modal_only)
     if "60" in which:
-        run_case("60 elements, 2 disks, aniso", rotor_60())
+        run_case("60 elements, 2 disks, aniso", rotor_60(), modal_only)
 
 
 if __name__ == "__main__":

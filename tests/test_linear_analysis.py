@@ -371,6 +371,38 @@ def test_newton_modal_route_equals_the_dense_eigen_solve():
             np.testing.assert_allclose(a.shape * phase / abs(phase), b.shape, atol=1e-6)
 
 
+def test_eigenvalues_then_null_vectors_equal_the_dense_eigen_solve():
+    """``damped_modes(n=...)`` on a small dense rotor: LAPACK eigenvalues without vectors, then
+    one null vector of the quadratic pencil per mode. Reference: the dense route of the same
+    function with all modes (``scipy.linalg.eig`` of the first-order matrix with eigenvectors).
+    8 elements (36 free DOFs), speed-tabulated cross-coupled bearing, at rest and spinning:
+    eigenvalues to 1e-9 relative, whirl labels exactly, shapes (unit largest deflection, up to
+    a unit factor) to 1e-6 (the dense eigenvectors' own accuracy). An isotropic Jeffcott rotor at
+    rest (a double eigenvalue) must not take the route (``None``) and still equal the dense
+    route, with one forward and one backward circular mode (the limit of a slow spin)."""
+    from rubrotor.linear_analysis import _eigvals_then_vectors
+
+    system = _rotor_with_speed_table(8)
+    for speed in (0.0, 2500.0):
+        mx = system.matrices(speed)
+        assert _eigvals_then_vectors(mx, mx.first_order()[0], 8) is not None  # route ran
+        few = damped_modes(system, speed, n=8).modes
+        allm = damped_modes(system, speed).modes[:8]
+        np.testing.assert_allclose(
+            [m.eigenvalue for m in few], [m.eigenvalue for m in allm], rtol=1e-9
+        )
+        assert [m.whirl for m in few] == [m.whirl for m in allm]
+        for a, b in zip(few, allm, strict=True):
+            phase = np.vdot(a.shape, b.shape)
+            np.testing.assert_allclose(a.shape * phase / abs(phase), b.shape, atol=1e-6)
+    jeff = jeffcott()
+    mx = jeff.matrices(0.0)
+    assert _eigvals_then_vectors(mx, mx.first_order()[0], 2) is None
+    few, allm = damped_modes(jeff, 0.0, n=2).modes, damped_modes(jeff, 0.0).modes
+    assert [m.whirl for m in few] == [m.whirl for m in allm]
+    assert sorted(m.whirl for m in few) == ["backward", "forward"]  # one circular mode of each
+
+
 def test_compiled_band_matmul_and_ritz_vectors():
     """``band_matmul`` against NumPy's dense product of the same matrix (reference), and
     ``ritz_vectors`` against the definition of a null vector: at an eigenvalue of a small
