@@ -10,6 +10,22 @@ from scipy.integrate import solve_ivp
 
 from rubrotor.core.contact import contact_force, pack_contact
 from rubrotor.engine.model import speed_at, spin_angle, static_load_vector, unbalance_phasor
+from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section
+
+STEEL = Material("steel", 211e9, 7810, poisson_ratio=0.3)
+
+
+def two_disk_rotor():
+    """The engine tests' rotor: 1 m steel shaft (40 mm, 6 elements), disks at 0.33 and 0.67 m,
+    anisotropic cross-coupled bearings with cross damping at both ends."""
+    return Rotor(
+        [Section(1.0, 0.04, STEEL, elements=6)],
+        disks=[Disk(0.33, 8.0, 0.04, 0.02), Disk(0.67, 5.0, 0.03, 0.015)],
+        bearings=[
+            Bearing(0.0, kyy=2e6, kzz=3e6, kyz=4e5, kzy=-3e5, cyy=300, czz=400, cyz=50, czy=50),
+            Bearing(1.0, kyy=2.5e6, kzz=2e6, kyz=2e5, kzy=-2e5, cyy=300, czz=300),
+        ],
+    )
 
 
 def reference_run(

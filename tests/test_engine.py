@@ -23,26 +23,18 @@ from rubrotor.engine.driver import simulate_general
 from rubrotor.engine.model import RubStation, Run, Stator
 from rubrotor.errors import InputError
 from rubrotor.forces import Contact, Unbalance
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section
+from rubrotor.rotor import Bearing, Disk, Rotor, Section
 
 sys.path.insert(0, str(Path(__file__).parent))
-from engine_reference import reference_run  # noqa: E402
+from engine_reference import STEEL, reference_run, two_disk_rotor  # noqa: E402
 
-STEEL = Material("steel", 211e9, 7810, poisson_ratio=0.3)
 GRAVITY = (-9.81, 0.0)
 SPEED = 300.0  # rad/s
 
 
 def general_case():
     """Two-disk FE rotor on anisotropic cross-coupled bearings, rub at disk 1."""
-    rotor = Rotor(
-        [Section(1.0, 0.04, STEEL, elements=6)],
-        disks=[Disk(0.33, 8.0, 0.04, 0.02), Disk(0.67, 5.0, 0.03, 0.015)],
-        bearings=[
-            Bearing(0.0, kyy=2e6, kzz=3e6, kyz=4e5, kzy=-3e5, cyy=300, czz=400, cyz=50, czy=50),
-            Bearing(1.0, kyy=2.5e6, kzz=2e6, kyz=2e5, kzy=-2e5, cyy=300, czz=300),
-        ],
-    )
+    rotor = two_disk_rotor()
     contact = Contact(clearance=1e-4, stiffness=2e7, damping=200, friction=0.2, position=0.33,
                       law="linear", radius=0.1)  # fmt: skip
     station = RubStation(contact, offset_y=-1e-4, offset_z=5e-5,

@@ -23,12 +23,10 @@ import pytest
 from rubrotor.engine.driver import simulate_general
 from rubrotor.engine.model import RubStation, Run, Stator
 from rubrotor.forces import Contact, Unbalance
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section
 
 sys.path.insert(0, str(Path(__file__).parent))
-from engine_reference import reference_run  # noqa: E402
+from engine_reference import reference_run, two_disk_rotor  # noqa: E402
 
-STEEL = Material("steel", 211e9, 7810, poisson_ratio=0.3)
 GRAVITY = (-9.81, 0.0)
 SPEED = 300.0  # rad/s
 DURATION = 0.04  # s
@@ -36,14 +34,7 @@ DURATION = 0.04  # s
 
 def two_contact_case():
     """FE rotor with a seal (Hertz, rigid offset stator) and a disk (linear, flexible stator)."""
-    rotor = Rotor(
-        [Section(1.0, 0.04, STEEL, elements=6)],
-        disks=[Disk(0.33, 8.0, 0.04, 0.02), Disk(0.67, 5.0, 0.03, 0.015)],
-        bearings=[
-            Bearing(0.0, kyy=2e6, kzz=3e6, kyz=4e5, kzy=-3e5, cyy=300, czz=400, cyz=50, czy=50),
-            Bearing(1.0, kyy=2.5e6, kzz=2e6, kyz=2e5, kzy=-2e5, cyy=300, czz=300),
-        ],
-    )
+    rotor = two_disk_rotor()
     disk = Contact(clearance=1e-4, stiffness=2e7, damping=0.0, friction=0.2, position=0.33,
                    law="linear", radius=0.1)  # fmt: skip
     seal = Contact(clearance=8e-5, stiffness=5e9, damping=0.5, friction=0.1, position=0.5,
