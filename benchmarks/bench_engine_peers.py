@@ -52,7 +52,6 @@ from rubrotor.engine.driver import build_plant, simulate_general
 from rubrotor.engine.model import RubStation, Run, Stator
 from rubrotor.forces import Contact, Unbalance
 from rubrotor.integrator import Integrator
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section
 from rubrotor.scenario import load_scenario
 
 SCEN = Path(rubrotor.__file__).parent / "scenarios" / "seed_case1.toml"
@@ -302,15 +301,9 @@ def floor(system, sc, run, reps, ours, meth="collocation"):
 
 
 def general_rotor(reps, revs=20):
-    steel = Material("steel", 211e9, 7810, poisson_ratio=0.3)
-    rotor = Rotor(
-        [Section(1.5, 0.05, steel, elements=60)],
-        disks=[Disk(0.5, 15.0, 0.1, 0.05), Disk(1.0, 10.0, 0.08, 0.04)],
-        bearings=[
-            Bearing(0.0, kyy=5e6, kzz=7e6, kyz=1e6, kzy=-8e5, cyy=500, czz=600),
-            Bearing(1.5, kyy=6e6, kzz=5e6, kyz=5e5, kzy=-5e5, cyy=500, czz=500),
-        ],
-    )
+    from bench_engine import sixty_element_rotor  # the same rotor as bench_engine's
+
+    rotor = sixty_element_rotor()
     seal = Contact(clearance=1e-4, stiffness=5e7, damping=300, friction=0.2, position=0.75,
                    law="linear", radius=0.05)  # fmt: skip
     st = [RubStation(seal, offset_y=-5e-5, stator=Stator(30, 30, 2e7, 2e7, 800, 800))]

@@ -725,9 +725,10 @@ def simulate_general(
     progress : bool, optional
         Progress on stderr for long runs (default: when stderr is a terminal).
     stream : str, optional
-        Write the samples to this netCDF file chunk by chunk (bounded memory); the result then
-        holds no samples (``time`` and ``channels`` empty), only events, statistics and the final
-        state. Read it with :func:`rubrotor.load_dataset` or xarray.
+        Write the samples and the contact events to this netCDF file chunk by chunk (bounded
+        memory); the result then holds neither (``time``, ``channels`` and ``events`` empty),
+        only statistics (``stats["contact_events"]`` counts the events) and the final state.
+        Read the file with :func:`rubrotor.load_dataset` or xarray.
     chunk_samples : int
         Samples per compiled call (and the buffer size when streaming).
     plant : Plant, optional
