@@ -44,6 +44,7 @@ from pathlib import Path
 
 import numba as nb
 import numpy as np
+from bench_engine import sixty_element_rotor  # the 60-element rotor of bench_engine.py
 
 import rubrotor
 from rubrotor.core.contact import _law
@@ -301,8 +302,6 @@ def floor(system, sc, run, reps, ours, meth="collocation"):
 
 
 def general_rotor(reps, revs=20):
-    from bench_engine import sixty_element_rotor  # the same rotor as bench_engine's
-
     rotor = sixty_element_rotor()
     seal = Contact(clearance=1e-4, stiffness=5e7, damping=300, friction=0.2, position=0.75,
                    law="linear", radius=0.05)  # fmt: skip
