@@ -725,10 +725,9 @@ def simulate_general(
     progress : bool, optional
         Progress on stderr for long runs (default: when stderr is a terminal).
     stream : str, optional
-        Write the samples and the contact events to this netCDF file chunk by chunk (bounded
-        memory); the result then holds neither (``time``, ``channels`` and ``events`` empty),
-        only statistics (``stats["contact_events"]`` counts the events) and the final state.
-        Read the file with :func:`rubrotor.load_dataset` or xarray.
+        Write samples and events to this netCDF file chunk by chunk (bounded memory; read it
+        with :func:`rubrotor.load_dataset`); the result then holds neither (``time``, ``channels``,
+        ``events`` empty), only ``stats`` (``"contact_events"`` counts them) and the final state.
     chunk_samples : int
         Samples per compiled call (and the buffer size when streaming).
     plant : Plant, optional
