@@ -126,3 +126,28 @@ def test_at_speed_reassembles_a_gyroscopic_rotor():
     fresh = shooting._Map(other, 1, 64).run(x, True)
     assert np.linalg.norm(moved[0] - fresh[0]) <= 1e-14 * np.linalg.norm(fresh[0])
     assert np.linalg.norm(moved[1] - fresh[1]) <= 1e-13 * np.linalg.norm(fresh[1])
+
+
+def test_map_runs_are_repeatable_on_a_multi_mode_rotor():
+    """A prepared map gives the same image and monodromy on every run (three Timoshenko modes).
+
+    Regression: the tangent vectors handed to the kernel were a view of the map's
+    state-to-eigen-coordinates matrix whenever that matrix was Fortran-ordered (several modal
+    coordinates), so the kernel overwrote it and every later run of the map was wrong (Newton
+    then failed). Reference: the no-contact multipliers ``exp(lambda T)`` of the assembled
+    linear system, on the first and on the third run.
+    """
+    sc = _one_mode(**{"shaft.theory": "timoshenko", "shaft.modes": 3})
+    orb = shooting.shoot(sc, steps=64)
+    x = shooting.state_vector(orb.state)
+    mp = shooting._Map(sc, 1, 64)
+    runs = [mp.run(x, True) for _ in range(3)]
+    for px, jac, _ in runs[1:]:
+        np.testing.assert_array_equal(px, runs[0][0])
+        np.testing.assert_array_equal(jac, runs[0][1])
+    lam = assemble(sc.shaft, sc.speed, sc.damping).lam
+    ref = np.exp(lam * 2 * math.pi / sc.speed)
+    mu = shooting.multipliers_of(runs[2][1])
+    for m in np.concatenate([ref, ref.conj()]):
+        assert np.min(np.abs(mu - m)) < 1e-9
+    assert orb.residual < 1e-12

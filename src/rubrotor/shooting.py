@@ -163,7 +163,7 @@ class _Map:
         x = np.asarray(x, float)
         y = self.eigen(x)
         if jacobian:  # unit perturbations of each real state component, in eigen-coordinates
-            q = np.ascontiguousarray(self._to_eig.T)
+            q = np.array(self._to_eig.T, order="C")  # a copy: the kernel overwrites it
         else:
             q = np.zeros((0, y.size), complex)
         out = np.zeros(2)
@@ -253,7 +253,9 @@ class PeriodicOrbit:
     iterations : int
         Newton iterations.
     steps : int
-        Fixed steps per revolution of the map.
+        Fixed steps per revolution of the map (0: found without time steps, by
+        :func:`rubrotor.synchronous.synchronous_orbit`; :meth:`dataset` then samples the orbit
+        with :data:`STEPS_PER_REVOLUTION`).
     """
 
     scenario: object
@@ -271,8 +273,9 @@ class PeriodicOrbit:
         from rubrotor.results import to_dataset
         from rubrotor.simulation import scenario_parameters
 
-        save = max(1, self.steps // samples_per_revolution)
-        integ = _integrator(self.k, self.steps, True)
+        steps = self.steps or STEPS_PER_REVOLUTION  # 0: found without time steps
+        save = max(1, steps // samples_per_revolution)
+        integ = _integrator(self.k, steps, True)
         integ = Integrator(**{**integ.__dict__, "save_every": save})
         res = simulate_scenario(self.scenario, integ, progress=False, start=self.state)
         return to_dataset(res, scenario_parameters(self.scenario), "", "periodic orbit")
@@ -281,7 +284,7 @@ class PeriodicOrbit:
         """Largest shaft-centre distance (m) at the contact station (or midspan) on the orbit."""
         res = simulate_scenario(
             self.scenario,
-            _integrator(self.k, self.steps, True),
+            _integrator(self.k, self.steps or STEPS_PER_REVOLUTION, True),
             progress=False,
             start=self.state,
         )
