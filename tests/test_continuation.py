@@ -29,7 +29,9 @@ KEY = "speed.critical_multiple"
 @pytest.fixture(scope="module")
 def branches():
     return {
-        n: continue_orbit(HYST, KEY, 1.8, 1.3, steps=n, points=120, ds=0.05, ds_max=0.5)
+        n: continue_orbit(
+            HYST, KEY, 1.8, 1.3, steps=n, points=120, ds=0.05, ds_max=0.5, method="shooting"
+        )
         for n in (512, 1024)
     }
 
@@ -178,7 +180,7 @@ def test_richardson_branch_is_fourth_order():
     for n in (64, 128):
         for rich in (False, True):
             b = continue_orbit(HYST, KEY, 1.8, 1.3, steps=n, points=40, ds=0.05, ds_max=0.5,
-                               richardson=rich)  # fmt: skip
+                               richardson=rich, method="shooting")  # fmt: skip
             assert any(bb.type == "fold" for bb in b.bifurcations)
             err[n, rich] = _curve_distance(HYST, b).max()
     assert 3.0 < err[64, False] / err[128, False] < 5.0
@@ -200,7 +202,7 @@ def test_richardson_fold_is_fourth_order():
     err = {}
     for n in (64, 128):
         b = continue_orbit(HYST, KEY, 1.8, 1.3, steps=n, points=120, ds=0.05, ds_max=0.5,
-                           richardson=True)  # fmt: skip
+                           richardson=True, method="shooting")  # fmt: skip
         folds = _turns(b)
         assert folds[0] == pytest.approx(exact[0], rel=1e-12)
         err[n] = abs(folds[1] - exact[1]) / exact[1]

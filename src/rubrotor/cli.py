@@ -1250,6 +1250,18 @@ def _continue_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--ds-max", type=float, default=0.2, help="largest arclength step (scaled, default 0.2)"
     )
+    parser.add_argument(
+        "--method",
+        default="auto",
+        help="auto (default): circular orbits of an axisymmetric rotor without load as exact "
+        "rotating-frame equilibria, any other orbit by shooting; shooting; synchronous",
+    )
+    parser.add_argument(
+        "--richardson",
+        action="store_true",
+        help="shooting: extrapolate points and folds to zero step from --steps and 2 x --steps "
+        "(fourth order on orbits in permanent contact or without contact)",
+    )
 
 
 def _parse_range(text: str) -> tuple[str, float, float]:
@@ -1275,7 +1287,8 @@ def _continue_run(args: argparse.Namespace) -> int:
     scenario = load_scenario(args.scenario)
     scenario.with_changes(**{key: start})  # names a bad key before any work
     branch = continue_orbit(scenario, key, start, stop, k=args.k, points=args.points,
-                            steps=args.steps, ds_max=args.ds_max)  # fmt: skip
+                            steps=args.steps, ds_max=args.ds_max, method=args.method,
+                            richardson=args.richardson)  # fmt: skip
     branches = [branch]
     if args.switch is not None:
         branches.append(_switch(scenario, key, branch, stop, args))
@@ -1316,6 +1329,10 @@ def _check_continue(args: argparse.Namespace) -> tuple[str, float, float]:
         raise InputError("--steps", args.steps, "an integer >= 16 (steps per revolution)")
     if not (math.isfinite(args.ds_max) and args.ds_max > 0):
         raise InputError("--ds-max", args.ds_max, "a finite number > 0")
+    from rubrotor.continuation import METHODS
+
+    if args.method not in METHODS:
+        raise InputError("--method", args.method, " | ".join(METHODS))
     return key, start, stop
 
 

@@ -44,6 +44,7 @@ from rubrotor.shooting import (
     state_vector,
     vector_state,
 )
+from rubrotor.synchronous import Field, is_circular, synchronous_orbit, unsupported
 
 BIFURCATIONS = ("fold", "period-doubling", "neimark-sacker", "branch-point")
 
@@ -63,7 +64,8 @@ class BranchPoint:
 class Bifurcation:
     """A located bifurcation: ``type`` (one of :data:`BIFURCATIONS`), key ``value``, radius.
 
-    ``max_radius_m`` (m) is interpolated between the two branch points that bracket it.
+    ``max_radius_m`` (m) is interpolated between the two branch points that bracket it, except
+    at contact onset (a fold at a grazing value), where it is the clearance.
     """
 
     type: str
@@ -86,6 +88,9 @@ class Branch:
     grazings : tuple of float
         Key values where the branch's contact status changes (contact onset: the free orbit
         grazes the stator), located by :func:`grazing_value`.
+    method : str
+        ``"shooting"`` or ``"synchronous"`` (rotating-frame equilibria), see
+        :func:`continue_orbit`.
     """
 
     key: str
@@ -93,6 +98,7 @@ class Branch:
     points: tuple
     bifurcations: tuple
     grazings: tuple = ()
+    method: str = "shooting"
 
     def summary(self) -> dict:
         """The JSON summary of the CLI (values in the key's units, radii in m)."""
@@ -127,7 +133,7 @@ class Branch:
                 "bifurcation_type": ("bifurcation", [b.type for b in self.bifurcations]),
                 "grazing_value": ("grazing", list(self.grazings), {"long_name": "contact onset"}),
             },
-            attrs={"key": self.key, "revolutions_per_period": self.k},
+            attrs={"key": self.key, "revolutions_per_period": self.k, "method": self.method},
         )
 
 
@@ -157,7 +163,9 @@ def branches_dataset(branches) -> object:
         "point", np.repeat([br.k for br in branches], [len(br.points) for br in branches]),
         {"units": "revolutions"},
     )  # fmt: skip
-    return xr.Dataset(data, attrs={"key": branches[0].key, "branches": len(branches)})
+    attrs = {"key": branches[0].key, "branches": len(branches),
+             "methods": ", ".join(br.method for br in branches)}  # fmt: skip
+    return xr.Dataset(data, attrs=attrs)
 
 
 SPEED_KEYS = ("speed.critical_multiple", "speed.rad_per_s", "speed.hz", "speed.rpm")
@@ -234,6 +242,10 @@ class _Problem:
         gz = np.column_stack([gx, gp * self.sp / self.sx])
         return (px - x) / self.sx, gz, jac
 
+    def polish(self, z, gz, jac, t):
+        """A corrected point refined further where that is cheap (here: as it is)."""
+        return z, gz, jac
+
     def radius(self, z) -> float:
         """Largest contact-station radius (m) of the map run from ``z``."""
         got = self._radius.get(z.tobytes())
@@ -241,6 +253,70 @@ class _Problem:
             x, p = self.unscale(z)
             got = self.map_at(p).run(x)[2]
         return got
+
+
+class _SyncProblem(_Problem):
+    """The same unknowns with the rotating-frame field as residual (synchronous orbits).
+
+    ``G(x, p) = f(x; p)``, the field of :class:`rubrotor.synchronous.Field` (per radian of
+    spin, in the units of ``x``): its zeros are the circular orbits, exact to rounding. ``G_x``
+    is the field's analytic Jacobian ``J``, the monodromy handed to the test functions is
+    ``exp(J T)`` (same multipliers, same bifurcation tests), ``G_p`` by central differences.
+    No time steps: ``steps`` is ignored and there is nothing to extrapolate.
+    """
+
+    def field_at(self, p):
+        """The field at key value ``p`` (cached; speed keys only rescale the speed)."""
+        p = float(p)
+        cache = self.__dict__.setdefault("_fields", {})
+        if p not in cache:
+            if len(cache) > 64:
+                cache.clear()
+            if self.key in SPEED_KEYS:
+                if "_base_field" not in self.__dict__:
+                    sc = self.at(self.sp)
+                    self._base_field = (Field(_Map(sc, 1, 16)), sc.speed / self.sp)
+                base, ratio = self._base_field
+                cache[p] = base.at_speed(ratio * p)
+            else:
+                cache[p] = Field(_Map(self.at(p), 1, 16))
+        return cache[p]
+
+    def residual(self, z, steps=None):
+        x, p = self.unscale(z)
+        return self.field_at(p).evaluate(x)[0] / self.sx
+
+    def evaluate(self, z, steps=None):
+        x, p = self.unscale(z)
+        field = self.field_at(p)
+        f, jf, radius = field.evaluate(x, True)
+        self._radius = {z.tobytes(): radius}
+        h = 1e-6 * abs(p)
+        gp = (self.field_at(p + h).evaluate(x)[0] - self.field_at(p - h).evaluate(x)[0]) / (2 * h)
+        gx = jf * self.sx / self.sx[:, None]
+        gz = np.column_stack([gx, gp * self.sp / self.sx])
+        return f / self.sx, gz, field.monodromy(jf, self.k)
+
+    def radius(self, z) -> float:
+        got = self._radius.get(z.tobytes())
+        if got is None:
+            x, p = self.unscale(z)
+            got = self.field_at(p).evaluate(x)[2]
+        return got
+
+    def polish(self, z, gz, jac, t):
+        """Newton on ``[G; t . (z - z_0)] = 0`` to rounding (the corrector stops at
+        :data:`CORRECTOR_TOL`; a field evaluation costs microseconds, so each point is refined
+        until the step is below ``4 eps |z|``, at most three steps)."""
+        z0, a = z, np.vstack([gz, t])
+        for _ in range(3):
+            g = np.concatenate([self.residual(z), [t @ (z - z0)]])
+            dz = np.linalg.solve(a, -g)
+            z = z + dz
+            if np.linalg.norm(dz) <= 4 * np.finfo(float).eps * np.linalg.norm(z):
+                break
+        _, gz, jac = self.evaluate(z)
+        return z, gz, jac
 
 
 def _tangent(gz, previous):
@@ -529,6 +605,8 @@ def _solve_on_plane(prob, z0, t, a, steps, tol=1e-12, max_iter=10):
 
 
 def _radius(b: Bifurcation, p0: BranchPoint, p1: BranchPoint) -> Bifurcation:
+    if np.isfinite(b.max_radius_m):  # known exactly (contact onset: the clearance)
+        return b
     w = 0.5 if p1.value == p0.value else (b.value - p0.value) / (p1.value - p0.value)
     r = p0.max_radius_m + min(max(w, 0.0), 1.0) * (p1.max_radius_m - p0.max_radius_m)
     return Bifurcation(b.type, b.value, float(r))
@@ -537,7 +615,7 @@ def _radius(b: Bifurcation, p0: BranchPoint, p1: BranchPoint) -> Bifurcation:
 def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None, k: int = 1,
                    steps: int = STEPS_PER_REVOLUTION, points: int = 200, ds: float = 0.02,
                    ds_max: float = 0.2, transient_revolutions: int = 100,
-                   richardson: bool = False) -> Branch:  # fmt: skip
+                   richardson: bool = False, method: str = "auto") -> Branch:  # fmt: skip
     """Continue a periodic orbit of ``k`` revolutions in ``key`` from ``start`` towards ``stop``.
 
     Parameters
@@ -565,7 +643,14 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         to zero step from the maps of ``steps`` and ``2 steps`` per revolution (see
         :func:`_extrapolate`, :func:`_richardson_fold`; fourth order on orbits in permanent
         contact or without contact); the multipliers, stability and the other bifurcations
-        stay those of the ``steps`` map.
+        stay those of the ``steps`` map. Ignored on the synchronous route (exact already).
+    method : {"auto", "shooting", "synchronous"}
+        ``"shooting"``: the stroboscopic map (any orbit). ``"synchronous"``: circular orbits
+        of an axisymmetric rotor without a constant load (no contact or full annular rub) as
+        equilibria of the rotating frame, exact to rounding (:mod:`rubrotor.synchronous`);
+        refused when the scenario or the start orbit does not allow it. ``"auto"`` (default):
+        synchronous when allowed (``k = 1``, no load, the shot start orbit is a circle),
+        otherwise shooting.
 
     Returns
     -------
@@ -577,8 +662,12 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         raise InputError("points", points, "an integer >= 2")
     sc0 = scenario.with_changes(**{key: float(start)})
     orbit = shoot(sc0, guess, k, steps=steps, transient_revolutions=transient_revolutions)
-    prob = _problem(scenario, key, k, steps, state_vector(orbit.state), start)
-    prob.richardson = bool(richardson)
+    if _route(sc0, k, orbit, method) == "synchronous":
+        orbit = synchronous_orbit(sc0, orbit.state)
+        prob = _problem(scenario, key, k, steps, state_vector(orbit.state), start, _SyncProblem)
+    else:
+        prob = _problem(scenario, key, k, steps, state_vector(orbit.state), start)
+        prob.richardson = bool(richardson)
     z = np.concatenate([state_vector(orbit.state) / prob.sx, [start / abs(start)]])
     g, gz, jac = prob.evaluate(z)
     t = _tangent(gz, None)
@@ -587,12 +676,32 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     return _march(prob, z, t, gz, jac, (min(start, stop), max(start, stop)), points, ds, ds_max)
 
 
-def _problem(scenario, key, k, steps, x0, p0) -> _Problem:
+METHODS = ("auto", "shooting", "synchronous")
+"""Routes of :func:`continue_orbit`."""
+
+
+def _route(scenario, k, orbit, method) -> str:
+    """``"synchronous"`` or ``"shooting"`` for ``method`` at the shot start ``orbit``."""
+    if method not in METHODS:
+        raise InputError("method", method, " | ".join(METHODS))
+    if method == "shooting":
+        return method
+    why = unsupported(scenario, k)
+    if why is None and not is_circular(scenario, state_vector(orbit.state)):
+        why = "a start orbit that is not a circle (partial rub)"
+    if why is None:
+        return "synchronous"
+    if method == "synchronous":
+        raise InputError("method", method, f"a scenario and start orbit without {why}; or shooting")
+    return "shooting"
+
+
+def _problem(scenario, key, k, steps, x0, p0, kind=_Problem) -> _Problem:
     """The scaled problem: states by their largest displacement (m) and velocity, key by p0."""
     speed = scenario.with_changes(**{key: float(p0)}).speed
     sx = np.full(x0.size, max(np.max(np.abs(x0[: x0.size // 2])), 1e-12))
     sx[x0.size // 2 :] = sx[0] * speed
-    return _Problem(scenario, key, k, steps, sx, abs(p0))
+    return kind(scenario, key, k, steps, sx, abs(p0))
 
 
 def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branch:
@@ -614,6 +723,7 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
                 break
             continue
         z1, gz1, jac1, iters = out
+        z1, gz1, jac1 = prob.polish(z1, gz1, jac1, t)
         t1 = _tangent(gz1, t)
         sig1 = _tests(gz1, t1, jac1)
         hit = _changed(sig, sig1)
@@ -622,7 +732,7 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
         onset = _onset(prob, pts[-1], new)
         for i, name in enumerate(BIFURCATIONS):
             if hit[i] and i == 0 and onset is not None:  # the corner: a grazing turn
-                bifs.append(Bifurcation(name, onset))
+                bifs.append(Bifurcation(name, onset, prob.scenario.contact.clearance))
             elif hit[i]:
                 where = _locate_turn(prob, z, t, ds, gz) if i == 0 else _locate(prob, z, t, ds, i)
                 if i == 0 and prob.richardson:
@@ -639,7 +749,8 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
             break
         if iters <= (6 if chord else 3):
             ds = min(1.5 * ds, ds_max)
-    return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings))
+    method = "synchronous" if isinstance(prob, _SyncProblem) else "shooting"
+    return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings), method)
 
 
 def _free_radius(scenario, samples: int = 64) -> float:

@@ -1019,6 +1019,12 @@ def _draw_branch(ax, branch, color, handles, suffix: bool) -> None:
     x = np.array([p.value for p in branch.points])
     r = np.array([p.max_radius_m for p in branch.points]) * 1e6
     st = np.array([p.stable for p in branch.points])
+    corners = [b for b in branch.bifurcations if b.type == "fold" and b.value in branch.grazings]
+    for b in corners:  # contact onset: the branch turns at the grazing orbit, between two points
+        rc = b.max_radius_m * 1e6
+        i = next((j for j in range(x.size - 1) if (r[j] > rc) != (r[j + 1] > rc)), None)
+        if i is not None:  # drawn in the style of the part it leads into
+            x, r, st = (np.insert(a, i + 1, v) for a, v in ((x, b.value), (r, rc), (st, st[i + 1])))
     edges = [0, *(np.flatnonzero(st[1:] != st[:-1]) + 1), x.size]
     for a, b in zip(edges[:-1], edges[1:], strict=True):
         stop = min(b + 1, x.size)
