@@ -1,4 +1,5 @@
-"""The general engine against compiled ODE solvers (issue 14): numbalsoda DOP853 and LSODA.
+"""The general engine against compiled ODE solvers (issue 14): numbalsoda DOP853 and LSODA,
+nbkode DOP853 and diffrax Dopri8.
 
 Every solver integrates the SAME reduced equations: the plant's diagonal modal system
 ``y' = lam y + beta F(p, u)`` (complex ``y`` as ``[Re y, Im y]`` for the peers, right-hand side a
@@ -16,6 +17,26 @@ default with ``rtol``), each timed as the whole call (plant prebuilt, as the pee
 ``--reps`` rounds after a warm-up (compilation excluded), each round running every stepper and
 every peer once (interleaved); ``ms/rev`` is per revolution.
 
+Peers (every one with ``atol = 1e-4 rtol``):
+
+- numbalsoda ``dop853`` and ``lsoda`` (compiled Fortran/C), the right-hand side a numba
+  ``cfunc``;
+- nbkode's ``DOP853`` (numba-compiled Runge-Kutta; PyPI name ``numbakit-ode``): the same
+  inlined numba core as an njit ``f(t, u)``, a new solver per call, ``solver.run(t_eval)``. It
+  writes the requested times from its dense output, so writing only the compared samples leaves
+  its steps unchanged. nbkode 0.5 calls SciPy's ``select_initial_step`` with the arguments of
+  SciPy < 1.11 (a ``TypeError`` with SciPy 1.17), so each call computes the first step with
+  SciPy's own rule and passes it in (``first_step``);
+- diffrax ``Dopri8`` with ``PIDController(rtol, atol)``, ``SaveAt(ts=t_eval)``,
+  ``ForwardMode()`` (no adjoint bookkeeping), float64 (``jax_enable_x64``), ``jax.jit``-compiled
+  once per length of ``t_eval`` with the tolerances as arguments (compilation excluded by a
+  warm-up call), results waited for with ``block_until_ready``. Its right-hand side is the same
+  law written in jax.numpy (:func:`make_jax_rhs`); its difference from the numba one on 200
+  reference states is printed.
+
+A peer whose work-precision call takes more than 60 s is timed by that one call, not per round
+(marked ``(1 call)``); a peer that does not import is printed as ``not installed``.
+
 Cases:
 1. seed case 1 (3 continuous modes as 12 complex modes, Hertz rub, 128 samples per revolution),
    default settings (rtol 1e-6), 20 and 200 revolutions;
@@ -28,8 +49,10 @@ each) against the measured time per free-flight sample (clearance opened); and a
 Newton solve plus its ``m x ns`` rows.
 
 Requires the optional group ``bench`` (``pip install -e ".[bench]"``; numbalsoda builds from
-source and needs Debian's ``gfortran``). Run:
-``PYTHONPATH=src python benchmarks/bench_engine_peers.py [--reps 3]``. Prints, never asserts.
+source and needs Debian's ``gfortran``; jax runs on the CPU; nbkode and diffrax are optional
+here: without them their rows say ``not installed``). Run:
+``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src python benchmarks/bench_engine_peers.py [--reps 3]
+[--case seed|general|all]`` (``seed``: case 1 and the floor). Prints, never asserts.
 """
 
 from __future__ import annotations
@@ -40,6 +63,7 @@ import gc
 import math
 import statistics
 import time
+import warnings
 from pathlib import Path
 
 import numba as nb
@@ -70,7 +94,8 @@ def _median(fn, reps):
 
 
 def make_rhs(plant):
-    """numba cfunc right-hand side of the plant's modal equations on ``[Re y, Im y]``."""
+    """numba right-hand side of the plant's modal equations on ``[Re y, Im y]``: a ``cfunc`` for
+    numbalsoda and, around the same inlined core, an njit ``f(t, u) -> du`` for nbkode."""
     from numbalsoda import lsoda_sig
 
     c = plant.contacts
@@ -82,10 +107,8 @@ def make_rhs(plant):
     nc = cp.shape[0]
     omega = plant.speed
 
-    @nb.cfunc(lsoda_sig)
-    def rhs(t, u_, du_, p_):
-        u = nb.carray(u_, (2 * ns,))
-        du = nb.carray(du_, (2 * ns,))
+    @nb.njit(inline="always")
+    def core(t, u, du):
         z = complex(math.cos(omega * t), math.sin(omega * t))
         F = np.zeros(m)
         for i in range(nc):
@@ -110,7 +133,69 @@ def make_rhs(plant):
             du[j] = dy.real
             du[ns + j] = dy.imag
 
-    return rhs
+    @nb.cfunc(lsoda_sig)
+    def rhs(t, u_, du_, p_):
+        core(t, nb.carray(u_, (2 * ns,)), nb.carray(du_, (2 * ns,)))
+
+    @nb.njit
+    def f(t, u):
+        du = np.empty(2 * ns)
+        core(t, u, du)
+        return du
+
+    return rhs, f
+
+
+def _jax_law(py, pz, uy, uz, cp):
+    """``(fy, fz)`` of :func:`rubrotor.core.contact._law` in jax.numpy (N); the law's kind and
+    friction sign are read from ``cp`` when tracing, the contact test by ``where``."""
+    import jax.numpy as jnp
+
+    if cp[0] == 0.0:
+        return 0.0 * py, 0.0 * pz
+    d = jnp.sqrt(py * py + pz * pz)
+    g = cp[4]
+    dd = jnp.maximum(d, g)  # the clearance is positive: no division by zero off contact
+    ny, nz = py / dd, pz / dd
+    eps = jnp.maximum(d - g, 0.0)
+    epsd = ny * uy + nz * uz
+    k, c = cp[2], cp[3]
+    fn = k * eps * jnp.sqrt(eps) * (1.0 + c * epsd) if cp[1] == 0.0 else k * eps + c * epsd
+    fn = jnp.where((d > g) & (fn > 0.0), fn, 0.0)
+    if cp[6] == 0.0:
+        vs = cp[7] - nz * uy + ny * uz
+        sig = vs / jnp.sqrt(vs * vs + cp[8] * cp[8])
+    else:
+        sig = -1.0
+    ms = cp[5] * sig
+    return -fn * (ny - ms * nz), -fn * (nz + ms * ny)
+
+
+def make_jax_rhs(plant):
+    """The right-hand side of :func:`make_rhs` in jax.numpy, ``f(t, u, args) -> du``."""
+    import jax.numpy as jnp
+
+    c = plant.contacts
+    ns = plant.lam.size
+    lr, li = jnp.asarray(plant.lam.real), jnp.asarray(plant.lam.imag)
+    br, bi = jnp.asarray(plant.beta.real), jnp.asarray(plant.beta.imag)
+    cdr, cdi = jnp.asarray(c.Cd.real), jnp.asarray(c.Cd.imag)
+    cvr, cvi = jnp.asarray(c.Cv.real), jnp.asarray(c.Cv.imag)
+    Pu, Pv, d0, cps = c.Pu.copy(), c.Pv.copy(), c.d0.copy(), c.cp.copy()
+    omega = plant.speed
+
+    def f(t, u, args):
+        yr, yi = u[:ns], u[ns:]
+        cz, sz = jnp.cos(omega * t), jnp.sin(omega * t)
+        d = d0 + Pu.real * cz - Pu.imag * sz + cdr @ yr - cdi @ yi
+        v = Pv.real * cz - Pv.imag * sz + cvr @ yr - cvi @ yi
+        F = []
+        for i, cp in enumerate(cps):
+            F.extend(_jax_law(d[2 * i], d[2 * i + 1], v[2 * i], v[2 * i + 1], cp))
+        F = jnp.stack(F)
+        return jnp.concatenate([lr * yr - li * yi + br @ F, li * yr + lr * yi + bi @ F])
+
+    return f
 
 
 def contact_disp(plant, Y, t):
@@ -120,11 +205,78 @@ def contact_disp(plant, Y, t):
     return np.real(o.Od[:2] @ Y.T) + np.real(np.outer(o.OPu[:2], z)) + o.Od0[:2, None]
 
 
+def _y0(plant):
+    return np.concatenate([plant.y0.real, plant.y0.imag])
+
+
+def _modal(usol, ns):
+    return usol[:, :ns] + 1j * usol[:, ns:]
+
+
 def peer_run(solver, rhs, plant, t_eval, rtol, atol):
-    y0 = np.concatenate([plant.y0.real, plant.y0.imag])
-    usol, ok = solver(rhs.address, y0, t_eval, rtol=rtol, atol=atol, mxstep=10**9)
-    ns = plant.lam.size
-    return usol[:, :ns] + 1j * usol[:, ns:], ok
+    usol, ok = solver(rhs.address, _y0(plant), t_eval, rtol=rtol, atol=atol, mxstep=10**9)
+    return _modal(usol, plant.lam.size), ok
+
+
+def nbkode_runner(plant, f):
+    """``run(t_eval, rtol, atol) -> (Y, ok)`` with nbkode's DOP853 (a new solver per call, its
+    dense output at ``t_eval``), or the reason it cannot run."""
+    try:
+        import nbkode  # PyPI name numbakit-ode
+    except ImportError as e:
+        return f"not installed ({e})"
+    from scipy.integrate._ivp.common import select_initial_step
+
+    y0 = _y0(plant)
+
+    def run(tt, rtol, atol):
+        # nbkode 0.5 calls SciPy's select_initial_step with the arguments of SciPy < 1.11
+        # (TypeError with SciPy 1.17): its first step is passed in, chosen by SciPy's own rule
+        # for an order-7 error estimate (one rhs evaluation more than nbkode's call would take)
+        h0 = select_initial_step(f, tt[0], y0, tt[-1], np.inf, f(tt[0], y0), 1, 7, rtol, atol)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", nb.NumbaWarning)  # compile-time notes
+                solver = nbkode.DOP853(f, tt[0], y0, rtol=rtol, atol=atol, first_step=h0)
+                _, usol = solver.run(tt)
+        except Exception:  # step size underflow and the like: no result at this tolerance
+            return None, False
+        return _modal(usol, plant.lam.size), bool(np.all(np.isfinite(usol)))
+
+    return run
+
+
+def diffrax_runner(plant):
+    """``run(t_eval, rtol, atol) -> (Y, ok)`` with diffrax's Dopri8 under a PID step-size
+    controller, saving at ``t_eval``; jit-compiled once per length of ``t_eval`` (float64)."""
+    try:
+        import jax
+
+        jax.config.update("jax_enable_x64", True)
+        import diffrax
+        import jax.numpy as jnp
+    except ImportError as e:
+        return f"not installed ({e})"
+    term = diffrax.ODETerm(make_jax_rhs(plant))
+    y0 = jnp.asarray(_y0(plant))
+
+    @jax.jit
+    def solve(ts, rtol, atol):
+        sol = diffrax.diffeqsolve(
+            term, diffrax.Dopri8(), ts[0], ts[-1], None, y0,
+            saveat=diffrax.SaveAt(ts=ts),
+            stepsize_controller=diffrax.PIDController(rtol=rtol, atol=atol),
+            max_steps=10**9, adjoint=diffrax.ForwardMode(), throw=False,
+        )  # fmt: skip
+        return sol.ys, sol.result == diffrax.RESULTS.successful
+
+    def run(tt, rtol, atol):
+        ys, ok = solve(jnp.asarray(tt), rtol, atol)
+        ys = np.asarray(ys.block_until_ready())
+        return _modal(ys, plant.lam.size), bool(ok) and bool(np.all(np.isfinite(ys)))
+
+    run.rhs = term.vector_field
+    return run
 
 
 METHODS = ("exponential", "free-flight", "collocation")
@@ -167,11 +319,67 @@ def _interleaved(ours, peers, reps):
             {k: med(v) for k, v in t_peer.items()})  # fmt: skip
 
 
-def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
+SLOW = 60.0  # s: a peer call longer than this runs once (its work-precision call), not per round
+
+
+def _runners(plant, rhs, f_nb):
+    """Peer name -> ``run(t_eval, rtol, atol) -> (Y, ok)``, or why that peer cannot run."""
     from numbalsoda import dop853, lsoda
 
+    def numbalsoda(solver):
+        return lambda tt, rtol, atol: peer_run(solver, rhs, plant, tt, rtol, atol)
+
+    return {"DOP853": numbalsoda(dop853), "LSODA": numbalsoda(lsoda),
+            "nbkode DOP853": nbkode_runner(plant, f_nb), "diffrax Dopri8": diffrax_runner(plant)}  # fmt: skip
+
+
+def _rhs_check(runners, f_nb, ref_u, t_all):
+    """Largest difference of the jax right-hand side from the numba one on reference states,
+    relative to the numba one's size."""
+    run = runners["diffrax Dopri8"]
+    if isinstance(run, str):
+        return None
+    idx = np.linspace(0, t_all.size - 1, 200).astype(int)
+    a = np.array([f_nb(t_all[i], ref_u[i]) for i in idx])
+    b = np.array([np.asarray(run.rhs(t_all[i], ref_u[i], None)) for i in idx])
+    return float(np.max(np.abs(a - b)) / np.max(np.abs(a)))
+
+
+def _work_precision(runners, plant, t_all, t_cmp, err_of, errs):
+    """Each peer at the loosest tolerance of ``TOLS`` at least as accurate as each stepper."""
+    peers, chosen, perr, once = {}, {}, {}, {}
+    for name, run in runners.items():
+        if isinstance(run, str):
+            continue
+        for what, tt in (("all samples", t_all), ("compared only", t_cmp)):
+            stride = EVERY if tt is t_all else 1
+            run(tt, TOLS[0], TOLS[0] * 1e-4)  # warm-up: compilation excluded
+            errors, walls = {}, {}
+            for tol in TOLS:
+                t0 = time.perf_counter()
+                y, ok = run(tt, tol, tol * 1e-4)
+                walls[tol] = time.perf_counter() - t0
+                errors[tol] = err_of(contact_disp(plant, y[::stride], t_cmp)) if ok else np.inf
+                if errors[tol] <= min(errs.values()):
+                    break
+            for meth in METHODS:
+                tol = next((t for t in TOLS if errors.get(t, np.inf) <= errs[meth]), None)
+                chosen[name, what, meth] = tol
+                if tol is None:
+                    continue
+                perr[name, what, tol] = errors[tol]
+                if walls[tol] > SLOW:
+                    once[name, what, tol] = walls[tol]
+                else:
+                    peers[name, what, tol] = lambda r=run, tt=tt, tol=tol: r(tt, tol, tol * 1e-4)
+    return peers, chosen, perr, once
+
+
+def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
+    from numbalsoda import dop853
+
     plant = build_plant(system, run, stations, unb, gravity=gravity)
-    rhs = make_rhs(plant)
+    rhs, f_nb = make_rhs(plant)
     fns = _ours_fn(system, plant, run, stations, unb, gravity)
     first = {meth: fn() for meth, fn in fns.items()}  # warm-up (compilation excluded)
     t_all = first["exponential"].time
@@ -186,25 +394,11 @@ def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
         return float(np.max(np.abs(disp - ref)) / scale)
 
     errs = {meth: err_of(r.channels[:2, ::EVERY]) for meth, r in first.items()}
-    # each peer at the loosest tolerance at least as accurate as each of our steppers
-    peers, chosen, perr = {}, {}, {}
-    for name, solver in (("DOP853", dop853), ("LSODA", lsoda)):
-        for what, tt in (("all samples", t_all), ("compared only", t_cmp)):
-            stride = EVERY if tt is t_all else 1
-            errors = {}
-            for tol in TOLS:
-                y, ok = peer_run(solver, rhs, plant, tt, tol, tol * 1e-4)
-                errors[tol] = err_of(contact_disp(plant, y[::stride], t_cmp)) if ok else np.inf
-                if errors[tol] <= min(errs.values()):
-                    break
-            for meth in METHODS:
-                tol = next((t for t in TOLS if errors.get(t, np.inf) <= errs[meth]), None)
-                chosen[name, what, meth] = tol
-                if tol is not None:
-                    perr[name, what, tol] = errors[tol]
-                    peers[name, what, tol] = (lambda s=solver, tt=tt, tol=tol:
-                                              peer_run(s, rhs, plant, tt, tol, tol * 1e-4))  # fmt: skip
+    runners = _runners(plant, rhs, f_nb)
+    drhs = _rhs_check(runners, f_nb, np.concatenate([ref_y.real, ref_y.imag], axis=1), t_all)
+    peers, chosen, perr, once = _work_precision(runners, plant, t_all, t_cmp, err_of, errs)
     ours, tpeer = _interleaved(fns, peers, reps)
+    tpeer.update(once)
     print(f"{label}: {revs} rev, {t_all.size} samples, {plant.lam.size} complex modes, "
           f"rtol {run.rtol:.0e}; medians of {reps} interleaved rounds")  # fmt: skip
     for meth, (tc, tk, r) in ours.items():
@@ -213,15 +407,21 @@ def compare(label, system, stations, unb, run, revs, reps, gravity=(0.0, 0.0)):
               f"kernel, fixed {(tc - tk) * 1e3:6.3f} ms/call  error {errs[meth]:.2e}  (contact "
               f"steps {s['accepted_steps']} + {s['rejected_steps']} rejected, Newton "
               f"{s['newton_iterations']}, free jumps {s.get('free_advances')})")  # fmt: skip
+    for name, why in runners.items():
+        if isinstance(why, str):
+            print(f"  {name:14s}: {why}")
+    if drhs is not None:
+        print(f"  diffrax rhs (jax) vs numba rhs on 200 reference states: {drhs:.1e} relative")
     for (name, what, meth), tol in chosen.items():
         if tol is None:
-            print(f"  {name:7s} {what:13s} vs {meth:12s}: no rtol down to 1e-11 reaches its error")
+            print(f"  {name:14s} {what:13s} vs {meth:12s}: no rtol down to 1e-11 reaches its error")
             continue
         tp = tpeer[name, what, tol]
         tc, tk = ours[meth][0], ours[meth][1]
-        print(f"  {name:7s} rtol {tol:.0e} {what:13s}: {tp * 1e3 / revs:8.4f} ms/rev error "
+        n1 = " (1 call)" if (name, what, tol) in once else ""
+        print(f"  {name:14s} rtol {tol:.0e} {what:13s}: {tp * 1e3 / revs:8.4f} ms/rev error "
               f"{perr[name, what, tol]:.2e}  vs {meth:12s} ratio peer/ours {tp / tc:6.1f} "
-              f"(call), {tp / tk:6.1f} (kernel)")  # fmt: skip
+              f"(call), {tp / tk:6.1f} (kernel){n1}")  # fmt: skip
     return ours
 
 
