@@ -247,12 +247,14 @@ class _Problem:
         return z, gz, jac
 
     def radius(self, z) -> float:
-        """Largest contact-station radius (m) of the map run from ``z``."""
+        """Largest contact-station radius (m) of the orbit through ``z`` (kept by evaluate)."""
         got = self._radius.get(z.tobytes())
         if got is None:
-            x, p = self.unscale(z)
-            got = self.map_at(p).run(x)[2]
+            got = self._radius_at(*self.unscale(z))
         return got
+
+    def _radius_at(self, x, p) -> float:
+        return self.map_at(p).run(x)[2]
 
 
 class _SyncProblem(_Problem):
@@ -297,12 +299,8 @@ class _SyncProblem(_Problem):
         gz = np.column_stack([gx, gp * self.sp / self.sx])
         return f / self.sx, gz, field.monodromy(jf, self.k)
 
-    def radius(self, z) -> float:
-        got = self._radius.get(z.tobytes())
-        if got is None:
-            x, p = self.unscale(z)
-            got = self.field_at(p).evaluate(x)[2]
-        return got
+    def _radius_at(self, x, p) -> float:
+        return self.field_at(p).evaluate(x)[2]
 
     def polish(self, z, gz, jac, t):
         """Newton on ``[G; t . (z - z_0)] = 0`` to rounding (the corrector stops at
