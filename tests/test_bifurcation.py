@@ -164,6 +164,23 @@ def test_switching_onto_the_period_doubled_branch(branch):
         assert np.min(np.abs(z[-2:] - point)) < 2e-3 * np.max(np.abs(z))
 
 
+def test_switched_branch_ends_where_it_meets_the_period_one_branch_again(branch):
+    """The period-2 branch born at the first period doubling ends at the second one.
+
+    Reference: the period-1 branch's own located period doublings (test functions on that
+    branch, a separate computation): the doubled branch's last bifurcation is a branch point at
+    the second one (measured 5e-6 apart, the 256-step maps of period 1 and 2), and it turns
+    once at its upper fold (2.0952) instead of retracing the loop (before, the march went round
+    it again until its points ran out).
+    """
+    pds = [b.value for b in branch.bifurcations if b.type == "period-doubling"]
+    new = switch_period_doubling(PARTIAL, KEY, branch, 2.11, steps=SPR, points=200, ds=0.02)
+    assert new.bifurcations[-1].type == "branch-point"
+    assert new.bifurcations[-1].value == pytest.approx(pds[1], rel=1e-4)
+    upper = [b for b in new.bifurcations if b.type == "fold" and b.value > 2.09]
+    assert len(upper) == 1 and len(new.points) < 200
+
+
 CHAOTIC = load_scenario(resources.files("rubrotor") / "scenarios" / "one_mode_chaotic_rub.toml")
 
 

@@ -702,10 +702,13 @@ def _problem(scenario, key, k, steps, x0, p0, kind=_Problem) -> _Problem:
     return kind(scenario, key, k, steps, sx, abs(p0))
 
 
-def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branch:
+def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
+           born_at=None) -> Branch:  # fmt: skip
     """Predictor-corrector steps from the converged ``z`` along ``t`` (module docstring).
 
-    ``first`` replaces the first branch point (default: the point at ``z``).
+    ``first`` replaces the first branch point (default: the point at ``z``). ``born_at`` (a
+    key value): the branch ends at its first branch point away from that value (a switched
+    branch meeting the branch it was born from again).
     """
     lo, hi = bounds
     pts, bifs, grazings = [first or _point(prob, z, jac, gz, t)], [], []
@@ -743,12 +746,18 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None) -> Branc
         ]
         if onset is not None:
             grazings.append(onset)
-        if not lo <= pts[-1].value <= hi:
+        if not lo <= pts[-1].value <= hi or (born_at is not None and _meets_again(bifs, born_at)):
             break
         if iters <= (6 if chord else 3):
             ds = min(1.5 * ds, ds_max)
     method = "synchronous" if isinstance(prob, _SyncProblem) else "shooting"
     return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings), method)
+
+
+def _meets_again(bifs, born_at: float) -> bool:
+    """Whether a branch point was located away from (1e-6 relative) the value ``born_at``."""
+    return any(b.type == "branch-point" and abs(b.value - born_at) > 1e-6 * abs(born_at)
+               for b in bifs)  # fmt: skip
 
 
 def _free_radius(scenario, samples: int = 64) -> float:
@@ -866,7 +875,9 @@ def switch_period_doubling(scenario, key: str, branch: Branch, stop: float, *, i
     Returns
     -------
     Branch
-        ``k`` is ``2 branch.k``; the bifurcations found along the new branch.
+        ``k`` is ``2 branch.k``; the bifurcations found along the new branch, which ends where
+        it meets the ``k``-branch again (a branch point away from ``p*``: the next period
+        doubling) or leaves the range.
     """
     pds = [b for b in branch.bifurcations if b.type == "period-doubling"]
     if not 0 <= index < len(pds):
@@ -899,5 +910,8 @@ def switch_period_doubling(scenario, key: str, branch: Branch, stop: float, *, i
         min(p_star, stop) - 0.5 * abs(stop - p_star),
         max(p_star, stop) + 0.5 * abs(stop - p_star),
     )
-    rest = _march(prob, z, t, gz, jac, bounds, points - 1, ds, ds_max)
+    # the doubled orbit closes on the k-branch again at another period doubling (a branch
+    # point); beyond it the march would retrace the same orbits shifted by k revolutions, so
+    # the branch ends there (a branch point at p* itself is the pitchfork it was born at)
+    rest = _march(prob, z, t, gz, jac, bounds, points - 1, ds, ds_max, born_at=p_star)
     return Branch(key, 2 * branch.k, (first, *rest.points), rest.bifurcations)

@@ -1014,17 +1014,35 @@ def envelope_figure(envelopes: dict, *, title: str | None = None) -> Figure:
     return fig
 
 
+def _with_corners(branch, x, r, st):
+    """Branch points (key values, radii um, stability) with the bifurcations inserted.
+
+    Contact onset (a fold at a grazing value, radius the clearance) goes where the radius
+    crosses it; a bifurcation whose value lies between two points of different stability goes
+    between them. Each corner takes the stability of the point it leads into, so the line
+    changes style at the bifurcation, not at the next computed point.
+    """
+    used = set()
+    for b in branch.bifurcations:
+        rc = b.max_radius_m * 1e6
+        if b.type == "fold" and b.value in branch.grazings:
+            i = next((j for j in range(x.size - 1) if (r[j] > rc) != (r[j + 1] > rc)), None)
+        else:
+            i = next((j for j in range(x.size - 1) if st[j] != st[j + 1]
+                      and min(x[j], x[j + 1]) <= b.value <= max(x[j], x[j + 1])), None)  # fmt: skip
+        if i is None or (i, b.value) in used or not np.isfinite(rc):
+            continue
+        used.add((i, b.value))
+        x, r, st = (np.insert(a, i + 1, v) for a, v in ((x, b.value), (r, rc), (st, st[i + 1])))
+    return x, r, st
+
+
 def _draw_branch(ax, branch, color, handles, suffix: bool) -> None:
     """One branch: runs of equal stability, solid (stable) or dashed (unstable)."""
     x = np.array([p.value for p in branch.points])
     r = np.array([p.max_radius_m for p in branch.points]) * 1e6
     st = np.array([p.stable for p in branch.points])
-    corners = [b for b in branch.bifurcations if b.type == "fold" and b.value in branch.grazings]
-    for b in corners:  # contact onset: the branch turns at the grazing orbit, between two points
-        rc = b.max_radius_m * 1e6
-        i = next((j for j in range(x.size - 1) if (r[j] > rc) != (r[j + 1] > rc)), None)
-        if i is not None:  # drawn in the style of the part it leads into
-            x, r, st = (np.insert(a, i + 1, v) for a, v in ((x, b.value), (r, rc), (st, st[i + 1])))
+    x, r, st = _with_corners(branch, x, r, st)
     edges = [0, *(np.flatnonzero(st[1:] != st[:-1]) + 1), x.size]
     for a, b in zip(edges[:-1], edges[1:], strict=True):
         stop = min(b + 1, x.size)
