@@ -1,6 +1,6 @@
 """Pseudo-arclength continuation of periodic orbits in any scenario key.
 
-Unknowns ``z = (x / s_x, p / s_p)``: the shooting state (see :mod:`rubrotor.shooting`) and the
+Unknowns ``z = (x / s_x, p / s_p)``: the shooting state (see ``rubrotor.shooting``) and the
 continued key's value, scaled by their magnitudes at the start so that the arclength weighs
 both alike. Residual ``G(x, p) = P(x; p) - x`` (the stroboscopic map at ``p``, a prepared
 :class:`rubrotor.shooting._Map` per key value; for the speed keys only its speed-dependent
@@ -10,7 +10,7 @@ oriented along the previous one); predictor ``z + ds t``; corrector = quasi-Newt
 on ``[G; t . (z - z_pred)] = 0`` from the previous point's Jacobian, full Newton if that
 fails; ``ds`` halves on failure and grows by 1.5 after a quick corrector. Optionally each point
 is Richardson-extrapolated to zero step from the maps of ``N`` and ``2 N`` steps
-(:func:`_extrapolate`).
+(``_extrapolate``).
 
 Bifurcations, between consecutive points, from sign changes of test functions:
 
@@ -75,7 +75,7 @@ class Bifurcation:
 
 @dataclass(frozen=True)
 class Branch:
-    """A continued branch of periodic orbits (the result of :func:`continue_orbit`).
+    """A continued branch of periodic orbits (the result of :func:`rubrotor.continuation.continue_orbit`).
 
     Attributes
     ----------
@@ -87,10 +87,10 @@ class Branch:
     bifurcations : tuple of Bifurcation
     grazings : tuple of float
         Key values where the branch's contact status changes (contact onset: the free orbit
-        grazes the stator), located by :func:`grazing_value`.
+        grazes the stator), located by ``grazing_value``.
     method : str
         ``"shooting"`` or ``"synchronous"`` (rotating-frame equilibria), see
-        :func:`continue_orbit`.
+        :func:`rubrotor.continuation.continue_orbit`.
     """
 
     key: str
@@ -169,7 +169,7 @@ def branches_dataset(branches) -> object:
 
 
 SPEED_KEYS = ("speed.critical_multiple", "speed.rad_per_s", "speed.hz", "speed.rpm")
-"""Keys the spin speed is proportional to: continued by :meth:`_Map.at_speed` (no re-validation
+"""Keys the spin speed is proportional to: continued by ``_Map.at_speed`` (no re-validation
 of the scenario, no critical-speed solve, the modal system kept unless gyroscopic)."""
 
 
@@ -543,7 +543,7 @@ def _richardson_fold(prob, z0, t0, ds, gz0, p_coarse):
 
 
 def _point(prob, z, jac, gz=None, t=None) -> BranchPoint:
-    """The branch point at ``z``; with ``prob.richardson`` extrapolated (:func:`_extrapolate`)."""
+    """The branch point at ``z``; with ``prob.richardson`` extrapolated (``_extrapolate``)."""
     x, p = prob.unscale(z)
     mu = multipliers_of(jac)
     radius = prob.radius(z)
@@ -639,13 +639,13 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     richardson : bool
         Report each point's state and largest radius, and each fold's key value, extrapolated
         to zero step from the maps of ``steps`` and ``2 steps`` per revolution (see
-        :func:`_extrapolate`, :func:`_richardson_fold`; fourth order on orbits in permanent
+        ``_extrapolate``, ``_richardson_fold``; fourth order on orbits in permanent
         contact or without contact); the multipliers, stability and the other bifurcations
         stay those of the ``steps`` map. Ignored on the synchronous route (exact already).
     method : {"auto", "shooting", "synchronous"}
         ``"shooting"``: the stroboscopic map (any orbit). ``"synchronous"``: circular orbits
         of an axisymmetric rotor without a constant load (no contact or full annular rub) as
-        equilibria of the rotating frame, exact to rounding (:mod:`rubrotor.synchronous`);
+        equilibria of the rotating frame, exact to rounding (``rubrotor.synchronous``);
         refused when the scenario or the start orbit does not allow it. ``"auto"`` (default):
         synchronous when allowed (``k = 1``, no load, the shot start orbit is a circle),
         otherwise shooting.
@@ -675,7 +675,7 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
 
 
 METHODS = ("auto", "shooting", "synchronous")
-"""Routes of :func:`continue_orbit`."""
+"""Routes of :func:`rubrotor.continuation.continue_orbit`."""
 
 
 def _route(scenario, k, orbit, method) -> str:

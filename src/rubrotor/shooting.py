@@ -3,7 +3,7 @@
 The map ``P(x)`` takes the physical modal state ``x`` (real vector ``[Re q, Im q, Re q', Im q']``,
 m and m/s) at unbalance angle 0 to the state ``k`` revolutions later by the fixed-step
 exponential scheme of the simulation (:func:`rubrotor.core.integrate.expo_fixed`, same
-arithmetic), run by :class:`_Map`: the modal system, contact law and step coefficients are
+arithmetic), run by ``_Map``: the modal system, contact law and step coefficients are
 prepared once per parameter value and the compiled kernel :func:`rubrotor.core.shoot.expo_strobe`
 runs on plain arrays. A fixed step makes ``P`` a smooth function of ``x`` (an adaptive step
 sequence changes discontinuously with the start state, which breaks Newton's quadratic
@@ -255,7 +255,7 @@ class PeriodicOrbit:
     steps : int
         Fixed steps per revolution of the map (0: found without time steps, by
         :func:`rubrotor.synchronous.synchronous_orbit`; :meth:`dataset` then samples the orbit
-        with :data:`STEPS_PER_REVOLUTION`).
+        with ``STEPS_PER_REVOLUTION``).
     """
 
     scenario: object
@@ -300,7 +300,7 @@ def multipliers_of(jac: np.ndarray) -> np.ndarray:
 def newton_orbit(scenario, x0, k=1, steps=STEPS_PER_REVOLUTION, tol=1e-12, max_iter=30):
     """Newton iterations on ``P(x) - x = 0``; returns ``(x, jac, residual, iterations)``.
 
-    ``scenario`` may also be a prepared :class:`_Map` (of ``k`` revolutions, ``steps``).
+    ``scenario`` may also be a prepared ``_Map`` (of ``k`` revolutions, ``steps``).
     """
     mp = scenario if isinstance(scenario, _Map) else _Map(scenario, k, steps)
     x = np.asarray(x0, float).copy()

@@ -16,11 +16,11 @@ no time stepping, so to rounding (harmonic balance with one harmonic solves the 
 
 Stability: at ``t = T = 2 pi / Omega`` the rotating and fixed coordinates coincide
 (``e^{-i Omega T} = 1``), so the fixed-frame monodromy matrix is ``exp(J T)``, with ``J`` the
-real Jacobian of the rotating-frame field in the state coordinates of :mod:`rubrotor.shooting`
+real Jacobian of the rotating-frame field in the state coordinates of ``rubrotor.shooting``
 (``[Re q, Im q, Re q', Im q']``); its eigenvalues, the Floquet multipliers, are ``exp(eig(J) T)``.
 Without contact ``J`` has the eigenvalues ``lam - i Omega`` and the multipliers are
 ``exp(lam T)``, those of the linear system. The contact force is real-linearised with its exact
-Jacobian (:func:`rubrotor.core.contact.contact_force_jac_exact`, smoothed friction sign
+Jacobian (``rubrotor.core.contact.contact_force_jac_exact``, smoothed friction sign
 included).
 
 Orbits that are not circles (partial rub, a side load, gravity, sub- and super-harmonic
@@ -75,7 +75,7 @@ def unsupported(scenario, k: int = 1) -> str | None:
 
 
 class Field:
-    """The rotating-frame field of one scenario, on the prepared parts of a :class:`_Map`.
+    """The rotating-frame field of one scenario, on the prepared parts of a ``_Map``.
 
     The field ``f(x)`` is the time derivative of the state vector ``x`` (m, m/s) in the
     rotating coordinates divided by the spin speed (so in m and m/s per radian of spin, the
@@ -97,7 +97,7 @@ class Field:
     def at_speed(self, speed: float) -> Field:
         """The field at another spin speed (rad/s), rebuilding only what the speed changes.
 
-        A gyroscopic modal system is re-assembled (:meth:`_Map.at_speed`); otherwise only the
+        A gyroscopic modal system is re-assembled (``_Map.at_speed``); otherwise only the
         shift ``lam - i Omega``, the steady unbalance response and the surface speed change
         (no step coefficients: the field has no time step).
         """
@@ -169,7 +169,7 @@ def synchronous_orbit(scenario, guess=None, *, tol: float = 1e-13) -> PeriodicOr
     Parameters
     ----------
     scenario : rubrotor.scenario.Scenario
-        A seed-form rotor without a constant load (:func:`unsupported`), its speed (rad/s),
+        A seed-form rotor without a constant load (``unsupported``), its speed (rad/s),
         unbalance and contact.
     guess : RotorState, optional
         Start of Newton (e.g. a shot orbit or a simulation's final state at unbalance angle
