@@ -284,6 +284,7 @@ def follow_sweep(
         run_lengths,
     )
 
+    scenario.require_seed_engine("a state-carrying sweep")
     if direction not in DIRECTIONS:
         raise InputError("follow", direction, " | ".join(DIRECTIONS))
     directions = DIRECTIONS[direction]

@@ -158,6 +158,7 @@ def lyapunov_exponents(
     ):
         if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
             raise InputError(name, v, f"an integer >= {lo}")
+    scenario.require_seed_engine("Lyapunov exponents")
     speed = float(scenario.speed)
     h = 2 * math.pi / (steps_per_revolution * speed)
     sysm, y_u, y_l, cdc, cvc, E, G0, G1, part, cp = _setup(scenario, h)

@@ -103,6 +103,8 @@ class _Map:
     """
 
     def __init__(self, scenario, k: int, steps: int, speed: float | None = None, base=None):
+        if base is None:
+            scenario.require_seed_engine("periodic orbits (shooting, continuation)")
         self.scenario, self.k, self.steps = scenario, int(k), int(steps)
         speed = float(scenario.speed if speed is None else speed)
         sc = scenario
@@ -343,6 +345,7 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
     -------
     PeriodicOrbit
     """
+    scenario.require_seed_engine("periodic orbits (shooting, continuation)")
     if isinstance(k, bool) or not isinstance(k, int) or k < 1:
         raise InputError("k", k, "an integer >= 1 (revolutions per period)")
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 16:

@@ -785,6 +785,7 @@ def simulate_scenario(scenario, integrator: Integrator, **kwargs) -> SimulationR
     -------
     SimulationResult
     """
+    scenario.require_seed_engine("the seed engine's time simulation (simulate_scenario)")
     return simulate_system(
         scenario.shaft,
         scenario.speed,
