@@ -206,9 +206,10 @@ def test_cli_continue_method_and_richardson(tmp_path, capsys):
 
 
 def test_general_rotor_is_refused_by_name_not_a_traceback(tmp_path, capsys):
-    """Shooting, continuation, the synchronous route, Lyapunov exponents, state-carrying sweeps
-    and the seed engine's simulate_scenario run on the continuous [shaft] rotor; a general
-    ([[section]]) rotor gets an error naming ``section`` (exit 2 on the CLI), not a traceback."""
+    """Continuation, the synchronous route, Lyapunov exponents, state-carrying sweeps and the
+    seed engine's simulate_scenario run on the continuous [shaft] rotor (shooting runs on both,
+    tests/test_shooting_general.py); a general ([[section]]) rotor gets an error naming
+    ``section`` (exit 2 on the CLI), not a traceback."""
     from importlib import resources
 
     import rubrotor
@@ -221,7 +222,6 @@ def test_general_rotor_is_refused_by_name_not_a_traceback(tmp_path, capsys):
     path = resources.files("rubrotor") / "scenarios" / "seal_rub.toml"
     sc = load_scenario(path)
     calls = (
-        lambda: shooting.shoot(sc),
         lambda: continue_orbit(sc, "speed.rad_per_s", 300.0, 320.0, points=3),
         lambda: synchronous_orbit(sc),
         lambda: rubrotor.lyapunov_exponents(sc),

@@ -38,12 +38,13 @@ from rubrotor.errors import InputError
 from rubrotor.shooting import (
     STEPS_PER_REVOLUTION,
     _Map,
-    monodromy,
     multipliers_of,
+    prepared_map,
     shoot,
     state_vector,
     vector_state,
 )
+from rubrotor.shooting_general import is_general
 from rubrotor.synchronous import Field, is_circular, synchronous_orbit, unsupported
 
 BIFURCATIONS = ("fold", "period-doubling", "neimark-sacker", "branch-point")
@@ -210,11 +211,11 @@ class _Problem:
             bases = self.__dict__.setdefault("_bases", {})
             if steps not in bases and self.key in SPEED_KEYS:
                 sc = self.at(self.sp)
-                bases[steps] = (_Map(sc, self.k, steps), sc.speed / self.sp)
+                bases[steps] = (prepared_map(sc, self.k, steps), sc.speed / self.sp)
             if steps in bases:
                 cache[p, steps] = bases[steps][0].at_speed(bases[steps][1] * p)
             else:
-                cache[p, steps] = _Map(self.at(p), self.k, steps)
+                cache[p, steps] = prepared_map(self.at(p), self.k, steps)
         return cache[p, steps]
 
     def residual(self, z, steps=None):
@@ -550,7 +551,8 @@ def _point(prob, z, jac, gz=None, t=None) -> BranchPoint:
     if prob.richardson:
         z, radius = _extrapolate(prob, z, jac, radius, gz, t)
         x, p = prob.unscale(z)
-    return BranchPoint(float(p), vector_state(x), radius, mu, bool(abs(mu[0]) < 1))
+    state = x.copy() if is_general(prob.scenario) else vector_state(x)
+    return BranchPoint(float(p), state, radius, mu, bool(abs(mu[0]) < 1))
 
 
 def _extrapolate(prob, z, jac, radius, gz=None, t=None):
@@ -658,6 +660,10 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         raise InputError("--vary", f"{start}:{stop}", "START:STOP with finite START != STOP")
     if isinstance(points, bool) or not isinstance(points, int) or points < 2:
         raise InputError("points", points, "an integer >= 2")
+    if is_general(scenario):  # its modal basis changes with the key; shoot() runs on it
+        raise InputError("section", "[[section]] tables", "a [shaft] scenario: continuation of "
+                         "a general rotor's periodic orbits is not available yet (rubrotor."
+                         "shooting.shoot finds them, with their multipliers)")  # fmt: skip
     sc0 = scenario.with_changes(**{key: float(start)})
     orbit = shoot(sc0, guess, k, steps=steps, transient_revolutions=transient_revolutions)
     if _route(sc0, k, orbit, method) == "synchronous":
@@ -684,7 +690,8 @@ def _route(scenario, k, orbit, method) -> str:
         raise InputError("method", method, " | ".join(METHODS))
     if method == "shooting":
         return method
-    why = unsupported(scenario, k)
+    why = "a general rotor (not axisymmetric in general)" if is_general(scenario) else None
+    why = why or unsupported(scenario, k)
     if why is None and not is_circular(scenario, state_vector(orbit.state)):
         why = "a start orbit that is not a circle (partial rub)"
     if why is None:
@@ -695,7 +702,12 @@ def _route(scenario, k, orbit, method) -> str:
 
 
 def _problem(scenario, key, k, steps, x0, p0, kind=_Problem) -> _Problem:
-    """The scaled problem: states by their largest displacement (m) and velocity, key by p0."""
+    """The scaled problem: states by their largest displacement (m) and velocity (a general
+    rotor's by its largest modal amplitude and force), key by p0."""
+    if is_general(scenario):
+        prob = kind(scenario, key, k, steps, np.ones(x0.size), abs(p0))
+        prob.sx = prob.map_at(p0)._scales(x0)
+        return prob
     speed = scenario.with_changes(**{key: float(p0)}).speed
     sx = np.full(x0.size, max(np.max(np.abs(x0[: x0.size // 2])), 1e-12))
     sx[x0.size // 2 :] = sx[0] * speed
@@ -823,7 +835,7 @@ def _onset(prob, a: BranchPoint, b: BranchPoint) -> float | None:
     turns both points lie on the free side of the onset).
     """
     contact = prob.scenario.contact
-    if contact is None or prob.k != 1:
+    if contact is None or prob.k != 1 or is_general(prob.scenario):
         return None
     g = contact.clearance
     if (a.max_radius_m > g) == (b.max_radius_m > g):
@@ -886,7 +898,7 @@ def switch_period_doubling(scenario, key: str, branch: Branch, stop: float, *, i
     near = min(branch.points, key=lambda q: abs(q.value - p_star))
     orbit = shoot(scenario.with_changes(**{key: p_star}), near.state, branch.k, steps=steps)
     x_star = state_vector(orbit.state)
-    _, jac1 = monodromy(orbit.scenario, x_star, branch.k, steps)
+    jac1 = prepared_map(orbit.scenario, branch.k, steps).run(x_star, True)[1]
     mu, vecs = np.linalg.eig(jac1)
     j = int(np.argmin(np.abs(mu + 1)))
     prob = _problem(scenario, key, 2 * branch.k, steps, x_star, p_star)

@@ -44,7 +44,13 @@ FD_STEP = 6e-6
 
 
 def state_vector(state: RotorState) -> np.ndarray:
-    """Real vector ``[Re q, Im q, Re q', Im q']`` (m, m/s) of a :class:`RotorState`."""
+    """Real vector ``[Re q, Im q, Re q', Im q']`` (m, m/s) of a :class:`RotorState`.
+
+    A general rotor's state is already such a vector (``[Re y, Im y, F]`` of
+    ``rubrotor.shooting_general``) and is returned as it is.
+    """
+    if isinstance(state, np.ndarray):
+        return np.asarray(state, float)
     q, qd = np.asarray(state.q, complex), np.asarray(state.qd, complex)
     return np.concatenate([q.real, q.imag, qd.real, qd.imag])
 
@@ -240,8 +246,8 @@ class PeriodicOrbit:
     ----------
     scenario : rubrotor.scenario.Scenario
         Where it was found.
-    state : RotorState
-        State at unbalance angle 0 on the orbit.
+    state : RotorState or ndarray
+        State at unbalance angle 0 on the orbit (a general rotor's: ``[Re y, Im y, F]``).
     k : int
         Revolutions per period.
     period : float
@@ -273,8 +279,14 @@ class PeriodicOrbit:
     def dataset(self, samples_per_revolution: int = 256):
         """The orbit over its ``k`` revolutions as a results Dataset (like ``simulate``)."""
         from rubrotor.results import to_dataset
+        from rubrotor.shooting_general import is_general
         from rubrotor.simulation import scenario_parameters
 
+        if is_general(self.scenario):
+            from rubrotor.engine.driver import result_dataset
+
+            mp = prepared_map(self.scenario, self.k, self.steps)
+            return result_dataset(mp.orbit_result(self.state, samples_per_revolution))
         steps = self.steps or STEPS_PER_REVOLUTION  # 0: found without time steps
         save = max(1, steps // samples_per_revolution)
         integ = _integrator(self.k, steps, True)
@@ -284,6 +296,10 @@ class PeriodicOrbit:
 
     def max_radius(self, samples_per_revolution: int = 256) -> float:
         """Largest shaft-centre distance (m) at the contact station (or midspan) on the orbit."""
+        from rubrotor.shooting_general import is_general
+
+        if is_general(self.scenario):
+            return prepared_map(self.scenario, self.k, self.steps).run(self.state)[2]
         res = simulate_scenario(
             self.scenario,
             _integrator(self.k, self.steps or STEPS_PER_REVOLUTION, True),
@@ -299,12 +315,20 @@ def multipliers_of(jac: np.ndarray) -> np.ndarray:
     return mu[np.argsort(-np.abs(mu), kind="stable")]
 
 
+def prepared_map(scenario, k: int, steps: int):
+    """The prepared ``k``-revolution map of a scenario: ``_Map`` for the continuous rotor,
+    ``rubrotor.shooting_general.GeneralMap`` for a general one (same ``run`` interface)."""
+    from rubrotor.shooting_general import GeneralMap, is_general
+
+    return GeneralMap(scenario, k, steps) if is_general(scenario) else _Map(scenario, k, steps)
+
+
 def newton_orbit(scenario, x0, k=1, steps=STEPS_PER_REVOLUTION, tol=1e-12, max_iter=30):
     """Newton iterations on ``P(x) - x = 0``; returns ``(x, jac, residual, iterations)``.
 
-    ``scenario`` may also be a prepared ``_Map`` (of ``k`` revolutions, ``steps``).
+    ``scenario`` may also be a prepared map (of ``k`` revolutions, ``steps``).
     """
-    mp = scenario if isinstance(scenario, _Map) else _Map(scenario, k, steps)
+    mp = scenario if hasattr(scenario, "run") else prepared_map(scenario, k, steps)
     x = np.asarray(x0, float).copy()
     for it in range(1, max_iter + 1):
         px, jac, _ = mp.run(x, True)
@@ -328,7 +352,10 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
     ----------
     scenario : rubrotor.scenario.Scenario
         Rotor, speed (rad/s), unbalance, contact, damping (no side load needed; with a load the
-        guess must be at unbalance angle 0).
+        guess must be at unbalance angle 0). A general rotor (``[[section]]`` tables, the
+        general engine at constant speed) is shot on its reduced modal state (the map of
+        ``rubrotor.shooting_general``, difference monodromy); its states are the vectors
+        ``[Re y, Im y, F]`` of that module.
     guess : RotorState, optional
         Start of Newton (e.g. a previous orbit's state or a simulation's ``final_state``);
         default the steady no-contact orbit's state.
@@ -345,24 +372,33 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
     -------
     PeriodicOrbit
     """
-    scenario.require_seed_engine("periodic orbits (shooting, continuation)")
+    from rubrotor.shooting_general import is_general
+
+    general = is_general(scenario)
+    if not general:
+        scenario.require_seed_engine("periodic orbits (shooting, continuation)")
     if isinstance(k, bool) or not isinstance(k, int) or k < 1:
         raise InputError("k", k, "an integer >= 1 (revolutions per period)")
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 16:
         raise InputError("steps", steps, "an integer >= 16 (steps per revolution)")
-    if guess is None:
+    mp = prepared_map(scenario, k, steps)
+    if guess is None and general:
+        guess = mp.start()
+    elif guess is None:
         res = simulate_scenario(
             scenario, _integrator(1, steps, False), progress=False, initial="steady"
         )
         guess = res.final_state
     x0 = state_vector(guess)
-    if transient_revolutions:
+    if transient_revolutions and not general:
         x0 = strobe(scenario, x0, int(transient_revolutions), steps)
-    x, jac, residual, it = newton_orbit(_Map(scenario, k, steps), x0, k, steps, tol)
+    elif transient_revolutions:
+        x0 = prepared_map(scenario, int(transient_revolutions), steps).run(x0)[0]
+    x, jac, residual, it = newton_orbit(mp, x0, k, steps, tol)
     mu = multipliers_of(jac)
     return PeriodicOrbit(
         scenario=scenario,
-        state=vector_state(x),
+        state=x.copy() if general else vector_state(x),
         k=k,
         period=k * 2 * math.pi / scenario.speed,
         multipliers=mu,
