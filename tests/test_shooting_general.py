@@ -75,9 +75,9 @@ def test_rub_orbit_is_the_attractor_of_the_time_simulation(orbit):
     assert rate == pytest.approx(abs(orbit.multipliers[0]), rel=0.005)
 
 
-def test_orbit_dataset_and_refusals(orbit, capsys):
-    """The orbit as a Dataset like a simulation's (closing on itself); continuation of a general
-    rotor is refused by name, as is a speed profile."""
+def test_orbit_dataset_and_refusals(orbit):
+    """The orbit as a Dataset like a simulation's (closing on itself); the synchronous route is
+    refused by name on a general rotor, and so is a speed profile."""
     from rubrotor.continuation import continue_orbit
 
     ds = orbit.dataset(64)
@@ -86,5 +86,38 @@ def test_orbit_dataset_and_refusals(orbit, capsys):
     assert orbit.max_radius() == pytest.approx(
         float(np.max(np.hypot(ds["v"].values[0], ds["w"].values[0]))), rel=1e-3
     )
-    with pytest.raises(InputError, match="section"):
-        continue_orbit(load_scenario(SEAL), "speed.rad_per_s", 600.0, 650.0, points=3)
+    with pytest.raises(InputError, match="method"):
+        continue_orbit(load_scenario(SEAL), "speed.rad_per_s", 600.0, 650.0, points=3,
+                       method="synchronous")  # fmt: skip
+    runup = resources.files("rubrotor") / "scenarios" / "runup_rub.toml"
+    with pytest.raises(InputError, match="speed.profile"):
+        shooting.shoot(load_scenario(runup))
+
+
+def test_continuation_in_speed_equals_shooting_at_each_speed(tmp_path, capsys):
+    """A general rotor's branch in speed (maps rebuilt at every speed, their modes aligned with
+    the first speed's): at three of its points, shooting from scratch at that speed (its own
+    reduction and modal basis) gives the same largest radius and multiplier moduli to 1e-5
+    (the continuation's tolerance on a general rotor is 1e-6). Through the CLI: --json and
+    --figure (no follow sweep for a general rotor) work."""
+    import json
+
+    from rubrotor.cli import main
+    from rubrotor.continuation import continue_orbit
+
+    sc = load_scenario(SEAL)
+    branch = continue_orbit(sc, "speed.rad_per_s", 628.3, 700.0, points=6, steps=128)
+    assert branch.method == "shooting" and len(branch.points) == 6
+    assert branch.points[-1].value > branch.points[0].value
+    for p in branch.points[2::2]:
+        orb = shooting.shoot(sc.with_changes(**{"speed.rad_per_s": p.value}), steps=128,
+                             transient_revolutions=100)  # fmt: skip
+        assert orb.max_radius() == pytest.approx(p.max_radius_m, rel=1e-5)
+        np.testing.assert_allclose(np.abs(orb.multipliers[:6]), np.abs(p.multipliers[:6]),
+                                   rtol=1e-5)  # fmt: skip
+    out, fig = tmp_path / "b.nc", tmp_path / "b.png"
+    args = ["continue", str(SEAL), "--vary", "speed.rad_per_s=628.3:650", "--points", "3",
+            "--steps", "128", "--out", str(out), "--json", "--figure", str(fig)]  # fmt: skip
+    assert main(args) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert len(summary["points"]) == 3 and out.exists() and fig.exists()

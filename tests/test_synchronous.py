@@ -205,15 +205,14 @@ def test_cli_continue_method_and_richardson(tmp_path, capsys):
     assert ds.attrs["methods"] == "shooting" and ds.sizes["point"] == 4
 
 
-def test_general_rotor_is_refused_by_name_not_a_traceback(tmp_path, capsys):
-    """Continuation, the synchronous route, Lyapunov exponents, state-carrying sweeps and the
-    seed engine's simulate_scenario run on the continuous [shaft] rotor (shooting runs on both,
-    tests/test_shooting_general.py); a general ([[section]]) rotor gets an error naming
-    ``section`` (exit 2 on the CLI), not a traceback."""
+def test_general_rotor_is_refused_by_name_not_a_traceback():
+    """The synchronous route, Lyapunov exponents, state-carrying sweeps and the seed engine's
+    simulate_scenario run on the continuous [shaft] rotor (shooting and continuation run on
+    both, tests/test_shooting_general.py); a general ([[section]]) rotor gets an error naming
+    ``section``, not a traceback."""
     from importlib import resources
 
     import rubrotor
-    from rubrotor.cli import main
     from rubrotor.follow import follow_sweep
     from rubrotor.integrator import Integrator
     from rubrotor.scenario import load_scenario
@@ -222,7 +221,6 @@ def test_general_rotor_is_refused_by_name_not_a_traceback(tmp_path, capsys):
     path = resources.files("rubrotor") / "scenarios" / "seal_rub.toml"
     sc = load_scenario(path)
     calls = (
-        lambda: continue_orbit(sc, "speed.rad_per_s", 300.0, 320.0, points=3),
         lambda: synchronous_orbit(sc),
         lambda: rubrotor.lyapunov_exponents(sc),
         lambda: follow_sweep(sc, "speed.rad_per_s", np.array([300.0, 310.0])),
@@ -231,8 +229,3 @@ def test_general_rotor_is_refused_by_name_not_a_traceback(tmp_path, capsys):
     for call in calls:
         with pytest.raises(InputError, match="section"):
             call()
-    args = ["continue", str(path), "--vary", "speed.rad_per_s=300:320", "--out",
-            str(tmp_path / "b.nc")]  # fmt: skip
-    assert main(args) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "section" in err

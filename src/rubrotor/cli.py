@@ -1296,9 +1296,12 @@ def _continue_run(args: argparse.Namespace) -> int:
     if args.figure is not None:
         from rubrotor.follow import follow_sweep
         from rubrotor.plotting import branch_figure
+        from rubrotor.shooting_general import is_general
 
         values = np.linspace(min(start, stop), max(start, stop), max(args.sweep_points, 2))
-        sweep = follow_sweep(scenario, key, values, direction="both", workers=2)
+        sweep = None  # state-carrying sweeps run on the continuous rotor only
+        if not is_general(scenario):
+            sweep = follow_sweep(scenario, key, values, direction="both", workers=2)
         branch_figure(branch, sweep, others=branches[1:]).savefig(args.figure, dpi=130)
     if args.json:
         summary = branch.summary()

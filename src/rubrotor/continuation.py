@@ -10,7 +10,9 @@ oriented along the previous one); predictor ``z + ds t``; corrector = quasi-Newt
 on ``[G; t . (z - z_pred)] = 0`` from the previous point's Jacobian, full Newton if that
 fails; ``ds`` halves on failure and grows by 1.5 after a quick corrector. Optionally each point
 is Richardson-extrapolated to zero step from the maps of ``N`` and ``2 N`` steps
-(``_extrapolate``).
+(``_extrapolate``). A general rotor's map (``rubrotor.shooting_general``) is rebuilt at every
+key value with its modes aligned to the first value's; circular orbits of the axisymmetric
+rotor are continued on the rotating frame's field instead (``_SyncProblem``).
 
 Bifurcations, between consecutive points, from sign changes of test functions:
 
@@ -175,7 +177,17 @@ of the scenario, no critical-speed solve, the modal system kept unless gyroscopi
 
 
 class _Problem:
-    """Residual and Jacobian of the continuation in scaled unknowns."""
+    """Residual and Jacobian of the continuation in scaled unknowns.
+
+    ``tol``: the corrector's relative tolerance; ``h_rel``: the relative increment of the
+    key's central difference. A general rotor's map is rebuilt (reduced and diagonalised) at
+    every key value, which carries ~2e-8 of relative noise from one build to the next
+    (eigenvector accuracy, measured on ``seal_rub.toml``): there the corrector stops at 1e-6
+    and the key's difference uses 1e-4.
+    """
+
+    tol = None  # set below, after CORRECTOR_TOL
+    h_rel = 1e-6
 
     def __init__(self, scenario, key, k, steps, sx, sp, richardson=False):
         self.scenario, self.key, self.k, self.steps = scenario, key, k, steps
@@ -214,6 +226,11 @@ class _Problem:
                 bases[steps] = (prepared_map(sc, self.k, steps), sc.speed / self.sp)
             if steps in bases:
                 cache[p, steps] = bases[steps][0].at_speed(bases[steps][1] * p)
+            elif is_general(self.scenario):  # coordinates aligned with the first key value's
+                first = self.__dict__.setdefault("_first", {})
+                if steps not in first:
+                    first[steps] = prepared_map(self.at(self.sp), self.k, steps)
+                cache[p, steps] = prepared_map(self.at(p), self.k, steps, first[steps])
             else:
                 cache[p, steps] = prepared_map(self.at(p), self.k, steps)
         return cache[p, steps]
@@ -236,7 +253,7 @@ class _Problem:
         x, p = self.unscale(z)
         px, jac, rmax = self.map_at(p, steps).run(x, True)
         self._radius = {z.tobytes(): rmax}
-        h = 1e-6 * abs(p)
+        h = self.h_rel * abs(p)
         up = self.map_at(p + h, steps).run(x)[0]
         gp = (up - self.map_at(p - h, steps).run(x)[0]) / (2 * h)
         gx = (jac - np.eye(x.size)) * self.sx / self.sx[:, None]
@@ -325,7 +342,7 @@ def _tangent(gz, previous):
     return t
 
 
-def _chord(prob, z_pred, t, gz0, tol=1e-11, max_iter=12):
+def _chord(prob, z_pred, t, gz0, tol=None, max_iter=12):
     """Quasi-Newton (Broyden) iterations from the previous point's Jacobian ``gz0``.
 
     One map run each: the augmented Jacobian ``[G_z; t]`` starts as the previous point's and
@@ -334,6 +351,7 @@ def _chord(prob, z_pred, t, gz0, tol=1e-11, max_iter=12):
     ``(z, gz, jac, iterations)`` when the step and the scaled residual at the final Jacobian
     evaluation are below ``tol``, else None (the caller then runs full Newton).
     """
+    tol = prob.tol if tol is None else tol
     a = np.vstack([gz0, t])
     z = z_pred.copy()
     g_old = dz = None
@@ -361,15 +379,17 @@ def _chord(prob, z_pred, t, gz0, tol=1e-11, max_iter=12):
 
 CORRECTOR_TOL = 1e-11
 """Relative step and scaled residual at which the corrector stops (dimensionless)."""
+_Problem.tol = CORRECTOR_TOL
 
 
-def _correct(prob, z_pred, t, tol=CORRECTOR_TOL, max_iter=8):
+def _correct(prob, z_pred, t, tol=None, max_iter=8):
     """Newton on ``[G; t . (z - z_pred)]``; returns ``(z, gz, jac, iterations)`` or None.
 
     Converged when both the step and the scaled residual are below ``tol`` (relative): near a
     non-smooth point the difference Jacobian is smeared and Newton only converges linearly, so
     a small step alone does not mean a small error.
     """
+    tol = prob.tol if tol is None else tol
     z = z_pred.copy()
     small_step = False
     for it in range(max_iter + 1):
@@ -511,7 +531,7 @@ def _locate_turn(prob, z0, t0, ds, gz0=None, bounds=None):
         if gz0 is not None:
             try:
                 z = _solve_on_plane(prob, z0 + s * t0, t0, np.vstack([gz0, t0]), None,
-                                    tol=CORRECTOR_TOL, max_iter=20)  # fmt: skip
+                                    tol=prob.tol, max_iter=20)  # fmt: skip
             except (InputError, np.linalg.LinAlgError):
                 z = None
         if z is None:
@@ -660,10 +680,6 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         raise InputError("--vary", f"{start}:{stop}", "START:STOP with finite START != STOP")
     if isinstance(points, bool) or not isinstance(points, int) or points < 2:
         raise InputError("points", points, "an integer >= 2")
-    if is_general(scenario):  # its modal basis changes with the key; shoot() runs on it
-        raise InputError("section", "[[section]] tables", "a [shaft] scenario: continuation of "
-                         "a general rotor's periodic orbits is not available yet (rubrotor."
-                         "shooting.shoot finds them, with their multipliers)")  # fmt: skip
     sc0 = scenario.with_changes(**{key: float(start)})
     orbit = shoot(sc0, guess, k, steps=steps, transient_revolutions=transient_revolutions)
     if _route(sc0, k, orbit, method) == "synchronous":
@@ -679,6 +695,9 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         t = -t
     return _march(prob, z, t, gz, jac, (min(start, stop), max(start, stop)), points, ds, ds_max)
 
+
+GENERAL_TOL = 1e-6
+"""The corrector's tolerance on a general rotor (see :class:`_Problem`)."""
 
 METHODS = ("auto", "shooting", "synchronous")
 """Routes of :func:`rubrotor.continuation.continue_orbit`."""
@@ -707,6 +726,7 @@ def _problem(scenario, key, k, steps, x0, p0, kind=_Problem) -> _Problem:
     if is_general(scenario):
         prob = kind(scenario, key, k, steps, np.ones(x0.size), abs(p0))
         prob.sx = prob.map_at(p0)._scales(x0)
+        prob.tol, prob.h_rel = GENERAL_TOL, 1e-4
         return prob
     speed = scenario.with_changes(**{key: float(p0)}).speed
     sx = np.full(x0.size, max(np.max(np.abs(x0[: x0.size // 2])), 1e-12))

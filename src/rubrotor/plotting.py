@@ -272,6 +272,16 @@ def _is_log_spaced(v) -> bool:
     return bool(np.allclose(lv, lv[0]) and not np.allclose(np.diff(v), v[1] - v[0]))
 
 
+def _key_label(key: str) -> str:
+    """``key (unit)`` from the scenario schema (as :func:`_axis_label` does from a sweep)."""
+    from rubrotor.schema import key_unit
+
+    units = key_unit(key)
+    if units == "x first forward critical":
+        return f"{key}  ($\\Omega$ / first forward critical speed)"
+    return f"{key} ({units})" if units and units != "1" else key
+
+
 def _axis_label(ds, key: str) -> str:
     units = ds[key].attrs.get("units", "")
     if units == "x first forward critical":
@@ -1107,7 +1117,7 @@ def branch_figure(branch, sweep=None, others=()) -> Figure:
         ax.plot(b.value, b.max_radius_m * 1e6, marks[b.type], color="k", ms=8)
     for t in sorted({b.type for b in bifs}):
         handles.append(Line2D([], [], ls="", marker=marks[t], color="k", label=t))
-    ax.set_xlabel(branch.key if sweep is None else _axis_label(sweep, branch.key))
+    ax.set_xlabel(_key_label(branch.key) if sweep is None else _axis_label(sweep, branch.key))
     ax.set_ylabel("largest orbit radius at contact station (um)")
     ax.grid(alpha=0.3)
     ax.legend(handles=handles, fontsize=8)

@@ -315,12 +315,15 @@ def multipliers_of(jac: np.ndarray) -> np.ndarray:
     return mu[np.argsort(-np.abs(mu), kind="stable")]
 
 
-def prepared_map(scenario, k: int, steps: int):
+def prepared_map(scenario, k: int, steps: int, reference=None):
     """The prepared ``k``-revolution map of a scenario: ``_Map`` for the continuous rotor,
-    ``rubrotor.shooting_general.GeneralMap`` for a general one (same ``run`` interface)."""
+    ``rubrotor.shooting_general.GeneralMap`` for a general one (same ``run`` interface; its
+    modes aligned with those of the map ``reference`` when given)."""
     from rubrotor.shooting_general import GeneralMap, is_general
 
-    return GeneralMap(scenario, k, steps) if is_general(scenario) else _Map(scenario, k, steps)
+    if is_general(scenario):
+        return GeneralMap(scenario, k, steps, reference=reference)
+    return _Map(scenario, k, steps)
 
 
 def newton_orbit(scenario, x0, k=1, steps=STEPS_PER_REVOLUTION, tol=1e-12, max_iter=30):

@@ -62,7 +62,8 @@ class GeneralMap:
         Spin speed (rad/s) instead of the scenario's.
     """
 
-    def __init__(self, scenario, k: int, steps: int, speed: float | None = None):
+    def __init__(self, scenario, k: int, steps: int, speed: float | None = None,
+                 reference: GeneralMap | None = None):  # fmt: skip
         from rubrotor.simulate_engine import engine_problem
 
         eng = scenario.engine
@@ -81,7 +82,12 @@ class GeneralMap:
         T = 2 * math.pi / self.speed
         run = dataclasses.replace(run, speed=self.speed, initial="steady", duration=k * T,
                                   step=T / steps, save_every=1)  # fmt: skip
-        self.plant = plant = build_plant(system, run, **kw)
+        plant = build_plant(system, run, **kw, dense=True)  # exact modes: maps are compared
+        # across key values (ARPACK's tolerance would be noise of ~1e-10 between them)
+        self.reference = reference
+        if reference is not None:
+            plant = aligned(plant, reference.plant)
+        self.plant = plant
         self._steps = _steps(plant, run.step, run.sublevels + 1)
         self._control = _control(plant, self._steps, run)
         self._drive = _no_drive(plant.lam.size)
@@ -90,8 +96,9 @@ class GeneralMap:
         self._nch = 4 * len(plant.stations) + CONTACT_CHANNELS * len(kw["stations"])
 
     def at_speed(self, speed: float) -> GeneralMap:
-        """The same map at another spin speed (rad/s): the plant is rebuilt."""
-        return GeneralMap(self.scenario, self.k, self.steps, speed)
+        """The same map at another spin speed (rad/s): the plant is rebuilt and its modes
+        aligned with this map's (or its reference's), so that ``x`` means the same there."""
+        return GeneralMap(self.scenario, self.k, self.steps, speed, self.reference or self)
 
     def start(self) -> np.ndarray:
         """The steady no-contact response as a start vector (``y = 0``, no force)."""
@@ -158,3 +165,40 @@ class GeneralMap:
         amp = max(float(np.max(np.abs(x[: 2 * ns]))), 1e-12)
         force = max(float(np.max(np.abs(x[2 * ns :]), initial=0.0)), 1e-6)
         return np.concatenate([np.full(2 * ns, amp), np.full(self.m, force)])
+
+
+def aligned(plant, ref):
+    """``plant`` with its rotor modes matched, ordered and scaled to those of ``ref``.
+
+    The modal coordinates of a rebuilt plant (another speed, another key value) come in the
+    eigen-solver's order, normalisation and phase. Each of ``ref``'s rotor modes is matched to
+    the mode of ``plant`` whose shape overlaps it most (an assignment on the normalised overlaps
+    ``|V_ref^H V|``) and that mode is rescaled by the complex factor ``c`` that brings its shape
+    closest to ``ref``'s (least squares): ``V' = V c``, ``y' = y / c``, so inputs ``beta / c``
+    and rows ``C c``. The dynamics are unchanged; only the coordinates follow ``ref``'s, which
+    makes the map's state continuous in the key (the stator modes do not change).
+    """
+    import scipy.optimize
+
+    nsr, ns = plant.n_rotor, plant.lam.size
+    if nsr != ref.n_rotor or ns != ref.lam.size:
+        raise InputError("simulation.modes", nsr, f"the same number of modes at every key value "
+                         f"({ref.n_rotor} at the first): set simulation.modes")  # fmt: skip
+    A, B = ref.rotor.Vq, plant.rotor.Vq
+    ov = np.abs(A.conj().T @ B) / np.outer(np.linalg.norm(A, axis=0), np.linalg.norm(B, axis=0))
+    order = scipy.optimize.linear_sum_assignment(-ov)[1]
+    c = np.array([(B[:, i].conj() @ A[:, j]) / (B[:, i].conj() @ B[:, i])
+                  for j, i in enumerate(order)])  # fmt: skip
+    idx = np.concatenate([order, np.arange(nsr, ns)])
+    scale = np.concatenate([c, np.ones(ns - nsr)])
+    cts, out = plant.contacts, plant.outputs
+
+    def cols(a):
+        return np.ascontiguousarray(a[:, idx] * scale[None, :])
+
+    return dataclasses.replace(
+        plant, lam=plant.lam[idx], beta=plant.beta[idx] / scale[:, None],
+        contacts=cts._replace(Cd=cols(cts.Cd), Cv=cols(cts.Cv)),
+        outputs=out._replace(Od=cols(out.Od), Ov=cols(out.Ov), Sd=cols(out.Sd), Sv=cols(out.Sv)),
+        y0=plant.y0[idx] / scale,
+    )  # fmt: skip

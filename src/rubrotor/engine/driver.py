@@ -139,7 +139,7 @@ def _initial(run: Run, modes: Modes, q_s, Q, speed) -> np.ndarray:
 
 
 def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=(0.0, 0.0),
-                basis=None):  # fmt: skip
+                basis=None, dense=False):  # fmt: skip
     """Reduce the rotor and assemble rows, particular solutions and initial state.
 
     Parameters
@@ -160,6 +160,9 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
         Diagonalise the system projected on this basis (run-up segments) instead of the full
         model (:func:`rubrotor.engine.reduce.reduce_auto`: a few modes of a large model by
         ARPACK, otherwise a dense eigen-decomposition).
+    dense : bool
+        Always the dense eigen-decomposition (modes exact to rounding, not to ARPACK's
+        tolerance: for maps compared across key values, as in continuation).
 
     Returns
     -------
@@ -173,6 +176,8 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     Bmat = np.hstack(Bc) if nc else np.zeros((sm.M.shape[0], 0))
     if basis is not None:
         modes = reduce_projected(sm.M, sm.damping, sm.K, basis, run.modes, run.cutoff)
+    elif dense:
+        modes = reduce_matrices(sm.M, sm.damping, sm.K, run.modes, run.cutoff)
     else:
         modes = reduce_auto(sm.M, sm.damping, sm.K, run.modes, run.cutoff, fmap=Bmat)
     Rq, Rv = (modes.Rq, modes.Rv) if run.residual else (0 * modes.Rq, 0 * modes.Rv)
