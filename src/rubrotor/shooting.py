@@ -104,8 +104,9 @@ class _Map:
         Fixed steps per revolution.
     speed : float, optional
         Spin speed (rad/s) instead of the scenario's.
-    sysm : ModalSystem, optional
-        The modal system at ``speed`` when already assembled.
+    base : _Map, optional
+        A map of the same rotor whose modal system is reused (a non-gyroscopic rotor's modes
+        do not change with the speed).
     """
 
     def __init__(self, scenario, k: int, steps: int, speed: float | None = None, base=None):

@@ -60,6 +60,9 @@ class GeneralMap:
         Fixed steps per revolution.
     speed : float, optional
         Spin speed (rad/s) instead of the scenario's.
+    reference : GeneralMap, optional
+        Align the modes with this map's (:func:`aligned`), so that states mean the same in
+        both (continuation along a key).
     """
 
     def __init__(self, scenario, k: int, steps: int, speed: float | None = None,
