@@ -198,11 +198,18 @@ def test_chaotic_partial_rub_has_a_converged_positive_exponent_and_periodic_a_ne
     is not used) and no
     Poincare period within 12 revolutions in a brute-force run.
     """
-    est = [
+    runs = [
         lyapunov_exponents(CHAOTIC, revolutions=n, transient_revolutions=300,
-                           steps_per_revolution=1024).per_revolution[0]
+                           steps_per_revolution=1024)
         for n in (400, 800, 1600)
     ]  # fmt: skip
+    # a run that leaves the chaotic set for a blown-up state where a contact solve fails (which
+    # rounding decides: one compiled build did so after 928 of 1600 revolutions at 1034 steps
+    # per revolution) keeps the average over its completed chunks, marked partial
+    revs = [r.averaging_time * CHAOTIC.speed / (2 * np.pi) for r in runs]
+    assert min(revs) > 255 and all(r.status == "complete" or r.status.startswith("partial")
+                                   for r in runs)  # fmt: skip
+    est = [r.per_revolution[0] for r in runs]
     assert min(est) > 0.5 and (max(est) - min(est)) < 0.05 * np.mean(est)
     m, _ = simulate_point(CHAOTIC, 300, 500, 64, lyapunov=True)
     assert m["regime"] == CHAOTIC_CODE and m["period"] == 0 and 0 < m["contact_fraction"] < 1

@@ -59,8 +59,10 @@ class LyapunovResult:
     step : float
         Fixed step of the map (s).
     status : str
-        ``"complete"`` or why it stopped (``"diverged"``, ``"contact solve failed"``,
-        ``"tangent vectors degenerate"``); exponents are NaN when not complete.
+        ``"complete"``; ``"partial: ..."`` when the run stopped while averaging (it diverged, a
+        contact solve failed, the tangent vectors degenerated), the exponents then averaged
+        over the chunks of :data:`CHUNK_REVOLUTIONS` completed before (``averaging_time``);
+        or why it stopped during the transient, with NaN exponents.
     final_state : rubrotor.simulation.RotorState or None
         The state at the end (None when not complete).
     """
@@ -74,6 +76,9 @@ class LyapunovResult:
 
 
 _STATUS = {0: "complete", 1: "diverged", 2: "contact solve failed", 3: "tangent vectors degenerate"}
+CHUNK_REVOLUTIONS = 16
+"""Revolutions per kernel call while averaging: when a run stops (it diverged, a contact solve
+failed), the exponents averaged over the chunks completed before it are kept."""
 
 
 def _setup(scenario, h: float):
@@ -184,13 +189,24 @@ def lyapunov_exponents(
     if n_tr:
         expo_tangent(y, cstate, istate, n_tr, renorm_every, Q, logs, *args, max_disp)
     logs[:] = 0.0
-    if istate[1] == 0:
-        expo_tangent(y, cstate, istate, n_av, renorm_every, Q, logs, *args, max_disp)
+    done = 0
+    while istate[1] == 0 and done < n_av:  # chunks: a failure keeps the average so far
+        n = min(CHUNK_REVOLUTIONS * steps_per_revolution, n_av - done)
+        kept = logs.copy()
+        expo_tangent(y, cstate, istate, n, renorm_every, Q, logs, *args, max_disp)
+        if istate[1] != 0:
+            logs[:] = kept
+        else:
+            done += n
     status = _STATUS[int(istate[1])]
-    t_av = n_av * h
-    if status != "complete":
+    if done == 0:
         nan = np.full(count, np.nan)
-        return LyapunovResult(nan, nan, t_av, h, status, None)
-    lam = np.sort(logs / t_av)[::-1]
-    final = _state_of(sysm, y + y_u * cstate[1] + y_l, speed * int(istate[0]) * h)
-    return LyapunovResult(lam, lam * 2 * math.pi / speed, t_av, h, status, final)
+        return LyapunovResult(nan, nan, n_av * h, h, status, None)
+    lam = np.sort(logs / (done * h))[::-1]
+    final = None
+    if status == "complete":
+        final = _state_of(sysm, y + y_u * cstate[1] + y_l, speed * int(istate[0]) * h)
+    else:
+        status = (f"partial: {status} after {done // steps_per_revolution} of {revolutions} "
+                  "revolutions (exponents averaged over those)")  # fmt: skip
+    return LyapunovResult(lam, lam * 2 * math.pi / speed, done * h, h, status, final)
