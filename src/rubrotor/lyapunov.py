@@ -61,7 +61,7 @@ class LyapunovResult:
     status : str
         ``"complete"``; ``"partial: ..."`` when the run stopped while averaging (it diverged, a
         contact solve failed, the tangent vectors degenerated), the exponents then averaged
-        over the chunks of :data:`CHUNK_REVOLUTIONS` completed before (``averaging_time``);
+        over the chunks of ``CHUNK_REVOLUTIONS`` completed before (``averaging_time``);
         or why it stopped during the transient, with NaN exponents.
     final_state : rubrotor.simulation.RotorState or None
         The state at the end (None when not complete).
