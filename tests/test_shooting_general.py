@@ -121,3 +121,70 @@ def test_continuation_in_speed_equals_shooting_at_each_speed(tmp_path, capsys):
     assert main(args) == 0
     summary = json.loads(capsys.readouterr().out)
     assert len(summary["points"]) == 3 and out.exists() and fig.exists()
+
+
+def test_state_carrying_sweep_follows_the_shot_orbits():
+    """Up and down state-carrying sweeps of the seal rub in speed (general engine, the state
+    carried in aligned modal coordinates): the up chain stays on the rub orbit and the down
+    chain, started from the steady no-contact response at 700 rad/s, on the no-contact orbit
+    down to 650 rad/s (hysteresis; at 600 rad/s only the rub remains). Reference: shooting at each speed from the sweep's regime
+    (the rub orbit from 300 transient revolutions of the 600 rad/s rub state; the no-contact
+    orbit from the steady response), whose largest radius the sweep's must equal to 1e-7 after its 100
+    transient revolutions (largest multiplier ~0.8: 0.8^100 ~ 2e-10)."""
+    from rubrotor.follow import follow_general
+    from rubrotor.regimes import regime_labels
+
+    sc = load_scenario(SEAL)
+    speeds = [600.0, 650.0, 700.0]
+    ds = follow_general(sc, "speed.rad_per_s", speeds, "both", 100, 10, 128, steps=128)
+    labels = regime_labels(ds)
+    assert all(lab != "no contact" for lab in labels[0]) and all(labels[1, 1:] == "no contact")
+    rub = shooting.shoot(
+        sc.with_changes(**{"speed.rad_per_s": 600.0}), steps=128, transient_revolutions=100
+    )  # the only attractor at 600 rad/s
+    for j, w in enumerate(speeds[1:], start=1):
+        here = sc.with_changes(**{"speed.rad_per_s": w})
+        # the rub orbit: 300 revolutions from the 600 rad/s rub state (read in this map's own
+        # modes: a large start in contact), then Newton; the no-contact orbit from the steady
+        # response
+        on = shooting.shoot(here, rub.state, steps=128, transient_revolutions=300)
+        off = shooting.shoot(here, steps=128)
+        assert on.max_radius() > 75e-6 > 65e-6 > off.max_radius()
+        assert ds["max_displacement"].values[0, j] == pytest.approx(on.max_radius(), rel=1e-7)
+        assert ds["max_displacement"].values[1, j] == pytest.approx(off.max_radius(), rel=1e-7)
+
+
+def test_lyapunov_exponents_of_a_general_rotor(tmp_path, orbit):
+    """Benettin on the general map (differences along the tangent vectors, QR each revolution).
+
+    References: without contact, the exponents per revolution are ``Re(lambda) T`` of the
+    reduced linear system (each mode twice, its real plane): each to 1e-5 after 100 revolutions
+    (the two of a pair share its growth unevenly over a finite run, measured 3e-6 at 128 steps
+    per revolution) and each pair's sum to 1e-6 (measured 2e-7); on the seal rub's periodic orbit the two largest (a complex pair of
+    multipliers) sum to ``2 ln|mu_max|`` of shooting's difference monodromy (its eigenvalues, a
+    separate computation) to 1e-3. A state-carrying sweep with ``lyapunov=True`` labels the
+    periodic rub by a negative exponent.
+    """
+    import rubrotor
+    from rubrotor.follow import follow_sweep
+
+    path = tmp_path / "free.toml"
+    path.write_text(SEAL.read_text().replace("clearance = 40e-6", "clearance = 1e-2"))
+    free = load_scenario(path)
+    r = rubrotor.lyapunov_exponents(free, count=4, revolutions=100, transient_revolutions=100,
+                                    steps_per_revolution=STEPS)  # fmt: skip
+    lam = GeneralMap(free, 1, STEPS).plant.lam
+    ref = np.sort(np.repeat(lam.real, 2))[::-1][:4] * 2 * math.pi / free.speed
+    np.testing.assert_allclose(r.per_revolution, ref, atol=1e-5)  # within a pair: ~1 / N
+    pairs = r.per_revolution[0::2] + r.per_revolution[1::2]
+    np.testing.assert_allclose(pairs, ref[0::2] + ref[1::2], atol=1e-6)
+    rub = rubrotor.lyapunov_exponents(load_scenario(SEAL), count=2, revolutions=100,
+                                      transient_revolutions=100, steps_per_revolution=STEPS,
+                                      start=orbit.state)  # fmt: skip
+    mu = np.log(np.abs(orbit.multipliers[0]))
+    assert rub.status == "complete"
+    assert np.sum(rub.per_revolution) == pytest.approx(2 * mu, abs=1e-3)
+    ds = follow_sweep(load_scenario(SEAL), "speed.rad_per_s", [628.3], direction="up",
+                      transient_revolutions=50, revolutions=80, samples_per_revolution=32,
+                      lyapunov=True)  # fmt: skip
+    assert ds["lyapunov_exponent"].values[0, 0] < 0 and ds["period"].values[0, 0] == 1

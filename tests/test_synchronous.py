@@ -205,14 +205,14 @@ def test_cli_continue_method_and_richardson(tmp_path, capsys):
     assert ds.attrs["methods"] == "shooting" and ds.sizes["point"] == 4
 
 
-def test_general_rotor_is_refused_by_name_not_a_traceback():
-    """The synchronous route, Lyapunov exponents, state-carrying sweeps and the seed engine's
-    simulate_scenario run on the continuous [shaft] rotor (shooting and continuation run on
-    both, tests/test_shooting_general.py); a general ([[section]]) rotor gets an error naming
-    ``section``, not a traceback."""
+def test_general_rotor_is_refused_by_name_not_a_traceback(tmp_path):
+    """The synchronous route and the seed engine's simulate_scenario run on the continuous
+    [shaft] rotor, and a general rotor's state-carrying sweep is held in memory (shooting,
+    continuation, sweeps and Lyapunov exponents of general rotors:
+    tests/test_shooting_general.py): a general ([[section]]) rotor gets an error naming the
+    field, not a traceback."""
     from importlib import resources
 
-    import rubrotor
     from rubrotor.follow import follow_sweep
     from rubrotor.integrator import Integrator
     from rubrotor.scenario import load_scenario
@@ -221,11 +221,11 @@ def test_general_rotor_is_refused_by_name_not_a_traceback():
     path = resources.files("rubrotor") / "scenarios" / "seal_rub.toml"
     sc = load_scenario(path)
     calls = (
-        lambda: synchronous_orbit(sc),
-        lambda: rubrotor.lyapunov_exponents(sc),
-        lambda: follow_sweep(sc, "speed.rad_per_s", np.array([300.0, 310.0])),
-        lambda: simulate_scenario(sc, Integrator(revolutions=1.0)),
-    )
-    for call in calls:
-        with pytest.raises(InputError, match="section"):
+        (lambda: synchronous_orbit(sc), "section"),
+        (lambda: simulate_scenario(sc, Integrator(revolutions=1.0)), "section"),
+        (lambda: follow_sweep(sc, "speed.rad_per_s", [600.0], store=tmp_path / "s.zarr"),
+         "store"),
+    )  # fmt: skip
+    for call, field in calls:
+        with pytest.raises(InputError, match=field):
             call()

@@ -655,6 +655,13 @@ def _sweep_or_follow(scenario, vary: dict, args: argparse.Namespace, progress: b
     from rubrotor.sweep import sweep
 
     if args.follow is not None:
+        from rubrotor.shooting_general import is_general
+
+        if is_general(scenario):
+            raise InputError("--follow", args.follow, "a [shaft] scenario on the command line: "
+                             "a general rotor's state-carrying sweep is held in memory "
+                             "(rubrotor.follow.follow_sweep without a store; rubrotor continue "
+                             "--figure draws it)")  # fmt: skip
         ((key, values),) = vary.items()
         return follow_sweep(
             scenario,
@@ -1299,8 +1306,11 @@ def _continue_run(args: argparse.Namespace) -> int:
         from rubrotor.shooting_general import is_general
 
         values = np.linspace(min(start, stop), max(start, stop), max(args.sweep_points, 2))
-        sweep = None  # state-carrying sweeps run on the continuous rotor only
-        if not is_general(scenario):
+        if is_general(scenario):
+            from rubrotor.follow import follow_general
+
+            sweep = follow_general(scenario, key, values, "both", 100, 20, steps=args.steps)
+        else:
             sweep = follow_sweep(scenario, key, values, direction="both", workers=2)
         branch_figure(branch, sweep, others=branches[1:]).savefig(args.figure, dpi=130)
     if args.json:

@@ -43,7 +43,7 @@ import numpy as np
 
 from rubrotor.errors import InputError
 
-__all__ = ["DIRECTIONS", "follow_sweep", "run_follow_chunk"]
+__all__ = ["DIRECTIONS", "follow_general", "follow_sweep", "run_follow_chunk"]
 
 DIRECTIONS = {"up": ("up",), "down": ("down",), "both": ("up", "down")}
 """Accepted ``direction`` values and the chains each runs."""
@@ -273,8 +273,11 @@ def follow_sweep(
     xarray.Dataset
         Dimensions ``direction``, the key, ``revolution``, ``peak`` and ``state_component``;
         the variables of :func:`rubrotor.sweep.sweep` plus ``started_from``, ``final_state``,
-        ``final_phase``; attribute ``follow`` (the direction).
+        ``final_phase``; attribute ``follow`` (the direction). A general rotor's sweep
+        (``rubrotor.shooting_general.follow_general``, in memory, 256 fixed steps per
+        revolution) holds the scalar metrics and regimes only.
     """
+    from rubrotor.shooting_general import is_general
     from rubrotor.sweep import (
         _check_keys,
         _definition,
@@ -284,6 +287,13 @@ def follow_sweep(
         run_lengths,
     )
 
+    if is_general(scenario):
+        if store is not None:
+            raise InputError("store", store, "none for a general rotor (its sweep is held in "
+                             "memory and returned)")  # fmt: skip
+        t_rev, total = run_lengths(scenario, transient_revolutions, revolutions)
+        return follow_general(scenario, key, values, direction, t_rev, total - t_rev,
+                              samples_per_revolution, lyapunov=lyapunov)  # fmt: skip
     scenario.require_seed_engine("a state-carrying sweep")
     if direction not in DIRECTIONS:
         raise InputError("follow", direction, " | ".join(DIRECTIONS))
@@ -372,3 +382,115 @@ def _run_chains(ds, store, chains, chunk_size, pool, progress) -> None:
         import sys
 
         print(file=sys.stderr)
+
+
+SCALAR_METRICS = ("max_displacement", "contact_fraction", "impacts_per_revolution",
+                  "peak_normal_force", "amplitude_ripple", "regime", "period")  # fmt: skip
+"""Metrics of :func:`follow_general` (those of ``rubrotor.sweep.window_metrics``)."""
+
+
+def _window(mp, x: np.ndarray, samples_per_revolution: int, lyapunov: bool):
+    """End vector and metrics of one run of ``mp`` (its ``k`` revolutions are all kept); with
+    ``lyapunov`` the largest exponent over the same revolutions (:func:`lyapunov_general`)."""
+    from rubrotor.lyapunov import lyapunov_general
+    from rubrotor.sweep import window_metrics
+
+    lam = np.nan
+    if lyapunov:
+        lam = lyapunov_general(mp.scenario, revolutions=mp.k, steps=mp.steps, start=x,
+                               reference=mp.reference).exponents[0]  # fmt: skip
+    save = mp.steps // samples_per_revolution
+    px, out, events = mp._kernel(x, save)
+    nst = len(mp.plant.stations)
+    pw = out[0, 1:] + 1j * out[1, 1:]  # the first contact station, samples 1 .. k N
+    fn = out[4 * nst + 6, 1:]
+    mine = events[np.abs(events[:, 1]) == 1]
+    signed = mine[:, 0] * np.sign(mine[:, 1])
+    m = window_metrics(pw, fn, signed, mp.speed, 0, mp.k, samples_per_revolution, lam)
+    return px, m
+
+
+def follow_general(scenario, key: str, values, direction: str = "both",
+                   transient_revolutions: int = 100, revolutions: int = 50,
+                   samples_per_revolution: int = 32, steps: int = 256,
+                   lyapunov: bool = False):  # fmt: skip
+    """State-carrying sweep of a general rotor in one key (its fixed-step engine, in memory).
+
+    Each value runs ``transient_revolutions`` then ``revolutions`` kept revolutions from the
+    previous value's final state (the first from the steady no-contact response), as
+    :func:`follow_sweep` does for the continuous rotor; the state is carried as modal
+    coordinates and contact forces aligned with the first value's modes
+    (``rubrotor.shooting_general.aligned``), so a changed key changes the model, not the motion. The kept window is
+    reduced by ``rubrotor.sweep.window_metrics`` (same regimes as every sweep).
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        A general rotor with at least one contact, at constant speed.
+    key : str
+        The swept key (``"section.key"``, its units).
+    values : sequence of float
+        Key values (any order; run ascending up, descending down).
+    direction : {"up", "down", "both"}
+        Which chains.
+    transient_revolutions, revolutions : int
+        Revolutions discarded and kept per value.
+    samples_per_revolution : int
+        Kept samples per revolution (a divisor of ``steps``).
+    steps : int
+        Fixed steps per revolution.
+    lyapunov : bool
+        Also the largest Lyapunov exponent of every value's kept revolutions
+        (``lyapunov_exponent``, 1/s; it decides "chaotic" in the regimes).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``direction`` and the key (ascending); :data:`SCALAR_METRICS` (radius m,
+        forces N), ``lyapunov_exponent`` and ``status`` (1 classified, 0 the run diverged: the next value starts from
+        the steady response again).
+    """
+    import xarray as xr
+
+    from rubrotor.schema import key_unit
+    from rubrotor.shooting_general import GeneralMap
+
+    if direction not in DIRECTIONS:
+        raise InputError("follow", direction, " | ".join(DIRECTIONS))
+    if steps % samples_per_revolution:
+        raise InputError("samples_per_revolution", samples_per_revolution,
+                         f"a divisor of steps = {steps}")  # fmt: skip
+    vals = np.unique(np.asarray(values, float))
+    dirs = DIRECTIONS[direction]
+    data = {n: np.full((len(dirs), vals.size), np.nan)
+            for n in (*SCALAR_METRICS, "lyapunov_exponent")}  # fmt: skip
+    data["status"] = np.zeros((len(dirs), vals.size))
+    first = None
+    for i, d in enumerate(dirs):
+        x = None
+        for j in range(vals.size) if d == "up" else range(vals.size - 1, -1, -1):
+            sc = scenario.with_changes(**{key: float(vals[j])})
+            one = GeneralMap(sc, 1, steps, reference=first)
+            first = first or one
+            x = one.start() if x is None else x
+            try:
+                if transient_revolutions:
+                    x = GeneralMap(sc, transient_revolutions, steps, reference=first).run(x)[0]
+                kept = GeneralMap(sc, revolutions, steps, reference=first)
+                x, m = _window(kept, x, samples_per_revolution, lyapunov)
+            except InputError:  # diverged: not classified, the next value starts afresh
+                x = None
+                continue
+            for n in (*SCALAR_METRICS, "lyapunov_exponent"):
+                data[n][i, j] = m[n]
+            data["status"][i, j] = 1
+    units = {"max_displacement": "m", "peak_normal_force": "N", "impacts_per_revolution": "1/rev",
+             "lyapunov_exponent": "1/s"}  # fmt: skip
+    ds = xr.Dataset(
+        {n: (("direction", key), v, {"units": units.get(n, "1")}) for n, v in data.items()},
+        coords={"direction": list(dirs), key: (key, vals, {"units": key_unit(key)})},
+        attrs={"follow": direction, "rotor": "general"},
+    )
+    ds["regime"] = ds["regime"].fillna(-1).astype(int)
+    ds["period"] = ds["period"].fillna(0).astype(int)
+    return ds

@@ -163,6 +163,12 @@ def lyapunov_exponents(
     ):
         if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
             raise InputError(name, v, f"an integer >= {lo}")
+    from rubrotor.shooting_general import is_general
+
+    if is_general(scenario):  # the general engine's map, differences along the vectors
+        return lyapunov_general(scenario, count=count, revolutions=revolutions,
+                                transient_revolutions=transient_revolutions,
+                                steps=steps_per_revolution, start=start, seed=seed)  # fmt: skip
     scenario.require_seed_engine("Lyapunov exponents")
     speed = float(scenario.speed)
     h = 2 * math.pi / (steps_per_revolution * speed)
@@ -210,3 +216,85 @@ def lyapunov_exponents(
         status = (f"partial: {status} after {done // steps_per_revolution} of {revolutions} "
                   "revolutions (exponents averaged over those)")  # fmt: skip
     return LyapunovResult(lam, lam * 2 * math.pi / speed, done * h, h, status, final)
+
+
+def lyapunov_general(scenario, *, count: int = 1, revolutions: int = 100,
+                     transient_revolutions: int = 0, steps: int = 256, start=None,
+                     seed: int = 0, reference=None):  # fmt: skip
+    """The ``count`` largest Lyapunov exponents of a general rotor's one-revolution map.
+
+    Benettin's method on the map of ``rubrotor.shooting_general.GeneralMap``: every revolution the ``count`` tangent
+    vectors (in coordinates scaled by the start state's modal amplitude and contact force, so
+    that both weigh alike) are carried by central differences of the compiled map along each
+    of them (``2 count`` map runs, increment ``FD_STEP`` of that module; exact outside contact, where the map
+    is affine) and re-orthonormalised (QR), their log growths summed. The exponents are
+    those of the discrete map, per revolution and per second.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        A general rotor at constant speed with at least one contact.
+    count : int
+        Exponents (at most ``2 ns``, the modal state's real dimension).
+    revolutions, transient_revolutions : int
+        Averaged and discarded revolutions.
+    steps : int
+        Fixed steps per revolution.
+    start : ndarray, optional
+        Start vector ``[Re y, Im y, F]`` (default the steady no-contact response).
+    seed : int
+        Seed of the random first tangent vectors.
+    reference : rubrotor.shooting_general.GeneralMap, optional
+        The map whose modal coordinates ``start`` is given in (its ``aligned``).
+
+    Returns
+    -------
+    rubrotor.lyapunov.LyapunovResult
+        ``final_state`` is the end vector; a run that stops while averaging keeps the average
+        of its completed revolutions, marked partial.
+    """
+    from rubrotor.shooting_general import GeneralMap
+
+    mp = GeneralMap(scenario, 1, steps, reference=reference)
+    if not 1 <= count <= 2 * mp.ns:
+        raise InputError("count", count, f"1 .. {2 * mp.ns} (the modal state's real dimension)")
+    x = mp.start() if start is None else np.asarray(start, float)
+    rng = np.random.default_rng(seed)
+    Q = np.linalg.qr(rng.standard_normal((mp.dim, count)))[0]
+    logs, done, status = np.zeros(count), 0, "complete"
+    # the transient carries the vectors too: they align with the leading directions before the
+    # average starts (otherwise their start biases it by ~ 1 / revolutions)
+    scale = mp._scales(x)
+    for i in range(int(transient_revolutions) + int(revolutions)):
+        try:
+            px, Q, growth = _tangent_revolution(mp, x, Q, scale)
+        except InputError:
+            if i < transient_revolutions:
+                done = 0
+            else:
+                status = f"partial: diverged after {done} of {revolutions} revolutions"
+            break
+        x = px
+        if i >= transient_revolutions:
+            logs += growth
+            done += 1
+    period = 2 * math.pi / mp.speed
+    if done == 0:
+        nan = np.full(count, np.nan)
+        return LyapunovResult(nan, nan, 0.0, period / steps, "diverged", None)
+    per_rev = np.sort(logs / done)[::-1]
+    return LyapunovResult(per_rev / period, per_rev, done * period, period / steps, status, x)
+
+
+def _tangent_revolution(mp, x: np.ndarray, Q: np.ndarray, scale: np.ndarray):
+    """One revolution of the state and of the orthonormal tangent vectors ``Q`` (columns, in
+    the coordinates ``x / scale``, so that modal amplitudes and forces weigh alike):
+    ``(P(x), Q', log growths)`` with ``J Q = Q' R`` by central differences along each vector."""
+    from rubrotor.shooting_general import FD_STEP as _FD_STEP
+
+    px = mp.run(x)[0]
+    JQ = np.column_stack([(mp.run(x + _FD_STEP * scale * q)[0]
+                           - mp.run(x - _FD_STEP * scale * q)[0]) / (2 * _FD_STEP * scale)
+                          for q in Q.T])  # fmt: skip
+    Q, R = np.linalg.qr(JQ)
+    return px, Q, np.log(np.abs(np.diag(R)))
