@@ -188,3 +188,31 @@ def test_lyapunov_exponents_of_a_general_rotor(tmp_path, orbit):
                       transient_revolutions=50, revolutions=80, samples_per_revolution=32,
                       lyapunov=True)  # fmt: skip
     assert ds["lyapunov_exponent"].values[0, 0] < 0 and ds["period"].values[0, 0] == 1
+
+
+def test_cli_follow_sweep_of_a_general_rotor(tmp_path, capsys):
+    """``rubrotor sweep --follow`` on a general rotor: computed in memory, written to a new zarr
+    store at the end (the same regimes in the printed summary and in the store); an existing
+    store is refused by name (not resumed), exit 2."""
+    import json
+
+    import xarray as xr
+
+    from rubrotor.cli import main
+    from rubrotor.regimes import regime_labels
+
+    out = tmp_path / "f.zarr"
+    args = ["sweep", str(SEAL), "--vary", "speed.rad_per_s=600:650:2", "--follow", "up",
+            "--transient", "20", "--revolutions", "30", "--samples", "32", "--out", str(out)]  # fmt: skip
+    assert main(args) == 0
+    summary = json.loads(capsys.readouterr().out)
+    ds = xr.open_zarr(out)
+    labels = regime_labels(ds)
+    assert summary["points"] == 2 and summary["incomplete_runs"] == 0
+    assert sum(summary["regimes"]["up"].values()) == 2 and set(labels[0]) <= set(
+        summary["regimes"]["up"]
+    )
+    assert ds.attrs["rotor"] == "general" and ds.sizes["revolution"] == 10
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--out" in err

@@ -650,6 +650,30 @@ def _regime_counts(ds, regime_labels) -> dict:
     return {str(k): int(c) for k, c in zip(labels, counts, strict=True)}
 
 
+def _follow_general_store(scenario, key, values, args: argparse.Namespace):
+    """A general rotor's state-carrying sweep, computed in memory and written to ``--out`` as
+    a zarr store at the end (atomically: a temporary store renamed; not resumable)."""
+    import os
+    import shutil
+    import tempfile
+
+    from rubrotor.follow import follow_sweep
+
+    out = Path(args.out)
+    if out.exists():
+        raise InputError("--out", args.out, "a new store (a general rotor's sweep is not resumed)")
+    ds = follow_sweep(scenario, key, values, direction=args.follow,
+                      transient_revolutions=args.transient, revolutions=args.revolutions,
+                      samples_per_revolution=args.samples, lyapunov=args.lyapunov)  # fmt: skip
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.resolve().parent))
+    try:
+        ds.to_zarr(tmp / "store.zarr", mode="w", consolidated=True, zarr_format=2)
+        os.replace(tmp / "store.zarr", out)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return ds
+
+
 def _sweep_or_follow(scenario, vary: dict, args: argparse.Namespace, progress: bool):
     from rubrotor.follow import follow_sweep
     from rubrotor.sweep import sweep
@@ -657,12 +681,9 @@ def _sweep_or_follow(scenario, vary: dict, args: argparse.Namespace, progress: b
     if args.follow is not None:
         from rubrotor.shooting_general import is_general
 
-        if is_general(scenario):
-            raise InputError("--follow", args.follow, "a [shaft] scenario on the command line: "
-                             "a general rotor's state-carrying sweep is held in memory "
-                             "(rubrotor.follow.follow_sweep without a store; rubrotor continue "
-                             "--figure draws it)")  # fmt: skip
         ((key, values),) = vary.items()
+        if is_general(scenario):
+            return _follow_general_store(scenario, key, values, args)
         return follow_sweep(
             scenario,
             key,

@@ -446,8 +446,9 @@ def follow_general(scenario, key: str, values, direction: str = "both",
     Returns
     -------
     xarray.Dataset
-        Dimensions ``direction`` and the key (ascending); :data:`SCALAR_METRICS` (radius m,
-        forces N), ``lyapunov_exponent`` and ``status`` (1 classified, 0 the run diverged: the next value starts from
+        Dimensions ``direction``, the key (ascending) and ``revolution``; :data:`SCALAR_METRICS`
+        (radius m, forces N), ``lyapunov_exponent``, ``poincare_v`` and ``poincare_w`` (m, the
+        contact station once per revolution), ``done`` and ``status`` (1 classified, 0 the run diverged: the next value starts from
         the steady response again).
     """
     import xarray as xr
@@ -465,6 +466,8 @@ def follow_general(scenario, key: str, values, direction: str = "both",
     data = {n: np.full((len(dirs), vals.size), np.nan)
             for n in (*SCALAR_METRICS, "lyapunov_exponent")}  # fmt: skip
     data["status"] = np.zeros((len(dirs), vals.size))
+    data["done"] = np.zeros((len(dirs), vals.size), np.int8)
+    pv, pw = (np.full((len(dirs), vals.size, revolutions), np.nan) for _ in range(2))
     first = None
     for i, d in enumerate(dirs):
         x = None
@@ -484,13 +487,24 @@ def follow_general(scenario, key: str, values, direction: str = "both",
             for n in (*SCALAR_METRICS, "lyapunov_exponent"):
                 data[n][i, j] = m[n]
             data["status"][i, j] = 1
+            pv[i, j], pw[i, j] = m["poincare_v"], m["poincare_w"]
+            data["done"][i, j] = 1
     units = {"max_displacement": "m", "peak_normal_force": "N", "impacts_per_revolution": "1/rev",
              "lyapunov_exponent": "1/s"}  # fmt: skip
     ds = xr.Dataset(
         {n: (("direction", key), v, {"units": units.get(n, "1")}) for n, v in data.items()},
         coords={"direction": list(dirs), key: (key, vals, {"units": key_unit(key)})},
-        attrs={"follow": direction, "rotor": "general"},
+        attrs={
+            "follow": direction,
+            "rotor": "general",
+            "engine": "general",
+            "transient_revolutions": int(transient_revolutions),
+            "revolutions": int(transient_revolutions + revolutions),
+            "samples_per_revolution": int(samples_per_revolution),
+        },  # fmt: skip
     )
+    for name, v in (("poincare_v", pv), ("poincare_w", pw)):  # once per revolution, phase 0
+        ds[name] = (("direction", key, "revolution"), v, {"units": "m"})
     ds["regime"] = ds["regime"].fillna(-1).astype(int)
     ds["period"] = ds["period"].fillna(0).astype(int)
     return ds
