@@ -391,14 +391,13 @@ SCALAR_METRICS = ("max_displacement", "contact_fraction", "impacts_per_revolutio
 
 def _window(mp, x: np.ndarray, samples_per_revolution: int, lyapunov: bool):
     """End vector and metrics of one run of ``mp`` (its ``k`` revolutions are all kept); with
-    ``lyapunov`` the largest exponent over the same revolutions (:func:`lyapunov_general`)."""
-    from rubrotor.lyapunov import lyapunov_general
+    ``lyapunov`` the largest exponent over the same revolutions (``rubrotor.lyapunov``)."""
+    from rubrotor.lyapunov import benettin
     from rubrotor.sweep import window_metrics
 
     lam = np.nan
     if lyapunov:
-        lam = lyapunov_general(mp.scenario, revolutions=mp.k, steps=mp.steps, start=x,
-                               reference=mp.reference).exponents[0]  # fmt: skip
+        lam = benettin(mp.repeat(1), x, 1, 0, mp.k).exponents[0]
     save = mp.steps // samples_per_revolution
     px, out, events = mp._kernel(x, save)
     nst = len(mp.plant.stations)
@@ -473,14 +472,13 @@ def follow_general(scenario, key: str, values, direction: str = "both",
         x = None
         for j in range(vals.size) if d == "up" else range(vals.size - 1, -1, -1):
             sc = scenario.with_changes(**{key: float(vals[j])})
-            one = GeneralMap(sc, 1, steps, reference=first)
+            one = GeneralMap(sc, 1, steps, reference=first)  # one reduction per value
             first = first or one
             x = one.start() if x is None else x
             try:
                 if transient_revolutions:
-                    x = GeneralMap(sc, transient_revolutions, steps, reference=first).run(x)[0]
-                kept = GeneralMap(sc, revolutions, steps, reference=first)
-                x, m = _window(kept, x, samples_per_revolution, lyapunov)
+                    x = one.repeat(transient_revolutions).run(x)[0]
+                x, m = _window(one.repeat(revolutions), x, samples_per_revolution, lyapunov)
             except InputError:  # diverged: not classified, the next value starts afresh
                 x = None
                 continue

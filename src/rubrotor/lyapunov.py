@@ -223,12 +223,13 @@ def lyapunov_general(scenario, *, count: int = 1, revolutions: int = 100,
                      seed: int = 0, reference=None):  # fmt: skip
     """The ``count`` largest Lyapunov exponents of a general rotor's one-revolution map.
 
-    Benettin's method on the map of ``rubrotor.shooting_general.GeneralMap``: every revolution the ``count`` tangent
-    vectors (in coordinates scaled by the start state's modal amplitude and contact force, so
-    that both weigh alike) are carried by central differences of the compiled map along each
-    of them (``2 count`` map runs, increment ``FD_STEP`` of that module; exact outside contact, where the map
-    is affine) and re-orthonormalised (QR), their log growths summed. The exponents are
-    those of the discrete map, per revolution and per second.
+    Benettin's method on the map of ``rubrotor.shooting_general.GeneralMap`` (:func:`benettin`):
+    every revolution the ``count`` tangent vectors (in coordinates scaled by the start state's
+    modal amplitude and contact force, so that both weigh alike) are carried by central
+    differences of the compiled map along each of them (``2 count`` map runs, increment
+    ``FD_STEP`` of that module; exact outside contact, where the map is affine) and
+    re-orthonormalised (QR), their log growths summed. The exponents are those of the discrete
+    map, per revolution and per second.
 
     Parameters
     ----------
@@ -259,6 +260,13 @@ def lyapunov_general(scenario, *, count: int = 1, revolutions: int = 100,
     if not 1 <= count <= 2 * mp.ns:
         raise InputError("count", count, f"1 .. {2 * mp.ns} (the modal state's real dimension)")
     x = mp.start() if start is None else np.asarray(start, float)
+    return benettin(mp, x, count, transient_revolutions, revolutions, seed)
+
+
+def benettin(mp, x, count: int, transient_revolutions: int, revolutions: int, seed: int = 0):
+    """Benettin's iteration on a prepared one-revolution general map ``mp`` from the vector
+    ``x`` (:func:`lyapunov_general`, which checks the arguments); a ``LyapunovResult``."""
+    steps = mp.steps
     rng = np.random.default_rng(seed)
     Q = np.linalg.qr(rng.standard_normal((mp.dim, count)))[0]
     logs, done, status = np.zeros(count), 0, "complete"

@@ -397,7 +397,7 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
     if transient_revolutions and not general:
         x0 = strobe(scenario, x0, int(transient_revolutions), steps)
     elif transient_revolutions:
-        x0 = prepared_map(scenario, int(transient_revolutions), steps).run(x0)[0]
+        x0 = mp.repeat(int(transient_revolutions)).run(x0)[0]
     x, jac, residual, it = newton_orbit(mp, x0, k, steps, tol)
     mu = multipliers_of(jac)
     return PeriodicOrbit(

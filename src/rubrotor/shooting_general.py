@@ -20,6 +20,7 @@ engine runs, at constant speed.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 
@@ -102,6 +103,12 @@ class GeneralMap:
         """The same map at another spin speed (rad/s): the plant is rebuilt and its modes
         aligned with this map's (or its reference's), so that ``x`` means the same there."""
         return GeneralMap(self.scenario, self.k, self.steps, speed, self.reference or self)
+
+    def repeat(self, k: int) -> GeneralMap:
+        """The same map over ``k`` revolutions (the same plant and step coefficients)."""
+        other = copy.copy(self)
+        other.k = int(k)
+        return other
 
     def start(self) -> np.ndarray:
         """The steady no-contact response as a start vector (``y = 0``, no force)."""

@@ -99,7 +99,9 @@ class Field:
 
         A gyroscopic modal system is re-assembled (``_Map.at_speed``); otherwise only the
         shift ``lam - i Omega``, the steady unbalance response and the surface speed change
-        (no step coefficients: the field has no time step).
+        (no step coefficients: the field has no time step). Going through ``_Map.at_speed``
+        every time would build those coefficients too: measured 13 % slower on the annular
+        branch and a worst point 0.65-0.81 instead of 0.47-0.59 of pyHarm's best.
         """
         moving = self.map.__dict__.get("_gyro")
         if moving is None:
