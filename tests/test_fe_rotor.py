@@ -298,19 +298,26 @@ def test_fine_mesh_matches_continuous(theory, speed):
         errors.append((fe - ref) / ref)
     errors = np.array(errors)
     h = 1.0 / np.array(coarse)
-    slopes = np.polyfit(np.log(h), np.log(np.abs(errors[:3])), 1)[0]
+    kh = np.repeat(np.arange(1, 6), 2)[None, :] * math.pi * h[:, None]
+    # Rates and the error model are judged only where the discretisation error stands at least
+    # 100x above the round-off floor eps (k h)^-4 on every coarse mesh (see the docstring): the
+    # first Timoshenko pair on 192 elements is 2.2e-9 off against a floor of 3e-9, and its
+    # fitted slope then depends on the machine's BLAS (2.156 on AMD EPYC, 2.174 here).
+    resolved = np.all(np.abs(errors[:3]) > 100 * np.finfo(float).eps * kh**-4.0, axis=0)
+    assert resolved.sum() >= 8  # the test still reaches four of the five pairs
+    slopes = np.polyfit(np.log(h), np.log(np.abs(errors[:3, resolved])), 1)[0]
     if theory == "euler-bernoulli":
         np.testing.assert_allclose(slopes, 4.0, atol=0.05)
     else:  # between h^2 and the pre-asymptotic mixture the model predicts (2.22)
         assert np.all((slopes > 1.95) & (slopes < 2.3))
     if speed == 0.0:
-        kh = np.repeat(np.arange(1, 6), 2)[None, :] * math.pi * h[:, None]
         model = kh**4 / 1440
         if theory == "timoshenko":
             b = (kh / h[:, None] * 0.01 / 4) ** 2 * shaft.shear_parameter
             model = model + kh**2 * b / (1 + b) / 24
-        np.testing.assert_allclose(errors[:3], model, rtol=0.1)
-        np.testing.assert_allclose(slopes, np.polyfit(np.log(h), np.log(model), 1)[0], atol=0.05)
+        np.testing.assert_allclose(errors[:3, resolved], model[:, resolved], rtol=0.1)
+        model_slopes = np.polyfit(np.log(h), np.log(model[:, resolved]), 1)[0]
+        np.testing.assert_allclose(slopes, model_slopes, atol=0.05)
     assert np.max(np.abs(errors[-1])) < 1e-7
 
 
