@@ -1,7 +1,7 @@
 """Continuation of the one-mode rotor's rub branch against a state-carrying sweep of its range.
 
 By default (``method="auto"``) this circular branch is continued as equilibria of the rotating
-frame (:mod:`rubrotor.synchronous`, exact); the shooting route (``method="shooting"``) runs the
+frame (:mod:`rubrotor.orbits.synchronous`, exact); the shooting route (``method="shooting"``) runs the
 stroboscopic map prepared once per key value (only its
 speed-dependent coefficients rebuilt when the speed is continued) with the monodromy from the
 map's variational equations in the same compiled run, corrects each predictor by Broyden
@@ -35,10 +35,10 @@ from importlib import resources
 
 import numpy as np
 
-from rubrotor.continuation import continue_orbit
-from rubrotor.follow import follow_sweep
+from rubrotor.orbits.continuation import continue_orbit
 from rubrotor.scenario import load_scenario
-from rubrotor.sweep import regime_labels
+from rubrotor.sweeps.follow import follow_sweep
+from rubrotor.sweeps.sweep import regime_labels
 
 KEY = "speed.critical_multiple"
 FOLD, ONSET = 1.6413, 1.3777  # x critical, the one_mode_annular_rub.toml closed form (rounded)

@@ -21,7 +21,7 @@ base, registered by ``Maestro({"plugin": [...]})``), evaluated by alternating fr
    orbit is a circle, so its contact force is a pure first harmonic and harmonic balance with
    one harmonic is exact: pyHarm's error is its solver tolerance. rubrotor's default route here
    is the synchronous one (circles as equilibria of the rotating frame,
-   :mod:`rubrotor.synchronous`), exact to rounding; the shooting rows (``method="shooting"``)
+   :mod:`rubrotor.orbits.synchronous`), exact to rounding; the shooting rows (``method="shooting"``)
    carry the time-stepping error (second order, fourth with Richardson).
 2. Partial rub (``one_mode_partial_rub.toml``, one impact per revolution), period-1 branch from
    1.9 to 2.05 x critical (below its period doubling): harmonic balance is not exact; pyHarm's
@@ -54,9 +54,9 @@ from importlib import resources
 import numpy as np
 import scipy.optimize
 
-from rubrotor import continuation, shooting
-from rubrotor.continuation import continue_orbit
-from rubrotor.model import modal_matrices
+from rubrotor.orbits import continuation, shooting
+from rubrotor.orbits.continuation import continue_orbit
+from rubrotor.rotors.shaft import modal_matrices
 from rubrotor.scenario import load_scenario
 
 VERBOSE = False

@@ -6,7 +6,7 @@ Run: ``python benchmarks/bench_engine.py [--reps 3]``. Prints, never asserts.
    old adaptive kernel against the new engine's default stepper for runs with rtol
    (``"collocation"``: exact free flight, order-4 contact steps chosen by the error estimate).
 1. Seed case 1 (3 continuous modes, d(tau) = 0.001, 20 revolutions, every 32nd step saved) through
-   the old complex-coordinate engine (rubrotor.simulation) and the general engine (the same shaft
+   the old complex-coordinate engine (rubrotor.engine.simulate) and the general engine (the same shaft
    as a LinearSystem): median wall time per call, steps per second, ratio new/old; also with the
    clearance opened (free flight only). Both agree to rounding (tests/test_engine.py).
 2. A 60-element rotor with two disks, anisotropic cross-coupled bearings and rub at one disk
@@ -23,14 +23,14 @@ import time
 from pathlib import Path
 
 import rubrotor
-from rubrotor.engine.continuous import continuous_system
 from rubrotor.engine.driver import simulate_general
-from rubrotor.engine.model import RubStation, Run, Stator
-from rubrotor.forces import Contact, Unbalance
-from rubrotor.integrator import Integrator
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section
+from rubrotor.engine.parts import RubStation, Run, Stator
+from rubrotor.engine.settings import Integrator
+from rubrotor.engine.simulate import simulate_system
+from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section
+from rubrotor.rotors.forces import Contact, Unbalance
+from rubrotor.rotors.shaft_system import continuous_system
 from rubrotor.scenario import load_scenario
-from rubrotor.simulation import simulate_system
 
 SCEN = Path(rubrotor.__file__).parent / "scenarios" / "seed_case1.toml"
 

@@ -49,13 +49,13 @@ def _median_ms(fn, reps: int) -> tuple[float, float]:
 def measure(reps: int) -> dict:
     """``{row: {revolutions: (cpu ms, wall ms)}}`` for every row this package can run."""
     import rubrotor
-    from rubrotor.engine.continuous import continuous_system
     from rubrotor.engine.driver import simulate_general
-    from rubrotor.engine.model import RubStation, Run
-    from rubrotor.integrator import Integrator
-    from rubrotor.results import to_dataset
+    from rubrotor.engine.parts import RubStation, Run
+    from rubrotor.engine.result import to_dataset
+    from rubrotor.engine.settings import Integrator
+    from rubrotor.engine.simulate import simulate, simulate_scenario
+    from rubrotor.rotors.shaft_system import continuous_system
     from rubrotor.scenario import load_scenario
-    from rubrotor.simulation import simulate, simulate_scenario
 
     sc = load_scenario(Path(rubrotor.__file__).parent / "scenarios" / "seed_case1.toml")
     w = sc.speed
@@ -80,7 +80,7 @@ def measure(reps: int) -> dict:
             "  EngineResult.to_dataset": eng.to_dataset,
         }
         try:
-            from rubrotor.simulation import PreparedRun
+            from rubrotor.engine.simulate import PreparedRun
 
             prepared = PreparedRun.from_scenario(sc, integ)
             cases["  PreparedRun.run (set up once)"] = prepared.run

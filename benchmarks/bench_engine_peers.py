@@ -72,11 +72,11 @@ from bench_engine import sixty_element_rotor  # the 60-element rotor of bench_en
 
 import rubrotor
 from rubrotor.core.contact import _law
-from rubrotor.engine.continuous import continuous_system
 from rubrotor.engine.driver import build_plant, simulate_general
-from rubrotor.engine.model import RubStation, Run, Stator
-from rubrotor.forces import Contact, Unbalance
-from rubrotor.integrator import Integrator
+from rubrotor.engine.parts import RubStation, Run, Stator
+from rubrotor.engine.settings import Integrator
+from rubrotor.rotors.forces import Contact, Unbalance
+from rubrotor.rotors.shaft_system import continuous_system
 from rubrotor.scenario import load_scenario
 
 SCEN = Path(rubrotor.__file__).parent / "scenarios" / "seed_case1.toml"

@@ -42,9 +42,9 @@ from bench_engine import general_rotor  # noqa: E402
 from engine_reference import reference_run  # noqa: E402
 
 from rubrotor.engine.driver import simulate_general  # noqa: E402
-from rubrotor.engine.model import Run  # noqa: E402
-from rubrotor.forces import Unbalance  # noqa: E402
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section  # noqa: E402
+from rubrotor.engine.parts import Run  # noqa: E402
+from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section  # noqa: E402
+from rubrotor.rotors.forces import Unbalance  # noqa: E402
 
 
 def _median_call(fn, reps):

@@ -5,9 +5,9 @@ Prints, never asserts.
 
 Issue 10 asks that seed case 1 at default settings be no slower than today, with the ratio
 against numbalsoda's DOP853 (the strongest compiled peer measured so far). Seed scenarios run
-today on the old complex-coordinate path (``rubrotor.simulation.simulate_system``, what
+today on the old complex-coordinate path (``rubrotor.engine.simulate.simulate_system``, what
 ``rubrotor simulate seed_case1.toml`` calls); the general engine (``simulate_general``) runs the
-same shaft as a :class:`rubrotor.linear.LinearSystem`. Both at default settings (adaptive,
+same shaft as a :class:`rubrotor.rotors.linear.LinearSystem`. Both at default settings (adaptive,
 rtol 1e-6, default output spacing), whole calls (the general engine's includes building its
 plant), medians of ``--reps`` after a warm-up (numba compilation excluded).
 
@@ -39,12 +39,12 @@ from bench_engine_peers import (  # noqa: E402
     peer_run,
 )
 
-from rubrotor.engine.continuous import continuous_system  # noqa: E402
 from rubrotor.engine.driver import build_plant, simulate_general  # noqa: E402
-from rubrotor.engine.model import RubStation, Run  # noqa: E402
-from rubrotor.integrator import Integrator  # noqa: E402
+from rubrotor.engine.parts import RubStation, Run  # noqa: E402
+from rubrotor.engine.settings import Integrator  # noqa: E402
+from rubrotor.engine.simulate import simulate_system  # noqa: E402
+from rubrotor.rotors.shaft_system import continuous_system  # noqa: E402
 from rubrotor.scenario import load_scenario  # noqa: E402
-from rubrotor.simulation import simulate_system  # noqa: E402
 
 
 def case(revs: int, reps: int) -> None:

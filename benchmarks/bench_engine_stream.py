@@ -52,7 +52,7 @@ def child(revs: float, path: str) -> None:
     from bench_engine import general_rotor
 
     from rubrotor.engine.driver import simulate_general
-    from rubrotor.engine.model import Run
+    from rubrotor.engine.parts import Run
 
     system, stations, unb = general_rotor()
     period = 2 * math.pi / SPEED
@@ -103,7 +103,7 @@ def throughput(reps: int) -> None:
     from bench_engine import general_rotor
 
     from rubrotor.engine.driver import simulate_general
-    from rubrotor.engine.model import Run
+    from rubrotor.engine.parts import Run
 
     system, stations, unb = general_rotor()
     period = 2 * math.pi / SPEED

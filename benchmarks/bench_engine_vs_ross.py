@@ -8,7 +8,7 @@ Prints, never asserts.
 
 Rotor: ``ross.rotor_example_with_damping()`` (33 Timoshenko elements, 34 nodes, two disks, two
 anisotropic bearings; the rotor of ROSS's own ``run_rubbing`` example), read into rubrotor with
-:func:`rubrotor.interop.from_ross` (136 lateral DOFs). Rub at node 12 (disk 1), clearance
+:func:`rubrotor.rotors.ross.from_ross` (136 lateral DOFs). Rub at node 12 (disk 1), clearance
 79.5 um, contact stiffness 1.1e6 N/m, unbalance 5e-4 kg m at node 12 with phase -90 deg,
 1200 rpm, from rest, output every 1e-4 s (ROSS's time step).
 
@@ -61,9 +61,9 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from rubrotor.engine.driver import build_plant, simulate_general  # noqa: E402
-from rubrotor.engine.model import RubStation, Run  # noqa: E402
-from rubrotor.forces import Contact, Unbalance  # noqa: E402
-from rubrotor.interop import from_ross  # noqa: E402
+from rubrotor.engine.parts import RubStation, Run  # noqa: E402
+from rubrotor.rotors.forces import Contact, Unbalance  # noqa: E402
+from rubrotor.rotors.ross import from_ross  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from engine_reference import reference_run  # noqa: E402

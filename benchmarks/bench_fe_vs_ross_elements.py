@@ -4,7 +4,7 @@ Run: ``PYTHONPATH=src /work/venvs/ross23/bin/python benchmarks/bench_fe_vs_ross_
 (any venv with ``pip install "rubrotor[ross]"``; ROSS 2.3 and 3.x both work).
 
 Each rotor is described once (sections cut into elements, disks, bearings) and built twice:
-with :class:`rubrotor.rotor.Rotor` (Nelson-McVaugh Timoshenko element, ``rubrotor.elements``)
+with :class:`rubrotor.rotors.fe.Rotor` (Nelson-McVaugh Timoshenko element, ``rubrotor.rotors.elements``)
 and with ROSS's ``ShaftElement``/``DiskElement``/``BearingElement`` on the same nodes, the same
 material and the same shear-coefficient rule. ROSS's global matrices are brought onto our DOFs
 with :func:`rubrotor.from_ross` (its DOF mapping is tested separately in
@@ -56,9 +56,9 @@ def _import_ross_quietly():
 
 ross = _import_ross_quietly()
 
-from rubrotor.interop import from_ross  # noqa: E402
-from rubrotor.model import shear_coefficient_value  # noqa: E402
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section  # noqa: E402
+from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section  # noqa: E402
+from rubrotor.rotors.ross import from_ross  # noqa: E402
+from rubrotor.rotors.shaft import shear_coefficient_value  # noqa: E402
 
 warnings.simplefilter("ignore")
 
@@ -114,7 +114,7 @@ def rotor60_description():
 
 
 def build_ours(desc, theory, shear_coefficient="cowper"):
-    """The description as a rubrotor :class:`~rubrotor.rotor.Rotor`."""
+    """The description as a rubrotor :class:`~rubrotor.rotors.fe.Rotor`."""
     mat = Material("steel", **desc["material"])
     sections = [
         Section(L, od, mat, bore_diameter=i, elements=n) for L, od, i, n in desc["sections"]

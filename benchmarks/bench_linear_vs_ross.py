@@ -39,8 +39,8 @@ with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
     warnings.simplefilter("ignore")
     import ross
 
-from rubrotor.interop import from_ross
-from rubrotor.linear_analysis import campbell_data, damped_modes, unbalance_response
+from rubrotor.linear.analysis import campbell_data, damped_modes, unbalance_response
+from rubrotor.rotors.ross import from_ross
 
 warnings.simplefilter("ignore")
 
@@ -218,7 +218,7 @@ def run_case(name, r, modal_only=False):
 
 def main():
     print(f"ROSS {ross.__version__}; numpy {np.__version__}")
-    print("ours: plain scipy.linalg.eigvals / numpy.linalg.solve, then rubrotor.linear_analysis")
+    print("ours: plain scipy.linalg.eigvals / numpy.linalg.solve, then rubrotor.linear.analysis")
     which = [a for a in argv[1:] if a != "modal"] or ["example", "60"]
     modal_only = "modal" in argv[1:]
     if "example" in which:

@@ -1,8 +1,8 @@
 """Cost of the largest Lyapunov exponent per sweep point, relative to a plain sweep point.
 
-A sweep point (:func:`rubrotor.sweep.simulate_point`) runs the adaptive exponential integrator
+A sweep point (:func:`rubrotor.sweeps.sweep.simulate_point`) runs the adaptive exponential integrator
 over ``R`` revolutions (``T`` discarded) and reduces the run to metrics. With ``lyapunov=True``
-it also runs :func:`rubrotor.lyapunov.lyapunov_exponents` from the point's final state over the
+it also runs :func:`rubrotor.orbits.lyapunov.lyapunov_exponents` from the point's final state over the
 ``K = R - T`` kept revolutions, 512 fixed steps per revolution, one tangent vector propagated
 by the exact derivative of the step. Both are timed side by side in this process (medians of
 REPEATS), after a warm-up that compiles the kernels (compilation time printed separately), on:
@@ -68,8 +68,8 @@ def _cases():
 
 
 def main() -> None:
-    from rubrotor.lyapunov import lyapunov_exponents
-    from rubrotor.sweep import simulate_point
+    from rubrotor.orbits.lyapunov import lyapunov_exponents
+    from rubrotor.sweeps.sweep import simulate_point
 
     repeats = int(sys.argv[1]) if len(sys.argv) > 1 else 3
     T, R, N = 100, 300, 128  # the sweep defaults: 100 discarded, 200 kept, 128 samples/rev
@@ -97,7 +97,7 @@ def main() -> None:
 
 def convergence() -> None:
     """Largest exponent per revolution vs averaging length: chaotic and periodic partial rub."""
-    from rubrotor.lyapunov import lyapunov_exponents
+    from rubrotor.orbits.lyapunov import lyapunov_exponents
     from rubrotor.scenario import load_scenario
 
     where = resources.files("rubrotor") / "scenarios"

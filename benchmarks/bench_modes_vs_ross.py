@@ -35,9 +35,9 @@ N_MODES = 3
 
 def _ours():
     """Return (label, natural_frequencies(speed) -> dict, campbell(speeds) -> obj) of rubrotor."""
-    from rubrotor.modal import campbell as our_campbell
-    from rubrotor.modal import natural_frequencies
-    from rubrotor.model import Shaft
+    from rubrotor.linear.shaft import campbell as our_campbell
+    from rubrotor.linear.shaft import natural_frequencies
+    from rubrotor.rotors.shaft import Shaft
 
     s = rp.SEED_ROTOR
     shaft = Shaft(
@@ -60,7 +60,7 @@ def _ours():
     def campbell(speeds):
         return our_campbell(shaft, speeds)
 
-    return "rubrotor.modal (exact two-field modal Timoshenko, Cowper)", natural, campbell
+    return "rubrotor.linear.shaft (exact two-field modal Timoshenko, Cowper)", natural, campbell
 
 
 def _median_time(fn, repeats):

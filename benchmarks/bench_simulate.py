@@ -30,9 +30,9 @@ from pathlib import Path
 import numpy as np
 
 import rubrotor
-from rubrotor.integrator import Integrator
+from rubrotor.engine.settings import Integrator
+from rubrotor.engine.simulate import simulate_scenario, simulate_system
 from rubrotor.reference import solve_ivp_reference
-from rubrotor.simulation import simulate_scenario, simulate_system
 
 SCEN = Path(rubrotor.__file__).parent / "scenarios" / "seed_case1.toml"
 
@@ -52,8 +52,8 @@ def _median_wall(fn, reps):
 
 def _compile_seconds() -> float:
     code = (
-        "import time, rubrotor; from rubrotor.simulation import simulate_system;"
-        "from rubrotor.integrator import Integrator;"
+        "import time, rubrotor; from rubrotor.engine.simulate import simulate_system;"
+        "from rubrotor.engine.settings import Integrator;"
         f"sc = rubrotor.load_scenario({str(SCEN)!r});"
         "t=time.perf_counter();"
         "simulate_system(sc.shaft, sc.speed, Integrator(revolutions=0.01, dtau=1e-3), sc.unbalance, sc.contact);"
@@ -265,7 +265,7 @@ def section_memory(revs):
     print(f"\n== 4. peak memory, {revs} revolutions, d(tau) = 0.001, every 10th step saved")
     code = (
         "import resource, rubrotor, json;"
-        "from rubrotor.integrator import Integrator;"
+        "from rubrotor.engine.settings import Integrator;"
         f"sc = rubrotor.load_scenario({str(SCEN)!r});"
         "rubrotor.simulate(sc, integrator=Integrator(revolutions=0.01, dtau=1e-3), progress=False);"
         "idle = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss;"

@@ -1,4 +1,4 @@
-"""Benchmark of rubrotor.sweep: a 400-point speed sweep, 1 vs 2 local workers vs a plain loop.
+"""Benchmark of rubrotor.sweeps.sweep: a 400-point speed sweep, 1 vs 2 local workers vs a plain loop.
 
 Seed case 1 (3 modes) with the spin speed swept over 0.5 .. 3 x the first forward critical,
 300 revolutions per point of which 100 are discarded, 128 samples per revolution (adaptive
@@ -62,7 +62,7 @@ def _cpu() -> float:
 def child(points: int, workers: int, out: str) -> None:
     """One timed sweep in this process (after a warm-up point); pickles
     ``((wall seconds, CPU seconds), Dataset)``; the pool's workers are joined by ``sweep``."""
-    from rubrotor.sweep import sweep
+    from rubrotor.sweeps.sweep import sweep
 
     sc = _scenario()
     sweep(sc, {"speed.critical_multiple": [1.5]}, workers=1, **KW)
@@ -116,7 +116,7 @@ def against_baseline(points: int, repeats: int, baseline: str) -> None:
 
 def point_split(sc, reps: int = 20) -> None:
     """Median time of one sweep point (simulate_point) and of its compiled kernel."""
-    from rubrotor.sweep import simulate_point
+    from rubrotor.sweeps.sweep import simulate_point
 
     pt = sc.with_changes(**{"speed.critical_multiple": 2.0})
     args = (KW["transient_revolutions"], KW["revolutions"], KW["samples_per_revolution"])
@@ -126,8 +126,8 @@ def point_split(sc, reps: int = 20) -> None:
         t = time.perf_counter()
         simulate_point(pt, *args)
         calls.append(time.perf_counter() - t)
-    from rubrotor.integrator import Integrator
-    from rubrotor.simulation import simulate_scenario
+    from rubrotor.engine.settings import Integrator
+    from rubrotor.engine.simulate import simulate_scenario
 
     integ = Integrator(revolutions=300, output_dtau=2 * math.pi / 128, rtol=sc.simulation.rtol,
                        atol=sc.simulation.atol)  # fmt: skip
@@ -140,9 +140,9 @@ def point_split(sc, reps: int = 20) -> None:
 
 
 def main(points: int, repeats: int) -> None:
-    from rubrotor.integrator import Integrator
-    from rubrotor.simulation import simulate
-    from rubrotor.sweep import regime_labels, sweep
+    from rubrotor.engine.settings import Integrator
+    from rubrotor.engine.simulate import simulate
+    from rubrotor.sweeps.sweep import regime_labels, sweep
 
     sc = _scenario()
     speeds = _vary(points)["speed.critical_multiple"]

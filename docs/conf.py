@@ -22,7 +22,7 @@ sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(Path(__file__).parent))
 
 import rubrotor  # noqa: E402
-from rubrotor.schema import markdown_table  # noqa: E402
+from rubrotor.scenario.schema import markdown_table  # noqa: E402
 
 project = "rubrotor"
 author = "rubrotor developers"
@@ -93,7 +93,7 @@ sphinx_gallery_conf = {
 
 _generated = Path(__file__).parent / "_generated"
 _generated.mkdir(exist_ok=True)
-_text = markdown_table()  # the key table of guide/scenarios.md, from rubrotor.schema
+_text = markdown_table()  # the key table of guide/scenarios.md, from rubrotor.scenario.schema
 _target = _generated / "schema.md"
 if not _target.exists() or _target.read_text() != _text:
     _target.write_text(_text)

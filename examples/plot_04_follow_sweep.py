@@ -11,8 +11,8 @@ begins.
 import matplotlib.pyplot as plt
 import numpy as np
 
-from rubrotor.follow import follow_sweep
 from rubrotor.scenario import scenario_from_dict
+from rubrotor.sweeps.follow import follow_sweep
 
 sc = scenario_from_dict(
     {

@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 
 import rubrotor
-from rubrotor.linear_analysis import campbell_data, linear_critical_speeds, unbalance_response
-from rubrotor.plotting_linear import campbell_stability_figure, unbalance_response_figure
+from rubrotor.linear.analysis import campbell_data, linear_critical_speeds, unbalance_response
+from rubrotor.plotting.linear import campbell_stability_figure, unbalance_response_figure
 
 scenarios = Path(rubrotor.__file__).parent / "scenarios"
 sc = rubrotor.load_scenario(scenarios / "general_rotor.toml")

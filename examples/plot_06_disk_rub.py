@@ -13,7 +13,7 @@ circle, the normal force varies twice per revolution, and the full spectrum is d
 from pathlib import Path
 
 import rubrotor
-from rubrotor.plotting_engine import engine_figure
+from rubrotor.plotting.rub import engine_figure
 
 scenarios = Path(rubrotor.__file__).parent / "scenarios"
 sc = rubrotor.load_scenario(scenarios / "seal_rub.toml")

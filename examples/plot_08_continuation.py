@@ -15,10 +15,10 @@ rub orbit is unstable, and the up and down state-carrying sweeps jump at the fol
 
 import numpy as np
 
-from rubrotor.continuation import continue_orbit, switch_period_doubling
-from rubrotor.follow import follow_sweep
+from rubrotor.orbits.continuation import continue_orbit, switch_period_doubling
 from rubrotor.plotting import branch_figure
 from rubrotor.scenario import scenario_from_dict
+from rubrotor.sweeps.follow import follow_sweep
 
 KEY = "speed.critical_multiple"
 rotor = {"length": 0.4, "diameter": 0.1, "youngs_modulus": 71e9, "density": 2660,

@@ -7,16 +7,16 @@ radius (linear contact law, 1e8 N/m), against a rigid stator and against a flexi
 (10 kg on 4 MN/m). A friction scan from a kick finds the friction above which the rub turns
 into backward rolling whirl; the measured whirl frequency (full spectrum of the relative
 displacement) is set against the closed form ``omega = -Omega R / |D|`` of
-:mod:`rubrotor.dry_whirl`, the friction it needs, the rolling condition ``-Omega R / g`` and
+:mod:`rubrotor.studies.dry_whirl`, the friction it needs, the rolling condition ``-Omega R / g`` and
 the coupled rotor-stator natural frequencies.
 """
 
 import numpy as np
 
-from rubrotor.dry_whirl import DryWhirlCase, Jeffcott, scan_friction, scan_speed
-from rubrotor.engine.model import Stator
-from rubrotor.forces import Contact
-from rubrotor.plotting_dry_whirl import dry_whirl_figure
+from rubrotor.engine.parts import Stator
+from rubrotor.plotting.dry_whirl import dry_whirl_figure
+from rubrotor.rotors.forces import Contact
+from rubrotor.studies.dry_whirl import DryWhirlCase, Jeffcott, scan_friction, scan_speed
 
 rotor = Jeffcott(10.0, 1e6, 316.0)
 contact = Contact(clearance=1e-4, stiffness=1e8, law="linear", radius=0.01, position=0.5,

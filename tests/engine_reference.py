@@ -9,8 +9,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from rubrotor.core.contact import contact_force, pack_contact
-from rubrotor.engine.model import speed_at, spin_angle, static_load_vector, unbalance_phasor
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section
+from rubrotor.engine.parts import speed_at, spin_angle, static_load_vector, unbalance_phasor
+from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section
 
 STEEL = Material("steel", 211e9, 7810, poisson_ratio=0.3)
 

@@ -1,10 +1,10 @@
 """The seed paper's rotor (Table 1, rho = 2660 kg/m^3, seed shear convention), for tests."""
 
-from rubrotor.model import Shaft
+from rubrotor.rotors.shaft import Shaft
 
 
 def seed_shaft(**changes) -> Shaft:
-    """The seed rotor with some fields changed (SI units, see :class:`rubrotor.model.Shaft`)."""
+    """The seed rotor with some fields changed (SI units, see :class:`rubrotor.rotors.shaft.Shaft`)."""
     base = dict(
         length=0.4,
         diameter=0.1,

@@ -11,7 +11,7 @@ import pytest
 from rubrotor import load_scenario, save_dataset, simulate
 from rubrotor.analysis.overview import analyze_signal, band_energy, decimate_to
 from rubrotor.cli import main
-from rubrotor.integrator import Integrator
+from rubrotor.engine.settings import Integrator
 
 FS = 20000.0
 SPIN = 100.0

@@ -11,14 +11,14 @@ import numpy as np
 import pytest
 from test_follow_sweep import HYST
 
-from rubrotor import shooting
-from rubrotor.continuation import continue_orbit, switch_period_doubling
-from rubrotor.lyapunov import lyapunov_exponents
-from rubrotor.regimes import CHAOS_MARGIN_PER_REV, QUASI
-from rubrotor.regimes import CHAOTIC as CHAOTIC_CODE
-from rubrotor.regimes import PARTIAL as PARTIAL_CODE
+from rubrotor.orbits import shooting
+from rubrotor.orbits.continuation import continue_orbit, switch_period_doubling
+from rubrotor.orbits.lyapunov import lyapunov_exponents
 from rubrotor.scenario import load_scenario
-from rubrotor.sweep import simulate_point
+from rubrotor.sweeps.regimes import CHAOS_MARGIN_PER_REV, QUASI
+from rubrotor.sweeps.regimes import CHAOTIC as CHAOTIC_CODE
+from rubrotor.sweeps.regimes import PARTIAL as PARTIAL_CODE
+from rubrotor.sweeps.sweep import simulate_point
 
 
 def test_period_one_orbit_is_a_period_two_fixed_point_with_squared_multipliers():
@@ -58,7 +58,7 @@ def test_period_doubling_and_torus_found_by_continuation_confirmed_by_brute_forc
 
     Reference: brute-force simulation with the adaptive integrator from rest (a second route,
     sharing only the model), classified from its once-per-revolution Poincare samples by
-    :func:`rubrotor.regimes.classify`: period 1 just below the period doubling, period 2 just
+    :func:`rubrotor.sweeps.regimes.classify`: period 1 just below the period doubling, period 2 just
     above it (two clusters far apart, each repeating to 1e-9), period 1 just below the
     Neimark-Sacker point and no period just above it.
     """
@@ -126,8 +126,8 @@ def _perturbed_run(branch, value):
 
 def _contact_point(scenario, x, steps):
     """Contact-station deflection ``v + i w`` (m) at the state vector ``x`` and one rev later."""
-    from rubrotor.integrator import Integrator
-    from rubrotor.simulation import simulate_scenario
+    from rubrotor.engine.settings import Integrator
+    from rubrotor.engine.simulate import simulate_scenario
 
     integ = Integrator(revolutions=1.0, dtau=2 * np.pi / steps, save_every=steps)
     res = simulate_scenario(scenario, integ, progress=False, start=shooting.vector_state(x))

@@ -1,4 +1,4 @@
-"""Pseudo-arclength continuation (rubrotor.continuation) and ``rubrotor continue``.
+"""Pseudo-arclength continuation (rubrotor.orbits.continuation) and ``rubrotor continue``.
 
 References: the one-mode rotor's closed form of tests/test_follow_sweep.py (derived there): the
 full-annular-rub branch turns at its fold (largest speed of W(r) over r > g) and meets the
@@ -19,9 +19,9 @@ import pytest
 from test_follow_sweep import HYST, HYST_TOML, RUNS, _closed_form
 
 from rubrotor.cli import main
-from rubrotor.continuation import continue_orbit
-from rubrotor.follow import follow_sweep
-from rubrotor.sweep import regime_labels
+from rubrotor.orbits.continuation import continue_orbit
+from rubrotor.sweeps.follow import follow_sweep
+from rubrotor.sweeps.sweep import regime_labels
 
 KEY = "speed.critical_multiple"
 
@@ -107,7 +107,7 @@ def test_cli_continue_switches_onto_the_period_doubled_branch(tmp_path, capsys):
     """
     import xarray as xr
 
-    from rubrotor import shooting
+    from rubrotor.orbits import shooting
     from rubrotor.scenario import load_scenario
 
     scen = resources.files("rubrotor") / "scenarios" / "one_mode_partial_rub.toml"
@@ -151,7 +151,7 @@ def _curve_distance(sc, branch):
     (r - g)]^2 = (u W^2)^2`` of tests/test_follow_sweep.py, linearised: ``|f| / |grad f . (r,
     W)|`` (the first-order distance, relative to the point).
     """
-    from rubrotor.model import modal_matrices
+    from rubrotor.rotors.shaft import modal_matrices
 
     mm = modal_matrices(sc.shaft, 1)
     m, k = float(mm.M[0, 0].real), float(mm.K[0, 0].real)

@@ -1,9 +1,9 @@
-"""Dry whirl (rubrotor.dry_whirl) against its closed form.
+"""Dry whirl (rubrotor.studies.dry_whirl) against its closed form.
 
 References, all independent of the simulation:
 
 * the steady rolling backward whirl of a Jeffcott rotor in full contact with a rigid or a
-  flexible stator, derived in the rubrotor.dry_whirl module docstring: ``omega = -Omega R / |D|``
+  flexible stator, derived in the rubrotor.studies.dry_whirl module docstring: ``omega = -Omega R / |D|``
   with ``|D| = g k_c / (k_c + Re Z)``, and the least friction that holds it
   ``mu_roll = Im Z / Re Z`` (``Z`` the series impedance of rotor and stator);
 * the coupled natural frequencies: ``sqrt((k + k_c) / m)`` (rigid stator), the eigenvalues of
@@ -19,7 +19,10 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from rubrotor.dry_whirl import (
+from rubrotor.engine.parts import Stator
+from rubrotor.errors import InputError
+from rubrotor.rotors.forces import Contact
+from rubrotor.studies.dry_whirl import (
     DryWhirlCase,
     Jeffcott,
     coupled_frequencies,
@@ -29,9 +32,6 @@ from rubrotor.dry_whirl import (
     scan_speed,
     whirl_frequency,
 )
-from rubrotor.engine.model import Stator
-from rubrotor.errors import InputError
-from rubrotor.forces import Contact
 
 ROTOR = Jeffcott(10.0, 1e6, 316.0)  # omega_n = 316 rad/s, 5 % damping
 CONTACT = Contact(clearance=1e-4, stiffness=1e8, law="linear", radius=0.01, position=0.5,
@@ -125,7 +125,7 @@ def test_bad_input_names_the_field():
 
 def test_figure_has_units_and_the_closed_form():
     """The figure's axes carry units and its lines include the closed-form rolling frequency."""
-    from rubrotor.plotting_dry_whirl import dry_whirl_figure
+    from rubrotor.plotting.dry_whirl import dry_whirl_figure
 
     fs = scan_friction(RIGID, [0.05, 0.3], duration=0.05)
     ss = scan_speed(RIGID, [6.0, 10.0], 0.3, duration=0.05)

@@ -4,7 +4,7 @@
   K q = f`` with the same contact law, no modal reduction, rtol 1e-10) on a finite-element rotor
   with two disks, anisotropic cross-coupled bearings, gravity, two unbalance planes and rub at a
   disk against a flexible, offset, anisotropic stator with friction.
-* The old compiled engine (rubrotor.simulation) on the seed's case 1 through the continuous
+* The old compiled engine (rubrotor.engine.simulate) on the seed's case 1 through the continuous
   shaft written as a LinearSystem.
 * The closed-form static deflection ``5 w L^4 / (384 E I)`` of a pinned-pinned uniform shaft.
 """
@@ -18,12 +18,12 @@ import numpy as np
 import pytest
 
 from rubrotor.core.engine import STATUS_NAMES
-from rubrotor.engine.continuous import continuous_system
 from rubrotor.engine.driver import simulate_general
-from rubrotor.engine.model import RubStation, Run, Stator
+from rubrotor.engine.parts import RubStation, Run, Stator
 from rubrotor.errors import InputError
-from rubrotor.forces import Contact, Unbalance
-from rubrotor.rotor import Bearing, Disk, Rotor, Section
+from rubrotor.rotors.fe import Bearing, Disk, Rotor, Section
+from rubrotor.rotors.forces import Contact, Unbalance
+from rubrotor.rotors.shaft_system import continuous_system
 
 sys.path.insert(0, str(Path(__file__).parent))
 from engine_reference import STEEL, reference_run, two_disk_rotor  # noqa: E402
@@ -119,9 +119,9 @@ def test_residual_correction_gain(reference):
 def test_seed_case1_same_as_old_engine():
     """Seed case 1 (20 revolutions, dtau 1e-3) through the continuous shaft as a LinearSystem
     agrees with the old complex-coordinate engine to rounding (same scheme, same model)."""
-    from rubrotor.integrator import Integrator
+    from rubrotor.engine.settings import Integrator
+    from rubrotor.engine.simulate import simulate_system
     from rubrotor.scenario import load_scenario
-    from rubrotor.simulation import simulate_system
 
     path = Path(__file__).parents[1] / "src/rubrotor/scenarios/seed_case1.toml"
     sc = load_scenario(path)
@@ -175,7 +175,7 @@ def test_bad_input_names_the_field():
 def _energy_residual(step):
     """``(E(T) - E(0) - W) / W_scale`` for the general case with all modes kept (see below)."""
     from rubrotor.engine.driver import build_plant
-    from rubrotor.engine.model import static_load_vector, unbalance_phasor
+    from rubrotor.engine.parts import static_load_vector, unbalance_phasor
 
     system, stations, unb = general_case()
     run = Run(speed=SPEED, duration=0.03, step=step, initial="rest", save_state=True)
@@ -489,9 +489,9 @@ def test_seed_case1_high_friction_fixed_step_goes_on_into_backward_whirl():
     41 ms (Newton failed); the new one sub-steps (full Newton Jacobian including the friction
     sign) and runs on into backward whirl: the full spectrum of v + i w at the contact peaks at
     a negative frequency, the same one the adaptive run finds."""
-    from rubrotor.integrator import Integrator
+    from rubrotor.engine.settings import Integrator
+    from rubrotor.engine.simulate import simulate_system
     from rubrotor.scenario import load_scenario
-    from rubrotor.simulation import simulate_system
 
     sc = load_scenario(Path(__file__).parents[1] / "src/rubrotor/scenarios/seed_case1.toml")
     con = dataclasses.replace(sc.contact, friction=0.3)

@@ -33,11 +33,11 @@ from rubrotor.core.engine_adaptive import (
     expo_adaptive,
     phi0123,
 )
-from rubrotor.engine.continuous import continuous_system
 from rubrotor.engine.driver import _plan, build_plant, simulate_general
-from rubrotor.engine.model import RubStation, Run
+from rubrotor.engine.parts import RubStation, Run
+from rubrotor.engine.settings import Integrator
 from rubrotor.engine.structs import Control
-from rubrotor.integrator import Integrator
+from rubrotor.rotors.shaft_system import continuous_system
 from rubrotor.scenario import load_scenario
 
 SEED1 = Path(__file__).parents[1] / "src/rubrotor/scenarios/seed_case1.toml"

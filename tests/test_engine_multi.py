@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 from rubrotor.engine.driver import simulate_general
-from rubrotor.engine.model import RubStation, Run, Stator
-from rubrotor.forces import Contact, Unbalance
+from rubrotor.engine.parts import RubStation, Run, Stator
+from rubrotor.rotors.forces import Contact, Unbalance
 
 sys.path.insert(0, str(Path(__file__).parent))
 from engine_reference import reference_run, two_disk_rotor  # noqa: E402

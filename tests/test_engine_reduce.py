@@ -11,9 +11,9 @@ import pytest
 
 from rubrotor.engine import reduce as red
 from rubrotor.engine.driver import simulate_general
-from rubrotor.engine.model import RubStation, Run, Stator
-from rubrotor.forces import Contact, Unbalance
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section
+from rubrotor.engine.parts import RubStation, Run, Stator
+from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section
+from rubrotor.rotors.forces import Contact, Unbalance
 
 STEEL = Material("steel", 211e9, 7810, poisson_ratio=0.3)
 SPEED = 400.0  # rad/s

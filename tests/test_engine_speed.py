@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from rubrotor.engine.continuous import continuous_system
 from rubrotor.engine.driver import build_plant, simulate_general
-from rubrotor.engine.model import RubStation, Run
-from rubrotor.integrator import Integrator
+from rubrotor.engine.parts import RubStation, Run
+from rubrotor.engine.settings import Integrator
+from rubrotor.rotors.shaft_system import continuous_system
 from rubrotor.scenario import load_scenario
 
 FREE = "free-flight"  # exact free flight between contacts, order-2 contact steps

@@ -2,7 +2,7 @@
 
 References (each test says which it uses):
 
-* the continuous simply supported shaft of :mod:`rubrotor.modal` (exact modal expansion);
+* the continuous simply supported shaft of :mod:`rubrotor.linear.shaft` (exact modal expansion);
 * the exact two-segment solution of an Euler-Bernoulli beam with a point mass, solved here
   (8x8 determinant, roots by ``scipy.optimize.brentq``);
 * closed-form statics (cantilever and central-load deflections, Jeffcott frequency);
@@ -23,11 +23,11 @@ import scipy.optimize
 import scipy.sparse
 import scipy.sparse.linalg
 
-from rubrotor.elements import beam_element, plane_matrices
 from rubrotor.errors import InputError
-from rubrotor.modal import whirl_frequencies
-from rubrotor.model import Shaft
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section
+from rubrotor.linear.shaft import whirl_frequencies
+from rubrotor.rotors.elements import beam_element, plane_matrices
+from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section
+from rubrotor.rotors.shaft import Shaft
 
 STEEL = Material("steel", 211e9, 7810, poisson_ratio=0.3)
 ALU = Material("aluminium", 71e9, 2660, shear_modulus=26.2e9)
@@ -196,7 +196,7 @@ RATE = {"timoshenko": 2.0, "rayleigh": 4.0, "euler-bernoulli": 4.0}
 @pytest.mark.parametrize("theory", ["timoshenko", "euler-bernoulli", "rayleigh"])
 def test_convergence_rate_to_continuous(theory, speed):
     """Seed shaft (L/D = 4, aluminium) as one section on two pinned bearings: the first five
-    whirl pairs (:func:`plane_whirl_frequencies`) converge to the continuous model (:func:`rubrotor.modal.whirl_frequencies`).
+    whirl pairs (:func:`plane_whirl_frequencies`) converge to the continuous model (:func:`rubrotor.linear.shaft.whirl_frequencies`).
 
     Theory: cubic Hermite elements (Euler-Bernoulli, Rayleigh) converge as ``h^4``. The Nelson
     Timoshenko element interpolates a constant shear strain per element, so once elements are
@@ -269,7 +269,7 @@ FINE = {"timoshenko": ((48, 96, 192), 768), "euler-bernoulli": ((12, 24, 48), 19
 def test_fine_mesh_matches_continuous(theory, speed):
     """Slender steel shaft (L = 1 m, D = 10 mm) as one section on two pinned bearings: the
     first five whirl pairs (both whirls; five because the default mesh aims at the first five
-    frequencies) converge to the continuous model (:func:`rubrotor.modal.whirl_frequencies`).
+    frequencies) converge to the continuous model (:func:`rubrotor.linear.shaft.whirl_frequencies`).
 
     * Rate: least-squares log-log slope of each error over three coarse meshes. Euler-Bernoulli
       (cubic Hermite): ``h^4``, measured 3.97-4.00, asserted to 0.05. Nelson Timoshenko element
@@ -280,7 +280,7 @@ def test_fine_mesh_matches_continuous(theory, speed):
     * Error model (at rest): the errors equal ``(k h)^4 / 1440 + (k h)^2 s / 24`` (``k = n pi /
       L``, ``s = b / (1 + b)``, ``b = (k r0)^2 E / (kappa G)`` the shear share of the strain
       energy, Timoshenko only; the model behind
-      :meth:`rubrotor.rotor.Rotor.default_element_length`) to 10 % (measured 0.95-1.00), and
+      :meth:`rubrotor.rotors.fe.Rotor.default_element_length`) to 10 % (measured 0.95-1.00), and
       the slopes equal the model's to 0.05. (Spinning at 10000 rad/s, 78 times the first
       frequency, the gyroscopic terms add up to 50 % to the first pair's error.)
     * Fine mesh: all ten within 1e-7 of the continuous model (Timoshenko on 768 elements,

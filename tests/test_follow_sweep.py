@@ -1,4 +1,4 @@
-"""State-carrying sweeps (rubrotor.follow) and starting simulations from a state.
+"""State-carrying sweeps (rubrotor.sweeps.follow) and starting simulations from a state.
 
 References:
 
@@ -28,13 +28,13 @@ import scipy.optimize
 from test_lyapunov import LOADED, one_mode
 
 from rubrotor.cli import main
+from rubrotor.engine.settings import Integrator
+from rubrotor.engine.simulate import RotorState, simulate_scenario
 from rubrotor.errors import InputError
-from rubrotor.follow import follow_sweep
-from rubrotor.integrator import Integrator
-from rubrotor.model import modal_matrices
+from rubrotor.rotors.shaft import modal_matrices
 from rubrotor.scenario import load_scenario
-from rubrotor.simulation import RotorState, simulate_scenario
-from rubrotor.sweep import open_sweep, regime_labels
+from rubrotor.sweeps.follow import follow_sweep
+from rubrotor.sweeps.sweep import open_sweep, regime_labels
 
 # hardening full annular rub coexisting with the no-contact orbit: a hysteresis loop
 HYST = one_mode(**{"contact.friction": 0.01, "contact.stiffness": 5e8})
@@ -170,7 +170,7 @@ def test_up_and_down_sweeps_show_hysteresis_at_the_closed_form_jumps():
 
 
 def test_follow_store_resume_equals_uninterrupted(tmp_path, monkeypatch):
-    import rubrotor.follow as fo
+    import rubrotor.sweeps.follow as fo
 
     vals = VALUES[3:9]
     kw = dict(direction="both", workers=1, chunk_size=2, **RUNS)

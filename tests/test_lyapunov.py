@@ -1,4 +1,4 @@
-"""Lyapunov exponents from the compiled tangent dynamics (rubrotor.lyapunov, core.tangent).
+"""Lyapunov exponents from the compiled tangent dynamics (rubrotor.orbits.lyapunov, core.tangent).
 
 References, each independent of the tangent kernel:
 
@@ -6,7 +6,7 @@ References, each independent of the tangent kernel:
 * a run without contact: the exponential map is the exact flow of ``x' = A x + f(t)``, so the
   exponents are ``Re(lambda)`` of the first-order system (each twice in the real state space)
   and they sum to ``trace(A)`` of the real system, ``-2 sum_modes tr(M^-1 (C + Omega G))``
-  computed here from the modal matrices of :func:`rubrotor.model.modal_matrices` with
+  computed here from the modal matrices of :func:`rubrotor.rotors.shaft.modal_matrices` with
   ``tr(M^-1 C) = sum 2 zeta omega`` (no eigen-decomposition of ``A``);
 * periodic orbits: ``ln|mu| / T`` with ``mu`` the multipliers of the one-revolution map's
   Jacobian built by central finite differences of ``simulate_system`` runs started from
@@ -23,12 +23,12 @@ import pytest
 import scipy.linalg
 
 from rubrotor.core.contact import contact_force, contact_force_jac_exact, pack_contact
+from rubrotor.engine.settings import Integrator
+from rubrotor.engine.simulate import RotorState, assemble, simulate_scenario
 from rubrotor.errors import InputError
-from rubrotor.integrator import Integrator
-from rubrotor.lyapunov import lyapunov_exponents
-from rubrotor.model import modal_matrices
+from rubrotor.orbits.lyapunov import lyapunov_exponents
+from rubrotor.rotors.shaft import modal_matrices
 from rubrotor.scenario import load_scenario, scenario_from_dict
-from rubrotor.simulation import RotorState, assemble, simulate_scenario
 
 CASE1 = str(resources.files("rubrotor") / "scenarios" / "seed_case1.toml")
 # periodic partial rub with impacts (Hertz contact): seed case 1, 2 % damping, 1e5 N side load

@@ -2,7 +2,7 @@
 
 References: docs/model-notes.md section 2 (figures computed for the seed rotor, 5 significant
 figures, so tolerances of half a unit in the last digit), closed forms derived here by hand, and
-agreement of the two independent routes of :mod:`rubrotor.modal`.
+agreement of the two independent routes of :mod:`rubrotor.linear.shaft`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from seed import seed_shaft
 
-from rubrotor.modal import (
+from rubrotor.linear.shaft import (
     critical_speeds,
     critical_speeds_numeric,
     first_forward_critical,
@@ -24,7 +24,7 @@ from rubrotor.modal import (
     whirl_frequencies,
     whirl_frequencies_eig,
 )
-from rubrotor.model import Shaft
+from rubrotor.rotors.shaft import Shaft
 
 TWO_PI = 2 * math.pi
 

@@ -10,7 +10,7 @@ import pytest
 from matplotlib.figure import Figure
 from seed import seed_shaft as shaft
 
-from rubrotor.modal import critical_speeds
+from rubrotor.linear.shaft import critical_speeds
 from rubrotor.plotting import campbell_figure
 
 SPEEDS = np.linspace(0, 60000, 60)

@@ -70,7 +70,7 @@ def test_wheel_carries_scenarios_templates_and_license(tmp_path):
 def test_follow_sweep_too_few_revolutions_names_the_transient_option():
     """Follow sweeps share the sweep's run-length check (same message)."""
     from rubrotor.errors import InputError
-    from rubrotor.follow import follow_sweep
+    from rubrotor.sweeps.follow import follow_sweep
 
     sc = rubrotor.load_scenario(SCEN / "seed_case1.toml")
     with pytest.raises(InputError, match="--transient"):

@@ -20,11 +20,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from rubrotor.engine.result import to_dataset
+from rubrotor.engine.settings import Integrator
+from rubrotor.engine.simulate import PreparedRun, RotorState, simulate_system
 from rubrotor.errors import InputError
-from rubrotor.integrator import Integrator
-from rubrotor.results import to_dataset
 from rubrotor.scenario import load_scenario
-from rubrotor.simulation import PreparedRun, RotorState, simulate_system
 
 CASE1 = load_scenario(resources.files("rubrotor") / "scenarios" / "seed_case1.toml")
 INTEGRATORS = {
@@ -118,10 +118,10 @@ def test_lazy_unbalance_force_is_the_closed_form(tmp_path):
 def test_engine_dataset_views_the_result_channels():
     """Reference: the engine's channel layout (rows ``4 s + k`` per station, ``4 S + 8 i + k``
     per contact, :mod:`rubrotor.core.engine`)."""
-    from rubrotor.engine.continuous import continuous_system
     from rubrotor.engine.driver import simulate_general
-    from rubrotor.engine.model import RubStation, Run
+    from rubrotor.engine.parts import RubStation, Run
     from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS
+    from rubrotor.rotors.shaft_system import continuous_system
 
     sc, integ = CASE1, Integrator(revolutions=3)
     run = Run(speed=sc.speed, duration=integ.total_time(sc.speed), probes=(0.1, 0.3),

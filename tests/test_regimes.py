@@ -1,4 +1,4 @@
-"""The one regimes module (rubrotor.regimes): metrics, labels, and its users agreeing.
+"""The one regimes module (rubrotor.sweeps.regimes): metrics, labels, and its users agreeing.
 
 References: impacts per revolution against a second count (rising edges of the normal force
 sampled at every fixed step of the same run); the seed reproduction's summary and a sweep point
@@ -15,8 +15,10 @@ import numpy as np
 import pytest
 from test_lyapunov import LOADED, one_mode
 
-from rubrotor.integrator import Integrator
-from rubrotor.regimes import (
+from rubrotor.engine.settings import Integrator
+from rubrotor.engine.simulate import assemble, simulate, simulate_scenario
+from rubrotor.studies.seed.reproduce import case_metrics
+from rubrotor.sweeps.regimes import (
     CHAOS_MARGIN_PER_REV,
     CHAOTIC,
     FULL,
@@ -29,9 +31,7 @@ from rubrotor.regimes import (
     impacts_per_revolution,
     regime_label,
 )
-from rubrotor.reproduce import case_metrics
-from rubrotor.simulation import assemble, simulate, simulate_scenario
-from rubrotor.sweep import point_metrics, regime_labels, sweep
+from rubrotor.sweeps.sweep import point_metrics, regime_labels, sweep
 
 PERIODIC = LOADED.with_changes(**{"speed.critical_multiple": 1.5})
 

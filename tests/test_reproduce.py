@@ -9,7 +9,7 @@ import pytest
 
 from rubrotor import load_dataset
 from rubrotor.cli import main, shipped_scenarios
-from rubrotor.reproduce import CASES, case_metrics
+from rubrotor.studies.seed.reproduce import CASES, case_metrics
 
 
 @pytest.fixture(scope="module")
@@ -136,9 +136,9 @@ def test_scenarios_command(capsys):
 def test_seed_study_sections(quick):
     """The seed-form part of the summary is what its own Datasets and functions give: claims
     under the seed's equations from the seed-form metrics, the explanation's numbers from the
-    stability table (recomputed here with :func:`rubrotor.stability.contact_stability`)."""
-    from rubrotor.stability import contact_stability
-    from rubrotor.study.claims import seed_scenarios
+    stability table (recomputed here with :func:`rubrotor.linear.stability.contact_stability`)."""
+    from rubrotor.linear.stability import contact_stability
+    from rubrotor.studies.seed.claims import seed_scenarios
 
     out, s = quick
     x = s["seed_study"]

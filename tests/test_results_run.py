@@ -10,7 +10,7 @@ import xarray as xr
 
 import rubrotor
 from rubrotor.cli import main
-from rubrotor.integrator import Integrator
+from rubrotor.engine.settings import Integrator
 
 CASE1 = Path(rubrotor.__file__).parent / "scenarios" / "seed_case1.toml"
 

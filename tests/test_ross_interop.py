@@ -21,7 +21,7 @@ with warnings.catch_warnings():  # ROSS's import warns about REFPROP (its ccp de
     else:
         ross = pytest.importorskip("ross")
 
-from rubrotor.interop import from_ross, ross_dof_map  # noqa: E402
+from rubrotor.rotors.ross import from_ross, ross_dof_map  # noqa: E402
 
 pytestmark = pytest.mark.filterwarnings("ignore")
 
@@ -133,8 +133,8 @@ BEARING = dict(  # ours (y, z) = ROSS (x, y)
 
 def _same_mesh_pair(theory):
     """The rotor of :func:`_anisotropic_rotor` with the beam ``theory``, built in ROSS and, from
-    the same description, with :class:`rubrotor.rotor.Rotor` (two sections of 6 elements)."""
-    from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section
+    the same description, with :class:`rubrotor.rotors.fe.Rotor` (two sections of 6 elements)."""
+    from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section
 
     steel = ross.Material(name="steel_same_mesh", rho=7810, E=211e9, Poisson=0.3)
     shaft = [

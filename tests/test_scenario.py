@@ -11,10 +11,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rubrotor.api import critical_speeds, modes
 from rubrotor.errors import ScenarioError
-from rubrotor.forces import restitution_damping
-from rubrotor.model import Dimensionless, Shaft
+from rubrotor.linear.verbs import critical_speeds, modes
+from rubrotor.rotors.forces import restitution_damping
+from rubrotor.rotors.shaft import Dimensionless, Shaft
 from rubrotor.scenario import Scenario, load_scenario, scenario_from_dict, scenario_to_dict
 
 SCENARIOS = resources.files("rubrotor") / "scenarios"

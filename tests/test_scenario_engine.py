@@ -1,4 +1,4 @@
-"""Scenario keys of the general engine (rubrotor.scenario_engine) and their wiring into
+"""Scenario keys of the general engine (rubrotor.scenario.dynamics) and their wiring into
 rubrotor.simulate and ``rubrotor simulate``.
 
 References: the same run built directly through the API (``simulate_general`` on the objects
@@ -19,12 +19,12 @@ import pytest
 import rubrotor
 from rubrotor.cli import main, shipped_scenarios
 from rubrotor.engine.driver import simulate_general
-from rubrotor.engine.model import RubStation, Run, Stator
+from rubrotor.engine.parts import RubStation, Run, Stator
 from rubrotor.errors import ScenarioError
-from rubrotor.forces import Contact, RadialLoad, Unbalance
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section
+from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section
+from rubrotor.rotors.forces import Contact, RadialLoad, Unbalance
 from rubrotor.scenario import scenario_from_dict
-from rubrotor.scenario_engine import ENGINE_KEYS
+from rubrotor.scenario.dynamics import ENGINE_KEYS
 
 SCENARIOS = Path(rubrotor.__file__).parent / "scenarios"
 
@@ -302,7 +302,7 @@ def test_streamed_cli_run_and_analyze(tmp_path, capsys, monkeypatch):
     """A run above the streaming threshold goes to the file chunk by chunk: same samples as the
     in-memory run, status and final state stored; ``rubrotor analyze`` reads it (it derives the
     accelerations the streamed file does not hold) and ``--figure`` draws it."""
-    import rubrotor.simulate_engine as se
+    import rubrotor.engine.general as se
 
     text = (SCENARIOS / "seal_rub.toml").read_text().replace("revolutions = 40", "revolutions = 2")
     f = tmp_path / "s.toml"

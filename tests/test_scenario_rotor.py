@@ -1,7 +1,7 @@
 """Scenario files of general rotors: parsing, validation naming the key, CLI exit status.
 
 References: the Python API objects built by hand (same rotor, same matrices), the closed-form
-mass of an annular disk, and the continuous shaft of :mod:`rubrotor.modal` for a uniform
+mass of an annular disk, and the continuous shaft of :mod:`rubrotor.linear.shaft` for a uniform
 ``[[section]]`` on two pinned bearings (the default mesh must meet its 1e-4 claim).
 """
 
@@ -23,8 +23,8 @@ import scipy.linalg
 import rubrotor
 from rubrotor.cli import main, shipped_scenarios
 from rubrotor.errors import ScenarioError
-from rubrotor.modal import natural_frequencies
-from rubrotor.rotor import Bearing, Material, Rotor, Section
+from rubrotor.linear.shaft import natural_frequencies
+from rubrotor.rotors.fe import Bearing, Material, Rotor, Section
 from rubrotor.scenario import load_scenario, scenario_from_dict, scenario_to_dict
 
 GENERAL = str(resources.files("rubrotor") / "scenarios" / "general_rotor.toml")

@@ -1,4 +1,4 @@
-"""The scenario schema as one table of data (:mod:`rubrotor.schema`): every row is consistent,
+"""The scenario schema as one table of data (:mod:`rubrotor.scenario.schema`): every row is consistent,
 and the views the validation uses are generated from the rows."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from rubrotor.schema import KEYS, KINDS, TABLES, allowed_text, check_value, key_row
+from rubrotor.scenario.schema import KEYS, KINDS, TABLES, allowed_text, check_value, key_row
 
 
 @pytest.mark.parametrize("row", KEYS, ids=lambda k: k.dotted)
@@ -72,10 +72,10 @@ def _object_defaults() -> dict[str, dict]:
     """Defaults of the model objects' own fields, the second source the table must agree with."""
     import dataclasses
 
-    from rubrotor.forces import Contact, RadialLoad
-    from rubrotor.integrator import Integrator
-    from rubrotor.model import Shaft
-    from rubrotor.rotor import Bearing, Disk, Rotor, Section
+    from rubrotor.engine.settings import Integrator
+    from rubrotor.rotors.fe import Bearing, Disk, Rotor, Section
+    from rubrotor.rotors.forces import Contact, RadialLoad
+    from rubrotor.rotors.shaft import Shaft
 
     classes = {
         "shaft": Shaft,
@@ -104,7 +104,7 @@ def test_defaults_are_those_of_the_model_objects():
     is also a key has its default in the table."""
     import inspect
 
-    from rubrotor.forces import restitution_damping
+    from rubrotor.rotors.forces import restitution_damping
 
     objects = _object_defaults()
     compared = 0
@@ -123,8 +123,8 @@ def test_views_are_generated_from_the_rows():
     """SCHEMA, ROTOR_SCHEMA, KEY_UNITS, REQUIRED and ALTERNATIVES of the loader are the rows,
     regrouped; the loader's module re-exports the same objects."""
     import rubrotor.scenario as sc
-    import rubrotor.scenario_rotor as sr
-    from rubrotor import schema
+    import rubrotor.scenario.rotor as sr
+    from rubrotor.scenario import schema
 
     assert sc.SCHEMA is schema.SCHEMA and sr.ROTOR_SCHEMA is schema.ROTOR_SCHEMA
     assert sc.KEY_UNITS is schema.KEY_UNITS and sc.ALTERNATIVES is schema.ALTERNATIVES
@@ -139,7 +139,7 @@ def test_views_are_generated_from_the_rows():
 def test_docs_table_has_one_row_per_key():
     """The docs page's key tables (docs/conf.py writes them at build time) list every row once,
     under a heading of its table, with its unit and its choices or range."""
-    from rubrotor.schema import markdown_table
+    from rubrotor.scenario.schema import markdown_table
 
     table = None
     seen = []
@@ -160,8 +160,8 @@ def test_docs_table_has_one_row_per_key():
 
 def _objects():
     """Valid keyword sets of the model objects that check the shared ranges themselves."""
-    from rubrotor.model import Shaft
-    from rubrotor.rotor import Disk, Material, Section
+    from rubrotor.rotors.fe import Disk, Material, Section
+    from rubrotor.rotors.shaft import Shaft
 
     steel = Material("steel", 211e9, 7810.0, poisson_ratio=0.3)
     return {

@@ -16,8 +16,8 @@ from hypothesis import strategies as st
 
 from rubrotor.errors import InputError
 from rubrotor.scenario import SCHEMA, scenario_from_dict
-from rubrotor.schema import KEYS, TABLES
-from rubrotor.schema_export import SCHEMA_FILE, scenario_json_schema
+from rubrotor.scenario.export import SCHEMA_FILE, scenario_json_schema
+from rubrotor.scenario.schema import KEYS, TABLES
 
 jsonschema = pytest.importorskip("jsonschema")
 
@@ -35,15 +35,15 @@ def validator():
 
 
 def test_shipped_file_is_the_generated_schema():
-    """Regenerate with ``python -m rubrotor.schema_export`` when the tables change."""
+    """Regenerate with ``python -m rubrotor.scenario.export`` when the tables change."""
     assert json.loads(SCHEMA_FILE.read_text()) == scenario_json_schema()
 
 
 def test_table_or_array_form_accepts_both():
     """A table that may be repeated (``[contact]`` or ``[[contact]]``, form ``"table|array"``)
     validates as one table or as an array of them, with the same key rules."""
-    from rubrotor.schema import Table
-    from rubrotor.schema_export import _form
+    from rubrotor.scenario.export import _form
+    from rubrotor.scenario.schema import Table
 
     schema = _form(Table("contact", "table|array", "any", "a test table"))
     check = jsonschema.Draft202012Validator(schema)
@@ -57,7 +57,7 @@ def test_ranges_of_the_rows_are_in_the_schema(validator):
     schema (the same bound the loader applies, checked in tests/test_schema.py)."""
     import math
 
-    from rubrotor.schema import key_row
+    from rubrotor.scenario.schema import key_row
 
     refused = 0
     for section, body in _case1().items():

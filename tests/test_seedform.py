@@ -13,12 +13,12 @@ from seed import seed_shaft
 from rubrotor import Integrator, ModalDamping, load_scenario, simulate
 from rubrotor.analysis.spectra import full_spectrum
 from rubrotor.core.contact import contact_force, contact_force_jac, pack_contact
+from rubrotor.engine.simulate import assemble
 from rubrotor.errors import InputError, ScenarioError
-from rubrotor.modal import whirl_frequencies
-from rubrotor.model import modal_matrices
-from rubrotor.seedform import seed_coefficients, two_field_determinant
-from rubrotor.simulation import assemble
-from rubrotor.stability import contact_stability
+from rubrotor.linear.shaft import whirl_frequencies
+from rubrotor.linear.stability import contact_stability
+from rubrotor.rotors.seed_form import seed_coefficients, two_field_determinant
+from rubrotor.rotors.shaft import modal_matrices
 
 SPEED = 11613.8  # rad/s, 1.5 x first forward critical of the seed rotor
 
@@ -38,7 +38,7 @@ def test_free_frequencies_equal_two_field(speed):
 
     References: the eigenvalues of the two-field first-order system (``assemble``) and, as a
     third route, the roots of the closed-form characteristic polynomial of
-    :func:`rubrotor.modal.whirl_frequencies`.
+    :func:`rubrotor.linear.shaft.whirl_frequencies`.
     """
     sh = seed_shaft(modes=4)
     two = assemble(sh, speed)
@@ -54,7 +54,7 @@ def test_coefficients_are_the_two_field_determinant():
     """c4..c0 written from eq. (1) equal det(M s^2 + Omega G s + K) / ((L/2) kappa G A).
 
     Two routes: term-by-term transcription of eq. (1) and the polynomial determinant of the
-    two-field modal matrices (:mod:`rubrotor.model`).
+    two-field modal matrices (:mod:`rubrotor.rotors.shaft`).
     """
     sh = seed_shaft()
     for n in (1, 2, 3):
@@ -220,7 +220,7 @@ def test_coefficients_from_the_dimensionless_form():
     ``c^4 r^4 delta P'''' - 2i r^4 c^4 delta P''' + (c^2 + r^2 c^2 (delta + 1) K^2) P''
     - 2i r^2 c^2 K^2 P' + K^4 P = 2 sin(K a') F'`` with ``K = n pi``; in SI
     ``c_j = d_j E I / (2 L^3 Omega^j)`` (from ``P = L P'``, ``F = F' E I / L^2``)."""
-    from rubrotor.model import Dimensionless
+    from rubrotor.rotors.shaft import Dimensionless
 
     sh = seed_shaft()
     nd = Dimensionless(sh, SPEED)

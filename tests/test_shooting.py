@@ -6,10 +6,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rubrotor import shooting
+from rubrotor.engine.simulate import assemble
 from rubrotor.errors import InputError
+from rubrotor.orbits import shooting
 from rubrotor.scenario import load_scenario
-from rubrotor.simulation import assemble
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "src" / "rubrotor" / "scenarios"
 
@@ -88,12 +88,12 @@ def test_compiled_monodromy_equals_central_differences(factor):
 def test_prepared_map_equals_the_simulation():
     """The prepared map's end state and largest radius equal a simulation from the same state.
 
-    Reference: :func:`rubrotor.simulation.simulate_scenario` with the fixed-step exponential
+    Reference: :func:`rubrotor.engine.simulate.simulate_scenario` with the fixed-step exponential
     integrator from ``start=`` (the simulation driver, its result objects and its saved
     samples), in contact; and :meth:`_Map.at_speed` equals a map built from the scenario
     re-validated at that speed (``with_changes``).
     """
-    from rubrotor.simulation import simulate_scenario
+    from rubrotor.engine.simulate import simulate_scenario
 
     sc = _annular()
     x = shooting.state_vector(shooting.shoot(sc, steps=128).state) * 1.6

@@ -1,4 +1,4 @@
-"""Periodic orbits of a general (finite-element) rotor by shooting (rubrotor.shooting_general).
+"""Periodic orbits of a general (finite-element) rotor by shooting (rubrotor.orbits.general_map).
 
 References:
 
@@ -19,10 +19,10 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from rubrotor import shooting
 from rubrotor.errors import InputError
+from rubrotor.orbits import shooting
+from rubrotor.orbits.general_map import GeneralMap
 from rubrotor.scenario import load_scenario
-from rubrotor.shooting_general import GeneralMap
 
 SEAL = resources.files("rubrotor") / "scenarios" / "seal_rub.toml"
 STEPS = 256
@@ -56,7 +56,7 @@ def test_rub_orbit_is_the_attractor_of_the_time_simulation(orbit):
     deviation over revolutions 20 to 60 equals the largest multiplier's modulus to 0.5 %
     (measured 0.79141 against 0.79186)."""
     import rubrotor
-    from rubrotor.integrator import Integrator
+    from rubrotor.engine.settings import Integrator
 
     assert orbit.stable and orbit.residual < 1e-10
     sc = load_scenario(SEAL)
@@ -78,7 +78,7 @@ def test_rub_orbit_is_the_attractor_of_the_time_simulation(orbit):
 def test_orbit_dataset_and_refusals(orbit):
     """The orbit as a Dataset like a simulation's (closing on itself); the synchronous route is
     refused by name on a general rotor, and so is a speed profile."""
-    from rubrotor.continuation import continue_orbit
+    from rubrotor.orbits.continuation import continue_orbit
 
     ds = orbit.dataset(64)
     assert ds.sizes["time"] == 65 and ds.attrs["status"] == "complete"
@@ -103,7 +103,7 @@ def test_continuation_in_speed_equals_shooting_at_each_speed(tmp_path, capsys):
     import json
 
     from rubrotor.cli import main
-    from rubrotor.continuation import continue_orbit
+    from rubrotor.orbits.continuation import continue_orbit
 
     sc = load_scenario(SEAL)
     branch = continue_orbit(sc, "speed.rad_per_s", 628.3, 700.0, points=6, steps=128)
@@ -131,8 +131,8 @@ def test_state_carrying_sweep_follows_the_shot_orbits():
     (the rub orbit from 300 transient revolutions of the 600 rad/s rub state; the no-contact
     orbit from the steady response), whose largest radius the sweep's must equal to 1e-7 after its 100
     transient revolutions (largest multiplier ~0.8: 0.8^100 ~ 2e-10)."""
-    from rubrotor.follow import follow_general
-    from rubrotor.regimes import regime_labels
+    from rubrotor.sweeps.follow import follow_general
+    from rubrotor.sweeps.regimes import regime_labels
 
     sc = load_scenario(SEAL)
     speeds = [600.0, 650.0, 700.0]
@@ -166,7 +166,7 @@ def test_lyapunov_exponents_of_a_general_rotor(tmp_path, orbit):
     periodic rub by a negative exponent.
     """
     import rubrotor
-    from rubrotor.follow import follow_sweep
+    from rubrotor.sweeps.follow import follow_sweep
 
     path = tmp_path / "free.toml"
     path.write_text(SEAL.read_text().replace("clearance = 40e-6", "clearance = 1e-2"))
@@ -199,7 +199,7 @@ def test_cli_follow_sweep_of_a_general_rotor(tmp_path, capsys):
     import xarray as xr
 
     from rubrotor.cli import main
-    from rubrotor.regimes import regime_labels
+    from rubrotor.sweeps.regimes import regime_labels
 
     out = tmp_path / "f.zarr"
     args = ["sweep", str(SEAL), "--vary", "speed.rad_per_s=600:650:2", "--follow", "up",

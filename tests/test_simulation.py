@@ -5,13 +5,13 @@ import math
 import numpy as np
 import pytest
 
+from rubrotor.engine.settings import Integrator
+from rubrotor.engine.simulate import simulate_system
 from rubrotor.errors import InputError
-from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance
-from rubrotor.integrator import Integrator
-from rubrotor.modal import first_forward_critical
-from rubrotor.model import Dimensionless, Shaft
+from rubrotor.linear.shaft import first_forward_critical
 from rubrotor.reference import exact_unbalance_response, solve_ivp_reference
-from rubrotor.simulation import simulate_system
+from rubrotor.rotors.forces import Contact, ModalDamping, RadialLoad, Unbalance
+from rubrotor.rotors.shaft import Dimensionless, Shaft
 
 SEED = Shaft(
     length=0.4,
@@ -283,7 +283,7 @@ def test_adaptive_error_follows_tolerance(pressed_reference):
 
 
 def test_phi_functions_match_direct_quadrature():
-    from rubrotor.simulation import phi_functions
+    from rubrotor.engine.simulate import phi_functions
 
     z = np.array([1e-6 + 1e-6j, 0.1j, -0.3 + 2j, 3.0 - 1j])
     p1, p2, p3 = phi_functions(z, third=True)

@@ -10,10 +10,10 @@ from importlib import resources
 import numpy as np
 import pytest
 
-import rubrotor.simulation as simulation
-import rubrotor.steppers as steppers
+import rubrotor.engine.shaft_steppers as steppers
+import rubrotor.engine.simulate as simulation
 from rubrotor.core.integrate import EVENT_BUFFER_FULL, STATUS
-from rubrotor.integrator import Integrator
+from rubrotor.engine.settings import Integrator
 from rubrotor.scenario import load_scenario
 
 CASE2 = load_scenario(resources.files("rubrotor") / "scenarios" / "seed_case2.toml")

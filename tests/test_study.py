@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from rubrotor.cli import main
-from rubrotor.study import detection, robustness
-from rubrotor.sweep import map_tasks
+from rubrotor.studies.seed import detection, robustness
+from rubrotor.sweeps.sweep import map_tasks
 
 
 def _square(x):
@@ -81,7 +81,7 @@ def test_stability_cli(capsys, tmp_path):
     from importlib import resources
 
     from rubrotor import load_scenario
-    from rubrotor.stability import contact_stability
+    from rubrotor.linear.stability import contact_stability
 
     path = str(resources.files("rubrotor") / "scenarios" / "seed_case1.toml")
     assert main(["stability", path, "--indentation", "1e-4", "--modes", "1", "--json"]) == 0

@@ -15,7 +15,7 @@ import xarray as xr
 from rubrotor.cli import main
 from rubrotor.errors import InputError
 from rubrotor.scenario import load_scenario
-from rubrotor.sweep import (
+from rubrotor.sweeps.sweep import (
     CHAOTIC,
     FULL,
     NO_CONTACT,
@@ -123,8 +123,8 @@ def test_real_regimes_no_contact_full_and_periodic_partial():
 
 def test_poincare_samples_are_once_per_revolution():
     ds = sweep(LOADED, {"speed.critical_multiple": [1.5]}, workers=1, **SHORT)
-    from rubrotor.integrator import Integrator
-    from rubrotor.simulation import simulate_system
+    from rubrotor.engine.settings import Integrator
+    from rubrotor.engine.simulate import simulate_system
 
     sc = LOADED
     r = simulate_system(
@@ -157,7 +157,7 @@ def test_grid_dims_and_pool_equal_in_process(reference, tmp_path):
 
 def test_resume_computes_only_missing_and_rejects_other_sweeps(reference, tmp_path, monkeypatch):
     store = tmp_path / "s.zarr"
-    import rubrotor.sweep as sw
+    import rubrotor.sweeps.sweep as sw
 
     calls = []
     real = sw.run_chunk
@@ -183,7 +183,7 @@ def test_resume_computes_only_missing_and_rejects_other_sweeps(reference, tmp_pa
 
 
 def test_interrupt_during_write_is_deferred():
-    import rubrotor.sweep as sw
+    import rubrotor.sweeps.sweep as sw
 
     with pytest.raises(KeyboardInterrupt):
         with sw._deferred_interrupt():

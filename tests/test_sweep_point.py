@@ -5,7 +5,7 @@ References:
 * ``rubrotor.simulate`` of the point's scenario (built by ``Scenario.with_changes``, the public
   route, which resolves ``speed.critical_multiple`` from the shaft on its own) with the sweep's
   integrator settings, read from its results Dataset, and reduced by
-  :func:`rubrotor.sweep.point_metrics` on the Dataset's arrays: the sweep's own path builds no
+  :func:`rubrotor.sweeps.sweep.point_metrics` on the Dataset's arrays: the sweep's own path builds no
   Dataset, re-uses the critical speed and reads the kernel's buffer in place, so every stored
   number must still equal this route to 1e-12 (relative);
 * :meth:`Scenario.with_changes` for the point scenarios the sweep builds with its cached
@@ -20,11 +20,11 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from rubrotor.follow import run_follow_chunk
-from rubrotor.integrator import Integrator
+from rubrotor.engine.settings import Integrator
+from rubrotor.engine.simulate import simulate
 from rubrotor.scenario import load_scenario, scenario_to_dict
-from rubrotor.simulation import simulate
-from rubrotor.sweep import PointScenarios, _point_scenario, point_metrics, sweep
+from rubrotor.sweeps.follow import run_follow_chunk
+from rubrotor.sweeps.sweep import PointScenarios, _point_scenario, point_metrics, sweep
 
 CASE1 = load_scenario(resources.files("rubrotor") / "scenarios" / "seed_case1.toml")
 T, R, N = 20, 40, 64
@@ -105,7 +105,7 @@ def test_point_scenarios_equal_with_changes(keys, values):
 @pytest.mark.parametrize("seed", range(20))
 def test_largest_first_equals_a_full_stable_sort(seed):
     """Reference: ``np.argsort(-mag[idx], kind="stable")`` of all peaks (ties in index order)."""
-    from rubrotor.sweep import _largest_first
+    from rubrotor.sweeps.sweep import _largest_first
 
     rng = np.random.default_rng(seed)
     n = int(rng.integers(1, 60))

@@ -1,4 +1,4 @@
-"""Synchronous orbits as rotating-frame equilibria (rubrotor.synchronous) and their branches.
+"""Synchronous orbits as rotating-frame equilibria (rubrotor.orbits.synchronous) and their branches.
 
 References:
 
@@ -19,12 +19,12 @@ import numpy as np
 import pytest
 from test_follow_sweep import HYST, _closed_form
 
-from rubrotor import shooting
-from rubrotor.continuation import continue_orbit
+from rubrotor.engine.simulate import assemble
 from rubrotor.errors import InputError
-from rubrotor.model import modal_matrices
-from rubrotor.simulation import assemble
-from rubrotor.synchronous import Field, is_circular, synchronous_orbit
+from rubrotor.orbits import shooting
+from rubrotor.orbits.continuation import continue_orbit
+from rubrotor.orbits.synchronous import Field, is_circular, synchronous_orbit
+from rubrotor.rotors.shaft import modal_matrices
 
 KEY = "speed.critical_multiple"
 CRIT = HYST.speed / 1.3  # HYST runs at 1.3 x its first critical speed (rad/s)
@@ -180,7 +180,7 @@ def test_cli_continue_method_and_richardson(tmp_path, capsys):
     from test_follow_sweep import HYST_TOML
 
     from rubrotor.cli import main
-    from rubrotor.results import load_dataset
+    from rubrotor.engine.result import load_dataset
 
     scen = tmp_path / "hyst.toml"
     scen.write_text(HYST_TOML)
@@ -213,10 +213,10 @@ def test_general_rotor_is_refused_by_name_not_a_traceback(tmp_path):
     field, not a traceback."""
     from importlib import resources
 
-    from rubrotor.follow import follow_sweep
-    from rubrotor.integrator import Integrator
+    from rubrotor.engine.settings import Integrator
+    from rubrotor.engine.simulate import simulate_scenario
     from rubrotor.scenario import load_scenario
-    from rubrotor.simulation import simulate_scenario
+    from rubrotor.sweeps.follow import follow_sweep
 
     path = resources.files("rubrotor") / "scenarios" / "seal_rub.toml"
     sc = load_scenario(path)

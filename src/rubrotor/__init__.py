@@ -1,4 +1,14 @@
-"""rubrotor: rotor-stator rub in a continuous Timoshenko rotor.
+"""rubrotor: rotor-stator rub on real rotors.
+
+The package is laid out by concern: :mod:`rubrotor.scenario` (scenario files),
+:mod:`rubrotor.rotors` (builders: continuous shaft, finite-element rotor, ROSS import, the one
+linear system), :mod:`rubrotor.linear` (modes, Campbell, critical speeds, responses, stability),
+:mod:`rubrotor.engine` (reduction, steppers, runs, results), :mod:`rubrotor.core` (compiled
+kernels only), :mod:`rubrotor.orbits` (shooting, continuation, Lyapunov),
+:mod:`rubrotor.sweeps`, :mod:`rubrotor.analysis`, :mod:`rubrotor.plotting`,
+:mod:`rubrotor.studies` and :mod:`rubrotor.cli`. Module paths of earlier releases
+(``rubrotor.simulation``, ``rubrotor.model``, ...) still import, with one warning each
+(:mod:`rubrotor._moved`).
 
 The public surface, each name defined once in its own module:
 
@@ -10,29 +20,33 @@ The public surface, each name defined once in its own module:
 * simulation: :func:`simulate` (returns an ``xarray.Dataset``), :func:`converge`;
 * analysis: :func:`cwt`, :func:`scalogram`, :func:`full_spectrum`, :func:`amplitude_spectrum`,
   :func:`rub_indicators`;
-* parameter maps: ``rubrotor.sweep.sweep`` (its module imports zarr/dask lazily),
-  state-carrying up/down sweeps ``rubrotor.follow.follow_sweep``; Lyapunov exponents:
+* parameter maps: ``rubrotor.sweeps.sweep.sweep`` (its module imports zarr/dask lazily),
+  state-carrying up/down sweeps ``rubrotor.sweeps.follow.follow_sweep``; Lyapunov exponents:
   :func:`lyapunov_exponents`; a start state: :class:`RotorState`;
 * results files: :func:`save_dataset`, :func:`load_dataset`.
 """
 
 __version__ = "0.1.0"
 
+from rubrotor import _moved  # noqa: E402
+
+_moved.install()
+
 from rubrotor.analysis.indicators import rub_indicators  # noqa: E402
 from rubrotor.analysis.spectra import amplitude_spectrum, full_spectrum  # noqa: E402
 from rubrotor.analysis.wavelet import cwt, scalogram  # noqa: E402
-from rubrotor.api import critical_speeds, damped_modes, linear_system, modes  # noqa: E402
+from rubrotor.engine.result import load_dataset, save_dataset  # noqa: E402
+from rubrotor.engine.settings import Integrator  # noqa: E402
+from rubrotor.engine.simulate import RotorState, converge, simulate  # noqa: E402
 from rubrotor.errors import InputError, RubrotorError, ScenarioError  # noqa: E402
-from rubrotor.forces import Contact, ModalDamping, RadialLoad, Unbalance  # noqa: E402
-from rubrotor.integrator import Integrator  # noqa: E402
-from rubrotor.interop import from_ross  # noqa: E402
-from rubrotor.lyapunov import lyapunov_exponents  # noqa: E402
-from rubrotor.modal import campbell  # noqa: E402
-from rubrotor.model import Dimensionless, Shaft  # noqa: E402
-from rubrotor.results import load_dataset, save_dataset  # noqa: E402
-from rubrotor.rotor import Bearing, Disk, Material, Rotor, Section  # noqa: E402
-from rubrotor.scenario import Scenario, load_scenario  # noqa: E402
-from rubrotor.simulation import RotorState, converge, simulate  # noqa: E402
+from rubrotor.linear.shaft import campbell  # noqa: E402
+from rubrotor.linear.verbs import critical_speeds, damped_modes, linear_system, modes  # noqa: E402
+from rubrotor.orbits.lyapunov import lyapunov_exponents  # noqa: E402
+from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section  # noqa: E402
+from rubrotor.rotors.forces import Contact, ModalDamping, RadialLoad, Unbalance  # noqa: E402
+from rubrotor.rotors.ross import from_ross  # noqa: E402
+from rubrotor.rotors.shaft import Dimensionless, Shaft  # noqa: E402
+from rubrotor.scenario.load import Scenario, load_scenario  # noqa: E402
 
 __all__ = [
     "__version__",

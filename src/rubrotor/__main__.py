@@ -2,7 +2,7 @@
 
 import sys
 
-from rubrotor.cli import main
+from rubrotor.cli.app import main
 
 if __name__ == "__main__":
     sys.exit(main())

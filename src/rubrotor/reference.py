@@ -1,7 +1,7 @@
 """Independent references for tests and benchmarks (SciPy only; slow by design).
 
 Nothing here uses the diagonalised system or the compiled kernels of rubrotor: the modal matrices
-come from :func:`rubrotor.model.modal_matrices` (the physics under test), the contact law is
+come from :func:`rubrotor.rotors.shaft.modal_matrices` (the physics under test), the contact law is
 re-implemented from the equations of the model notes, and the time integration is SciPy's (matrix
 exponential or ``solve_ivp`` DOP853 at tight tolerance).
 """
@@ -14,7 +14,7 @@ import numpy as np
 import scipy.integrate
 import scipy.linalg
 
-from rubrotor.model import Shaft, modal_matrices
+from rubrotor.rotors.shaft import Shaft, modal_matrices
 
 
 def physical_system(shaft: Shaft, speed: float, zeta: float = 0.0):

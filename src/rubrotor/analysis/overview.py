@@ -71,7 +71,7 @@ class SignalAnalysis:
 
 
 def mode_entries(modes) -> list[tuple[str, float, str]]:
-    """``(label, frequency_hz, whirl)`` entries from :class:`rubrotor.modal.Mode` objects.
+    """``(label, frequency_hz, whirl)`` entries from :class:`rubrotor.linear.shaft.Mode` objects.
 
     Parameters
     ----------

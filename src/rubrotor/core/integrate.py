@@ -1,6 +1,6 @@
 """Compiled time loops for the modal rotor with contact (plain arrays, SI units).
 
-The rotor is diagonalised once (:mod:`rubrotor.modal_system`): with ``y`` the complex eigen-
+The rotor is diagonalised once (:mod:`rubrotor.engine.shaft_modal`): with ``y`` the complex eigen-
 coordinates of the first-order modal system, ``y' = lam * y + beta_c F_c + beta_u F_u + beta_l F_l``.
 
 ``expo_fixed`` and ``expo_adaptive`` integrate the shifted coordinates ``y~ = y - y_p(t)``, where
@@ -78,7 +78,7 @@ def n_channels(n_stations: int) -> int:
 def _station(y, z, F, s, rows):
     """Complex displacement (m), velocity (m/s) and acceleration (m/s^2) at output station ``s``.
 
-    ``rows`` (:class:`rubrotor.steppers.Rows`): rows mapping the eigen-coordinates to each
+    ``rows`` (:class:`rubrotor.engine.shaft_steppers.Rows`): rows mapping the eigen-coordinates to each
     quantity, the direct acceleration per N of contact force, and the contributions of the
     particular (steady) solution as multiples of the unbalance phasor ``z`` and constants.
     """
@@ -177,7 +177,7 @@ def _friction_power(y, z, cp, cdc, cvc, part_c, vel_c_z, part_lc):
 def _powers(y, z, F, en, cp, cdc, cvc, part_c, vel_c_z, part_lc, qv):
     """Instantaneous powers (W): unbalance, constant load, contact force, modal damping, friction.
 
-    ``en`` (:class:`rubrotor.steppers.Energy`): rows giving the modal velocities, the damping
+    ``en`` (:class:`rubrotor.engine.shaft_steppers.Energy`): rows giving the modal velocities, the damping
     matrix, the velocity rows of the unbalance and load stations (with their particular-solution
     parts) and the force amplitudes.
     """
@@ -215,7 +215,7 @@ def _powers(y, z, F, en, cp, cdc, cvc, part_c, vel_c_z, part_lc, qv):
 def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
     """Fixed-step exponential integrator over ``n_samples`` saved samples.
 
-    Parameters (named tuples of :mod:`rubrotor.steppers`): ``st`` (:class:`RunState`) the run
+    Parameters (named tuples of :mod:`rubrotor.engine.shaft_steppers`): ``st`` (:class:`RunState`) the run
     state, in/out: ``y`` (complex eigen-coordinates, shifted), ``cstate = [F, z, F_prev,
     d_prev]`` (contact force N, unbalance phasor ``exp(i Omega t)``, previous force N, previous
     contact-point displacement m, carried so that chunking changes nothing), ``istate`` (slots
@@ -332,7 +332,7 @@ def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
 def expo_adaptive(st, n_samples, out_offset, k, cp, rows):
     """Error-controlled exponential integrator with dyadic steps ``H / 2^level``.
 
-    Saves one sample every ``k.H`` (s). ``k`` (:class:`rubrotor.steppers.AdaptiveStep`): level
+    Saves one sample every ``k.H`` (s). ``k`` (:class:`rubrotor.engine.shaft_steppers.AdaptiveStep`): level
     arrays ``E, G0, G1, cdE, cvE, Q0, Qm, Q1`` have shape (levels, ns) and ``cdG0, cvG0, sd, sv,
     errc, rot, cdQ0, cvQ0, cdQm, cvQm, sdq, svq`` shape (levels,); ``cdE = cd * E`` etc. are the
     propagate-and-project vectors of the contact station.
@@ -353,7 +353,7 @@ def expo_adaptive(st, n_samples, out_offset, k, cp, rows):
     ``phi1..phi3``), while the step is still controlled by the second-order estimate above (local
     extrapolation); a step that leaves contact falls back to the linear hold.
 
-    ``st`` (:class:`rubrotor.steppers.RunState`): ``cstate = [F, z, F_prev, -]``, ``istate`` (slots
+    ``st`` (:class:`rubrotor.engine.shaft_steppers.RunState`): ``cstate = [F, z, F_prev, -]``, ``istate`` (slots
     ``I_*``, ``I_STEP`` counts saved samples), ``counts`` (slots ``C_*``).
     """
     y, istate, out, stats, events = st.y, st.istate, st.out, st.counts, st.events
@@ -528,10 +528,10 @@ def _rk4_start(y, hist, step, t, h, k, cp, k1, k2, k3, k4, yt):
 def abm_fixed(st, n_samples, out_offset, k, cp, rows):
     """Seed scheme: fixed-step 4th-order Adams-Bashforth-Moulton PECE, RK4 start.
 
-    ``st`` (:class:`rubrotor.steppers.RunState`): ``y`` the unshifted complex eigen-coordinates,
+    ``st`` (:class:`rubrotor.engine.shaft_steppers.RunState`): ``y`` the unshifted complex eigen-coordinates,
     ``hist`` (4, ns) the last four derivatives (newest first), ``cstate[0]`` the contact force
     (N) of the last step (carried across calls, for the events), ``istate`` (slots ``I_*``);
-    ``k`` (:class:`rubrotor.steppers.AbmStep`): modes, force inputs, forces, contact rows,
+    ``k`` (:class:`rubrotor.engine.shaft_steppers.AbmStep`): modes, force inputs, forces, contact rows,
     ``omega`` (rad/s), ``h`` (s), ``save_every``, ``max_disp`` (m), ``event_reserve``.
     """
     y, hist, istate, out, events = st.y, st.hist, st.istate, st.out, st.events

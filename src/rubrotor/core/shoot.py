@@ -50,7 +50,7 @@ def expo_strobe(y, Q, k, cp, out):
         Shifted eigen-coordinates at unbalance phase 0; overwritten by the end state.
     Q : ndarray, complex (m, ns)
         Tangent vectors as rows (``m = 0``: the map alone); overwritten by their images.
-    k : namedtuple (:class:`rubrotor.shooting.MapStep`)
+    k : namedtuple (:class:`rubrotor.orbits.shooting.MapStep`)
         ``E, G0, G1`` (ns,) step coefficients, ``sd, sv`` contact-station displacement (m/N)
         and velocity (m/(s N)) per N of the new force, contact rows ``cdc, cvc`` (ns,),
         ``part_c`` (m) and ``vel_cz`` (m/s) the particular solution at the contact station per
@@ -163,7 +163,7 @@ def expo_strobe(y, Q, k, cp, out):
 def phi12(z, p1, p2):
     """``phi1 = (e^z - 1)/z`` and ``phi2 = (e^z - 1 - z)/z^2`` into ``p1, p2`` (complex arrays).
 
-    The arithmetic of :func:`rubrotor.modal_system.phi_functions` (Taylor series of 20 terms
+    The arithmetic of :func:`rubrotor.engine.shaft_modal.phi_functions` (Taylor series of 20 terms
     below ``|z| = 0.25``, the recurrence above), compiled, for maps rebuilt at every key value.
     """
     for i in range(z.shape[0]):

@@ -53,7 +53,7 @@ from rubrotor.core.engine_adaptive import (
     T_TIME,
     expo_adaptive,
 )
-from rubrotor.engine.model import (
+from rubrotor.engine.parts import (
     RubStation,
     Run,
     speed_at,
@@ -69,11 +69,11 @@ from rubrotor.engine.reduce import (
     reduce_matrices,
     reduce_projected,
 )
+from rubrotor.engine.result import _jsonable
+from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
 from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Plan, Steps
 from rubrotor.errors import InputError
-from rubrotor.modal_system import phi_functions
-from rubrotor.results import _jsonable
 
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "result_dataset", "STEPPERS"]
 
@@ -144,15 +144,15 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
 
     Parameters
     ----------
-    system : rubrotor.linear.LinearSystem
+    system : rubrotor.rotors.linear.LinearSystem
         The rotor.
     run : Run
         Speed (rad/s), reduction, initial state, probes (m).
     stations : sequence of RubStation
         Contact stations.
-    unbalances : sequence of rubrotor.forces.Unbalance
+    unbalances : sequence of rubrotor.rotors.forces.Unbalance
         Unbalance planes (positions required, m; magnitudes kg m; phases rad).
-    loads : sequence of rubrotor.forces.RadialLoad
+    loads : sequence of rubrotor.rotors.forces.RadialLoad
         Constant point loads (N) at positions (m).
     gravity : (float, float)
         ``(g_y, g_z)`` (m/s^2) on the rotor's masses (not on the stators).
@@ -717,7 +717,7 @@ def simulate_general(
 
     Parameters
     ----------
-    system : rubrotor.linear.LinearSystem
+    system : rubrotor.rotors.linear.LinearSystem
         The rotor.
     run : Run
         Speed (rad/s), duration (s), step (s), reduction, initial state, probes.

@@ -337,6 +337,6 @@ def reduce_auto(M, D, K, keep=None, cutoff=None, fmap=None) -> Modes:
 
 
 def reduce(system, speed: float, keep: int | None = None, cutoff: float | None = None) -> Modes:
-    """:func:`reduce_matrices` of a :class:`rubrotor.linear.LinearSystem` at ``speed`` (rad/s)."""
+    """:func:`reduce_matrices` of a :class:`rubrotor.rotors.linear.LinearSystem` at ``speed`` (rad/s)."""
     sm = system.matrices(speed)
     return reduce_matrices(sm.M, sm.damping, sm.K, keep, cutoff)

@@ -1,0 +1,256 @@
+"""Run a scenario through the general engine (:func:`rubrotor.engine.driver.simulate_general`).
+
+:func:`rubrotor.engine.simulate.simulate` sends here every scenario with ``Scenario.engine`` set (a
+general ``[[section]]`` rotor, or a key only the general engine supports, see
+:mod:`rubrotor.scenario.dynamics`); the seed's scenarios keep the seed's engine.
+
+The results Dataset has the engine's layout: ``v, w`` (m), ``v_dot, w_dot`` (m/s) and
+``v_ddot, w_ddot`` (m/s^2, second-order central differences of the saved velocity) on
+dimensions ``(station, time)`` (contact stations first, then probes); ``stator_y ...
+friction_force`` (m, m/s, N) on ``(contact, time)``; events; attributes ``status``,
+``status_message``, ``speed_rad_s``, ``speed_hz``, ``speed_end_rad_s`` (run-ups),
+``scenario``, ``scenario_name``, ``integrator_stats`` and ``final_state`` (JSON: the rotor state
+``[q, q']`` at the end, for ``[initial] state = "file"``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from rubrotor.engine.parts import Run, spin_angle
+from rubrotor.engine.stream import check_size
+from rubrotor.errors import InputError, ScenarioError
+
+__all__ = ["engine_problem", "simulate_engine", "STREAM_SAMPLES"]
+
+STREAM_SAMPLES = 1 << 21
+"""``rubrotor simulate`` streams runs with more saved samples than this to the results file."""
+
+
+def _system(scenario, probes):
+    from rubrotor.rotors.shaft_system import continuous_system
+
+    eng = scenario.engine
+    if scenario.rotor is not None:
+        return scenario.rotor.linear_system(tuple(sorted(set(eng.positions + tuple(probes)))))
+    if any(r != 0 for r in scenario.damping.ratios):
+        raise ScenarioError(
+            "damping.ratio",
+            scenario.damping.ratios,
+            "0 (no modal damping) with the general engine's keys; run the [shaft] scenario "
+            "without them to keep its modal damping",
+        )
+    return continuous_system(scenario.shaft)
+
+
+def _duration(integ, speed: float, speed_end: float | None) -> float:
+    if integ.duration is not None:
+        return integ.duration
+    mean = speed if speed_end is None else 0.5 * (speed + speed_end)
+    return integ.revolutions * 2 * math.pi / mean
+
+
+def _restart(path: str, speed: float, n: int) -> tuple[np.ndarray, float]:
+    """Final state (SI) and end time (s) stored in an earlier results file of the engine."""
+    from rubrotor.engine.result import load_dataset
+
+    try:
+        ds = load_dataset(path)
+    except InputError:
+        raise ScenarioError("initial.path", path, "an existing results file (.nc)") from None
+    if "final_state" not in ds.attrs:
+        raise ScenarioError("initial.path", path, "a results file written by the general engine")
+    x = np.array(json.loads(ds.attrs["final_state"]), float)
+    if x.shape != (2 * n,):
+        raise ScenarioError("initial.path", path, f"a results file of this rotor ({2 * n} states)")
+    if not math.isclose(float(ds.attrs["speed_rad_s"]), speed, rel_tol=1e-12):
+        raise ScenarioError("initial.path", path, f"a results file run at {speed:g} rad/s")
+    if "speed_end_rad_s" in ds.attrs:
+        raise ScenarioError("initial.path", path, "a constant-speed results file")
+    end = ds.attrs.get("end_time_s", ds.attrs.get("start_time_s", 0.0) + ds["time"].values[-1])
+    return x, float(end)
+
+
+def engine_problem(scenario, integrator=None):
+    """The engine's inputs for a scenario.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        A scenario with ``engine`` set.
+    integrator : rubrotor.engine.settings.Integrator, optional
+        Overrides ``[simulation]``.
+
+    Returns
+    -------
+    system : rubrotor.rotors.linear.LinearSystem
+    run : rubrotor.engine.parts.Run
+    kwargs : dict
+        ``stations``, ``unbalances``, ``loads``, ``gravity`` of ``simulate_general``.
+    t0 : float
+        Start time (s): the end time of the file a restart continues, else 0.
+    """
+    eng = scenario.engine
+    integ = integrator or scenario.simulation
+    if integ is None:
+        raise InputError("simulation", None, "a [simulation] section (revolutions or duration)")
+    if integ.method != "exponential":
+        raise ScenarioError("simulation.method", integ.method, '"exponential" (general engine)')
+    speed, end, table = scenario.speed, eng.speed_end, eng.speed_table
+    if speed <= 0:
+        raise ScenarioError("speed", speed, "a spin speed > 0 (rad/s) for a time simulation")
+    system = _system(scenario, integ.probes)
+    step = integ.step_seconds(speed)
+    adaptive = step is None
+    if adaptive and (end is not None or table):
+        raise ScenarioError(
+            "simulation.dt", None, 'a fixed step (dt or dtau) with a "linear" or "table" profile'
+        )
+    if table and integ.duration is None:
+        raise ScenarioError("simulation.revolutions", integ.revolutions,
+                            'simulation.duration (s) instead, with speed.profile = "table"')  # fmt: skip
+    unb, t0, initial = eng.unbalances, 0.0, eng.initial
+    if initial == "file":
+        initial, t0 = _restart(eng.initial_path, speed, system.n_dof)
+        # constant speed: continuing at t0 equals starting at 0 with phases advanced by Omega t0
+        unb = tuple(dataclasses.replace(u, phase=u.phase + speed * t0) for u in unb)
+    run = Run(
+        speed=speed, duration=_duration(integ, speed, end),
+        step=integ.output_spacing(speed) if adaptive else step,
+        save_every=1 if adaptive else integ.save_every, modes=eng.modes, cutoff=eng.cutoff,
+        residual=eng.residual, initial=initial, probes=integ.probes,
+        max_displacement=integ.max_displacement, speed_end=end, speed_step=eng.speed_step,
+        speed_table=table,
+        rtol=integ.rtol if adaptive else None, atol=integ.atol,
+    )  # fmt: skip
+    kwargs = dict(stations=eng.stations, unbalances=unb, loads=eng.loads, gravity=eng.gravity)
+    return system, run, kwargs, t0
+
+
+def _check_size(scenario, run: Run, stream) -> None:
+    """Refuse a run too large for memory (or disk), naming the scenario's keys, before it runs."""
+    n = int(math.floor(run.duration / (run.step * run.save_every) + 1e-9)) + 1
+    eng = scenario.engine
+    nch = 4 * (len(eng.stations) + len(run.probes)) + 8 * len(eng.stations)
+    integ = scenario.simulation
+    key = "simulation.duration" if integ is None or integ.duration is not None else None
+    key = key or "simulation.revolutions"
+    spacing = "simulation.save_every" if run.rtol is None else "simulation.output_dtau"
+    try:
+        check_size(n, nch, 0, stream)
+    except InputError as exc:
+        value = integ.duration if key.endswith("duration") else integ.revolutions
+        why = exc.allowed.split(":")[0]
+        raise ScenarioError(
+            key, value, f"{why}: change {key} (shorter) or {spacing} (larger)"
+        ) from None
+
+
+def _attrs(scenario, res_stats: dict, run: Run, t0: float) -> dict:
+    from rubrotor import __version__
+
+    a = {
+        "title": f"rubrotor simulation {scenario.name}".strip(),
+        "scenario_name": scenario.name,
+        "scenario": scenario.source,
+        "speed_hz": run.speed / (2 * math.pi),
+        "start_time_s": t0,
+        "engine": "general",
+        "rubrotor_version": __version__,
+        "Conventions": "CF-1.8",
+    }
+    if run.speed_end is not None:
+        a["speed_end_rad_s"] = run.speed_end
+    if run.speed_table is not None:
+        a["speed_table"] = json.dumps(run.speed_table)  # rows of time (s), speed (rad/s)
+    st = scenario.engine.stations
+    if st:
+        a["contact_position_m"] = float(st[0].contact.position)
+    a["contacts"] = json.dumps([
+        {"position": s.contact.position, "clearance": s.contact.clearance,
+         "radius": s.contact.radius, "offset_y": s.offset_y, "offset_z": s.offset_z,
+         "flexible_stator": s.stator is not None} for s in st
+    ])  # fmt: skip
+    return a
+
+
+def _dataset(res, scenario, run: Run, t0: float):
+    """The results Dataset, built once from views of the run's arrays (see the module doc)."""
+    import xarray as xr
+
+    from rubrotor.engine.driver import result_dataset
+
+    time = res.time + t0
+    t = time - t0
+    coords = {
+        "time": xr.Variable("time", time, {"units": "s", "long_name": "time"}),
+        "tau": xr.Variable("time", spin_angle(run, t) + run.speed * t0,
+                           {"units": "rad", "long_name": "spin angle"}),
+    }  # fmt: skip
+    attrs = _attrs(scenario, res.stats, run, t0)
+    attrs["end_time_s"] = t0 + float(res.time[-1]) if res.time.size else t0
+    attrs["final_state"] = json.dumps(res.final_state.tolist())
+    data = _accelerations(res, time)
+    return result_dataset(res, coords=coords, data=data, attrs=attrs)
+
+
+def _accelerations(res, t: np.ndarray) -> dict:
+    """``v_ddot, w_ddot`` (m/s^2): central differences of the saved velocities (order 2)."""
+    import xarray as xr
+
+    S = len(res.stations)
+    out = {}
+    for k, a in ((2, "v"), (3, "w")):
+        vel = res.channels[k : 4 * S : 4]  # the v_dot / w_dot rows of every station
+        acc = np.gradient(vel, t, axis=1) if t.size > 1 else np.zeros_like(vel)
+        out[f"{a}_ddot"] = xr.Variable(("station", "time"), acc, {
+            "units": "m/s^2",
+            "long_name": f"acceleration along {'y' if a == 'v' else 'z'} (central difference of "
+            "the saved velocity)",
+        })  # fmt: skip
+    return out
+
+
+def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
+    """Simulate a scenario with the general engine.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        A scenario with ``engine`` set (general rotor or general-engine keys).
+    integrator : rubrotor.engine.settings.Integrator, optional
+        Overrides ``[simulation]``.
+    progress : bool, optional
+        Progress on stderr for long runs (default: when stderr is a terminal).
+    stream : str or Path, optional
+        Stream the samples chunk by chunk to this netCDF file (bounded memory) and return its
+        path; the file then has no ``v_ddot``/``w_ddot`` (``rubrotor analyze`` derives them).
+
+    Returns
+    -------
+    xarray.Dataset or Path
+        The results (see the module docstring), or the streamed file's path.
+
+    Raises
+    ------
+    ScenarioError
+        Bad input, or a run too large for memory or disk (naming the keys to change), before
+        it starts.
+    """
+    from rubrotor.engine.driver import simulate_general
+
+    system, run, kwargs, t0 = engine_problem(scenario, integrator)
+    _check_size(scenario, run, stream)
+    attrs = None
+    if stream is not None:
+        attrs = _attrs(scenario, {}, run, t0)
+    res = simulate_general(system, run, **kwargs, progress=progress,
+                           stream=None if stream is None else str(stream), attrs=attrs)  # fmt: skip
+    if stream is not None:
+        return Path(stream)
+    return _dataset(res, scenario, run, t0)

@@ -1,0 +1,228 @@
+"""Linear stability of a pressed contact state, for either shaft formulation.
+
+The rotor is held at a static contact position ``P0 = (g + eps0) e_y`` (the force that holds it,
+e.g. a radial load, does not enter the perturbation equations) with zero whirl velocity. The
+contact force is linearised there with the engine's own Jacobian
+(:func:`rubrotor.core.contact.contact_force_jac`): radial stiffness ``1.5 k_h eps0^0.5``,
+Hunt-Crossley damping ``k_h eps0^1.5 b_h`` (N s/m), the geometric term of the normal force turning
+with the position (``F_n0 / (g + eps0)``) and the friction ``mu`` times all of these along the
+tangent; the derivative of the smoothed friction sign is neglected (the surface speed
+``R Omega`` dominates the sliding velocity). The perturbation obeys ``y' = lam y + beta dF`` in
+the diagonal coordinates of the shaft (``rubrotor.engine.simulate.assemble``), with ``dF`` a real-
+linear (not complex-linear) function of ``P`` and ``P'``; the eigenvalues are those of the real
+``2 ns x 2 ns`` matrix. A complex pair ``s, conj(s)`` of that matrix is one whirl motion; its
+signed frequency is ``+Im s`` when the forward (``exp(+i w t)``) part of ``P`` dominates the
+eigenvector and ``-Im s`` otherwise.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rubrotor.core.contact import contact_force_jac, pack_contact
+from rubrotor.errors import InputError
+from rubrotor.rotors.shaft import FORMULATIONS
+
+__all__ = ["ContactStability", "contact_stability"]
+
+TWO_PI = 2 * math.pi
+
+
+@dataclass(frozen=True)
+class ContactStability:
+    """Eigenvalues of rotor plus linearised contact.
+
+    Attributes
+    ----------
+    formulation : str
+        ``"two-field"`` or ``"seed-eq1"``.
+    indentation : float
+        ``eps0`` (m).
+    contact_damping : float
+        Hunt-Crossley ``b_h`` used (s/m).
+    radial_stiffness : float
+        ``d F_n / d eps`` at ``eps0`` (N/m).
+    radial_damping : float
+        ``d F_n / d eps'`` at ``eps0`` (N s/m).
+    normal_force : float
+        ``F_n0`` (N).
+    eigenvalues : ndarray, complex
+        One per whirl motion (or real mode): real part the growth rate (1/s), imaginary part the
+        signed whirl frequency (rad/s; negative = backward). Sorted by growth rate, largest first.
+    """
+
+    formulation: str
+    indentation: float
+    contact_damping: float
+    radial_stiffness: float
+    radial_damping: float
+    normal_force: float
+    eigenvalues: np.ndarray
+
+    @property
+    def growth_rates(self) -> np.ndarray:
+        """Real parts of :attr:`eigenvalues` (1/s)."""
+        return self.eigenvalues.real
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        """Signed whirl frequencies (Hz)."""
+        return self.eigenvalues.imag / TWO_PI
+
+    @property
+    def max_growth_rate(self) -> float:
+        """Largest growth rate (1/s); > 0 means the contact state is unstable."""
+        return float(self.eigenvalues[0].real)
+
+    @property
+    def dominant_frequency_hz(self) -> float:
+        """Signed frequency (Hz) of the eigenvalue with the largest growth rate."""
+        return float(self.eigenvalues[0].imag / TWO_PI)
+
+    def as_dict(self) -> dict:
+        """JSON-ready form (SI units; eigenvalues as ``[growth 1/s, frequency Hz]`` pairs)."""
+        return {
+            "formulation": self.formulation,
+            "indentation_m": self.indentation,
+            "contact_damping_s_per_m": self.contact_damping,
+            "radial_stiffness_N_per_m": self.radial_stiffness,
+            "radial_damping_N_s_per_m": self.radial_damping,
+            "normal_force_N": self.normal_force,
+            "max_growth_rate_per_s": self.max_growth_rate,
+            "dominant_frequency_hz": self.dominant_frequency_hz,
+            "eigenvalues": [[float(e.real), float(e.imag / TWO_PI)] for e in self.eigenvalues],
+        }
+
+
+def _linear_map(sysm, position: float, jac: np.ndarray) -> np.ndarray:
+    """Real ``2 ns x 2 ns`` matrix of ``y' = lam y + beta dF(y)`` on ``[Re y, Im y]``."""
+    ns = sysm.lam.size
+    cd, cv = sysm.displacement_row(position), sysm.velocity_row(position)
+    beta = sysm.force_input(position)
+    a = np.empty((2 * ns, 2 * ns))
+    for j in range(2 * ns):
+        y = np.zeros(ns, complex)
+        y[j % ns] = 1.0 if j < ns else 1j
+        p, u = cd @ y, cv @ y
+        f = jac @ np.array([p.real, p.imag, u.real, u.imag])
+        dy = sysm.lam * y + beta * complex(f[0], f[1])
+        a[:ns, j], a[ns:, j] = dy.real, dy.imag
+    return a
+
+
+def _whirl_eigenvalues(a: np.ndarray, cd: np.ndarray) -> np.ndarray:
+    """One signed complex eigenvalue per conjugate pair of the real matrix ``a`` (see module)."""
+    ns = a.shape[0] // 2
+    s, vec = np.linalg.eig(a)
+    out = []
+    for i in np.flatnonzero(s.imag >= 0):
+        v = vec[:, i]
+        re, im = v[:ns], v[ns:]
+        fwd = abs(cd @ (re + 1j * im))
+        bwd = abs(cd @ (np.conj(re) + 1j * np.conj(im)))
+        if abs(s[i].imag) > 0 and bwd > fwd:
+            out.append(complex(s[i].real, -s[i].imag))
+        else:
+            out.append(complex(s[i]))
+    arr = np.array(out)
+    return arr[np.argsort(-arr.real, kind="stable")]
+
+
+def contact_stability(
+    scenario,
+    indentation: float,
+    *,
+    formulation: str | None = None,
+    contact_damping_nd: float | None = None,
+    modes: int | None = None,
+    friction: bool = True,
+    linearisation: str = "radial",
+) -> ContactStability:
+    """Eigenvalues of the rotor pressed into the stator by ``indentation``.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        Shaft, speed (rad/s), modal damping and a Hertz ``[contact]`` (stiffness, damping,
+        clearance, friction, sign, position).
+    indentation : float
+        Static indentation ``eps0`` (m), > 0.
+    formulation : {"two-field", "seed-eq1"}, optional
+        Shaft formulation; default the scenario's.
+    contact_damping_nd : float, optional
+        Replace the contact damping by ``b_h'`` (dimensionless, ``b_h = b_h' / (L Omega)``).
+    modes : int, optional
+        Number of shaft modes; default the scenario's.
+    friction : bool
+        Include the friction terms (default) or set ``mu = 0``.
+    linearisation : {"radial", "isotropic"}
+        ``"radial"`` (default): the Jacobian of the contact law, which resists only the radial
+        motion (and turns with the tangential one). ``"isotropic"``: the radial stiffness and
+        damping (times ``1 + i mu``-type friction factor) act on both components of ``P``, a
+        complex-linear force ``-(k_r dP + c_r dP')``; this is the linearisation of
+        model-notes section 6, kept to compare with it (it doubles the contact's effect on a
+        circular whirl).
+
+    Returns
+    -------
+    ContactStability
+
+    Raises
+    ------
+    InputError
+        No Hertz contact, a non-positive indentation, an unknown formulation.
+    """
+    from rubrotor.engine.simulate import assemble
+
+    c = scenario.contact
+    if c is None or c.law != "hertz":
+        raise InputError("contact", None if c is None else c.law, "a Hertz [contact] section")
+    if isinstance(indentation, bool) or not (
+        isinstance(indentation, int | float) and math.isfinite(indentation) and indentation > 0
+    ):
+        raise InputError("indentation", indentation, "a finite indentation > 0 (m)")
+    form = formulation or scenario.shaft.formulation
+    if form not in FORMULATIONS:
+        raise InputError("formulation", form, " or ".join(f'"{f}"' for f in FORMULATIONS))
+    shaft = dataclasses.replace(
+        scenario.shaft, formulation=form, modes=modes or scenario.shaft.modes
+    )
+    speed = scenario.speed
+    bh = c.damping if contact_damping_nd is None else contact_damping_nd / (shaft.length * speed)
+    radius = c.radius if c.radius is not None else shaft.diameter / 2
+    cp = pack_contact(
+        1,
+        c.law_code,
+        c.stiffness,
+        bh,
+        c.clearance,
+        c.friction if friction else 0.0,
+        c.sign_code,
+        radius * speed,
+        c.friction_regularization,
+    )
+    if linearisation not in ("radial", "isotropic"):
+        raise InputError("linearisation", linearisation, '"radial" or "isotropic"')
+    jac = np.zeros((2, 4))
+    contact_force_jac(c.clearance + indentation, 0.0, 0.0, 0.0, cp, jac)
+    if linearisation == "isotropic":
+        a_, c_ = complex(jac[0, 0], jac[1, 0]), complex(jac[0, 2], jac[1, 2])
+        jac = np.array(
+            [[a_.real, -a_.imag, c_.real, -c_.imag], [a_.imag, a_.real, c_.imag, c_.real]]
+        )
+    sysm = assemble(shaft, speed, scenario.damping)
+    a = _linear_map(sysm, c.position, jac)
+    eig = _whirl_eigenvalues(a, sysm.displacement_row(c.position))
+    return ContactStability(
+        formulation=form,
+        indentation=float(indentation),
+        contact_damping=float(bh),
+        radial_stiffness=1.5 * c.stiffness * math.sqrt(indentation),
+        radial_damping=c.stiffness * indentation**1.5 * bh,
+        normal_force=c.stiffness * indentation**1.5,
+        eigenvalues=eig,
+    )

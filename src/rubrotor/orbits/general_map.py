@@ -1,0 +1,214 @@
+"""The stroboscopic map of a general (finite-element) rotor, for shooting and continuation.
+
+The general engine (:mod:`rubrotor.engine`) reduces the rotor to complex modal coordinates
+``y`` (rotor modes, then the modes of flexible stators; the rotor's displacement is
+``Re(V y)`` plus the static and steady unbalance responses) and advances them by the fixed-step
+exponential scheme ``y_{n+1} = E y_n + G0 F_n + G1 F_{n+1}`` with the contact forces ``F``
+solved implicitly at every step (residual flexibility included). The state of that discrete
+scheme is ``(y_n, F_n)``: the map's unknowns are ``x = [Re y, Im y, F]`` (modal amplitudes in
+the engine's units, forces N) at unbalance phase 0, and a periodic orbit of ``k`` revolutions
+is a fixed point of the ``k``-revolution map. At the fixed point ``F`` is the contact force
+the orbit itself produces; its directions add multipliers near zero (a force is set by the
+state it acts on), which never decide stability.
+
+Monodromy: central differences of the map (``2 dim + 1`` runs of the compiled kernel, each
+increment ``6e-6`` of the component's scale; the map is affine outside contact, so the
+differences are exact there). The seed rotor's map (:mod:`rubrotor.orbits.shooting`) propagates the
+variational equations instead; this general map is the second route, for any rotor the
+engine runs, at constant speed.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+
+import numpy as np
+
+from rubrotor.core.engine import (
+    CONTACT_CHANNELS,
+    DIVERGED,
+    I_EVENTS,
+    I_STATUS,
+    N_ISTATE,
+    OK,
+    expo_fixed,
+)
+from rubrotor.engine.driver import _control, _no_drive, _steps, build_plant
+from rubrotor.engine.settings import Integrator
+from rubrotor.errors import InputError
+
+FD_STEP = 6e-6
+"""Relative increment of the central differences (balances truncation and rounding)."""
+
+
+def is_general(scenario) -> bool:
+    """Whether a scenario's rotor is a general one (``[[section]]`` tables, the general engine)."""
+    return scenario.shaft is None and scenario.engine is not None
+
+
+class GeneralMap:
+    """The ``k``-revolution map of a general rotor at constant speed, prepared once.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        A general rotor with its contacts, stators, unbalances, loads and gravity.
+    k : int
+        Revolutions per map.
+    steps : int
+        Fixed steps per revolution.
+    speed : float, optional
+        Spin speed (rad/s) instead of the scenario's.
+    reference : GeneralMap, optional
+        Align the modes with this map's (:func:`aligned`), so that states mean the same in
+        both (continuation along a key).
+    """
+
+    def __init__(self, scenario, k: int, steps: int, speed: float | None = None,
+                 reference: GeneralMap | None = None):  # fmt: skip
+        from rubrotor.engine.general import engine_problem
+
+        eng = scenario.engine
+        if eng is None or scenario.shaft is not None:
+            raise InputError("rotor", "a [shaft] rotor", "a general rotor for GeneralMap")
+        if eng.speed_end is not None or eng.speed_table:
+            raise InputError(
+                "speed.profile", "a varying speed", "a constant speed (periodic orbits)"
+            )
+        if not eng.stations:
+            raise InputError("contact", None, "at least one [[contact]] station")
+        self.scenario, self.k, self.steps = scenario, int(k), int(steps)
+        self.speed = float(scenario.speed if speed is None else speed)
+        integ = Integrator(revolutions=float(k), dtau=2 * math.pi / steps, save_every=1)
+        system, run, kw, _ = engine_problem(scenario, integ)
+        T = 2 * math.pi / self.speed
+        run = dataclasses.replace(run, speed=self.speed, initial="steady", duration=k * T,
+                                  step=T / steps, save_every=1)  # fmt: skip
+        plant = build_plant(system, run, **kw, dense=True)  # exact modes: maps are compared
+        # across key values (ARPACK's tolerance would be noise of ~1e-10 between them)
+        self.reference = reference
+        if reference is not None:
+            plant = aligned(plant, reference.plant)
+        self.plant = plant
+        self._steps = _steps(plant, run.step, run.sublevels + 1)
+        self._control = _control(plant, self._steps, run)
+        self._drive = _no_drive(plant.lam.size)
+        self.ns, self.m = plant.lam.size, plant.beta.shape[1]
+        self.dim = 2 * self.ns + self.m
+        self._nch = 4 * len(plant.stations) + CONTACT_CHANNELS * len(kw["stations"])
+
+    def at_speed(self, speed: float) -> GeneralMap:
+        """The same map at another spin speed (rad/s): the plant is rebuilt and its modes
+        aligned with this map's (or its reference's), so that ``x`` means the same there."""
+        return GeneralMap(self.scenario, self.k, self.steps, speed, self.reference or self)
+
+    def repeat(self, k: int) -> GeneralMap:
+        """The same map over ``k`` revolutions (the same plant and step coefficients)."""
+        other = copy.copy(self)
+        other.k = int(k)
+        return other
+
+    def start(self) -> np.ndarray:
+        """The steady no-contact response as a start vector (``y = 0``, no force)."""
+        return np.zeros(self.dim)
+
+    def _kernel(self, x: np.ndarray, save_every: int = 1):
+        """Run the kernel over the map from ``x``: end vector, samples, events, status."""
+        ns, m = self.ns, self.m
+        y = x[:ns] + 1j * x[ns : 2 * ns]
+        F = np.array(x[2 * ns :], float)
+        n = self.k * self.steps // save_every
+        out = np.zeros((self._nch, n + 1))
+        istate = np.zeros(N_ISTATE, np.int64)
+        events = np.zeros((1 << 12, 2))
+        wrote = expo_fixed(y, F, F.copy(), np.zeros(m // 2), np.ones(1, complex), istate,
+                           np.array([self._steps.h[0]]), n, save_every, out,
+                           np.zeros((0, ns), complex), 1, self._steps, self.plant.contacts,
+                           self.plant.outputs, self.speed, 0.0, events, self._drive,
+                           self._control)  # fmt: skip
+        status = int(istate[I_STATUS])
+        if status == DIVERGED or (status != OK and wrote < n):
+            raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")
+        events = events[: min(int(istate[I_EVENTS]), len(events))]
+        return np.concatenate([y.real, y.imag, F]), out, events
+
+    def _run(self, x: np.ndarray):
+        px, out, _ = self._kernel(x)
+        return px, float(np.max(np.hypot(out[0, 1:], out[1, 1:])))
+
+    def orbit_result(self, x: np.ndarray, samples_per_revolution: int = 256):
+        """The orbit through the fixed point ``x`` over the map's revolutions, as the engine's
+        result (samples every ``steps / samples_per_revolution`` steps; sample 0 is the last,
+        the orbit being periodic)."""
+        from rubrotor.engine.driver import EngineResult
+
+        save = max(1, self.steps // samples_per_revolution)
+        px, out, events = self._kernel(x, save)
+        out[:, 0] = out[:, -1]
+        dt = 2 * math.pi / self.speed / self.steps * save
+        return EngineResult(
+            time=np.arange(out.shape[1]) * dt, stations=self.plant.stations,
+            n_contacts=self.m // 2, channels=out, events=events,
+            states=np.zeros((0, self.ns), complex), status="complete", message="", stats={},
+            speed=self.speed, final_state=px,
+        )  # fmt: skip
+
+    def run(self, x: np.ndarray, jacobian: bool = False):
+        """``(P(x), dP/dx or None, largest contact-station radius m)`` of the map from ``x``."""
+        x = np.asarray(x, float)
+        px, radius = self._run(x)
+        if not jacobian:
+            return px, None, radius
+        scale = self._scales(x)
+        jac = np.empty((x.size, x.size))
+        for j in range(x.size):
+            e = np.zeros(x.size)
+            e[j] = FD_STEP * scale[j]
+            jac[:, j] = (self._run(x + e)[0] - self._run(x - e)[0]) / (2 * e[j])
+        return px, jac, radius
+
+    def _scales(self, x: np.ndarray) -> np.ndarray:
+        """Per-component difference scales: the largest modal amplitude, the largest force."""
+        ns = self.ns
+        amp = max(float(np.max(np.abs(x[: 2 * ns]))), 1e-12)
+        force = max(float(np.max(np.abs(x[2 * ns :]), initial=0.0)), 1e-6)
+        return np.concatenate([np.full(2 * ns, amp), np.full(self.m, force)])
+
+
+def aligned(plant, ref):
+    """``plant`` with its rotor modes matched, ordered and scaled to those of ``ref``.
+
+    The modal coordinates of a rebuilt plant (another speed, another key value) come in the
+    eigen-solver's order, normalisation and phase. Each of ``ref``'s rotor modes is matched to
+    the mode of ``plant`` whose shape overlaps it most (an assignment on the normalised overlaps
+    ``|V_ref^H V|``) and that mode is rescaled by the complex factor ``c`` that brings its shape
+    closest to ``ref``'s (least squares): ``V' = V c``, ``y' = y / c``, so inputs ``beta / c``
+    and rows ``C c``. The dynamics are unchanged; only the coordinates follow ``ref``'s, which
+    makes the map's state continuous in the key (the stator modes do not change).
+    """
+    import scipy.optimize
+
+    nsr, ns = plant.n_rotor, plant.lam.size
+    if nsr != ref.n_rotor or ns != ref.lam.size:
+        raise InputError("simulation.modes", nsr, f"the same number of modes at every key value "
+                         f"({ref.n_rotor} at the first): set simulation.modes")  # fmt: skip
+    A, B = ref.rotor.Vq, plant.rotor.Vq
+    ov = np.abs(A.conj().T @ B) / np.outer(np.linalg.norm(A, axis=0), np.linalg.norm(B, axis=0))
+    order = scipy.optimize.linear_sum_assignment(-ov)[1]
+    c = np.array([(B[:, i].conj() @ A[:, j]) / (B[:, i].conj() @ B[:, i])
+                  for j, i in enumerate(order)])  # fmt: skip
+    idx = np.concatenate([order, np.arange(nsr, ns)])
+    scale = np.concatenate([c, np.ones(ns - nsr)])
+    cts, out = plant.contacts, plant.outputs
+
+    def cols(a):
+        return np.ascontiguousarray(a[:, idx] * scale[None, :])
+
+    return dataclasses.replace(
+        plant, lam=plant.lam[idx], beta=plant.beta[idx] / scale[:, None],
+        contacts=cts._replace(Cd=cols(cts.Cd), Cv=cols(cts.Cv)),
+        outputs=out._replace(Od=cols(out.Od), Ov=cols(out.Ov), Sd=cols(out.Sd), Sv=cols(out.Sv)),
+        y0=plant.y0[idx] / scale,
+    )  # fmt: skip

@@ -1,0 +1,115 @@
+"""Figure of a general-engine results Dataset (:mod:`rubrotor.engine.general`): orbit at the
+first contact relative to its stator, normal forces against time, and the full spectrum (constant
+speed) or the amplitude against speed (run-up or coast-down)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+from matplotlib.figure import Figure
+
+__all__ = ["engine_figure"]
+
+UM = 1e6  # m -> um
+
+
+def _relative(ds, i: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """Rotor minus stator centre at contact ``i`` (m) and its clearance (m)."""
+    c = json.loads(ds.attrs.get("contacts", "[]"))[i]
+    y = ds["v"].values[i] - ds["stator_y"].values[i] - c["offset_y"]
+    z = ds["w"].values[i] - ds["stator_z"].values[i] - c["offset_z"]
+    return y, z, c["clearance"]
+
+
+def _orbit(ax, ds) -> None:
+    y, z, g = _relative(ds, 0)
+    n = y.size
+    tail = slice(int(0.75 * n), n)
+    ax.plot(z * UM, y * UM, color="0.75", lw=0.5, label="whole run")
+    ax.plot(z[tail] * UM, y[tail] * UM, color="C0", lw=0.8, label="last quarter")
+    phi = np.linspace(0, 2 * math.pi, 361)
+    ax.plot(g * UM * np.cos(phi), g * UM * np.sin(phi), "k--", lw=1, label="clearance")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("z, relative to the stator centre (um)")
+    ax.set_ylabel("y, relative to the stator centre (um)")
+    x0 = float(ds["station"].values[0])
+    ax.set_title(f"orbit at the contact, x = {x0:g} m")
+    ax.legend(loc="upper right", fontsize=7)
+
+
+def _forces(ax, ds) -> None:
+    t = ds["time"].values
+    for i in range(ds.sizes["contact"]):
+        x = float(ds["station"].values[i])
+        ax.plot(t, ds["normal_force"].values[i], lw=0.7, label=f"contact at x = {x:g} m")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("normal force (N)")
+    ax.set_title("contact normal force")
+    ax.legend(loc="upper right", fontsize=7)
+
+
+def _spectrum(ax, ds) -> None:
+    y, z, _ = _relative(ds, 0)
+    t = ds["time"].values
+    half = slice(y.size // 2, y.size)
+    sig = (y + 1j * z)[half]
+    sig = sig - sig.mean()
+    dt = float(np.mean(np.diff(t)))
+    win = np.hanning(sig.size)
+    amp = np.abs(np.fft.fftshift(np.fft.fft(sig * win))) * 2 / win.sum()
+    f = np.fft.fftshift(np.fft.fftfreq(sig.size, dt))
+    spin = float(ds.attrs["speed_rad_s"]) / (2 * math.pi)
+    keep = np.abs(f) <= 6 * spin
+    ax.semilogy(f[keep], amp[keep] * UM, lw=0.8)
+    ax.axvline(spin, color="C3", ls=":", lw=1, label=f"+1X = {spin:.4g} Hz (forward)")
+    ax.axvline(-spin, color="C2", ls=":", lw=1, label=f"-1X = {-spin:.4g} Hz (backward)")
+    ax.legend(loc="upper left", fontsize=7)
+    ax.set_xlabel("whirl frequency (Hz; < 0 backward)")
+    ax.set_ylabel("amplitude, y + i z (um)")
+    ax.set_title("full spectrum at the contact (second half)")
+
+
+def _runup(ax, ds) -> None:
+    t = ds["time"].values
+    w = np.gradient(ds["tau"].values, t)  # the spin speed of any profile (rad/s)
+    rpm = w * 60 / (2 * math.pi)
+    for i, x in enumerate(ds["station"].values):
+        r = np.hypot(ds["v"].values[i], ds["w"].values[i])
+        ax.plot(rpm, r * UM, lw=0.7, label=f"x = {x:g} m")
+    ax.set_xlabel("spin speed (rev/min)")
+    ax.set_ylabel("radial displacement |(v, w)| (um)")
+    title = "run-up" if w[-1] > w[0] else "coast-down"
+    if np.any(np.diff(w) > 1e-9 * w.max()) and np.any(np.diff(w) < -1e-9 * w.max()):
+        title = "speed profile"
+    ax.set_title(f"{title}: amplitude against speed")
+    ax.legend(loc="upper left", fontsize=7)
+
+
+def engine_figure(ds, *, title: str | None = None) -> Figure:
+    """Orbit, normal force and spectrum (or amplitude against speed) of an engine run.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Results of :func:`rubrotor.simulate` on a general-engine scenario, with a contact.
+    title : str, optional
+        Figure title (default: the scenario name and status).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from rubrotor.errors import InputError
+
+    if ds.sizes.get("contact", 0) == 0 or "contacts" not in ds.attrs:
+        raise InputError("results", ds.attrs.get("scenario_name", ""), "a run with a contact")
+    fig = Figure(figsize=(13, 4.2), layout="constrained")
+    axes = fig.subplots(1, 3)
+    _orbit(axes[0], ds)
+    _forces(axes[1], ds)
+    (_runup if "speed_end_rad_s" in ds.attrs else _spectrum)(axes[2], ds)
+    name = ds.attrs.get("scenario_name", "")
+    fig.suptitle(title or f"{name} ({ds.attrs['status']})")
+    return fig

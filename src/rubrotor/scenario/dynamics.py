@@ -1,0 +1,439 @@
+"""Scenario keys of the general engine (:mod:`rubrotor.engine`): several contacts, flexible and
+offset stators, gravity, several unbalance planes and loads, run-up and coast-down, restarts.
+
+:func:`split_engine_keys` takes these keys out of a scenario mapping before
+:mod:`rubrotor.scenario` validates the rest (so a seed scenario without them keeps the old
+engine), and :func:`build_engine` validates them into a frozen :class:`EngineSpec`. Every
+bad value raises :class:`~rubrotor.errors.ScenarioError` naming the key, the value and what is
+allowed. The new keys, their kinds, units and ranges are listed in :data:`ENGINE_KEYS`::
+
+    [[contact]]   the keys of [contact] plus offset_y, offset_z (m, stator centre);
+                  stator_mass (kg), stator_stiffness (N/m), stator_damping (N s/m), each also
+                  as _y / _z for an anisotropic stator (a flexible stator needs mass and
+                  stiffness); a single [contact] table stays valid
+    [[unbalance]] position (m), magnitude (kg m), phase (rad) | phase_deg (deg)
+    [[load]]      position (m), force_y, force_z (N)
+    [gravity]     y, z (m/s^2) on the rotor's shaft and disk masses
+    [speed]       profile = "constant" (default) | "linear" with from, to (rad/s) over the run
+                  | "table" with times (s) and speeds (rad/s), linear between rows; step
+                  (rad/s, largest speed change between re-diagonalisations)
+    [initial]     state = "rest" | "steady" | "static" | "file" with path (a results file of
+                  the general engine; the run continues from its final state)
+    [simulation]  besides today's keys: modes (retained count), cutoff (rad/s), residual (bool)
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import NamedTuple
+
+from rubrotor.engine.parts import RubStation, Stator
+from rubrotor.errors import InputError, ScenarioError
+from rubrotor.rotors.forces import RadialLoad, Unbalance
+from rubrotor.scenario.schema import ALTERNATIVES, SCHEMA, Key, check_value, key_row
+
+__all__ = ["ENGINE_KEYS", "EngineSpec", "split_engine_keys", "build_engine", "needs_engine"]
+
+_ENGINE_NAMES = (
+    "contact.offset_y", "contact.offset_z",
+    *(f"contact.stator_{q}{a}" for q in ("mass", "stiffness", "damping") for a in ("", "_y", "_z")),
+    "unbalance.position", "unbalance.magnitude", "unbalance.phase", "unbalance.phase_deg",
+    "load.position", "load.force_y", "load.force_z", "gravity.y", "gravity.z",
+    "speed.profile", "speed.from", "speed.to", "speed.step", "speed.times", "speed.speeds",
+    "initial.state", "initial.path",
+    "simulation.modes", "simulation.cutoff", "simulation.residual",
+)  # fmt: skip
+ENGINE_KEYS: dict[str, Key] = {n: key_row(*n.split(".")) for n in _ENGINE_NAMES}
+"""Every key this module reads, as its row of the scenario schema (:mod:`rubrotor.scenario.schema`:
+kind, unit, range, choices, description); the rows are the only definition."""
+
+
+class Builders(NamedTuple):
+    """The scenario module's builders this module needs (passed in, so that neither module
+    imports the other): ``position(table, name, span)`` resolves a station (m);
+    ``build_contact(table, span, speed)`` makes a :class:`~rubrotor.rotors.forces.Contact`."""
+
+    position: Callable
+    build_contact: Callable
+
+
+PROFILES = ("constant", "linear", "table")
+ENGINE_INITIAL = ("static", "file")
+_CONTACT_NEW = tuple(k.split(".", 1)[1] for k in ENGINE_KEYS if k.startswith("contact."))
+_SPEED_NEW = ("profile", "from", "to", "step", "times", "speeds")
+_SIM_NEW = ("modes", "cutoff", "residual")
+
+
+@dataclass(frozen=True)
+class EngineSpec:
+    """What the general engine simulates besides the rotor and the integrator (SI units).
+
+    Attributes
+    ----------
+    stations : tuple of RubStation
+        Contact stations (positions m, stator offsets m, flexible stators).
+    unbalances : tuple of Unbalance
+        Unbalance planes (kg m, m, rad).
+    loads : tuple of RadialLoad
+        Constant point loads (N, m).
+    gravity : tuple of float
+        ``(g_y, g_z)`` (m/s^2).
+    speed_end : float or None
+        End speed (rad/s) of a linear run-up or coast-down from ``Scenario.speed``.
+    speed_step : float or None
+        Largest speed change (rad/s) between re-diagonalisations (engine default 1/200 of the
+        range).
+    initial : str
+        ``"rest"``, ``"steady"``, ``"static"`` or ``"file"``.
+    initial_path : str or None
+        Results file to restart from (``initial == "file"``).
+    modes : int or None
+        Retained rotor modes (all by default).
+    cutoff : float or None
+        Retain the modes with ``|lambda| <= cutoff`` (rad/s).
+    residual : bool
+        Static correction of the dropped modes at the contact stations.
+    speed_table : tuple of (float, float) or None
+        ``[speed] profile = "table"``: rows of time (s) and speed (rad/s).
+    """
+
+    stations: tuple = ()
+    unbalances: tuple = ()
+    loads: tuple = ()
+    gravity: tuple = (0.0, 0.0)
+    speed_end: float | None = None
+    speed_step: float | None = None
+    initial: str = "rest"
+    initial_path: str | None = None
+    modes: int | None = None
+    cutoff: float | None = None
+    residual: bool = True
+    speed_table: tuple | None = None
+
+    @property
+    def positions(self) -> tuple[float, ...]:
+        """Axial positions (m) of contacts, unbalances and loads (mesh nodes of a general rotor)."""
+        parts = [s.contact for s in self.stations] + list(self.unbalances) + list(self.loads)
+        return tuple(float(p.position) for p in parts)
+
+
+def _err(name: str, value, allowed: str) -> ScenarioError:
+    return ScenarioError(name, value, allowed)
+
+
+def _value(name: str, value, key: str | None = None):
+    """Check one key against its schema row (``key``: its entry in ENGINE_KEYS, default
+    ``name``); errors name ``name`` (e.g. ``contact[2].friction``)."""
+    check_value(name, value, ENGINE_KEYS[key or name])
+    return value
+
+
+def _table_list(mapping: Mapping, section: str) -> list[dict] | None:
+    """``[[section]]`` entries as dicts (a single table as a one-item list), or None."""
+    body = mapping.get(section)
+    if body is None:
+        return None
+    items = [body] if isinstance(body, Mapping) else body
+    if not isinstance(items, list) or not items or not all(isinstance(b, Mapping) for b in items):
+        raise _err(section, body, f"a [{section}] table or a non-empty array of [[{section}]]")
+    return [dict(b) for b in items]
+
+
+def needs_engine(mapping: Mapping) -> bool:
+    """True when a scenario mapping uses a key only the general engine supports."""
+    _, extras = split_engine_keys(mapping)
+    return bool(extras)
+
+
+def split_engine_keys(mapping: Mapping) -> tuple[dict, dict]:
+    """Take the general-engine keys out of a scenario mapping.
+
+    Parameters
+    ----------
+    mapping : Mapping
+        The parsed TOML.
+
+    Returns
+    -------
+    base : dict
+        What :mod:`rubrotor.scenario` validates: a single ``[contact]`` without new keys,
+        ``[speed] rad_per_s = from`` for a linear profile, ``[initial] state = "rest"`` for the
+        engine-only states.
+    extras : dict
+        The engine keys by section (empty when the scenario needs none of them).
+    """
+    if not isinstance(mapping, Mapping):
+        return mapping, {}
+    base = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in mapping.items()}
+    extras: dict = {}
+    contacts = _table_list(mapping, "contact")
+    if contacts is not None:
+        base["contact"] = contacts[0]
+        if len(contacts) > 1 or any(k in c for c in contacts for k in _CONTACT_NEW):
+            extras["contact"] = contacts
+            del base["contact"]  # Scenario.engine.stations holds them all
+    for section in ("unbalance", "load"):
+        if isinstance(mapping.get(section), list):
+            extras[section] = _table_list(mapping, section)
+            base.pop(section)
+    if "gravity" in base:
+        extras["gravity"] = base.pop("gravity")
+    _split_speed(base, extras)
+    ini = base.get("initial")
+    if isinstance(ini, Mapping) and (ini.get("state") in ENGINE_INITIAL or "path" in ini):
+        extras["initial"] = dict(ini)
+        base["initial"] = {"state": "rest"}
+    sim = base.get("simulation")
+    if isinstance(sim, Mapping) and any(k in sim for k in _SIM_NEW):
+        extras["simulation"] = {k: sim[k] for k in _SIM_NEW if k in sim}
+        base["simulation"] = {k: v for k, v in sim.items() if k not in _SIM_NEW}
+    return base, extras
+
+
+def _split_speed(base: dict, extras: dict) -> None:
+    sp = base.get("speed")
+    if not isinstance(sp, Mapping):
+        return
+    if not any(k in sp for k in _SPEED_NEW):
+        return
+    profile = _value("speed.profile", sp.get("profile", "constant"))
+    if profile not in PROFILES:
+        raise _err("speed.profile", profile, '"constant", "linear" or "table"')
+    rest = {k: v for k, v in sp.items() if k not in _SPEED_NEW}
+    owners = {"from": "linear", "to": "linear", "step": "linear or table", "times": "table",
+              "speeds": "table"}  # fmt: skip
+    for k, owner in owners.items():
+        if k in sp and profile not in owner.split(" or "):
+            allowed = " or ".join(f'"{o}"' for o in owner.split(" or "))
+            raise _err(f"speed.{k}", sp[k], f"to be given only with speed.profile = {allowed}")
+    if profile == "constant":
+        base["speed"] = rest
+        return
+    if profile == "table":
+        _split_table(sp, rest, base, extras)
+        return
+    if "step" in sp:
+        _value("speed.step", sp["step"])
+    for k in ("from", "to"):
+        if k not in sp:
+            raise _err(f"speed.{k}", None, 'a value (rad/s) with speed.profile = "linear"')
+        _value(f"speed.{k}", sp[k])
+    if rest:
+        raise _err(
+            "speed." + ", speed.".join(rest),
+            tuple(rest.values()),
+            'no other speed key with speed.profile = "linear" (from and to give the speeds)',
+        )
+    base["speed"] = {"rad_per_s": sp["from"]}
+    extras["speed"] = {k: sp[k] for k in _SPEED_NEW if k in sp}
+
+
+def _split_table(sp: Mapping, rest: dict, base: dict, extras: dict) -> None:
+    """``[speed] profile = "table"``: ``times`` (s) and ``speeds`` (rad/s), equal lengths >= 2."""
+    for k in ("times", "speeds"):
+        if k not in sp:
+            raise _err(f"speed.{k}", None, 'a list of numbers with speed.profile = "table"')
+        _value(f"speed.{k}", sp[k])
+    if "step" in sp:
+        _value("speed.step", sp["step"])
+    times, speeds = list(sp["times"]), list(sp["speeds"])
+    if len(times) < 2 or len(times) != len(speeds):
+        raise _err("speed.times / speed.speeds", (times, speeds), "two lists of equal length >= 2")
+    if rest:
+        raise _err("speed." + ", speed.".join(rest), tuple(rest.values()),
+                   'no other speed key with speed.profile = "table"')  # fmt: skip
+    base["speed"] = {"rad_per_s": speeds[0]}
+    extras["speed"] = {"table": tuple(zip(map(float, times), map(float, speeds), strict=True)),
+                       **({"step": sp["step"]} if "step" in sp else {})}  # fmt: skip
+
+
+def _renamed(exc: InputError, section: str, index: int) -> ScenarioError:
+    name = exc.field.replace(f"{section}.", f"{section}[{index + 1}].", 1)
+    return ScenarioError(name, exc.value, exc.allowed)
+
+
+def _stator(c: dict, i: int) -> Stator | None:
+    vals = {}
+    for q in ("mass", "stiffness", "damping"):
+        for a in ("y", "z"):
+            for key in (f"stator_{q}_{a}", f"stator_{q}"):
+                if key in c:
+                    vals[f"{q}_{a}"] = _value(f"contact[{i + 1}].{key}", c[key], f"contact.{key}")
+                    break
+        if f"stator_{q}" in c and any(f"stator_{q}_{a}" in c for a in "yz"):
+            raise _err(
+                f"contact[{i + 1}].stator_{q}", c[f"stator_{q}"], f"stator_{q} or its _y/_z forms"
+            )
+    if not vals:
+        return None
+    for q in ("mass", "stiffness"):
+        for a in ("y", "z"):
+            if f"{q}_{a}" not in vals:
+                raise _err(
+                    f"contact[{i + 1}].stator_{q}_{a}",
+                    None,
+                    f"a value: a flexible stator needs stator_{q} (or _y and _z)",
+                )
+    return Stator(**vals)
+
+
+def _contacts(items: list[dict], span, speed: float, builders: Builders) -> tuple:
+
+    out = []
+    for i, c in enumerate(items):
+        base = {}
+        try:
+            for key, val in c.items():
+                name = f"contact.{key}"
+                if key in _CONTACT_NEW:
+                    continue
+                if key.endswith("_nd") and not hasattr(span, "slenderness"):
+                    raise _err(name, val, f"contact.{key[:-3]} in SI units for a general rotor")
+                if key not in SCHEMA["contact"]:
+                    allowed = ", ".join(SCHEMA["contact"])
+                    raise _err(name, val, f"one of the keys {allowed} of [[contact]]")
+                base[key] = check_value(name, val, key_row("contact", key))
+            for group, required in ALTERNATIVES["contact"]:
+                given = [k for k in group if k in base]
+                if len(given) > 1 or (required and not given):
+                    raise _err("contact." + " / contact.".join(group), None, "exactly one")
+            if base.get("radius") is None:
+                if not hasattr(span, "slenderness"):
+                    raise _err("contact.radius", None, "the rubbing radius (m) on a general rotor")
+                base["radius"] = span.diameter / 2  # the uniform shaft's radius
+            contact = builders.build_contact(base, span, speed)
+            off = [_value(f"contact.offset_{a}", c.get(f"offset_{a}", 0.0)) for a in "yz"]
+        except InputError as exc:
+            raise _renamed(exc, "contact", i) from None
+        out.append(RubStation(contact, off[0], off[1], _stator(c, i)))
+    return tuple(out)
+
+
+def _planes(items: list[dict], span, builders: Builders) -> tuple:
+
+    out = []
+    for i, u in enumerate(items):
+        try:
+            for key, val in u.items():
+                if f"unbalance.{key}" not in ENGINE_KEYS:
+                    raise _err(f"unbalance.{key}", val, "position, magnitude, phase or phase_deg")
+                _value(f"unbalance.{key}", val)
+            if "phase" in u and "phase_deg" in u:
+                raise _err("unbalance.phase", (u["phase"], u["phase_deg"]), "phase or phase_deg")
+            if "magnitude" not in u:
+                raise _err("unbalance.magnitude", None, "a value (kg m)")
+            phase = u.get("phase", math.radians(u.get("phase_deg", 0.0)))
+            out.append(Unbalance(u["magnitude"], builders.position(u, "unbalance", span), phase))
+        except InputError as exc:
+            raise _renamed(exc, "unbalance", i) from None
+    return tuple(out)
+
+
+def _loads(items: list[dict], span, builders: Builders) -> tuple:
+
+    out = []
+    for i, ld in enumerate(items):
+        try:
+            for key, val in ld.items():
+                if f"load.{key}" not in ENGINE_KEYS:
+                    raise _err(f"load.{key}", val, "position, force_y or force_z")
+                _value(f"load.{key}", val)
+            pos = builders.position(ld, "load", span)
+            out.append(RadialLoad(ld.get("force_y", 0.0), ld.get("force_z", 0.0), pos))
+        except InputError as exc:
+            raise _renamed(exc, "load", i) from None
+    return tuple(out)
+
+
+def _gravity(g) -> tuple[float, float]:
+    if not isinstance(g, Mapping):
+        raise _err("gravity", g, "a table with y and z (m/s^2)")
+    for key, val in g.items():
+        if key not in ("y", "z"):
+            raise _err(f"gravity.{key}", val, "one of the keys y, z (m/s^2) of [gravity]")
+    return tuple(float(_value(f"gravity.{a}", g.get(a, 0.0))) for a in "yz")
+
+
+def _initial(ini: dict) -> tuple[str, str | None]:
+    for key in ini:
+        if key not in ("state", "path"):
+            raise _err(f"initial.{key}", ini[key], "one of the keys state, path of [initial]")
+    state = _value("initial.state", ini.get("state", "rest"))
+    allowed = ("rest", "steady", *ENGINE_INITIAL)
+    if state not in allowed:
+        raise _err("initial.state", state, " or ".join(f'"{s}"' for s in allowed))
+    if state == "file":
+        if "path" not in ini:
+            raise _err("initial.path", None, 'a results file (.nc) with initial.state = "file"')
+        return state, _value("initial.path", ini["path"])
+    if "path" in ini:
+        raise _err("initial.path", ini["path"], 'to be given only with initial.state = "file"')
+    return state, None
+
+
+def build_engine(extras: dict, parts: dict, builders: Builders) -> EngineSpec:
+    """Validate the engine keys into an :class:`EngineSpec`.
+
+    Parameters
+    ----------
+    extras : dict
+        Second output of :func:`split_engine_keys`.
+    parts : dict
+        The objects :mod:`rubrotor.scenario` built (``shaft`` or ``rotor``, ``speed``,
+        ``contact``, ``unbalance``, ``load``, ``initial``).
+
+    Returns
+    -------
+    EngineSpec
+    """
+    span = parts["rotor"] if parts["rotor"] is not None else parts["shaft"]
+    speed = parts["speed"]
+    if "contact" in extras:
+        stations = _contacts(extras["contact"], span, speed, builders)
+    elif parts["contact"] is not None:
+        stations = _contacts([_contact_dict(parts["contact"])], span, speed, builders)
+    else:
+        stations = ()
+    if "unbalance" in extras:
+        unb = _planes(extras["unbalance"], span, builders)
+    else:
+        unb = () if parts["unbalance"] is None else (parts["unbalance"],)
+    if "load" in extras:
+        loads = _loads(extras["load"], span, builders)
+    else:
+        loads = () if parts["load"] is None else (parts["load"],)
+    gravity = _gravity(extras["gravity"]) if "gravity" in extras else (0.0, 0.0)
+    speed_end = extras.get("speed", {}).get("to")
+    speed_table = extras.get("speed", {}).get("table")
+    speed_step = extras.get("speed", {}).get("step")
+    state, path = _initial(extras["initial"]) if "initial" in extras else (parts["initial"], None)
+    if (speed_end is not None or speed_table) and state not in ("rest", "static"):
+        raise _err("initial.state", state,
+                   '"rest" or "static" with speed.profile = "linear" or "table"')  # fmt: skip
+    sim = extras.get("simulation", {})
+    modes = _value("simulation.modes", sim["modes"]) if "modes" in sim else None
+    cutoff = _value("simulation.cutoff", sim["cutoff"]) if "cutoff" in sim else None
+    if modes is not None and cutoff is not None:
+        raise _err("simulation.modes / simulation.cutoff", (modes, cutoff), "at most one")
+    residual = _value("simulation.residual", sim.get("residual", True))
+    return EngineSpec(stations, unb, loads, gravity, speed_end, speed_step, state, path, modes,
+                      cutoff, residual, speed_table)  # fmt: skip
+
+
+def _contact_dict(contact) -> dict:
+    """A built Contact back as [contact] keys in SI (for a single table without new keys)."""
+    import dataclasses
+
+    d = {k: v for k, v in dataclasses.asdict(contact).items() if v is not None}
+    return d
+
+
+def engine_spec_or_none(mapping: Mapping, extras: dict, parts: dict, builders: Builders):
+    """The EngineSpec when the scenario needs the general engine (new keys or a general rotor),
+    else None; the stored dict form keeps the engine keys (``mapping`` deep-copied)."""
+    if not extras and parts["rotor"] is None:
+        return None, None
+    return build_engine(extras, parts, builders), copy.deepcopy(dict(mapping))
