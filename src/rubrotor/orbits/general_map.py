@@ -35,6 +35,7 @@ from rubrotor.core.engine import (
     OK,
     expo_fixed,
 )
+from rubrotor.core.engine_tangent import map_tangent
 from rubrotor.engine.driver import _control, _no_drive, _steps, build_plant
 from rubrotor.engine.settings import Integrator
 from rubrotor.errors import InputError
@@ -156,11 +157,45 @@ class GeneralMap:
         )  # fmt: skip
 
     def run(self, x: np.ndarray, jacobian: bool = False):
-        """``(P(x), dP/dx or None, largest contact-station radius m)`` of the map from ``x``."""
+        """``(P(x), dP/dx or None, largest contact-station radius m)`` of the map from ``x``.
+
+        The Jacobian is the exact derivative of the discrete map, propagated in the same
+        compiled run (:func:`rubrotor.core.engine_tangent.map_tangent`); where a step closed a
+        grazing contact by its set-valued rule (no derivative of that form) it falls back to
+        central differences (:meth:`differences`).
+        """
+        x = np.asarray(x, float)
+        if not jacobian:
+            px, radius = self._run(x)
+            return px, None, radius
+        px, jac, radius, grazes = self.tangent(x)
+        if grazes:
+            return self.differences(x)
+        return px, jac, radius
+
+    def tangent(self, x: np.ndarray):
+        """``(P(x), dP/dx, radius m, grazing steps)`` by the compiled variational run."""
+        ns, m = self.ns, self.m
+        y = x[:ns] + 1j * x[ns : 2 * ns]
+        F = np.array(x[2 * ns :], float)
+        Qy = np.zeros((self.dim, ns), complex)
+        Qy[np.arange(ns), np.arange(ns)] = 1.0
+        Qy[ns + np.arange(ns), np.arange(ns)] = 1j
+        QF = np.zeros((self.dim, m))
+        QF[2 * ns + np.arange(m), np.arange(m)] = 1.0
+        out = np.zeros(3)
+        done = map_tangent(y, F, Qy, QF, self._steps, self.plant.contacts, self.plant.outputs,
+                           self.speed, self.k * self.steps, out)  # fmt: skip
+        if int(out[1]) != OK or done < self.k * self.steps:
+            raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")
+        jac = np.vstack([Qy.real.T, Qy.imag.T, QF.T])
+        return np.concatenate([y.real, y.imag, F]), jac, float(out[0]), int(out[2])
+
+    def differences(self, x: np.ndarray):
+        """``(P(x), dP/dx, radius m)`` with the Jacobian by central differences (``2 dim``
+        runs, increments :data:`FD_STEP` of each component's scale): the second route."""
         x = np.asarray(x, float)
         px, radius = self._run(x)
-        if not jacobian:
-            return px, None, radius
         scale = self._scales(x)
         jac = np.empty((x.size, x.size))
         for j in range(x.size):
