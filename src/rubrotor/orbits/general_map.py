@@ -68,7 +68,7 @@ class GeneralMap:
     """
 
     def __init__(self, scenario, k: int, steps: int, speed: float | None = None,
-                 reference: GeneralMap | None = None):  # fmt: skip
+                 reference: GeneralMap | None = None, family=None):  # fmt: skip
         from rubrotor.engine.general import engine_problem
 
         eng = scenario.engine
@@ -82,13 +82,19 @@ class GeneralMap:
             raise InputError("contact", None, "at least one [[contact]] station")
         self.scenario, self.k, self.steps = scenario, int(k), int(steps)
         self.speed = float(scenario.speed if speed is None else speed)
-        integ = Integrator(revolutions=float(k), dtau=2 * math.pi / steps, save_every=1)
-        system, run, kw, _ = engine_problem(scenario, integ)
+        if family is None:
+            integ = Integrator(revolutions=float(k), dtau=2 * math.pi / steps, save_every=1)
+            system, run, kw, _ = engine_problem(scenario, integ)
+        else:  # the same rotor and settings: nothing to rebuild but the speed's parts
+            system, run, kw = family.problem
         T = 2 * math.pi / self.speed
         run = dataclasses.replace(run, speed=self.speed, initial="steady", duration=k * T,
                                   step=T / steps, save_every=1)  # fmt: skip
-        plant = build_plant(system, run, **kw, dense=True)  # exact modes: maps are compared
-        # across key values (ARPACK's tolerance would be noise of ~1e-10 between them)
+        if family is None:  # exact modes: maps are compared across key values (ARPACK's
+            plant = build_plant(system, run, **kw, dense=True)  # tolerance: ~1e-10 noise)
+        else:
+            plant = family.plant(self.speed)
+        self.family, self._problem = family, (system, run, kw)
         self.reference = reference
         if reference is not None:
             plant = aligned(plant, reference.plant)
@@ -101,9 +107,16 @@ class GeneralMap:
         self._nch = 4 * len(plant.stations) + CONTACT_CHANNELS * len(kw["stations"])
 
     def at_speed(self, speed: float) -> GeneralMap:
-        """The same map at another spin speed (rad/s): the plant is rebuilt and its modes
-        aligned with this map's (or its reference's), so that ``x`` means the same there."""
-        return GeneralMap(self.scenario, self.k, self.steps, speed, self.reference or self)
+        """The same map at another spin speed (rad/s), its modes aligned with this map's (or
+        its reference's), so that ``x`` means the same there. Only the speed-dependent parts
+        of the plant are updated (:class:`rubrotor.orbits.speed_family.SpeedFamily`, shared by
+        every map derived from this one): no dense eigen-decomposition per speed."""
+        from rubrotor.orbits.speed_family import SpeedFamily
+
+        if self.family is None:
+            self.family = SpeedFamily(*self._problem, self.plant)
+        return GeneralMap(self.scenario, self.k, self.steps, speed, self.reference or self,
+                          self.family)  # fmt: skip
 
     def repeat(self, k: int) -> GeneralMap:
         """The same map over ``k`` revolutions (the same plant and step coefficients)."""
