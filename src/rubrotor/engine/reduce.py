@@ -413,26 +413,42 @@ class SpeedBasis:
         return lam, Vq, winv[idx] @ self.left_u, winv[idx] @ self.left, cond
 
 
-def speed_basis(sm, keep: int, extra: int, supports) -> SpeedBasis:
+def speed_basis(sm, count: int, supports, vectors=None, minv=None) -> SpeedBasis:
     """:class:`SpeedBasis` at ``sm.speed`` (:class:`rubrotor.rotors.linear.SystemMatrices`).
 
     Basis choice: the right and left first-order eigenvectors (real and imaginary parts) of the
-    ``keep + extra`` lowest stored modes at the anchor speed, enriched by the static responses
-    ``K^-1 e_j`` (as displacement and as velocity) to unit forces at the support DOFs
-    ``supports`` (free indices) and the left ones ``K^-T e_j``: a change of the supports'
+    ``count`` lowest stored modes at the anchor speed (all of them followed), enriched by the
+    static responses ``K^-1 e_j`` (as displacement and as velocity) to unit forces at the support
+    DOFs ``supports`` (free indices) and the left ones ``K^-T e_j``: a change of the supports'
     coefficients is a force at those DOFs, which modes alone represent only slowly (its static
     response spreads over all of them). Exact at the anchor (its modes are in the span); the
     error of the kept eigenvalues grows with the distance from it (measured on
-    ``seal_rub.toml``, ``keep + extra = 20``: 7e-8 relative at 3 % from the anchor, 2e-5
-    without the enrichment).
+    ``seal_rub.toml``, ``count = 20``: 7e-8 relative at 3 % from the anchor, 2e-5 without the
+    enrichment).
+
+    ``vectors = (lam, phq, psi)``: the modes at the anchor speed when known already (1/s; right
+    displacement vectors (n, count) without the pair weight; first-order left vectors
+    (count, 2 n) with ``psi [phq; lam phq] = 1``), instead of the dense eigen-decomposition.
+    ``minv``: ``M^-1`` (1/kg) when known.
     """
     M, K, D, G = sm.M, sm.K, sm.damping, sm.G
     n = M.shape[0]
-    md = reduce_matrices(M, D, K, keep + extra)
-    scale = max(float(np.max(np.abs(md.lam))), 1e-300)
-    pair = md.lam.imag > 1e-12 * scale
-    phq = md.Vq / np.where(pair, 2.0, 1.0)[None, :]
-    right = np.vstack([phq, phq * md.lam[None, :]])
+    if vectors is None:
+        md = reduce_matrices(M, D, K, count)
+        scale = max(float(np.max(np.abs(md.lam))), 1e-300)
+        lam = md.lam
+        phq = md.Vq / np.where(lam.imag > 1e-12 * scale, 2.0, 1.0)[None, :]
+        psi = md.psi
+    else:
+        lam, phq, psi = vectors
+        scale = max(float(np.max(np.abs(lam))), 1e-300)
+        phq, psi = phq.copy(), psi.copy()
+        for j in np.flatnonzero(lam.imag <= 1e-12 * scale):  # a real mode: real vectors
+            c = phq[np.argmax(np.abs(phq[:, j])), j]
+            phq[:, j] *= abs(c) / c
+            psi[j] *= c / abs(c)
+    pair = lam.imag > 1e-12 * scale
+    right = np.vstack([phq, phq * lam[None, :]])
     sdofs = np.asarray(supports, int)
     E = np.zeros((n, sdofs.size))
     E[sdofs, np.arange(sdofs.size)] = 1.0
@@ -444,17 +460,14 @@ def speed_basis(sm, keep: int, extra: int, supports) -> SpeedBasis:
     zero = np.zeros_like(Y)
     p = np.flatnonzero(pair)
     R = np.hstack([right.real, right[:, p].imag, np.vstack([Y, zero]), np.vstack([zero, Y])])
-    L = np.vstack([md.psi.real, md.psi[p].imag, np.hstack([Yt.T, zero.T]),
+    L = np.vstack([psi.real, psi[p].imag, np.hstack([Yt.T, zero.T]),
                    np.hstack([zero.T, YtM])])  # fmt: skip
-    # the kept modes in basis coordinates: column j (real part) + i column of its imaginary part
-    kept = np.zeros((R.shape[1], keep), complex)
-    kept[np.arange(keep), np.arange(keep)] = 1.0
-    pos = {j: md.lam.size + i for i, j in enumerate(p)}
-    for j in range(keep):
-        if j in pos:
-            kept[pos[j], j] = 1j
+    # the followed modes in basis coordinates: column j (real part) + i column (imaginary part)
+    kept = np.zeros((R.shape[1], lam.size), complex)
+    kept[np.arange(lam.size), np.arange(lam.size)] = 1.0
+    kept[lam.size + np.arange(p.size), p] = 1j
     lr = np.linalg.inv(L @ R)
-    minv = np.linalg.inv(M)
+    minv = np.linalg.inv(M) if minv is None else minv
     AR = np.vstack([R[n:], -minv @ (K @ R[:n] + D @ R[n:])])
     left = lr @ L
     left_u = left[:, n:] @ minv

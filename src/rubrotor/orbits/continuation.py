@@ -10,9 +10,10 @@ oriented along the previous one); predictor ``z + ds t``; corrector = quasi-Newt
 on ``[G; t . (z - z_pred)] = 0`` from the previous point's Jacobian, full Newton if that
 fails; ``ds`` halves on failure and grows by 1.5 after a quick corrector. Optionally each point
 is Richardson-extrapolated to zero step from the maps of ``N`` and ``2 N`` steps
-(``_extrapolate``). A general rotor's map (``rubrotor.orbits.general_map``) is rebuilt at every
-key value with its modes aligned to the first value's; circular orbits of the axisymmetric
-rotor are continued on the rotating frame's field instead (``_SyncProblem``).
+(``_extrapolate``). A general rotor's map (``rubrotor.orbits.general_map``) has its modes
+aligned to the first value's; in a speed key only its speed-dependent parts are updated
+(``rubrotor.orbits.speed_family``), in any other key it is rebuilt. Circular orbits of the
+axisymmetric rotor are continued on the rotating frame's field instead (``_SyncProblem``).
 
 Bifurcations, between consecutive points, from sign changes of test functions:
 
@@ -180,14 +181,16 @@ class _Problem:
     """Residual and Jacobian of the continuation in scaled unknowns.
 
     ``tol``: the corrector's relative tolerance; ``h_rel``: the relative increment of the
-    key's central difference. A general rotor's map is rebuilt (reduced and diagonalised) at
-    every key value, which carries ~2e-8 of relative noise from one build to the next
-    (eigenvector accuracy, measured on ``seal_rub.toml``): there the corrector stops at 1e-6
-    and the key's difference uses 1e-4.
+    key's central difference. A general rotor's plant at each key value (rebuilt, or updated
+    in a speed key) carries ~2e-8 of relative noise from one value to the next (its residual
+    flexibility is a small difference of two large ones, measured on ``seal_rub.toml``): there
+    the corrector stops at 1e-6 and the key's difference uses 1e-4.
     """
 
     tol = None  # set below, after CORRECTOR_TOL
     h_rel = 1e-6
+    central = True  # central differences in the key (else forward: one map fewer)
+    exact_gx = False  # the corrector takes the exact G_x at every iterate (a cheap one)
 
     def __init__(self, scenario, key, k, steps, sx, sp, richardson=False):
         self.scenario, self.key, self.k, self.steps = scenario, key, k, steps
@@ -240,6 +243,12 @@ class _Problem:
         x, p = self.unscale(z)
         return (self.map_at(p, steps).run(x)[0] - x) / self.sx
 
+    def residual_jacobian(self, z, steps=None):
+        """Scaled ``G / s_x`` and its exact scaled ``G_x`` (one variational run of the map)."""
+        x, p = self.unscale(z)
+        px, jac, _ = self.map_at(p, steps).run(x, True)
+        return (px - x) / self.sx, (jac - np.eye(x.size)) * self.sx / self.sx[:, None]
+
     def unscale(self, z):
         return z[:-1] * self.sx, z[-1] * self.sp
 
@@ -255,7 +264,10 @@ class _Problem:
         self._radius = {z.tobytes(): rmax}
         h = self.h_rel * abs(p)
         up = self.map_at(p + h, steps).run(x)[0]
-        gp = (up - self.map_at(p - h, steps).run(x)[0]) / (2 * h)
+        if self.central:
+            gp = (up - self.map_at(p - h, steps).run(x)[0]) / (2 * h)
+        else:
+            gp = (up - px) / h
         gx = (jac - np.eye(x.size)) * self.sx / self.sx[:, None]
         gz = np.column_stack([gx, gp * self.sp / self.sx])
         return (px - x) / self.sx, gz, jac
@@ -355,12 +367,21 @@ def _chord(prob, z_pred, t, gz0, tol=None, max_iter=12):
     a = np.vstack([gz0, t])
     z = z_pred.copy()
     g_old = dz = None
+    n = z.size - 1
     for it in range(1, max_iter + 1):
         try:
-            g = np.concatenate([prob.residual(z), [t @ (z - z_pred)]])
+            if prob.exact_gx:
+                r, gx = prob.residual_jacobian(z)
+            else:
+                r = prob.residual(z)
+            g = np.concatenate([r, [t @ (z - z_pred)]])
         except InputError:
             return None
-        if dz is not None:
+        if prob.exact_gx:  # exact G_x; the key's column by the secant along the last step
+            if dz is not None and abs(dz[n]) > 1e-3 * np.linalg.norm(dz):
+                a[:n, n] = (g[:n] - g_old[:n] - gx @ dz[:n]) / dz[n]
+            a[:n, :n] = gx
+        elif dz is not None:
             a += np.outer(g - g_old - a @ dz, dz) / (dz @ dz)
         dz = np.linalg.solve(a, -g)
         z = z + dz
@@ -727,6 +748,10 @@ def _problem(scenario, key, k, steps, x0, p0, kind=_Problem) -> _Problem:
         prob = kind(scenario, key, k, steps, np.ones(x0.size), abs(p0))
         prob.sx = prob.map_at(p0)._scales(x0)
         prob.tol, prob.h_rel = GENERAL_TOL, 1e-4
+        # each key value costs a plant, a monodromy 1 ms: the key's derivative by a forward
+        # difference (its error ~ h ~ 1e-4, that of the central one the plants' noise / h ~
+        # 2e-4 alike), and the corrector's G_x exact at every iterate (fewer iterates)
+        prob.central, prob.exact_gx = False, True
         return prob
     speed = scenario.with_changes(**{key: float(p0)}).speed
     sx = np.full(x0.size, max(np.max(np.abs(x0[: x0.size // 2])), 1e-12))

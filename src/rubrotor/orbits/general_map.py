@@ -11,11 +11,14 @@ is a fixed point of the ``k``-revolution map. At the fixed point ``F`` is the co
 the orbit itself produces; its directions add multipliers near zero (a force is set by the
 state it acts on), which never decide stability.
 
-Monodromy: central differences of the map (``2 dim + 1`` runs of the compiled kernel, each
-increment ``6e-6`` of the component's scale; the map is affine outside contact, so the
-differences are exact there). The seed rotor's map (:mod:`rubrotor.orbits.shooting`) propagates the
-variational equations instead; this general map is the second route, for any rotor the
-engine runs, at constant speed.
+Monodromy: the exact derivative of the discrete map, propagated in the same compiled run
+(:func:`rubrotor.core.engine_tangent.map_tangent`: the implicit contact step differentiated by
+the implicit function theorem, as the seed rotor's map in :mod:`rubrotor.orbits.shooting`
+does); central differences of the plain map (:meth:`GeneralMap.differences`, ``2 dim + 1``
+runs, each increment ``6e-6`` of the component's scale) remain as the second route and where a
+step closed a grazing contact by its set-valued rule. A map at another speed
+(:meth:`GeneralMap.at_speed`) updates only the speed-dependent parts of the plant
+(:class:`rubrotor.orbits.speed_family.SpeedFamily`).
 """
 
 from __future__ import annotations

@@ -37,7 +37,9 @@ from rubrotor.errors import InputError
 ANCHOR_SPAN = 0.03
 """Largest relative distance (dimensionless) from the anchor speed a basis serves."""
 EXTRA_MODES = 4
-"""Modes kept in the basis beyond the plant's (stored modes)."""
+"""Modes followed in the basis beyond the plant's kept ones (stored modes): at each speed the
+``keep`` lowest ``|lam|`` of them are kept, as the dense reduction keeps the lowest at each
+speed (on ``seal_rub.toml`` the 16th and 17th swap near 617.8 rad/s)."""
 NEWTON_TOL = 1e-11
 """Relative eigenvalue step at which the Newton refinement of a kept mode stops."""
 NEWTON_STEPS = 1
@@ -81,6 +83,7 @@ class SpeedFamily:
         self.speed0 = float(run.speed)
         sm = system.matrices(self.speed0)
         self.M = sm.M
+        self.minv = np.linalg.inv(sm.M)
         self.Bmat = plant.Bmat
         positions = plant.stations
         self.orow = np.vstack([system.output_rows(x) for x in positions])
@@ -116,11 +119,20 @@ class SpeedFamily:
         return dK, dC
 
     def _anchor(self, speed: float):
-        for basis in self.anchors:
-            if abs(speed - basis.speed0) <= ANCHOR_SPAN * basis.speed0:
-                return basis
+        """The basis serving ``speed`` (rad/s): the nearest anchor within :data:`ANCHOR_SPAN`;
+        else a new anchor at ``speed`` built from the modes followed there from the nearest
+        anchor (within twice the span), or from the dense eigen-decomposition."""
+        near = min(self.anchors, key=lambda b: abs(speed - b.speed0), default=None)
+        dist = np.inf if near is None else abs(speed - near.speed0) / near.speed0
+        if dist <= ANCHOR_SPAN:
+            return near
         sm = self.system.matrices(speed)
-        basis = speed_basis(sm, self.keep, EXTRA_MODES, self.sdofs)
+        count = self.keep + EXTRA_MODES
+        if dist <= 2 * ANCHOR_SPAN:
+            lam, phi, _, psi, _ = self._followed(near, speed)
+            basis = speed_basis(sm, count, self.sdofs, (lam, phi.T, psi), self.minv)
+        else:
+            basis = speed_basis(sm, count, self.sdofs, minv=self.minv)
         self.anchors.append(basis)
         return basis
 
@@ -151,6 +163,15 @@ class SpeedFamily:
         band_solve(ab, kl, ku, ipiv, x)
         return x
 
+    def _mass(self, u: np.ndarray) -> np.ndarray:
+        """``u M`` (rows ``u``, complex) on the mass band (``M`` real and symmetric)."""
+        from rubrotor.core.banded import band_matmul
+
+        out_r, out_i = np.empty((u.shape[1], u.shape[0])), np.empty((u.shape[1], u.shape[0]))
+        band_matmul(self.parts.m, self.parts.ku, np.ascontiguousarray(u.real.T), out_r)
+        band_matmul(self.parts.m, self.parts.ku, np.ascontiguousarray(u.imag.T), out_i)
+        return (out_r + 1j * out_i).T
+
     def _parts(self, speed: float):
         """Band parts with the supports at ``speed`` (rad/s), and their transpose."""
         from rubrotor.linear.analysis import _support_values
@@ -174,28 +195,27 @@ class SpeedFamily:
                              "(Newton on a kept mode did not converge)")  # fmt: skip
         return out.lam[0], out.shapes[0]
 
-    def rotor_modes(self, speed: float) -> tuple[Modes, np.ndarray]:
-        """Kept rotor modes at ``speed`` (rad/s) and the static deflection ``q_s`` (m, rad).
+    def _followed(self, basis, speed: float):
+        """Every mode ``basis`` follows, at ``speed`` (rad/s), exact: ``(lam, phi, u, psi,
+        cond)`` with right displacement vectors ``phi`` (k, n), left rows ``u`` (k, n) scaled
+        so that ``u (2 lam M + D) phi = 1`` and first-order left vectors ``psi`` (k, 2 n).
 
-        The projection on the anchor's basis follows the kept modes (eigenvalues to ~1e-8,
-        vectors to ~1e-4 at 2 % from the anchor); Newton on the full quadratic eigenproblem
-        (right vectors ``phi``, and left ones ``u``, ``u T(lam) = 0``, on the transposed
-        problem) then makes them exact to :data:`NEWTON_TOL`. With ``u (2 lam M + D) phi = 1``
-        the first-order left vector is ``[u (lam M + D), u M]`` and the modal input row is
-        ``U = u``. ``Rq``, ``Rv`` of the returned :class:`Modes` are exact on forces at the
-        contact stations (``Rq B B^T``; nodal stations have ``B^T B = I``); ``Kinv`` is None.
+        The projection on the anchor's basis follows the modes (eigenvalues to ~1e-7, vectors
+        to ~1e-4 at 2 % from the anchor); one Newton step on the full quadratic eigenproblem
+        (right vectors, ``T(lam) phi = 0``, and left ones, ``u T(lam) = 0``, on the transposed
+        problem) makes them exact to rounding. With that scaling of ``u`` the first-order left
+        vector is ``[u (lam M + D), u M]`` and the modal input row is ``U = u``.
         """
         from rubrotor.core.banded import _derivative_apply
 
-        basis = self._anchor(speed)
         dK, dC = self._supports(speed, basis.speed0)
         lam0, Vq0, U0, _, cond = basis.modes(dK, dC, speed)
         n = self.M.shape[0]
-        real = lam0.imag == 0.0
-        w = np.where(real, 1.0, 2.0)
+        w = np.where(lam0.imag == 0.0, 1.0, 2.0)
         parts, parts_t = self._parts(speed)
         lam, phi = self._refine(parts, speed, lam0, (Vq0 / w[None, :]).T)
         _, u = self._refine(parts_t, speed, lam0, U0)
+        lam = np.where(lam0.imag == 0.0, lam.real + 0j, lam)
         dphi, du = np.empty(n, complex), np.empty(n, complex)
         psi = np.empty((lam.size, 2 * n), complex)
         for j in range(lam.size):
@@ -203,11 +223,24 @@ class SpeedFamily:
             u[j] /= u[j] @ dphi
             _derivative_apply(parts_t, 0, speed, lam[j], u[j], du)
             psi[j, :n] = du
-        um = u @ self.M  # M symmetric
+        um = self._mass(u)
         psi[:, :n] -= lam[:, None] * um
         psi[:, n:] = um
-        lam = np.where(real, lam.real + 0j, lam)
-        Vq = phi.T * w[None, :]
+        return lam, phi, u, psi, cond
+
+    def rotor_modes(self, speed: float) -> tuple[Modes, np.ndarray]:
+        """Kept rotor modes at ``speed`` (rad/s) and the static deflection ``q_s`` (m, rad).
+
+        The ``keep`` lowest ``|lam|`` of the followed modes (:meth:`_followed`), as the dense
+        reduction keeps them. ``Rq``, ``Rv`` of the returned :class:`Modes` are exact on forces
+        at the contact stations (``Rq B B^T``; nodal stations have ``B^T B = I``); ``Kinv`` is
+        None.
+        """
+        basis = self._anchor(speed)
+        lam, phi, u, psi, cond = self._followed(basis, speed)
+        low = np.argsort(np.abs(lam), kind="stable")[: self.keep]
+        lam, phi, u, psi = lam[low], phi[low], u[low], psi[low]
+        Vq = phi.T * np.where(lam.imag == 0.0, 1.0, 2.0)[None, :]
         st = self._static(speed)
         m = self.Bmat.shape[1]
         ub = u @ self.Bmat

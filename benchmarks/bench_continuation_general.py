@@ -1,0 +1,121 @@
+"""Continuation of a general rotor's rub branch in speed: the previous route against today's.
+
+``seal_rub.toml`` (284-DOF finite-element rotor, 16 kept modes, flexible offset stator, friction,
+speed-tabulated cross-coupled bearings), continued in ``speed.rad_per_s`` from 600 rad/s at
+128 fixed steps per revolution, by both routes in one process:
+
+* previous: every key value rebuilt the plant (dense eigen-decomposition of the 568 x 568
+  first-order matrix, dense inverses) and the monodromy came from central differences
+  (``2 dim`` extra map runs per Jacobian) -- reproduced here by patching
+  ``GeneralMap.at_speed`` and ``GeneralMap.run`` back to that;
+* today: a speed key updates only the speed-dependent parts of the plant
+  (:class:`rubrotor.orbits.speed_family.SpeedFamily`) and the monodromy is propagated exactly in
+  the compiled run (:func:`rubrotor.core.engine_tangent.map_tangent`).
+
+Marginal cost per point: (time of an 8-point run - time of a 2-point run) / 6, so that the
+shared start (shooting the first orbit, the first dense plant, the first basis) cancels. Both
+branches' points are compared at equal index (same key values when the corrector took the
+same path) and each of today's points is re-shot on the previous route's dense map at its key
+value. Then a 200-point branch over 600-800 rad/s on today's route, timed.
+
+Run: ``PYTHONPATH=src OPENBLAS_NUM_THREADS=1 python benchmarks/bench_continuation_general.py``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import time
+from importlib import resources
+
+import numpy as np
+
+from rubrotor.orbits import continuation, shooting
+from rubrotor.orbits.continuation import continue_orbit
+from rubrotor.orbits.general_map import GeneralMap
+from rubrotor.scenario import load_scenario
+
+KEY, STEPS = "speed.rad_per_s", 128
+DS_LONG = 0.08
+"""Arclength step (scaled) of the long branch: about 200 points from 600 to 800 rad/s."""
+
+
+@contextlib.contextmanager
+def previous_route():
+    """``GeneralMap`` and the corrector as they were: a dense rebuild per speed, the difference
+    monodromy, the key's central difference and Broyden updates of the whole Jacobian."""
+    at_speed, run, problem = GeneralMap.at_speed, GeneralMap.run, continuation._problem
+
+    def rebuilt(self, speed):
+        return GeneralMap(self.scenario, self.k, self.steps, speed, self.reference or self)
+
+    def differences(self, x, jacobian=False):
+        return self.differences(x) if jacobian else run(self, x)
+
+    def old_problem(*args, **kw):
+        prob = problem(*args, **kw)
+        prob.central, prob.exact_gx = True, False
+        return prob
+
+    GeneralMap.at_speed, GeneralMap.run = rebuilt, differences
+    continuation._problem = old_problem
+    try:
+        yield
+    finally:
+        GeneralMap.at_speed, GeneralMap.run = at_speed, run
+        continuation._problem = problem
+
+
+def timed(sc, points, **kw):
+    t0 = time.perf_counter()
+    branch = continuation.continue_orbit(sc, KEY, 600.0, 620.0, points=points, steps=STEPS, **kw)
+    return time.perf_counter() - t0, branch
+
+
+def marginal(sc, label):
+    timed(sc, 2)  # warm-up: numba compilation and caches
+    t2, _ = timed(sc, 2)
+    t8, branch = timed(sc, 8)
+    per = (t8 - t2) / 6
+    print(f"{label}: 2 points {t2:.2f} s, 8 points {t8:.2f} s, marginal {1e3 * per:.1f} ms/point")
+    return per, branch
+
+
+def compare(old, new, sc):
+    """Index-matched differences, and today's points re-shot on the dense map."""
+    dp = max(abs(a.value - b.value) / a.value for a, b in zip(old.points, new.points, strict=True))
+    dx = max(np.max(np.abs(a.state - b.state)) / np.max(np.abs(a.state))
+             for a, b in zip(old.points, new.points, strict=True))  # fmt: skip
+    print(f"same index: key values to {dp:.1e}, states to {dx:.1e} (relative)")
+    first = GeneralMap(sc.with_changes(**{KEY: 600.0}), 1, STEPS)
+    worst = 0.0
+    with previous_route():
+        for p in new.points[1:]:
+            dense = GeneralMap(first.scenario, 1, STEPS, p.value, first)
+            x = shooting.newton_orbit(dense, p.state, tol=1e-12)[0]
+            worst = max(worst, float(np.max(np.abs(x - p.state)) / np.max(np.abs(x))))
+    print(f"today's points re-shot on the previous route's dense map: states equal to {worst:.1e}")
+
+
+def long_branch(sc):
+    t0 = time.perf_counter()
+    branch = continue_orbit(sc, KEY, 600.0, 800.0, points=200, steps=STEPS, ds=DS_LONG,
+                            ds_max=DS_LONG)  # fmt: skip
+    wall = time.perf_counter() - t0
+    vals = [p.value for p in branch.points]
+    print(f"today's route, 600-800 rad/s: {len(vals)} points ({vals[0]:.1f} to {vals[-1]:.1f} "
+          f"rad/s) in {wall:.1f} s, {1e3 * wall / len(vals):.0f} ms/point on average; "
+          f"bifurcations: {[(b.type, round(b.value, 3)) for b in branch.bifurcations]}")  # fmt: skip
+
+
+def main() -> None:
+    sc = load_scenario(resources.files("rubrotor") / "scenarios" / "seal_rub.toml")
+    with previous_route():
+        old, old_branch = marginal(sc, "previous route (dense rebuild per speed, differences)")
+    new, new_branch = marginal(sc, "today (speed family, propagated monodromy)")
+    print(f"ratio previous / today per point: {old / new:.0f}x")
+    compare(old_branch, new_branch, sc)
+    long_branch(sc)
+
+
+if __name__ == "__main__":
+    main()
