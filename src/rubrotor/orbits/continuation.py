@@ -384,6 +384,16 @@ def _chord(prob, z_pred, t, gz0, tol=None, max_iter=12):
         elif dz is not None:
             a += np.outer(g - g_old - a @ dz, dz) / (dz @ dz)
         dz = np.linalg.solve(a, -g)
+        if prob.exact_gx and np.linalg.norm(dz) < tol * max(1.0, np.linalg.norm(z)):
+            # converged: the last Newton step at this key value (its map is prepared), off the
+            # arclength plane by less than tol
+            z = z.copy()
+            z[:n] += np.linalg.solve(gx, -g[:n])
+            try:
+                g, gz, jac = prob.evaluate(z)
+            except InputError:
+                return None
+            return (z, gz, jac, it) if np.linalg.norm(g) < tol * np.linalg.norm(z) else None
         z = z + dz
         g_old = g
         if not np.all(np.isfinite(z)):
