@@ -178,10 +178,8 @@ def _sweep_or_follow(scenario, vary: dict, args: argparse.Namespace, progress: b
     from rubrotor.sweeps.sweep import sweep
 
     if args.follow is not None:
-        from rubrotor.orbits.general_map import is_general
-
         ((key, values),) = vary.items()
-        if is_general(scenario):
+        if scenario.model.fe_rotor:
             return _follow_general_store(scenario, key, values, args)
         return follow_sweep(
             scenario,
