@@ -90,7 +90,8 @@ def run_follow_chunk(task: dict) -> dict:
     """
     from rubrotor.errors import RubrotorError
     from rubrotor.scenario.load import scenario_from_dict
-    from rubrotor.sweeps.sweep import PointScenarios, _empty_metrics, simulate_point
+    from rubrotor.sweeps.metrics import _empty_metrics
+    from rubrotor.sweeps.sweep import PointScenarios, simulate_point
 
     base = scenario_from_dict(task["scenario"])
     point_scenario = PointScenarios(base, [task["key"]])
@@ -388,26 +389,6 @@ SCALAR_METRICS = ("max_displacement", "contact_fraction", "impacts_per_revolutio
 """Metrics of :func:`follow_general` (those of ``rubrotor.sweeps.sweep.window_metrics``)."""
 
 
-def _window(mp, x: np.ndarray, samples_per_revolution: int, lyapunov: bool):
-    """End vector and metrics of one run of ``mp`` (its ``k`` revolutions are all kept); with
-    ``lyapunov`` the largest exponent over the same revolutions (``rubrotor.orbits.lyapunov``)."""
-    from rubrotor.orbits.lyapunov import benettin
-    from rubrotor.sweeps.sweep import window_metrics
-
-    lam = np.nan
-    if lyapunov:
-        lam = benettin(mp.repeat(1), x, 1, 0, mp.k).exponents[0]
-    save = mp.steps // samples_per_revolution
-    px, out, events = mp._kernel(x, save)
-    nst = len(mp.plant.stations)
-    pw = out[0, 1:] + 1j * out[1, 1:]  # the first contact station, samples 1 .. k N
-    fn = out[4 * nst + 6, 1:]
-    mine = events[np.abs(events[:, 1]) == 1]
-    signed = mine[:, 0] * np.sign(mine[:, 1])
-    m = window_metrics(pw, fn, signed, mp.speed, 0, mp.k, samples_per_revolution, lam)
-    return px, m
-
-
 def follow_general(scenario, key: str, values, direction: str = "both",
                    transient_revolutions: int = 100, revolutions: int = 50,
                    samples_per_revolution: int = 32, steps: int = 256,
@@ -453,6 +434,7 @@ def follow_general(scenario, key: str, values, direction: str = "both",
 
     from rubrotor.orbits.general_map import GeneralMap
     from rubrotor.scenario.schema import key_unit
+    from rubrotor.sweeps.general_point import window
 
     if direction not in DIRECTIONS:
         raise InputError("follow", direction, " | ".join(DIRECTIONS))
@@ -477,7 +459,7 @@ def follow_general(scenario, key: str, values, direction: str = "both",
             try:
                 if transient_revolutions:
                     x = one.repeat(transient_revolutions).run(x)[0]
-                x, m = _window(one.repeat(revolutions), x, samples_per_revolution, lyapunov)
+                x, m = window(one.repeat(revolutions), x, samples_per_revolution, lyapunov)
             except InputError:  # diverged: not classified, the next value starts afresh
                 x = None
                 continue
