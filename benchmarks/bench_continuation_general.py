@@ -13,7 +13,8 @@ speed-tabulated cross-coupled bearings), continued in ``speed.rad_per_s`` from 6
   the compiled run (:func:`rubrotor.core.engine_tangent.map_tangent`).
 
 Marginal cost per point: (time of an 8-point run - time of a 2-point run) / 6, so that the
-shared start (shooting the first orbit, the first dense plant, the first basis) cancels. Both
+shared start (shooting the first orbit, the first dense plant, the first basis) cancels; wall
+time and this process's CPU time (on a shared machine the CPU time is the steadier measure). Both
 branches' points are compared at equal index (same key values when the corrector took the
 same path) and each of today's points is re-shot on the previous route's dense map at its key
 value. Then a 200-point branch over 600-800 rad/s on today's route, timed.
@@ -66,18 +67,21 @@ def previous_route():
 
 
 def timed(sc, points, **kw):
-    t0 = time.perf_counter()
+    """``(wall s, CPU s, branch)`` of a continuation from 600 rad/s of ``points`` points."""
+    t0, c0 = time.perf_counter(), time.process_time()
     branch = continuation.continue_orbit(sc, KEY, 600.0, 620.0, points=points, steps=STEPS, **kw)
-    return time.perf_counter() - t0, branch
+    return time.perf_counter() - t0, time.process_time() - c0, branch
 
 
 def marginal(sc, label):
+    """Marginal wall and CPU time per point (s): (8-point run - 2-point run) / 6."""
     timed(sc, 2)  # warm-up: numba compilation and caches
-    t2, _ = timed(sc, 2)
-    t8, branch = timed(sc, 8)
-    per = (t8 - t2) / 6
-    print(f"{label}: 2 points {t2:.2f} s, 8 points {t8:.2f} s, marginal {1e3 * per:.1f} ms/point")
-    return per, branch
+    w2, c2, _ = timed(sc, 2)
+    w8, c8, branch = timed(sc, 8)
+    wall, cpu = (w8 - w2) / 6, (c8 - c2) / 6
+    print(f"{label}: 2 points {w2:.2f} s, 8 points {w8:.2f} s (wall); marginal "
+          f"{1e3 * wall:.1f} ms/point wall, {1e3 * cpu:.1f} ms/point CPU")  # fmt: skip
+    return (wall, cpu), branch
 
 
 def compare(old, new, sc):
@@ -97,13 +101,13 @@ def compare(old, new, sc):
 
 
 def long_branch(sc):
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     branch = continue_orbit(sc, KEY, 600.0, 800.0, points=200, steps=STEPS, ds=DS_LONG,
                             ds_max=DS_LONG)  # fmt: skip
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     vals = [p.value for p in branch.points]
     print(f"today's route, 600-800 rad/s: {len(vals)} points ({vals[0]:.1f} to {vals[-1]:.1f} "
-          f"rad/s) in {wall:.1f} s, {1e3 * wall / len(vals):.0f} ms/point on average; "
+          f"rad/s) in {wall:.1f} s wall ({cpu:.1f} s CPU), {1e3 * wall / len(vals):.0f} ms/point; "
           f"bifurcations: {[(b.type, round(b.value, 3)) for b in branch.bifurcations]}")  # fmt: skip
 
 
@@ -112,7 +116,8 @@ def main() -> None:
     with previous_route():
         old, old_branch = marginal(sc, "previous route (dense rebuild per speed, differences)")
     new, new_branch = marginal(sc, "today (speed family, propagated monodromy)")
-    print(f"ratio previous / today per point: {old / new:.0f}x")
+    print(f"ratio previous / today per point: {old[0] / new[0]:.0f}x wall, "
+          f"{old[1] / new[1]:.0f}x CPU")  # fmt: skip
     compare(old_branch, new_branch, sc)
     long_branch(sc)
 

@@ -63,6 +63,9 @@ class GeneralMap:
     reference : GeneralMap, optional
         Align the modes with this map's (:func:`aligned`), so that states mean the same in
         both (continuation along a key).
+    family : rubrotor.orbits.speed_family.SpeedFamily, optional
+        Take the plant from this family of the same rotor (only the speed-dependent parts
+        updated) instead of building it (:meth:`at_speed` passes it).
     """
 
     def __init__(self, scenario, k: int, steps: int, speed: float | None = None,

@@ -3,24 +3,29 @@
 Continuation in a speed key asks for the stroboscopic map at a new speed several times per
 branch point. Rebuilding the plant there (:func:`rubrotor.engine.driver.build_plant`, a dense
 eigen-decomposition of the ``2 n`` first-order matrix and three ``n x n`` inverses) cost about
-0.5 s per speed on ``seal_rub.toml`` (284 DOFs). Only the speed-dependent parts change with the
-speed: the gyroscopic term ``Omega G``, the supports' tabulated coefficients, the unbalance
-forcing and the contact's sliding speed. :class:`SpeedFamily` updates exactly those:
+0.3-0.5 s per speed on ``seal_rub.toml`` (284 DOFs), 95 % of a branch point. Only the
+speed-dependent parts change with the speed: the gyroscopic term ``Omega G``, the supports'
+tabulated coefficients, the unbalance forcing and the contact's sliding speed.
+:class:`SpeedFamily` updates exactly those, in about 6 ms (CPU) per speed:
 
-* kept modes: the ``r x r`` projected first-order matrix on a fixed basis
-  (:class:`rubrotor.engine.reduce.SpeedBasis`: the lowest modes at an anchor speed, with the
-  static responses at the support DOFs), one small eigen-decomposition per speed. A new anchor is
-  taken when the speed moves more than :data:`ANCHOR_SPAN` (relative) from every anchor, which
-  bounds the modes' error (7e-8 relative on the eigenvalues at 3 % from the anchor, measured on
-  ``seal_rub.toml``);
+* modes: the ``keep + EXTRA_MODES`` lowest modes are followed on a fixed basis
+  (:class:`rubrotor.engine.reduce.SpeedBasis`: those modes at an anchor speed, real and
+  imaginary parts, with the static responses at the support DOFs), one ``r x r`` real
+  eigen-decomposition (``r = 48`` here) per speed, each followed mode picked by its overlap with
+  the anchor's; one Newton step on the full quadratic eigenproblem (banded LU, right and left
+  vectors from one factorisation, :func:`rubrotor.core.banded.newton_pairs`) then makes them
+  exact; the ``keep`` lowest ``|lam|`` are kept, as the dense reduction keeps them. Beyond
+  :data:`ANCHOR_SPAN` from every anchor a new anchor is built from the modes followed there
+  (or densely when farther than twice the span). Measured on ``seal_rub.toml`` from 600 to
+  800 rad/s: eigenvalues and contact rows equal the dense rebuild's to 4e-10;
 * static flexibility at the contact stations and the static deflection: exact, by the
   Sherman-Morrison-Woodbury update of ``K^-1`` for the support coefficients' change (only the
   support DOFs' entries of ``K`` depend on speed);
 * the residual flexibility of the dropped modes at the stations, ``K^-1 + Re(sum V U / lam)``,
-  from those two (static exactness kept to rounding whatever the modes' error);
-* the steady unbalance response: exact, one banded complex LU of the dynamic stiffness
-  (:func:`rubrotor.core.banded.unbalance_sweep`, ``O(n b^2)``);
-* the stators (speed-independent) are the anchor plant's.
+  from those two (a small difference of two large flexibilities: it carries ~4e-8 of
+  rounding, as the dense route's does);
+* the steady unbalance response: exact, one banded complex LU of the dynamic stiffness;
+* the stators (speed-independent) are the first plant's.
 """
 
 from __future__ import annotations
@@ -40,12 +45,11 @@ EXTRA_MODES = 4
 """Modes followed in the basis beyond the plant's kept ones (stored modes): at each speed the
 ``keep`` lowest ``|lam|`` of them are kept, as the dense reduction keeps the lowest at each
 speed (on ``seal_rub.toml`` the 16th and 17th swap near 617.8 rad/s)."""
-NEWTON_TOL = 1e-11
-"""Relative eigenvalue step at which the Newton refinement of a kept mode stops."""
 NEWTON_STEPS = 1
-"""Newton steps per kept mode at most: the projection's eigenvalue is within ~1e-7 of the
-true one (relative), so one step leaves ~1e-14 (quadratic convergence) and its vector the
-error of one inverse iteration with that shift; the second step, where taken, only confirms."""
+"""Newton steps per followed mode (:func:`rubrotor.core.banded.newton_pairs`): the projection's
+eigenvalue is within ~1e-7 of the true one (relative), so one step leaves ~1e-14 (quadratic
+convergence) and its vectors the error of one inverse iteration with that shift (measured: the
+plants equal the dense rebuild's to 1e-10)."""
 NEWTON_START = 1e-5
 """Largest relative eigenvalue change the refinement accepts (a larger one means the projection
 did not start Newton close to the mode it follows)."""
@@ -180,21 +184,6 @@ class SpeedFamily:
         parts = self.parts._replace(sup_k=k, sup_c=c)
         return parts, parts._replace(g=-parts.g, sup_row=parts.sup_col, sup_col=parts.sup_row)
 
-    def _refine(self, parts, speed: float, lam: np.ndarray, start: np.ndarray):
-        """Newton on the full quadratic eigenproblem (banded LU, ``parts``) from eigenvalues
-        ``lam`` (1/s) and vectors ``start`` (nm, n); returns the refined ``(lam, vectors)``."""
-        from rubrotor.core.banded import Refined, SparseRows, Starts, _refine_block
-
-        n, nm = start.shape[1], lam.size
-        rows = SparseRows(np.arange(n)[:, None], np.ones((n, 1), complex))
-        out = Refined(lam[None].copy(), np.zeros((1, nm, n), complex), np.zeros((1, nm), np.int64))
-        _refine_block(parts, np.array([speed]), Starts(lam[None].copy(), start[None].copy()),
-                      NEWTON_TOL, NEWTON_STEPS, rows, out, 0, 1)  # fmt: skip
-        if not np.all(np.abs(out.lam[0] - lam) <= NEWTON_START * np.abs(lam)):
-            raise InputError("speed", speed, "a speed where the rotor's modes can be followed "
-                             "(Newton on a kept mode did not converge)")  # fmt: skip
-        return out.lam[0], out.shapes[0]
-
     def _followed(self, basis, speed: float):
         """Every mode ``basis`` follows, at ``speed`` (rad/s), exact: ``(lam, phi, u, psi,
         cond)`` with right displacement vectors ``phi`` (k, n), left rows ``u`` (k, n) scaled
@@ -206,15 +195,20 @@ class SpeedFamily:
         problem) makes them exact to rounding. With that scaling of ``u`` the first-order left
         vector is ``[u (lam M + D), u M]`` and the modal input row is ``U = u``.
         """
-        from rubrotor.core.banded import _derivative_apply
+        from rubrotor.core.banded import _derivative_apply, newton_pairs
 
         dK, dC = self._supports(speed, basis.speed0)
         lam0, Vq0, U0, _, cond = basis.modes(dK, dC, speed)
         n = self.M.shape[0]
         w = np.where(lam0.imag == 0.0, 1.0, 2.0)
         parts, parts_t = self._parts(speed)
-        lam, phi = self._refine(parts, speed, lam0, (Vq0 / w[None, :]).T)
-        _, u = self._refine(parts_t, speed, lam0, U0)
+        phi, u = np.ascontiguousarray((Vq0 / w[None, :]).T), np.ascontiguousarray(U0)
+        lam = lam0
+        for _ in range(NEWTON_STEPS):
+            lam = newton_pairs(parts, parts_t, speed, lam, phi, u)
+        if not np.all(np.abs(lam - lam0) <= NEWTON_START * np.abs(lam0)):
+            raise InputError("speed", speed, "a speed where the rotor's modes can be followed "
+                             "(Newton moved a followed mode too far)")  # fmt: skip
         lam = np.where(lam0.imag == 0.0, lam.real + 0j, lam)
         dphi, du = np.empty(n, complex), np.empty(n, complex)
         psi = np.empty((lam.size, 2 * n), complex)
