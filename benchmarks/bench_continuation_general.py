@@ -14,10 +14,12 @@ speed-tabulated cross-coupled bearings), continued in ``speed.rad_per_s`` from 6
 
 Marginal cost per point: (time of an 8-point run - time of a 2-point run) / 6, so that the
 shared start (shooting the first orbit, the first dense plant, the first basis) cancels; wall
-time and this process's CPU time (on a shared machine the CPU time is the steadier measure). Both
+time and this process's CPU time (on a shared machine the CPU time is the steadier measure).
+Each route's points are re-shot on the other route's maps at their key values. Both
 branches' points are compared at equal index (same key values when the corrector took the
 same path) and each of today's points is re-shot on the previous route's dense map at its key
-value. Then a 200-point branch over 600-800 rad/s on today's route, timed.
+value, and the previous route's points on today's maps. Then a 200-point branch over 600-800
+rad/s on today's route, timed.
 
 Run: ``PYTHONPATH=src OPENBLAS_NUM_THREADS=1 python benchmarks/bench_continuation_general.py``.
 """
@@ -36,7 +38,7 @@ from rubrotor.orbits.general_map import GeneralMap
 from rubrotor.scenario import load_scenario
 
 KEY, STEPS = "speed.rad_per_s", 128
-DS_LONG = 0.08
+DS_LONG = 0.083
 """Arclength step (scaled) of the long branch: about 200 points from 600 to 800 rad/s."""
 
 
@@ -84,20 +86,28 @@ def marginal(sc, label):
     return (wall, cpu), branch
 
 
-def compare(old, new, sc):
-    """Index-matched differences, and today's points re-shot on the dense map."""
-    dp = max(abs(a.value - b.value) / a.value for a, b in zip(old.points, new.points, strict=True))
-    dx = max(np.max(np.abs(a.state - b.state)) / np.max(np.abs(a.state))
-             for a, b in zip(old.points, new.points, strict=True))  # fmt: skip
-    print(f"same index: key values to {dp:.1e}, states to {dx:.1e} (relative)")
-    first = GeneralMap(sc.with_changes(**{KEY: 600.0}), 1, STEPS)
+def reshot(branch, first, route):
+    """Largest relative change of a branch's states when each is re-shot (Newton to 1e-12) on
+    the map of ``route`` ("previous": dense rebuild; "today": speed family) at its key value."""
     worst = 0.0
-    with previous_route():
-        for p in new.points[1:]:
-            dense = GeneralMap(first.scenario, 1, STEPS, p.value, first)
-            x = shooting.newton_orbit(dense, p.state, tol=1e-12)[0]
-            worst = max(worst, float(np.max(np.abs(x - p.state)) / np.max(np.abs(x))))
-    print(f"today's points re-shot on the previous route's dense map: states equal to {worst:.1e}")
+    for p in branch.points[1:]:
+        if route == "previous":
+            with previous_route():
+                mp = GeneralMap(first.scenario, 1, STEPS, p.value, first)
+                x = shooting.newton_orbit(mp, p.state, tol=1e-12)[0]
+        else:
+            x = shooting.newton_orbit(first.at_speed(p.value), p.state, tol=1e-12)[0]
+        worst = max(worst, float(np.max(np.abs(x - p.state)) / np.max(np.abs(x))))
+    return worst
+
+
+def compare(old, new, sc):
+    """Each route's points re-shot on the other route's maps (the routes' correctors place
+    their points at different key values, so points are compared at equal key values)."""
+    first = GeneralMap(sc.with_changes(**{KEY: 600.0}), 1, STEPS)
+    print(f"today's points re-shot on the previous route's maps: states equal to "
+          f"{reshot(new, first, 'previous'):.1e}; the previous route's points on today's: "
+          f"{reshot(old, first, 'today'):.1e} (relative)")  # fmt: skip
 
 
 def long_branch(sc):

@@ -114,3 +114,32 @@ def test_continuation_points_equal_dense_shooting(seal):
         assert dense.run(x)[2] == pytest.approx(p.max_radius_m, rel=1e-6)
         np.testing.assert_allclose(np.abs(shooting.multipliers_of(jac)[:6]),
                                    np.abs(p.multipliers[:6]), rtol=1e-6)  # fmt: skip
+
+
+def test_band_solve_transposed_equals_dense_solve():
+    """The transposed banded solve (one LU serves the right and the left eigenvectors) against
+    SciPy's dense solve of ``A^T x = b`` on a random complex band matrix (3 sub-, 2
+    super-diagonals, pivoting needed: small diagonal), to 1e-12 relative."""
+    import scipy.linalg
+
+    from rubrotor.core.banded import OK, band_factor, band_solve, band_solve_transposed
+
+    rng = np.random.default_rng(3)
+    n, kl, ku = 30, 3, 2
+    a = np.zeros((n, n), complex)
+    for i in range(n):
+        for j in range(max(0, i - kl), min(n, i + ku + 1)):
+            a[i, j] = rng.standard_normal() + 1j * rng.standard_normal()
+    a[np.arange(n), np.arange(n)] *= 1e-3
+    ab = np.zeros((n, 2 * kl + ku + 1), complex)
+    for j in range(n):
+        for i in range(max(0, j - ku), min(n, j + kl + 1)):
+            ab[j, kl + ku + i - j] = a[i, j]
+    ipiv = np.zeros(n, np.int64)
+    assert band_factor(ab, kl, ku, ipiv) == OK
+    b = rng.standard_normal(n) + 1j * rng.standard_normal(n)
+    for solve, mat in ((band_solve, a), (band_solve_transposed, a.T)):
+        x = b.copy()
+        solve(ab, kl, ku, ipiv, x)
+        ref = scipy.linalg.solve(mat, b)
+        assert np.max(np.abs(x - ref)) < 1e-12 * np.max(np.abs(ref))

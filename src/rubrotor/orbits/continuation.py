@@ -8,7 +8,11 @@ coefficients are rebuilt); ``G_x`` from the map's variational equations (exact, 
 ``G_p`` by central differences in ``p``; tangent = null vector of ``[G_x s_x, G_p s_p]`` (SVD,
 oriented along the previous one); predictor ``z + ds t``; corrector = quasi-Newton (Broyden)
 on ``[G; t . (z - z_pred)] = 0`` from the previous point's Jacobian, full Newton if that
-fails; ``ds`` halves on failure and grows by 1.5 after a quick corrector. Optionally each point
+fails; ``ds`` halves on failure and grows by 1.5 after a quick corrector. On a general rotor,
+where a new key value costs a plant (a few ms) and ``G_x`` is one compiled variational run
+(1 ms), the corrector is Newton in the state at the predicted key value (``_fixed_key``: two
+plants per point with the key's forward difference), and where that fails (near a fold) the
+pseudo-arclength chord with the exact ``G_x`` at every iterate. Optionally each point
 is Richardson-extrapolated to zero step from the maps of ``N`` and ``2 N`` steps
 (``_extrapolate``). A general rotor's map (``rubrotor.orbits.general_map``) has its modes
 aligned to the first value's; in a speed key only its speed-dependent parts are updated
@@ -353,7 +357,39 @@ def _tangent(gz, previous):
     return t
 
 
-def _chord(prob, z_pred, t, gz0, tol=None, max_iter=12):
+def _fixed_key(prob, z_pred, ds, tol, max_iter=6):
+    """Newton in the state alone at the predictor's key value: ``(z, gz, jac, iterations)``
+    or None.
+
+    For a problem with a cheap exact ``G_x`` (``prob.exact_gx``: a general rotor, whose map at
+    a new key value costs a plant and a monodromy only a compiled run), where the branch is a
+    graph over the key the point at the predicted key value is found with that one map: its
+    arclength from the last point differs from ``ds`` by the predictor's error, which does not
+    matter. Refused (None) when Newton does not converge in ``max_iter`` steps or lands
+    farther than ``ds / 2`` from the predictor (near a fold, where the point at that key value
+    is far or missing): the pseudo-arclength corrector then takes over.
+    """
+    n = z_pred.size - 1
+    z = z_pred.copy()
+    for it in range(1, max_iter + 1):
+        try:
+            r, gx = prob.residual_jacobian(z)
+            dx = np.linalg.solve(gx, -r)
+        except (InputError, np.linalg.LinAlgError):
+            return None
+        z[:n] += dx
+        if not np.all(np.isfinite(z)) or np.linalg.norm(z - z_pred) > 0.5 * abs(ds):
+            return None
+        if np.linalg.norm(dx) < tol * max(1.0, np.linalg.norm(z)):
+            try:
+                g, gz, jac = prob.evaluate(z)
+            except InputError:
+                return None
+            return (z, gz, jac, it) if np.linalg.norm(g) < tol * np.linalg.norm(z) else None
+    return None
+
+
+def _chord(prob, z_pred, t, gz0, tol=None, max_iter=12, ds=None):
     """Quasi-Newton (Broyden) iterations from the previous point's Jacobian ``gz0``.
 
     One map run each: the augmented Jacobian ``[G_z; t]`` starts as the previous point's and
@@ -363,6 +399,10 @@ def _chord(prob, z_pred, t, gz0, tol=None, max_iter=12):
     evaluation are below ``tol``, else None (the caller then runs full Newton).
     """
     tol = prob.tol if tol is None else tol
+    if prob.exact_gx and ds is not None:
+        out = _fixed_key(prob, z_pred, ds, tol)
+        if out is not None:
+            return out
     a = np.vstack([gz0, t])
     z = z_pred.copy()
     g_old = dz = None
@@ -780,7 +820,7 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
     pts, bifs, grazings = [first or _point(prob, z, jac, gz, t)], [], []
     sig = _tests(gz, t, jac)
     while len(pts) < points:
-        out = _chord(prob, z + ds * t, t, gz)
+        out = _chord(prob, z + ds * t, t, gz, ds=ds)
         chord = out is not None
         if not chord:
             out = _correct(prob, z + ds * t, t)
