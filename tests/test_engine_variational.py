@@ -94,11 +94,11 @@ def test_speed_family_plant_equals_dense_rebuild(seal, orbit):
 
 def test_continuation_points_equal_dense_shooting(seal):
     """Continuation in speed from 600 rad/s at 128 steps per revolution on the speed family
-    with the propagated monodromy (exact ``G_x`` at every corrector iterate): at its last two
-    points, Newton shooting on the DENSE rebuilt
+    with the propagated monodromy (Newton in the state at each predicted speed): at its last
+    two points, Newton shooting on the DENSE rebuilt
     map at that speed (its modes aligned to the first point's, central-difference monodromy)
-    from the branch's state lands on the same state to 1e-6 (relative to the state's size) and
-    the same largest radius to 1e-6; the multipliers agree to 1e-6."""
+    from the branch's state lands on the same state to 1e-6 (relative to the state's size;
+    measured 1e-9) and the same largest radius to 1e-6; the multipliers agree to 1e-6."""
     from rubrotor.orbits.continuation import continue_orbit
 
     branch = continue_orbit(seal, "speed.rad_per_s", 600.0, 620.0, points=4, steps=STEPS)

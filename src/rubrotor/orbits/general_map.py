@@ -187,16 +187,16 @@ class GeneralMap:
             return self.differences(x)
         return px, jac, radius
 
-    def tangent(self, x: np.ndarray):
-        """``(P(x), dP/dx, radius m, grazing steps)`` by the compiled variational run."""
+    def tangent(self, x: np.ndarray, columns: np.ndarray | None = None):
+        """``(P(x), dP/dx @ columns, radius m, grazing steps)`` by the compiled variational run;
+        ``columns`` (dim, d) tangent vectors in the units of ``x``, by default the identity
+        (the whole Jacobian)."""
         ns, m = self.ns, self.m
         y = x[:ns] + 1j * x[ns : 2 * ns]
         F = np.array(x[2 * ns :], float)
-        Qy = np.zeros((self.dim, ns), complex)
-        Qy[np.arange(ns), np.arange(ns)] = 1.0
-        Qy[ns + np.arange(ns), np.arange(ns)] = 1j
-        QF = np.zeros((self.dim, m))
-        QF[2 * ns + np.arange(m), np.arange(m)] = 1.0
+        V = np.eye(self.dim) if columns is None else np.asarray(columns, float)
+        Qy = np.ascontiguousarray((V[:ns] + 1j * V[ns : 2 * ns]).T)
+        QF = np.ascontiguousarray(V[2 * ns :].T)
         out = np.zeros(3)
         done = map_tangent(y, F, Qy, QF, self._steps, self.plant.contacts, self.plant.outputs,
                            self.speed, self.k * self.steps, out)  # fmt: skip

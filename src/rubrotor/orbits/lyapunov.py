@@ -295,10 +295,15 @@ def benettin(mp, x, count: int, transient_revolutions: int, revolutions: int, se
 def _tangent_revolution(mp, x: np.ndarray, Q: np.ndarray, scale: np.ndarray):
     """One revolution of the state and of the orthonormal tangent vectors ``Q`` (columns, in
     the coordinates ``x / scale``, so that modal amplitudes and forces weigh alike):
-    ``(P(x), Q', log growths)`` with ``J Q = Q' R`` by central differences along each vector."""
+    ``(P(x), Q', log growths)`` with ``J Q = Q' R``, ``J Q`` propagated exactly in the compiled
+    run (``rubrotor.orbits.general_map.GeneralMap.tangent``), by central differences along each vector in a revolution
+    that closed a grazing contact by its set-valued rule."""
     from rubrotor.orbits.general_map import FD_STEP as _FD_STEP
 
-    px = mp.run(x)[0]
+    px, JV, _, grazes = mp.tangent(x, scale[:, None] * Q)
+    if not grazes:
+        Q, R = np.linalg.qr(JV / scale[:, None])
+        return px, Q, np.log(np.abs(np.diag(R)))
     JQ = np.column_stack([(mp.run(x + _FD_STEP * scale * q)[0]
                            - mp.run(x - _FD_STEP * scale * q)[0]) / (2 * _FD_STEP * scale)
                           for q in Q.T])  # fmt: skip
