@@ -191,7 +191,7 @@ class GeneralMap:
         """``(P(x), dP/dx @ columns, radius m, grazing steps)`` by the compiled variational run;
         ``columns`` (dim, d) tangent vectors in the units of ``x``, by default the identity
         (the whole Jacobian)."""
-        ns, m = self.ns, self.m
+        ns = self.ns
         y = x[:ns] + 1j * x[ns : 2 * ns]
         F = np.array(x[2 * ns :], float)
         V = np.eye(self.dim) if columns is None else np.asarray(columns, float)
