@@ -801,13 +801,16 @@ class _Keeper:
         else:
             self.x = self.final()
         if self.sink is not None and sync:
-            self.sink.checkpoint(self.attrs(done))
+            if self.snap is None:
+                self.sink.checkpoint()
+            else:
+                vec = restart.flatten(self.snap)
+                self.sink.checkpoint(self.t0 + self.snap["time_s"], vec)
 
     def attrs(self, done: int) -> dict:
         """Attributes of the kept state (the times count from the file's start)."""
-        snap = None if self.snap is None else {**self.snap, "time_s": self.t0 + self.snap["time_s"]}
         return {**self.status_attrs(), "end_time_s": self.t0 + done * self.dt,
-                "final_state": self.x.tolist(), "restart_state": snap}  # fmt: skip
+                "final_state": self.x.tolist()}  # fmt: skip
 
 
 def simulate_general(
@@ -926,9 +929,15 @@ def _run(chunk, final, stats, state, plant, run, method, opts) -> EngineResult:
 
     sink = None
     if stream is not None:
+        lay = None
+        if state.kernel is not None:
+            lay = restart.layout(restart.snapshot(plant, state.kernel, 1.0, 0.0))
         sink = NetcdfSink(stream, plant.stations, nc, sample_dt, plant.speed, t0=t0,
-                          tau=lambda t: spin_angle(run, t) + run.speed * t0, attrs=attrs)  # fmt: skip
+                          tau=lambda t: spin_angle(run, t) + run.speed * t0, attrs=attrs,
+                          restart_layout=lay)  # fmt: skip
     keep = _Keeper(plant, state, final, sink, t0, sample_dt, status_attrs)
+    if sink is not None:
+        keep(0)  # the initial state: a run killed in its first chunk can restart from it
     try:
         done, msg, wall[0] = _loop(chunk, n_samples, state, show, sample_dt, sink, keep)
     except BaseException as exc:

@@ -62,15 +62,23 @@ def _restart(path: str, scenario, system, speed: float) -> tuple[np.ndarray, flo
     refused naming what differs) and hold a finite state; a file that stopped partial (killed,
     interrupted, diverged) continues from the state at the end of its last completed chunk.
     """
-    from rubrotor.engine.restart import check_fingerprint, fingerprint, finite_state
-    from rubrotor.engine.result import load_dataset
+    import xarray as xr
 
+    if not Path(path).is_file():
+        raise ScenarioError("initial.path", path, "an existing results file (.nc)")
     try:
-        ds = load_dataset(path)
-    except InputError:
-        raise ScenarioError("initial.path", path, "an existing results file (.nc)") from None
+        with xr.open_dataset(path, engine="netcdf4") as ds:  # lazily: read what is used
+            return _restart_from(ds, path, scenario, system, speed)
+    except (OSError, ValueError) as exc:
+        raise ScenarioError("initial.path", path, f"a readable results file ({exc})") from None
+
+
+def _restart_from(ds, path: str, scenario, system, speed: float):
+    """:func:`_restart` on the opened file."""
+    from rubrotor.engine.restart import check_fingerprint, fingerprint, finite_state, unflatten
+
     at = ds.attrs
-    if "final_state" not in at:
+    if "final_state" not in at and "restart_vector" not in ds:
         raise ScenarioError("initial.path", path, "a results file written by the general engine")
     if "speed_end_rad_s" in at:
         raise ScenarioError("initial.path", path, "a constant-speed results file")
@@ -79,9 +87,12 @@ def _restart(path: str, scenario, system, speed: float) -> tuple[np.ndarray, flo
     if "model_fingerprint" in at:
         now = fingerprint(system, scenario.engine.stations, speed)
         check_fingerprint(json.loads(at["model_fingerprint"]), now, path)
-    snap = json.loads(at.get("restart_state", "null"))
-    if snap is not None:
-        x, end = np.array(snap["x"], float), float(snap["time_s"])
+    snap = None
+    if "restart_vector" in ds and ds.sizes["checkpoint"]:
+        lay = json.loads(ds["restart_vector"].attrs["layout"])
+        t_last = float(ds["restart_time"].values[-1])
+        snap = unflatten(ds["restart_vector"].values[-1], lay, t_last)
+        x, end = np.array(snap["x"], float), t_last
         if not finite_state(snap):
             raise ScenarioError("initial.path", path, "a results file whose kept state is finite")
     else:  # a file of an earlier version: the rotor state only
@@ -224,11 +235,27 @@ def _dataset(res, scenario, run: Run, t0: float):
     attrs = _attrs(scenario, res.stats, run, t0)
     attrs["end_time_s"] = t0 + float(res.time[-1]) if res.time.size else t0
     attrs["final_state"] = json.dumps(res.final_state.tolist())
-    snap = res.restart and {**res.restart, "time_s": t0 + res.restart["time_s"]}
-    attrs["restart_state"] = json.dumps(snap)
     data = _accelerations(res, time)
+    if res.restart is not None:
+        data.update(_restart_vars(res.restart, t0))
     data["event_time"] = xr.Variable("event", res.events[:, 0] + t0, {"units": "s"})
     return result_dataset(res, coords=coords, data=data, attrs=attrs)
+
+
+def _restart_vars(snap: dict, t0: float) -> dict:
+    """``restart_time`` (s) and ``restart_vector`` of one checkpoint (a streamed file's layout,
+    :mod:`rubrotor.engine.stream`)."""
+    import xarray as xr
+
+    from rubrotor.engine.restart import flatten, layout
+    from rubrotor.engine.stream import restart_vector_attrs
+
+    return {
+        "restart_time": xr.Variable("checkpoint", [t0 + snap["time_s"]],
+                                    {"units": "s", "long_name": "time of the restart state"}),
+        "restart_vector": xr.Variable(("checkpoint", "restart_component"), flatten(snap)[None],
+                                      restart_vector_attrs(layout(snap))),
+    }  # fmt: skip
 
 
 def _accelerations(res, t: np.ndarray) -> dict:

@@ -9,6 +9,11 @@ flexible stator's ``[u_y, u_z, u_y', u_z']`` (m, m/s), the contact forces of the
 onto any plant of the same model, so a continued run takes the same steps as an uninterrupted
 one (its unbalance phases advanced by ``Omega t0``; agreement to rounding, see the tests).
 
+A results file stores the snapshot as the variables ``restart_time`` (s) and ``restart_vector``
+(:func:`flatten`; its ``layout`` attribute, :func:`layout`, splits it) along a ``checkpoint``
+dimension: one row in memory, one per chunk in a streamed file, whose last row is the state
+at the end of its last completed chunk.
+
 :func:`fingerprint` sums up the model a state belongs to (DOF count, three fixed bilinear forms
 of ``M``, ``C + Omega G + C_s`` and ``K + K_s`` at the run's speed, the contact stations and
 their stators); :func:`check_fingerprint` refuses a restart onto another model, naming what
@@ -23,7 +28,10 @@ import numpy as np
 
 from rubrotor.errors import ScenarioError
 
-__all__ = ["snapshot", "resume", "fingerprint", "check_fingerprint", "finite_state"]
+__all__ = [
+    "snapshot", "resume", "fingerprint", "check_fingerprint", "finite_state", "flatten",
+    "unflatten", "layout",
+]  # fmt: skip
 
 _REL = 1e-9
 """Relative tolerance of the fingerprint's matrix sums (assembly round-off is ~1e-16)."""
@@ -220,3 +228,40 @@ def finite_state(snap: dict) -> bool:
     vals = [snap["x"], snap["F"], snap["Fp"], snap["dprev"], [snap["hp"]]]
     vals += [u for u in snap["stators"] if u is not None]
     return all(math.isfinite(v) for vs in vals for v in vs)
+
+
+def layout(snap: dict) -> dict:
+    """Lengths of the parts of :func:`flatten`'s vector (stored with it)."""
+    return {
+        "x": len(snap["x"]),
+        "stators": [0 if u is None else len(u) for u in snap["stators"]],
+        "F": len(snap["F"]),
+        "Fp": len(snap["Fp"]),
+        "dprev": len(snap["dprev"]),
+    }
+
+
+def flatten(snap: dict) -> np.ndarray:
+    """A snapshot (without ``time_s``) as one float vector: ``x``, the stator states, ``F``,
+    ``Fp``, ``dprev``, ``hp``, ``level`` (SI; the layout is :func:`layout`)."""
+    parts = [snap["x"]] + [u for u in snap["stators"] if u is not None]
+    parts += [snap["F"], snap["Fp"], snap["dprev"], [snap["hp"], snap["level"]]]
+    return np.concatenate([np.asarray(p, float) for p in parts])
+
+
+def unflatten(vec: np.ndarray, lay: dict, time_s: float) -> dict:
+    """Inverse of :func:`flatten` for the layout ``lay``; ``time_s`` (s) added."""
+    vec = np.asarray(vec, float)
+    pos = 0
+
+    def take(k: int) -> list:
+        nonlocal pos
+        pos += k
+        return vec[pos - k : pos].tolist()
+
+    x = take(lay["x"])
+    stators = [take(k) if k else None for k in lay["stators"]]
+    snap = {"time_s": float(time_s), "x": x, "stators": stators, "F": take(lay["F"]),
+            "Fp": take(lay["Fp"]), "dprev": take(lay["dprev"])}  # fmt: skip
+    hp, level = take(2)
+    return {**snap, "hp": hp, "level": int(level)}

@@ -3,11 +3,14 @@
 :func:`check_size` refuses, before anything runs, a run whose output would not fit in memory
 (or, streamed, on disk), naming the keys to change. :class:`NetcdfSink` appends each chunk of
 samples to a netCDF-4 file with an unlimited ``time`` dimension (the variables, names and
-attributes of the in-memory results Dataset). The file is written under its final name and
-flushed to disk after every chunk, with ``status = "partial"`` and the state at the chunk's end
-(``final_state``, ``restart_state``, ``end_time_s``): a run killed at any moment, even by
-``kill -9``, leaves a readable file holding every completed chunk, from which a run can
-continue (``[initial] state = "file"``). ``status`` becomes ``"complete"`` when the run ends.
+attributes of the in-memory results Dataset). The file is written under its final name, its
+attributes once at the start with ``status = "partial"`` (rewriting HDF5 attributes is what a
+kill can leave half done, so they are not touched again until the run ends); after every chunk
+the samples, the events and a row of the restart state (``restart_time``, ``restart_vector``,
+:mod:`rubrotor.engine.restart`) are appended and the file is flushed to disk. A run killed at
+any moment, even by ``kill -9``, leaves a readable file holding its completed chunks, from
+which a run can continue (``[initial] state = "file"``). At the end the attributes get the
+status, its message, ``end_time_s`` and ``final_state``.
 :func:`file_summary` and :func:`tail_dataset` read such a file in bounded memory.
 """
 
@@ -161,10 +164,13 @@ class NetcdfSink:
     attrs : dict, optional
         Attributes written at once (provenance); ``status`` is ``"partial"`` until
         :meth:`close`.
+    restart_layout : dict, optional
+        :func:`rubrotor.engine.restart.layout` of the restart states (none kept without it).
     """
 
     def __init__(self, path, stations, n_contacts: int, sample_dt: float, speed: float, *,
-                 t0: float = 0.0, tau=None, attrs: dict | None = None):  # fmt: skip
+                 t0: float = 0.0, tau=None, attrs: dict | None = None,
+                 restart_layout: dict | None = None):  # fmt: skip
         import netCDF4
 
         self.path = Path(path)
@@ -178,8 +184,12 @@ class NetcdfSink:
         self.n = self.n_events = 0
         self._tail = (np.empty((2 * self.S, 0)), np.empty(0))  # last 2 velocities, times
         self._define(stations)
+        self.n_checkpoints = 0
+        if restart_layout is not None:
+            define_restart(self.nc, restart_layout)
         put_attrs(self.nc, {**(attrs or {}), "status": "partial", "status_message":
-                            f"running (pid {os.getpid()}); no chunk written yet"})  # fmt: skip
+                            f"running (pid {os.getpid()}) or killed: the data end at the last "
+                            "completed chunk, the restart state at restart_time[-1]"})  # fmt: skip
         self.nc.sync()
 
     def _define(self, stations) -> None:
@@ -270,13 +280,15 @@ class NetcdfSink:
         self.nc["event_kind"][a:b] = np.sign(events[:, 1]).astype(np.int8)
         self.n_events = b
 
-    def checkpoint(self, attrs: dict) -> None:
-        """Write ``attrs`` (the state at the end of the chunk just written) and flush the file
-        to disk: from here on the file holds this chunk whatever happens to the process."""
-        end = self.t0 + (self.n - 1) * self.dt
-        put_attrs(self.nc, {**attrs, "status": "partial", "status_message":
-                            f"running (pid {os.getpid()}) or killed: data up to t = {end:.6g} s "
-                            "kept; continue it with [initial] state = \"file\""})  # fmt: skip
+    def checkpoint(self, time_s: float | None = None, vector: np.ndarray | None = None) -> None:
+        """Append the restart state at the end of the chunk just written (time (s) and
+        :func:`rubrotor.engine.restart.flatten` vector), if any, and flush the file to disk:
+        from here on the file holds this chunk whatever happens to the process."""
+        if vector is not None:
+            k = self.n_checkpoints
+            self.nc["restart_time"][k] = time_s
+            self.nc["restart_vector"][k, :] = vector
+            self.n_checkpoints = k + 1
         self.nc.sync()
 
     def close(self, attrs: dict) -> None:
@@ -285,6 +297,27 @@ class NetcdfSink:
             put_attrs(self.nc, attrs)
         finally:
             self.nc.close()
+
+
+def define_restart(nc, lay: dict) -> None:
+    """The restart variables of an open netCDF file (see the module docstring)."""
+    size = lay["x"] + sum(lay["stators"]) + lay["F"] + lay["Fp"] + lay["dprev"] + 2
+    nc.createDimension("checkpoint", None)
+    nc.createDimension("restart_component", size)
+    t = nc.createVariable("restart_time", "f8", ("checkpoint",), chunksizes=(256,))
+    t.setncatts({"units": "s", "long_name": "time of the restart state"})
+    v = nc.createVariable("restart_vector", "f8", ("checkpoint", "restart_component"),
+                          chunksizes=(1, size))  # fmt: skip
+    v.setncatts(restart_vector_attrs(lay))
+
+
+def restart_vector_attrs(lay: dict) -> dict:
+    """Attributes of ``restart_vector`` (in-memory and streamed files alike)."""
+    return {
+        "long_name": "restart state: x = [q, q'], stator [u, u'], F, F_prev, gaps, h_prev, level",
+        "units": "SI (m, rad, m/s, rad/s, N, s)",
+        "layout": json.dumps(lay),
+    }
 
 
 def _slices(n: int, step: int):
