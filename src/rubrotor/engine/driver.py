@@ -933,7 +933,8 @@ def _run(chunk, final, stats, state, plant, run, method, opts) -> EngineResult:
         if state.kernel is not None:
             lay = restart.layout(restart.snapshot(plant, state.kernel, 1.0, 0.0))
         sink = NetcdfSink(stream, plant.stations, nc, sample_dt, plant.speed, t0=t0,
-                          tau=lambda t: spin_angle(run, t) + run.speed * t0, attrs=attrs,
+                          tau=lambda t: spin_angle(run, t) + run.speed * t0,
+                          attrs={**(attrs or {}), **status_attrs()},
                           restart_layout=lay)  # fmt: skip
     keep = _Keeper(plant, state, final, sink, t0, sample_dt, status_attrs)
     if sink is not None:

@@ -303,6 +303,10 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
     from rubrotor.engine.restart import fingerprint
 
     system, run, kwargs, t0, snap = _problem(scenario, integrator)
+    src = scenario.engine.initial_path
+    if stream is not None and src is not None and Path(src).resolve() == Path(stream).resolve():
+        raise ScenarioError("initial.path", src, "a file other than the output, which the run "
+                            "rewrites from its start (write the continuation to a new file)")  # fmt: skip
     _check_size(scenario, run, stream)
     fp = json.dumps(fingerprint(system, scenario.engine.stations, run.speed))
     attrs = {**_attrs(scenario, {}, run, t0), "model_fingerprint": fp}

@@ -1,0 +1,266 @@
+"""Streamed runs survive kills and continue exactly; restarts check what they restart.
+
+The streamed runs are ``rubrotor simulate`` of ``seal_rub.toml`` (a general rotor in a full
+annular rub against a flexible, offset seal casing) in child processes killed with
+``SIGKILL`` or ``SIGTERM`` (the child only drops a marker file after its n-th flushed chunk,
+so the kill lands while it computes or writes the next ones). The reference for a continued
+run is the same scenario run without interruption: a second route through the same engine
+that never writes or reads a restart state, so their agreement measures the restart alone.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import rubrotor
+from rubrotor.engine.driver import simulate_general
+from rubrotor.engine.general import _problem, simulate_engine
+from rubrotor.errors import InputError, ScenarioError
+from rubrotor.scenario.load import load_scenario
+
+SEAL = Path(__file__).parents[1] / "src" / "rubrotor" / "scenarios" / "seal_rub.toml"
+SRC = str(Path(__file__).parents[1] / "src")
+DT = 2e-5  # s, seal_rub's step (one sample per step)
+CHUNK = 1 << 14  # samples per chunk of simulate_general (its default)
+
+CHILD = textwrap.dedent(
+    """
+    import sys
+    from pathlib import Path
+
+    import rubrotor.engine.stream as stream
+
+    marker, after = Path(sys.argv[1]), int(sys.argv[2])
+    inner = stream.NetcdfSink.checkpoint
+
+    def checkpoint(self, *a, **k):
+        inner(self, *a, **k)
+        if self.n_checkpoints == after:  # the initial state, then one row per chunk
+            marker.write_text("flushed")
+
+    stream.NetcdfSink.checkpoint = checkpoint
+    from rubrotor.cli.app import main
+
+    sys.exit(main(sys.argv[3:]))
+    """
+)
+
+
+def seal_text(revolutions: float | None = None, initial: str | None = None, **sim) -> str:
+    """seal_rub.toml with its revolutions, [initial] table or [simulation] keys changed."""
+    text = SEAL.read_text()
+    if revolutions is not None:
+        text = text.replace("revolutions = 40", f"revolutions = {revolutions}")
+    if initial is not None:
+        text = text.replace('state = "static"          # start on the static deflection under '
+                            "gravity", initial)  # fmt: skip
+    if "duration" in sim:
+        text = text.replace("revolutions = 40\n", "")
+    for key, val in sim.items():
+        text = text.replace("[simulation]\n", f"[simulation]\n{key} = {val}\n")
+    return text
+
+
+def write(tmp_path: Path, name: str, text: str) -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def env() -> dict:
+    return {**os.environ, "PYTHONPATH": SRC, "OPENBLAS_NUM_THREADS": "1"}
+
+
+def start_and_signal(tmp_path: Path, sig: int, after: int = 3):
+    """Start a streamed ``rubrotor simulate`` of seal_rub over 10,000 revolutions (5e6 samples,
+    far longer than the test waits), send ``sig`` once ``after`` restart rows are flushed;
+    the results file and the child's return code."""
+    scen = write(tmp_path, "long.toml", seal_text(revolutions=10000))
+    out = tmp_path / "k.nc"
+    marker = tmp_path / "marker"
+    cmd = [sys.executable, "-c", CHILD, str(marker), str(after), "simulate", str(scen),
+           "--out", str(out), "--no-progress"]  # fmt: skip
+    child = subprocess.Popen(cmd, env=env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 300
+    while not marker.exists():
+        assert child.poll() is None, child.communicate()
+        assert time.monotonic() < deadline
+        time.sleep(0.005)
+    child.send_signal(sig)
+    _, err = child.communicate(timeout=300)
+    return out, child.returncode, err.decode()
+
+
+def restart_row(path: Path) -> tuple[float, np.ndarray]:
+    """Time (s) and vector of a file's last restart state."""
+    with xr.open_dataset(path) as ds:
+        return float(ds["restart_time"].values[-1]), ds["restart_vector"].values[-1]
+
+
+def test_kill_9_leaves_a_readable_partial_file_that_continues_exactly(tmp_path):
+    """``kill -9`` of a streamed run: the file under its own name (no hidden temporary file)
+    is readable, marked partial, holds whole chunks (1 + k 16384 samples, k >= 2) and the
+    state at the end of the last one; continued from it for 2,500 steps it ends where one
+    uninterrupted run of the same total length ends, to 1e-9 (state vector, relative)."""
+    out, code, _ = start_and_signal(tmp_path, signal.SIGKILL)
+    assert code == -signal.SIGKILL
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["k.nc", "long.toml", "marker"]
+    with xr.open_dataset(out) as ds:
+        n = ds.sizes["time"]
+        assert ds.attrs["status"] == "partial" and "killed" in ds.attrs["status_message"]
+        assert (n - 1) % CHUNK == 0 and (n - 1) // CHUNK >= 2
+        assert ds.sizes["checkpoint"] == 1 + (n - 1) // CHUNK
+        t_end = float(ds["time"].values[-1])
+        assert float(ds["restart_time"].values[-1]) == t_end
+        for var in ("v", "w", "v_dot", "v_ddot", "normal_force", "stator_y", "tau"):
+            assert np.isfinite(ds[var].values).all(), var
+        assert ds["normal_force"].values[0, -CHUNK:].min() > 0  # in the rub, not before it
+    extra = 2500
+    cont = write(tmp_path, "cont.toml", seal_text(
+        initial=f'state = "file"\npath = "{out}"', duration=extra * DT))  # fmt: skip
+    continued = simulate_engine(load_scenario(cont), progress=False)
+    assert continued.attrs["status"] == "complete"
+    assert float(continued["time"].values[0]) == t_end
+    steps = round(t_end / DT) + extra
+    whole = simulate_engine(load_scenario(write(tmp_path, "whole.toml", seal_text(
+        duration=steps * DT))), progress=False)  # fmt: skip
+    a = np.array(json.loads(continued.attrs["final_state"]))
+    b = np.array(json.loads(whole.attrs["final_state"]))
+    assert np.abs(a - b).max() <= 1e-9 * np.abs(b).max()
+    fa = continued["normal_force"].values[0, -1]
+    fb = whole["normal_force"].values[0, -1]
+    assert fa == pytest.approx(fb, rel=1e-9) and fb > 100  # N: pressed into the seal
+
+
+def test_sigterm_stops_between_chunks_like_sigint(tmp_path):
+    """SIGTERM ends the run after its current chunk: exit status 1 with a warning, the file
+    complete in its attributes (status partial naming SIGTERM, end time, final state), its
+    data up to the last chunk and a restart state there."""
+    out, code, err = start_and_signal(tmp_path, signal.SIGTERM)
+    assert code == 1 and "SIGTERM" in err
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["status"] == "partial" and "SIGTERM" in ds.attrs["status_message"]
+        t_end = float(ds["time"].values[-1])
+        assert ds.attrs["end_time_s"] == t_end and (ds.sizes["time"] - 1) % CHUNK == 0
+        assert float(ds["restart_time"].values[-1]) == t_end
+        assert len(json.loads(ds.attrs["final_state"])) > 0
+
+
+def test_restart_refuses_another_model(tmp_path):
+    """A seal_rub result restarted after moving the seal from 0.75 to 0.70 m is refused naming
+    ``contact[1].position``; a stiffer bearing (same mesh, other matrices) names the matrix."""
+    first = tmp_path / "first.nc"
+    rubrotor.save_dataset(simulate_engine(load_scenario(write(tmp_path, "a.toml", seal_text(
+        revolutions=1))), progress=False), first)  # fmt: skip
+    moved = seal_text(initial=f'state = "file"\npath = "{first}"', revolutions=1)
+    moved = moved.replace("position = 0.75           # m", "position = 0.70           # m")
+    with pytest.raises(ScenarioError, match=r"contact\[1\]\.position.*0\.7.*0\.75"):
+        simulate_engine(load_scenario(write(tmp_path, "b.toml", moved)), progress=False)
+    stiff = seal_text(initial=f'state = "file"\npath = "{first}"', revolutions=1)
+    stiff = stiff.replace("kyy = 8.0e7", "kyy = 9.0e7")
+    with pytest.raises(ScenarioError, match="stiffness matrix differs"):
+        simulate_engine(load_scenario(write(tmp_path, "c.toml", stiff)), progress=False)
+
+
+def test_diverged_run_restarts_from_its_last_good_chunk_or_is_refused(tmp_path):
+    """A run stopped by its displacement limit keeps its data up to the failure but its
+    restart state at the end of the last completed chunk (finite, inside the limit); a
+    continuation starts there. A file whose kept state is not finite is refused by name."""
+    diverge = seal_text(revolutions=60, max_displacement=42e-6)  # just above the 40 um gap
+    system, run, kw, _, _ = _problem(load_scenario(write(tmp_path, "d.toml", diverge)))
+    res = simulate_general(system, run, **kw, chunk_samples=4096, progress=False)
+    assert res.status == "partial" and "diverged" in res.message
+    t_fail = res.time[-1]
+    assert res.restart["time_s"] < t_fail and res.restart["time_s"] % (4096 * DT) < 1e-12
+    x = np.asarray(res.final_state)
+    assert np.isfinite(x).all()
+    path = tmp_path / "d.nc"
+    rubrotor.save_dataset(simulate_engine(load_scenario(tmp_path / "d.toml"), progress=False), path)
+    t_keep, vec = restart_row(path)
+    with xr.open_dataset(path) as ds:
+        assert ds.attrs["status"] == "partial" and t_keep < float(ds["time"].values[-1])
+        assert "restart state at t" in ds.attrs["status_message"]
+    cont = seal_text(initial=f'state = "file"\npath = "{path}"', revolutions=1)
+    again = simulate_engine(load_scenario(write(tmp_path, "e.toml", cont)), progress=False)
+    assert float(again["time"].values[0]) == t_keep
+    with xr.open_dataset(path) as ds:  # the same state: the same deflections at that time
+        kept = ds.sel(time=t_keep)
+        for var in ("v", "w", "v_dot", "stator_y"):
+            scale = np.abs(ds[var].values).max()  # the variable's range over the run
+            got = again[var].values[:, 0]
+            assert np.abs(got - kept[var].values).max() <= 1e-9 * scale, var
+    with xr.open_dataset(path) as ds:
+        bad = ds.load()
+    bad["restart_vector"].values[-1, 0] = np.nan
+    bad_path = tmp_path / "nan.nc"
+    bad.to_netcdf(bad_path)
+    nan = seal_text(initial=f'state = "file"\npath = "{bad_path}"', revolutions=1)
+    with pytest.raises(ScenarioError, match="initial.path.*kept state is finite"):
+        simulate_engine(load_scenario(write(tmp_path, "f.toml", nan)), progress=False)
+
+
+def test_bad_runs_refused_or_stopped(tmp_path):
+    """``chunk_samples = 0`` (it looped forever) and a NaN initial state (it returned
+    complete) are refused by name; the output of a restart may not be its own input."""
+    system, run, kw, _, _ = _problem(load_scenario(SEAL))
+    short = dataclasses.replace(run, duration=10 * DT)
+    with pytest.raises(InputError, match="chunk_samples"):
+        simulate_general(system, short, **kw, chunk_samples=0)
+    x = np.zeros(2 * system.n_dof)
+    x[3] = math.nan
+    nan_run = dataclasses.replace(short, initial=x)
+    with pytest.raises(InputError, match=r"initial\.state.*finite"):
+        simulate_general(system, nan_run, **kw)
+    first = tmp_path / "first.nc"
+    rubrotor.save_dataset(simulate_engine(load_scenario(write(tmp_path, "a.toml", seal_text(
+        revolutions=1))), progress=False), first)  # fmt: skip
+    same = load_scenario(write(tmp_path, "b.toml", seal_text(
+        initial=f'state = "file"\npath = "{first}"', revolutions=1)))  # fmt: skip
+    with pytest.raises(ScenarioError, match="initial.path.*other than the output"):
+        simulate_engine(same, stream=first)
+
+
+def peak_rss(tmp_path: Path, revolutions: int) -> tuple[int, int]:
+    """Peak RSS (bytes) of a fresh child running a streamed ``rubrotor simulate`` of
+    seal_rub over ``revolutions`` (with ``--figure``), and the samples it wrote."""
+    scen = write(tmp_path, f"r{revolutions}.toml", seal_text(revolutions=revolutions))
+    out = tmp_path / f"r{revolutions}.nc"
+    code = textwrap.dedent(
+        f"""
+        import resource, subprocess, sys
+        cmd = [sys.executable, "-c", "import rubrotor.engine.general as g; g.STREAM_SAMPLES = "
+               "100; from rubrotor.cli.app import main; raise SystemExit(main(sys.argv[1:]))",
+               "simulate", {str(scen)!r}, "--out", {str(out)!r}, "--figure", "--no-progress"]
+        assert subprocess.run(cmd, capture_output=True).returncode == 0
+        print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
+        """
+    )
+    done = subprocess.run([sys.executable, "-c", code], env=env(), capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    with xr.open_dataset(out) as ds:
+        n = ds.sizes["time"]
+    return int(done.stdout.split()[-1]) * 1024, n
+
+
+def test_streamed_cli_memory_stays_flat(tmp_path):
+    """Peak RSS of a streamed ``rubrotor simulate --figure`` (summary and figure read the
+    file in pieces) grows by less than a quarter of the extra data when the run is 4x
+    longer; reading the file back whole (as it did) grows by all of it."""
+    small, n_small = peak_rss(tmp_path, 600)  # both longer than the figure's 2^18 samples
+    large, n_large = peak_rss(tmp_path, 2400)
+    assert n_large > 3.9 * n_small
+    extra = (n_large - n_small) * 8 * 29  # bytes: 29 float channels (3 stations, 1 contact)
+    assert large - small < 0.25 * extra, (small, large, extra)
