@@ -241,10 +241,12 @@ def peak_rss(tmp_path: Path, revolutions: int) -> tuple[int, int]:
     code = textwrap.dedent(
         f"""
         import resource, subprocess, sys
-        cmd = [sys.executable, "-c", "import rubrotor.engine.general as g; g.STREAM_SAMPLES = "
-               "100; from rubrotor.cli.app import main; raise SystemExit(main(sys.argv[1:]))",
+        cmd = [sys.executable, "-c", "import sys, rubrotor.engine.general as g, rubrotor.cli.simulate as s; "
+               "g.STREAM_SAMPLES = 100; s.FIGURE_SAMPLES = 4096; "
+               "from rubrotor.cli.app import main; raise SystemExit(main(sys.argv[1:]))",
                "simulate", {str(scen)!r}, "--out", {str(out)!r}, "--figure", "--no-progress"]
-        assert subprocess.run(cmd, capture_output=True).returncode == 0
+        run = subprocess.run(cmd, capture_output=True, text=True)
+        assert run.returncode == 0, run.stderr
         print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
         """
     )
@@ -257,10 +259,15 @@ def peak_rss(tmp_path: Path, revolutions: int) -> tuple[int, int]:
 
 def test_streamed_cli_memory_stays_flat(tmp_path):
     """Peak RSS of a streamed ``rubrotor simulate --figure`` (summary and figure read the
-    file in pieces) grows by less than a quarter of the extra data when the run is 4x
-    longer; reading the file back whole (as it did) grows by all of it."""
-    small, n_small = peak_rss(tmp_path, 600)  # both longer than the figure's 2^18 samples
-    large, n_large = peak_rss(tmp_path, 2400)
-    assert n_large > 3.9 * n_small
-    extra = (n_large - n_small) * 8 * 29  # bytes: 29 float channels (3 stations, 1 contact)
+    file in pieces; the figure's window cut to 4096 samples here) grows by less than a
+    quarter of the extra data when the run is 3x longer; reading the file back whole (as it
+    did) grows by all of it."""
+    small, n_small = peak_rss(tmp_path, 150)  # both longer than a block of the summary
+    large, n_large = peak_rss(tmp_path, 450)
+    assert n_large > 2.9 * n_small
+    extra = (n_large - n_small) * 8 * 28  # bytes: 28 float channels (3 stations, 1 contact)
+    print(
+        f"peak RSS {small / 2**20:.1f} MiB ({n_small} samples), {large / 2**20:.1f} MiB "
+        f"({n_large} samples); data {extra / 2**20:.1f} MiB more"
+    )
     assert large - small < 0.25 * extra, (small, large, extra)

@@ -40,8 +40,8 @@ TIME_CHUNK = 4096
 """Samples per HDF5 chunk of every time series (32 KiB of float64)."""
 EVENT_CHUNK = 4096
 """Events per HDF5 chunk."""
-CACHE_BYTES = 1 << 20
-"""HDF5 chunk cache per variable (bytes)."""
+CACHE_BYTES = 1 << 18
+"""HDF5 chunk cache per variable (bytes): 8 chunks of a time series, enough for appending."""
 
 STATION_VARS = (("v", "m"), ("w", "m"), ("v_dot", "m/s"), ("w_dot", "m/s"))
 CONTACT_VARS = (
@@ -325,7 +325,7 @@ def _slices(n: int, step: int):
         yield slice(a, min(a + step, n))
 
 
-def file_summary(path, block: int = 1 << 18) -> dict:
+def file_summary(path, block: int = 1 << 16) -> dict:
     """Peak displacement, peak normal force and contact fraction of a results file, read
     ``block`` samples at a time (memory bounded whatever the file's length).
 
@@ -368,7 +368,8 @@ def file_summary(path, block: int = 1 << 18) -> dict:
 
 def tail_dataset(path, samples: int):
     """The last ``samples`` samples of a results file as an in-memory Dataset (all its
-    variables and attributes; events inside the window), for figures of long runs.
+    variables and attributes; the events inside the window), for figures of long runs. Only
+    the window is read (not even the whole ``time`` coordinate).
 
     Parameters
     ----------
@@ -381,13 +382,35 @@ def tail_dataset(path, samples: int):
     -------
     xarray.Dataset
     """
+    import netCDF4
     import xarray as xr
 
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        n = ds.sizes["time"]
-        part = ds.isel(time=slice(max(n - samples, 0), n))
-        t_first = float(part["time"].values[0]) if part.sizes["time"] else 0.0
-        if "event_time" in ds:
-            keep = np.flatnonzero(ds["event_time"].values >= t_first)
-            part = part.isel(event=keep)
-        return part.load()
+    with netCDF4.Dataset(path, "r") as nc:
+        nc.set_auto_mask(False)
+        n = nc.dimensions["time"].size
+        win = slice(max(n - samples, 0), n)
+        t_first = float(nc["time"][win.start]) if n else 0.0
+        keep = None
+        if "event_time" in nc.variables:
+            ev = _event_window(nc["event_time"], t_first)
+            keep = slice(ev, nc.dimensions["event"].size)
+        data = {}
+        for name, var in nc.variables.items():
+            dims = var.dimensions
+            key = tuple(win if d == "time" else keep if d == "event" else slice(None) for d in dims)
+            data[name] = xr.Variable(dims, var[key] if dims else var[...],
+                                     {a: var.getncattr(a) for a in var.ncattrs()})  # fmt: skip
+        attrs = {a: nc.getncattr(a) for a in nc.ncattrs()}
+    coords = {k: data.pop(k) for k in ("time", "tau", "station", "contact") if k in data}
+    return xr.Dataset(data, coords, attrs)
+
+
+def _event_window(var, t_first: float, block: int = 1 << 16) -> int:
+    """Index of the first event at or after ``t_first`` (s), scanning ``block`` at a time
+    (events are stored in time order)."""
+    n = var.shape[0]
+    for sl in _slices(n, block):
+        hit = np.flatnonzero(np.asarray(var[sl]) >= t_first)
+        if hit.size:
+            return sl.start + int(hit[0])
+    return n
