@@ -72,6 +72,7 @@ from rubrotor.engine.reduce import (
     reduce_matrices,
     reduce_projected,
 )
+from rubrotor.engine.restart import physical_state
 from rubrotor.engine.result import _jsonable
 from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
@@ -314,17 +315,6 @@ def _kernel_state(plant: Plant, run: Run):
     m = plant.beta.shape[1]
     return dict(y=plant.y0.copy(), F=np.zeros(m), Fp=np.zeros(m), dprev=np.zeros(m // 2),
                 zt=np.ones(1, complex), hp=np.array([run.step]))  # fmt: skip
-
-
-def physical_state(plant: Plant, y: np.ndarray, F: np.ndarray, z: complex) -> np.ndarray:
-    """Total rotor state ``[q, q']`` (m, rad; m/s, rad/s) on the free DOFs from the modal
-    state ``y``, the contact forces ``F`` (N) and the unbalance phasor ``z``."""
-    yr = y[: plant.n_rotor]
-    fq = plant.Bmat @ F
-    Q = plant.q_unbalance * z
-    q = np.real(plant.rotor.Vq @ yr) + plant.rotor.Rq @ fq + plant.q_static + Q.real
-    qd = np.real(plant.rotor.Vq @ (plant.rotor.lam * yr)) + plant.rotor.Rv @ fq
-    return np.concatenate([q, qd + np.real(1j * plant.speed * Q)])
 
 
 def _first_sample(state, k, plant):

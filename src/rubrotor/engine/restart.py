@@ -29,12 +29,23 @@ import numpy as np
 from rubrotor.errors import ScenarioError
 
 __all__ = [
-    "snapshot", "resume", "fingerprint", "check_fingerprint", "finite_state", "flatten",
+    "physical_state", "snapshot", "resume", "fingerprint", "check_fingerprint", "finite_state", "flatten",
     "unflatten", "layout",
 ]  # fmt: skip
 
 _REL = 1e-9
 """Relative tolerance of the fingerprint's matrix sums (assembly round-off is ~1e-16)."""
+
+
+def physical_state(plant, y: np.ndarray, F: np.ndarray, z: complex) -> np.ndarray:
+    """Total rotor state ``[q, q']`` (m, rad; m/s, rad/s) on the free DOFs from the modal
+    state ``y``, the contact forces ``F`` (N) and the unbalance phasor ``z``."""
+    yr = y[: plant.n_rotor]
+    fq = plant.Bmat @ F
+    Q = plant.q_unbalance * z
+    q = np.real(plant.rotor.Vq @ yr) + plant.rotor.Rq @ fq + plant.q_static + Q.real
+    qd = np.real(plant.rotor.Vq @ (plant.rotor.lam * yr)) + plant.rotor.Rv @ fq
+    return np.concatenate([q, qd + np.real(1j * plant.speed * Q)])
 
 
 def snapshot(plant, kernel: dict, phasor: complex, time_s: float) -> dict:
@@ -58,8 +69,6 @@ def snapshot(plant, kernel: dict, phasor: complex, time_s: float) -> dict:
         u_z']`` (m, m/s) or ``None`` for a rigid one), ``F``, ``Fp`` (N), ``dprev`` (m), ``hp`` (s)
         and ``level`` (sub-step level of an adaptive run).
     """
-    from rubrotor.engine.driver import physical_state
-
     y = kernel["y"]
     o = plant.outputs
     stators = []
@@ -97,7 +106,7 @@ def resume(plant, kernel: dict, snap: dict, stations) -> None:
     stations : sequence of rubrotor.engine.parts.RubStation
         The plant's contact stations (for their stators' modes).
     """
-    from rubrotor.engine.driver import _stator_modes
+    from rubrotor.engine.reduce import reduce_matrices
 
     F = np.asarray(snap["F"], float)
     fq = plant.Bmat @ F
@@ -115,7 +124,7 @@ def resume(plant, kernel: dict, snap: dict, stations) -> None:
     for i, st in enumerate(stations):
         if st.stator is None:
             continue
-        sm = _stator_modes(st)
+        sm = reduce_matrices(*st.stator.matrices())
         y[o : o + sm.size] = sm.project(np.asarray(snap["stators"][i], float))
         o += sm.size
     kernel["F"][:] = F
