@@ -347,6 +347,8 @@ def file_summary(path, block: int = 1 << 16) -> dict:
     import netCDF4
 
     with netCDF4.Dataset(path, "r") as nc:
+        for name in ("v", "w", "normal_force"):  # each chunk is read once: no cache needed
+            nc[name].set_var_chunk_cache(size=CACHE_BYTES, nelems=127, preemption=1.0)
         n = nc.dimensions["time"].size
         p_max, f_max, touching = -np.inf, -np.inf, 0
         nct = nc.dimensions["contact"].size
