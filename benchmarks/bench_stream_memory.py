@@ -16,13 +16,13 @@ Run from the repository root: ``OPENBLAS_NUM_THREADS=1 python benchmarks/bench_s
    continued and the uninterrupted final states (``final_state``, ``[q, q']`` on every DOF)
    relative to the largest entry.
 
-Measured 2026-11-25 (2 cores shared with other jobs, load ~9): 5,000 revolutions (2.5e6
-samples, 539 MiB file) 43.8 s, peak RSS 447.2 MiB; 10,000 revolutions (5e6 samples, 1077 MiB)
-92.8 s, peak RSS 472.3 MiB (the library's sink alone: 228 -> 250 MiB over 6.5e6 samples,
-levelling off; before, the CLI read the whole file back: 1.2 GB for a 449 MB file). Killed at
-541 MiB: status "partial", 2,506,753 samples (153 chunks of 16,384 + 1) to t = 50.135040 s, its
-restart state at that time, no hidden file left; continued for the 2,493,248 steps left: final
-state against the uninterrupted run, max |diff| / max |x| = 2.7e-12.
+Measured 2026-11-25 (2 cores shared with other jobs): 5,000 revolutions (2.5e6 samples, 539 MiB
+file) 32.1 s, peak RSS 457.5 MiB; 10,000 revolutions (5e6 samples, 1077 MiB) 42.5 s, peak RSS
+458.8 MiB (before, the CLI read the whole file back: 1.2 GB for a 449 MB file; the figure of the
+last 2^18 samples is most of the peak). Killed at 541 MiB: status "partial", 2,490,369 samples
+(152 chunks of 16,384 + 1) to t = 49.807360 s, its restart state at that time, no hidden file
+left; continued for the 2,509,632 steps left: final state against the uninterrupted run,
+max |diff| / max |x| = 1.4e-12 (2.7e-12 in an earlier run killed elsewhere).
 """
 
 from __future__ import annotations

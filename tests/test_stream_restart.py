@@ -111,13 +111,16 @@ def restart_row(path: Path) -> tuple[float, np.ndarray]:
 
 
 def test_kill_9_leaves_a_readable_partial_file_that_continues_exactly(tmp_path):
-    """``kill -9`` of a streamed run: the file under its own name (no hidden temporary file)
-    is readable, marked partial, holds whole chunks (1 + k 16384 samples, k >= 2) and the
+    """``kill -9`` of a streamed run: the file under its own name (no hidden temporary file,
+    the usual permissions) is readable, marked partial, holds whole chunks (1 + k 16384 samples, k >= 2) and the
     state at the end of the last one; continued from it for 2,500 steps it ends where one
     uninterrupted run of the same total length ends, to 1e-9 (state vector, relative)."""
     out, code, _ = start_and_signal(tmp_path, signal.SIGKILL)
     assert code == -signal.SIGKILL
     assert sorted(p.name for p in tmp_path.iterdir()) == ["k.nc", "long.toml", "marker"]
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~umask  # as an in-memory run's file (not 0600)
     with xr.open_dataset(out) as ds:
         n = ds.sizes["time"]
         assert ds.attrs["status"] == "partial" and "killed" in ds.attrs["status_message"]

@@ -839,7 +839,7 @@ def simulate_general(
     stream : str, optional
         Write samples and events to this netCDF file chunk by chunk (bounded memory; read it
         with :func:`rubrotor.load_dataset`), flushed after every chunk with ``status =
-        "partial"`` and the state kept so far (:mod:`rubrotor.engine.stream`); the result then
+        "partial"`` and the state kept so far (``rubrotor.engine.stream``); the result then
         holds neither (``time``, ``channels``, ``events`` empty), only ``stats``
         (``"contact_events"`` counts them) and the final state.
     chunk_samples : int
