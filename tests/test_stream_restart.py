@@ -237,27 +237,25 @@ def test_bad_runs_refused_or_stopped(tmp_path):
 
 
 def peak_rss(tmp_path: Path, revolutions: int) -> tuple[int, int]:
-    """Peak RSS (bytes) of a fresh child running a streamed ``rubrotor simulate`` of
-    seal_rub over ``revolutions`` (with ``--figure``), and the samples it wrote."""
+    """Peak RSS (bytes, the child's own ``ru_maxrss`` from ``os.wait4``) of a child running a
+    streamed ``rubrotor simulate --figure`` of seal_rub over ``revolutions``, and the samples
+    it wrote."""
     scen = write(tmp_path, f"r{revolutions}.toml", seal_text(revolutions=revolutions))
     out = tmp_path / f"r{revolutions}.nc"
-    code = textwrap.dedent(
-        f"""
-        import resource, subprocess, sys
-        cmd = [sys.executable, "-c", "import sys, rubrotor.engine.general as g, rubrotor.cli.simulate as s; "
-               "g.STREAM_SAMPLES = 100; s.FIGURE_SAMPLES = 4096; "
-               "from rubrotor.cli.app import main; raise SystemExit(main(sys.argv[1:]))",
-               "simulate", {str(scen)!r}, "--out", {str(out)!r}, "--figure", "--no-progress"]
-        run = subprocess.run(cmd, capture_output=True, text=True)
-        assert run.returncode == 0, run.stderr
-        print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
-        """
-    )
-    done = subprocess.run([sys.executable, "-c", code], env=env(), capture_output=True, text=True)
-    assert done.returncode == 0, done.stderr
+    code = ("import sys, rubrotor.engine.general as g, rubrotor.cli.simulate as s; "
+            "g.STREAM_SAMPLES = 100; s.FIGURE_SAMPLES = 4096; "
+            "from rubrotor.cli.app import main; raise SystemExit(main(sys.argv[1:]))")  # fmt: skip
+    cmd = [sys.executable, "-c", code, "simulate", str(scen), "--out", str(out), "--figure",
+           "--no-progress"]  # fmt: skip
+    err = tmp_path / f"r{revolutions}.err"
+    with err.open("w") as fh:
+        child = subprocess.Popen(cmd, env=env(), stdout=subprocess.DEVNULL, stderr=fh)
+        _, status, usage = os.wait4(child.pid, 0)
+    child.returncode = os.waitstatus_to_exitcode(status)  # reaped here, not by Popen
+    assert child.returncode == 0, err.read_text()
     with xr.open_dataset(out) as ds:
         n = ds.sizes["time"]
-    return int(done.stdout.split()[-1]) * 1024, n
+    return usage.ru_maxrss * 1024, n
 
 
 def test_streamed_cli_memory_stays_flat(tmp_path):

@@ -941,6 +941,8 @@ def _run(chunk, final, stats, state, plant, run, method, opts) -> EngineResult:
     status = "complete" if not msg else "partial"
     if msg and keep.snap is not None and keep.snap["time_s"] < done * sample_dt:
         msg += f"; restart state at t = {t0 + keep.snap['time_s']:.6g} s (the last completed chunk)"
+    if msg and keep.snap is not None and stream is not None:
+        msg += f'; continue it with [initial] state = "file", path = "{stream}"'
     if sink is not None:
         sink.write_events(events)
         sink.close({**keep.attrs(done), "status": status, "status_message": msg,
