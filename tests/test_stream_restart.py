@@ -272,3 +272,25 @@ def test_streamed_cli_memory_stays_flat(tmp_path):
         f"({n_large} samples); data {extra / 2**20:.1f} MiB more"
     )
     assert large - small < 0.25 * extra, (small, large, extra)
+
+
+def test_adaptive_run_continues_to_its_tolerance(tmp_path):
+    """The adaptive ("collocation", rtol = 1e-6) stepper restarts too: 20 revolutions, then 20
+    more from the file, end within 10 rtol of one run of 40 (relative to the largest state
+    entry; the step sequence restarts, so agreement is to the tolerance, not to rounding)."""
+    adaptive = seal_text().replace(
+        "dt = 2e-5                 # s", "rtol = 1e-6\noutput_dtau = 0.02"
+    )
+    half = adaptive.replace("revolutions = 40", "revolutions = 20")
+    first = tmp_path / "first.nc"
+    rubrotor.save_dataset(simulate_engine(load_scenario(write(tmp_path, "a.toml", half)),
+                                          progress=False), first)  # fmt: skip
+    cont = half.replace('state = "static"', f'state = "file"\npath = "{first}"')
+    b = simulate_engine(load_scenario(write(tmp_path, "b.toml", cont)), progress=False)
+    c = simulate_engine(load_scenario(write(tmp_path, "c.toml", adaptive)), progress=False)
+    assert b.attrs["status"] == c.attrs["status"] == "complete"
+    assert json.loads(b.attrs["integrator_stats"])["method"] == "collocation"
+    assert float(b["time"].values[-1]) == pytest.approx(float(c["time"].values[-1]), rel=1e-12)
+    x1 = np.array(json.loads(b.attrs["final_state"]))
+    x2 = np.array(json.loads(c.attrs["final_state"]))
+    assert np.abs(x1 - x2).max() <= 1e-5 * np.abs(x2).max()
