@@ -1,0 +1,70 @@
+"""The first forward critical speed of any linear rotor: what ``[speed] critical_multiple``
+multiplies.
+
+A critical speed is a spin speed ``Omega`` at which a mode's damped natural frequency equals
+``Omega`` (synchronous excitation by unbalance, :func:`rubrotor.linear.analysis.linear_critical_speeds`);
+the first forward one is the lowest such speed whose mode whirls forward at every station.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+from rubrotor.errors import InputError
+from rubrotor.linear.analysis import damped_modes, linear_critical_speeds
+from rubrotor.rotors.linear import LinearSystem
+
+__all__ = ["first_forward_critical_speed", "rotor_first_forward_critical"]
+
+MAX_SEARCH = 1e7
+"""Highest spin speed (rad/s) searched for a forward critical speed (the scenario's limit)."""
+
+
+def first_forward_critical_speed(system: LinearSystem, modes: int = 6) -> float:
+    """The lowest spin speed (rad/s) at which a forward-whirling mode's damped frequency equals
+    the spin.
+
+    The search runs up to twice the lowest natural frequency at rest, then doubles its range
+    until a forward crossing appears (each crossing refined by ``brentq`` to 1e-10 relative).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor.
+    modes : int
+        Modes searched (the lowest ``modes`` at each speed).
+
+    Returns
+    -------
+    float
+        Critical speed (rad/s).
+
+    Raises
+    ------
+    InputError
+        No forward critical speed below :data:`MAX_SEARCH` rad/s.
+    """
+    lowest = damped_modes(system, 0.0, n=1).modes
+    top = 4 * math.pi * lowest[0].frequency_hz if lowest else 100.0
+    while top <= 2 * MAX_SEARCH:
+        found = [
+            c
+            for c in linear_critical_speeds(system, top, n=modes)
+            if c.whirl == "forward" and c.speed_rad_s <= MAX_SEARCH
+        ]
+        if found:
+            return float(found[0].speed_rad_s)
+        top *= 2.0
+    raise InputError(
+        "speed.critical_multiple",
+        system.name,
+        f"a rotor with a forward critical speed below {MAX_SEARCH:g} rad/s",
+    )
+
+
+@functools.lru_cache(maxsize=32)
+def rotor_first_forward_critical(rotor, stations: tuple[float, ...] = ()) -> float:
+    """:func:`first_forward_critical_speed` of a :class:`~rubrotor.rotors.fe.Rotor` meshed with
+    nodes at ``stations`` (m), remembered per rotor and stations (rad/s)."""
+    return first_forward_critical_speed(rotor.linear_system(stations))
