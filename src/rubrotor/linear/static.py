@@ -195,7 +195,7 @@ def _inputs(obj, speed, gravity, loads):
 
     shaft = None
     if isinstance(obj, Scenario):
-        shaft = obj.shaft if obj.rotor is None else None
+        shaft = None if obj.model.fe_rotor else obj.shaft
         speed = obj.speed if speed is None else speed
         if gravity is None:
             gravity = obj.gravity
