@@ -106,7 +106,9 @@ class FrequencyResponse:
                 "magnitude_N": self.magnitude,
             },
             "probes": [
-                _probe_dict(float(p), "frequency_rad_s", self.frequencies, self.complex_response[:, i])
+                _probe_dict(
+                    float(p), "frequency_rad_s", self.frequencies, self.complex_response[:, i]
+                )
                 for i, p in enumerate(self.probes)
             ],
         }
@@ -162,7 +164,11 @@ def force_vector(kind: str, magnitude: float = 1.0, direction: float = 0.0) -> n
     if kind not in FORCE_KINDS:
         raise InputError("kind", kind, " or ".join(f'"{k}"' for k in FORCE_KINDS))
     for name, value in (("magnitude", magnitude), ("direction", direction)):
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int | float)
+            or not math.isfinite(value)
+        ):
             raise InputError(name, value, "a finite number (N for magnitude, rad for direction)")
     if magnitude < 0:
         raise InputError("magnitude", magnitude, "a force amplitude >= 0 (N)")

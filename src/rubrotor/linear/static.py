@@ -113,7 +113,9 @@ class StaticResult:
 def _gravity_nodal(system: LinearSystem, g: np.ndarray) -> np.ndarray:
     """Consistent gravity load ``M r`` (N) on all DOFs of a labelled (FE or ROSS) rotor."""
     labels = system.dof_labels
-    r = np.array([g[0] if s.startswith("v@") else g[1] if s.startswith("w@") else 0.0 for s in labels])
+    r = np.array(
+        [g[0] if s.startswith("v@") else g[1] if s.startswith("w@") else 0.0 for s in labels]
+    )
     return system.M @ r
 
 
