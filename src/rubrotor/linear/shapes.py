@@ -69,7 +69,7 @@ class ModeShapes:
     @property
     def minor(self) -> np.ndarray:
         """Signed minor semi-axis (normalised; ``> 0`` forward, ``< 0`` backward), (n, X)."""
-        return 0.5 * (np.abs(self.v - 1j * self.w) - np.abs(self.v + 1j * self.w))
+        return 0.5 * (np.abs(self.v + 1j * self.w) - np.abs(self.v - 1j * self.w))
 
     def to_dict(self) -> dict:
         """JSON form printed by ``rubrotor shapes --json``."""
