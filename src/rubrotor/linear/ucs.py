@@ -140,7 +140,12 @@ def ucs_map(system: LinearSystem, stiffness=None, n: int = 4) -> UCSMap:
     20.0
     """
     if not system.supports:
-        raise InputError("bearing", 0, "bearings or seals (a map of pinned supports is one point)")
+        raise InputError(
+            "bearing",
+            0,
+            "a rotor on bearings or seals (on pinned supports only, such as the continuous "
+            "shaft, the map is one point: its natural frequencies)",
+        )
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise InputError("n", n, "a number of modes >= 1")
     k = default_stiffness(system) if stiffness is None else np.asarray(stiffness, float)

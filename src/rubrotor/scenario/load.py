@@ -614,6 +614,14 @@ class Scenario:
         return () if self.unbalance is None else (self.unbalance,)
 
     @property
+    def contacts(self) -> tuple[Contact, ...]:
+        """Every contact (SI, position in m): the ``[[contact]]`` tables, or the single
+        ``[contact]``; empty when there is none."""
+        if self.engine is not None:
+            return tuple(s.contact for s in self.engine.stations)
+        return () if self.contact is None else (self.contact,)
+
+    @property
     def loads(self) -> tuple[RadialLoad, ...]:
         """Every constant point load (N, m): the ``[[load]]`` tables, or the single ``[load]``."""
         if self.engine is not None:
