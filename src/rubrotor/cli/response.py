@@ -17,7 +17,7 @@ FIGURE_FORMATS = ("png", "pdf", "svg")
 
 
 def figure_path(text: str | None, flag: str = "--figure") -> Path | None:
-    """The figure file of ``flag``: ``None`` when not given; an :class:`InputError` naming the
+    """The figure file of ``flag``: ``None`` when not given; an ``InputError`` naming the
     flag unless it ends in .png, .pdf or .svg and its directory exists."""
     if text is None:
         return None

@@ -43,7 +43,7 @@ def first_forward_critical_speed(system: LinearSystem, modes: int = 6) -> float:
     Raises
     ------
     InputError
-        No forward critical speed below :data:`MAX_SEARCH` rad/s.
+        No forward critical speed below ``MAX_SEARCH`` (1e7) rad/s.
     """
     lowest = damped_modes(system, 0.0, n=1).modes
     top = 4 * math.pi * lowest[0].frequency_hz if lowest else 100.0
@@ -65,6 +65,6 @@ def first_forward_critical_speed(system: LinearSystem, modes: int = 6) -> float:
 
 @functools.lru_cache(maxsize=32)
 def rotor_first_forward_critical(rotor, stations: tuple[float, ...] = ()) -> float:
-    """:func:`first_forward_critical_speed` of a :class:`~rubrotor.rotors.fe.Rotor` meshed with
+    """``first_forward_critical_speed`` of a ``Rotor`` meshed with
     nodes at ``stations`` (m), remembered per rotor and stations (rad/s)."""
     return first_forward_critical_speed(rotor.linear_system(stations))

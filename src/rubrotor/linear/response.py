@@ -201,7 +201,7 @@ def frequency_response(
     Parameters
     ----------
     system : LinearSystem
-        The rotor (:func:`rubrotor.linear.verbs.linear_system` makes it from a scenario).
+        The rotor (:func:`rubrotor.linear_system` makes it from a scenario).
     frequencies : array_like
         Excitation frequencies ``w`` (rad/s), ``>= 0``, independent of the spin.
     position : float
@@ -259,8 +259,7 @@ def scenario_unbalance_response(scenario, speeds, probes=None) -> UnbalanceRespo
     Parameters
     ----------
     scenario : Scenario
-        Its ``[unbalance]`` or every ``[[unbalance]]`` plane (:attr:`Scenario.unbalances
-        <rubrotor.scenario.load.Scenario.unbalances>`) excites the rotor.
+        Its ``[unbalance]`` or every ``[[unbalance]]`` plane (``Scenario.unbalances``) excites the rotor.
     speeds : array_like
         Increasing spin speeds (rad/s), ``> 0``.
     probes : sequence of float, optional

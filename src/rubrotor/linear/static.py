@@ -220,7 +220,7 @@ def static_analysis(obj, speed: float | None = None, gravity=None, loads=None) -
     Parameters
     ----------
     obj : Scenario, Rotor, Shaft or LinearSystem
-        The rotor (see :func:`rubrotor.linear.verbs.linear_system`). A scenario gives its
+        The rotor (see :func:`rubrotor.linear_system`). A scenario gives its
         speed, its ``[gravity]`` and its loads (``[load]`` / ``[[load]]``).
     speed : float, optional
         Spin speed (rad/s) at which speed-dependent bearings are evaluated; default the

@@ -118,7 +118,7 @@ def ucs_map(system: LinearSystem, stiffness=None, n: int = 4) -> UCSMap:
     system : LinearSystem
         The rotor with at least one bearing or seal (:class:`~rubrotor.rotors.linear.Support`).
     stiffness : array_like, optional
-        Support stiffness values (N/m, ``> 0``, increasing); default :func:`default_stiffness`.
+        Support stiffness values (N/m, ``> 0``, increasing); default ``default_stiffness(system)``.
     n : int
         Number of modes (``>= 1``).
 
