@@ -1,0 +1,79 @@
+"""API 617 clearance check and API 684 Level I against ROSS 3.1's own ``run_clearance_analysis``
+and ``run_level1`` on ROSS's example rotor (same unbalance, speeds, probes, cross-coupling).
+Skipped without ROSS 3.1 (``api617_unbalance`` and ``run_clearance_analysis`` are new in 3.1)."""
+
+from __future__ import annotations
+
+import os
+import warnings
+
+import numpy as np
+import pytest
+
+with warnings.catch_warnings():  # ROSS's import warns about REFPROP (its ccp dependency)
+    warnings.simplefilter("ignore")
+    if os.environ.get("RUBROTOR_REQUIRE_ROSS"):  # CI's ROSS step: a missing ROSS is a failure
+        import ross
+    else:
+        ross = pytest.importorskip("ross")
+
+from rubrotor.linear.api import api617_unbalance, clearance_check, level1  # noqa: E402
+from rubrotor.rotors.ross import from_ross  # noqa: E402
+
+pytestmark = [
+    pytest.mark.filterwarnings("ignore"),
+    pytest.mark.skipif(not hasattr(ross.Rotor, "run_clearance_analysis"), reason="ROSS < 3.1"),
+]
+RPM = 2 * np.pi / 60
+
+
+def _example(kxx, kyy, c, **kwargs):
+    """ROSS's rotor_example on two new bearings (ROSS's units: N/m, N s/m)."""
+    base = ross.rotor_example()
+    bearings = [ross.BearingElement(n=n, kxx=kxx, kyy=kyy, cxx=c, cyy=c, **kwargs) for n in (0, 6)]
+    return ross.Rotor(base.shaft_elements, base.disk_elements, bearings)
+
+
+def test_clearance_check_equals_ross():
+    """ROSS's own docstring case: bearings of 1e6 N/m, 1e3 N s/m, 100 µm radial clearance,
+    probes at the bearings at 45 deg, 0-10000 rpm, N_ma 7000 rpm, N_mc 9000 rpm, no cap.
+    Measured: unbalance and W equal to 1e-14, A_max and S_cc to 1e-14, scaled responses to
+    2e-13."""
+    q = ross.Q_
+    rotor = _example(1e6, 1e6, 1e3, radial_clearance=q(100, "um"))
+    speeds = np.linspace(0, 10000, 101) * RPM
+    nma, nmc = 7000 * RPM, 9000 * RPM
+    probes = [ross.Probe(0, q(45, "deg")), ross.Probe(6, q(45, "deg"))]
+    ref = rotor.run_clearance_analysis(speeds, nma, nmc, probes)
+    theirs = rotor.api617_unbalance(mode=0, maximum_continuous_speed=nmc)
+    system = from_ross(rotor)
+    x = system.basis.nodes
+    planes, loads, _ = api617_unbalance(system, nmc, 0, max_damping_ratio=None)
+    assert [p[0] for p in planes] == [x[n] for n in theirs["node"]]
+    np.testing.assert_allclose([p[1] for p in planes], theirs["unbalance_magnitude"], rtol=1e-9)
+    np.testing.assert_allclose(loads, theirs["static_load"], rtol=1e-9)
+    mine = clearance_check(system, speeds, nma, nmc, [(x[0], np.pi / 4), (x[6], np.pi / 4)],
+                           [("b0", x[0], 100e-6), ("b6", x[6], 100e-6)],
+                           scale_factor_cap=None, max_damping_ratio=None)  # fmt: skip
+    assert mine.vibration_limit == pytest.approx(ref.vibration_limit, rel=1e-12)
+    assert mine.max_probe_amplitude == pytest.approx(ref.max_probe_amplitude, rel=1e-9)
+    assert mine.scale_factor == pytest.approx(ref.scale_factor, rel=1e-9)
+    keep = np.isin(ref.speed_range, mine.speeds)  # rubrotor leaves out 0 rad/s (no unbalance)
+    assert keep.sum() == ref.speed_range.size - 1
+    for j in range(2):
+        got = mine.scaled[j][np.searchsorted(mine.speeds, ref.speed_range[keep])]
+        np.testing.assert_allclose(got, np.asarray(ref.clearance_response[j])[keep], rtol=1e-6)
+        assert 2 * 100e-6 == pytest.approx(ref.diametral_clearance[j])
+
+
+def test_level1_equals_ross():
+    """ROSS's run_level1 on rotor_example with anisotropic damped bearings, cross-coupling at
+    the mid node 3, at 9000 rpm. Measured: log decs equal to 7e-11."""
+    rotor = _example(1e6, 0.8e6, 300.0)
+    rotor = ross.Rotor(rotor.shaft_elements, rotor.disk_elements, rotor.bearing_elements,
+                       rated_w=9000 * RPM)  # fmt: skip
+    ref = rotor.run_level1(n=3, stiffness_range=(1e3, 2e5), num=6)
+    system = from_ross(rotor)
+    mine = level1(system, 9000 * RPM, system.basis.nodes[3], ref.stiffness_range)
+    np.testing.assert_allclose(mine.log_dec, ref.log_dec, rtol=1e-6)
+    assert ref.log_dec[0] > 0 > ref.log_dec[-1] and mine.q0 is not None
