@@ -87,3 +87,39 @@ def test_bad_input_exits_2_naming_the_flag(capsys, argv, flag):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"rubrotor: error: {flag} = ") and err.count("\n") == 1
+
+
+def test_clearance_and_level1_verbs(capsys, tmp_path):
+    """clearance: one entry per [[contact]], verdict consistent with the margin, and a note on
+    stderr where the scaled orbit reaches the clearance; level1: Q_A from a stage equals
+    anticipated_cross_coupling, and the JSON equals the library's Level I."""
+    from rubrotor.linear.api import anticipated_cross_coupling, level1
+
+    argv = [
+        "clearance",
+        SEAL,
+        "--speeds",
+        "10:800:80",
+        "--json",
+        "--figure",
+        str(tmp_path / "c.png"),
+    ]
+    assert main(argv) == 0
+    cap = capsys.readouterr()
+    out = json.loads(cap.out)
+    (c,) = out["clearances"]
+    assert c["position_m"] == 0.75 and c["diametral_clearance_m"] == pytest.approx(80e-6)
+    assert (c["verdict"] == "pass") == (c["margin_m"] >= 0)
+    assert bool(c["touching_speeds_rad_s"]) == ("reaches its clearance" in cap.err)
+    argv = ["level1", SEAL, "--stiffness", "1e4:1e7:7", "--stage", "2e6,0.3,0.015,1.4", "--json",
+            "--figure", str(tmp_path / "l1.png")]  # fmt: skip
+    out = _json(capsys, argv)
+    sc = load_scenario(SEAL)
+    qa = anticipated_cross_coupling(2e6, sc.speed, 0.3, 0.015, 1.4)
+    assert out["qa_N_m"] == pytest.approx(qa, rel=1e-12)
+    ref = level1(linear_system(sc, (0.45,)), sc.speed, 0.45, np.logspace(4, 7, 7), qa)
+    np.testing.assert_allclose(out["log_dec"], ref.log_dec, rtol=1e-9)
+    assert out["verdict"] == ref.verdict
+    assert (tmp_path / "c.png").exists() and (tmp_path / "l1.png").exists()
+    assert main(["clearance", GENERAL]) == 2  # no contact: nothing to check
+    assert "contact" in capsys.readouterr().err

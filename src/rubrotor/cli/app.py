@@ -17,7 +17,7 @@ import argparse
 import os
 import sys
 
-from rubrotor.cli import analyze, linear, orbits, response, simulate, studies, sweeps
+from rubrotor.cli import analyze, api, linear, orbits, response, simulate, studies, sweeps
 from rubrotor.cli.analyze import load_signals
 from rubrotor.cli.common import Command, parse_speeds
 from rubrotor.cli.simulate import run_summary
@@ -88,6 +88,18 @@ COMMANDS: list[Command] = [
         "mode shapes along the rotor: whirl orbits, forward and backward",
         response.shapes_args,
         response.shapes_run,
+    ),
+    Command(
+        "clearance",
+        "API 617 close-clearance check of the unbalance response at every contact",
+        api.clearance_args,
+        api.clearance_run,
+    ),
+    Command(
+        "level1",
+        "API 684 Level I stability: log dec against added cross-coupled stiffness",
+        api.level1_args,
+        api.level1_run,
     ),
     Command(
         "run",

@@ -29,8 +29,8 @@ Close-clearance check (API 617, 9th edition, 6.8.2.7-6.8.2.11, as ROSS 3.1's
 
 Level I stability (API 684, API 617 6.8.5)
 -----------------------------------------
-The logarithmic decrement of the first forward mode (not critically damped, ``zeta <= 0.2``)
-at ``N_mc`` against a cross-coupled
+The logarithmic decrement of the first forward mode (the lowest not whirling backward at every
+station, not critically damped: ``zeta <= 0.2``; followed along ``Q`` by continuity) at ``N_mc`` against a cross-coupled
 stiffness ``Q`` added at one station (``k_yz = Q``, ``k_zy = -Q``: a force ``i Q z`` on
 ``z = v + i w``, which feeds forward whirl), ``Q0`` where it crosses zero, and the anticipated
 cross-coupling of the stages (Wachel's formula in SI)::
@@ -485,10 +485,12 @@ class Level1:
         }
 
 
-def _first_forward(system: LinearSystem, speed: float, n: int):
+def _start_mode(system: LinearSystem, speed: float, n: int) -> complex:
+    """Eigenvalue (1/s) of the lowest mode that does not whirl backward at every station
+    (forward or mixed, as ROSS's Level I takes it) and is not critically damped."""
     for m in damped_modes(system, speed, n=n).modes:
-        if m.whirl == "forward" and m.damping_ratio <= CRITICALLY_DAMPED:
-            return m
+        if m.whirl != "backward" and m.damping_ratio <= CRITICALLY_DAMPED:
+            return m.eigenvalue
     raise InputError(
         "modes", n, f"a count that reaches a forward mode (zeta <= 0.2) at {speed:g} rad/s"
     )
@@ -512,7 +514,9 @@ def level1(system: LinearSystem, speed: float, position: float, stiffness=None, 
     qa : float, optional
         Anticipated cross-coupling (N/m), :func:`anticipated_cross_coupling`.
     n : int
-        Modes searched for the first forward one.
+        Modes computed at each ``Q``: the lowest mode not whirling backward everywhere (forward
+        or mixed) with ``zeta <= 0.2`` at the first ``Q`` is followed to the others by the
+        nearest eigenvalue.
 
     Returns
     -------
@@ -526,12 +530,16 @@ def level1(system: LinearSystem, speed: float, position: float, stiffness=None, 
     if not np.allclose(np.abs(rows).max(axis=1), 1.0):
         raise InputError("position", position, "a node of the rotor (give it as a station)")
     ld, fr = np.empty(q.size), np.empty(q.size)
+    lam = None
     for i, qi in enumerate(q):
         k = np.array([[[0.0, qi], [-qi, 0.0]]])
         extra = Support(dofs, k, np.zeros((1, 2, 2)), None, float(position), "cross-coupling")
-        m = _first_forward(
-            dataclasses.replace(system, supports=(*system.supports, extra)), speed, n
-        )
+        coupled = dataclasses.replace(system, supports=(*system.supports, extra))
+        if lam is None:
+            lam = _start_mode(coupled, speed, n)
+        modes = damped_modes(coupled, speed, n=n).modes
+        m = min(modes, key=lambda md: abs(md.eigenvalue - lam))  # follow the mode along Q
+        lam = m.eigenvalue
         ld[i], fr[i] = m.log_dec, m.frequency_hz
     q0 = None
     cross = np.flatnonzero((ld[:-1] > 0) & (ld[1:] <= 0))

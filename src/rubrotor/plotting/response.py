@@ -8,10 +8,11 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from rubrotor.linear.api import ClearanceCheck, Level1
 from rubrotor.linear.response import FrequencyResponse
 from rubrotor.linear.static import StaticResult
 
-__all__ = ["static_figure", "frequency_response_figure"]
+__all__ = ["static_figure", "frequency_response_figure", "clearance_figure", "level1_figure"]
 
 
 def static_figure(result: StaticResult, title: str = "static deflection") -> Figure:
@@ -111,4 +112,75 @@ def frequency_response_figure(
     for ax in (ax_a, ax_p):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
+    return fig
+
+
+def clearance_figure(check: ClearanceCheck, title: str = "API 617 close-clearance check") -> Figure:
+    """Scaled response at each close clearance against speed, with 75 % of the clearance and
+    the clearance itself, and the probes' unscaled response with the vibration limit.
+
+    Parameters
+    ----------
+    check : ClearanceCheck
+        From :func:`rubrotor.linear.api.clearance_check`.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Top: ``2 S_cc a_major`` (µm pk-pk) per clearance, its 75 % limit (dashed) and ``2 c``
+        (dotted), the operating band shaded. Bottom: probe amplitudes (µm pk-pk), ``A_vl``.
+    """
+    fig = Figure(figsize=(10, 7), layout="constrained")
+    ax, ax_p = fig.subplots(2, 1, sharex=True)
+    s = check.speeds
+    for j, name in enumerate(check.names):
+        c = check.clearances[j] * 1e6
+        ax.plot(s, check.scaled[j] * 1e6, f"C{j}", lw=2, label=f"{name}: scaled response")
+        ax.axhline(0.75 * c, color=f"C{j}", ls="--", lw=1, label=f"{name}: 75 % of {c:g} µm")
+        ax.axhline(c, color=f"C{j}", ls=":", lw=1, label=f"{name}: clearance {c:g} µm")
+    for a in (ax, ax_p):
+        a.axvspan(check.min_speed, check.max_speed, color="0.85", alpha=0.6)
+        a.grid(alpha=0.3)
+    ax.set(ylabel="µm peak to peak", title=f"{title}: S_cc = {check.scale_factor:.3g}")
+    ax.legend(fontsize=8, loc="upper left")
+    for p, row in enumerate(check.probe_response):
+        ax_p.plot(s, row * 1e6, lw=1.5, label=f"probe {p + 1}")
+    ax_p.axhline(check.vibration_limit * 1e6, color="r", lw=1, label="A_vl")
+    ax_p.set(xlabel="spin speed (rad/s)", ylabel="probe µm pk-pk (unscaled)", yscale="log")
+    ax_p.legend(fontsize=8, loc="upper left")
+    return fig
+
+
+def level1_figure(result: Level1, title: str = "API 684 Level I stability") -> Figure:
+    """Log dec of the first forward mode against the added cross-coupled stiffness, with
+    ``Q0`` (log dec 0), ``Q_A`` and the 0.1 screening line.
+
+    Parameters
+    ----------
+    result : Level1
+        From :func:`rubrotor.linear.api.level1`.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = Figure(figsize=(8, 5), layout="constrained")
+    ax = fig.subplots()
+    ax.semilogx(result.stiffness, result.log_dec, "k-o", ms=3, label="first forward mode")
+    ax.axhline(0.0, color="0.4", lw=1)
+    ax.axhline(0.1, color="r", ls="--", lw=1, label="log dec 0.1")
+    if result.q0 is not None:
+        ax.axvline(result.q0, color="C3", lw=1, label=f"Q0 = {result.q0:.3g} N/m")
+    if result.qa is not None:
+        ax.axvline(result.qa, color="C0", lw=1.5, label=f"Q_A = {result.qa:.3g} N/m")
+        ax.plot(result.qa, result.log_dec_at_qa, "D", mfc="gold", mec="k")
+    verdict = f" ({result.verdict})" if result.verdict else ""
+    ax.set(xlabel="added cross-coupled stiffness Q (N/m)", ylabel="logarithmic decrement",
+           title=f"{title} at {result.speed_rad_s:.5g} rad/s, x = {result.position:g} m{verdict}")  # fmt: skip
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
     return fig
