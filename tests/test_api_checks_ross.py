@@ -1,6 +1,7 @@
-"""API 617 clearance check and API 684 Level I against ROSS 3.1's own ``run_clearance_analysis``
-and ``run_level1`` on ROSS's example rotor (same unbalance, speeds, probes, cross-coupling).
-Skipped without ROSS 3.1 (``api617_unbalance`` and ``run_clearance_analysis`` are new in 3.1)."""
+"""API 617 clearance check, API 684 Level I and the static analysis against ROSS 3.1's own
+``run_clearance_analysis``, ``run_level1`` and ``run_static`` on ROSS's example rotor (same
+unbalance, speeds, probes, cross-coupling, gravity). Skipped without ROSS 3.1
+(``api617_unbalance`` and ``run_clearance_analysis`` are new in 3.1)."""
 
 from __future__ import annotations
 
@@ -17,7 +18,10 @@ with warnings.catch_warnings():  # ROSS's import warns about REFPROP (its ccp de
     else:
         ross = pytest.importorskip("ross")
 
+import dataclasses  # noqa: E402
+
 from rubrotor.linear.api import api617_unbalance, clearance_check, level1  # noqa: E402
+from rubrotor.linear.static import static_analysis  # noqa: E402
 from rubrotor.rotors.ross import from_ross  # noqa: E402
 
 pytestmark = [
@@ -77,3 +81,20 @@ def test_level1_equals_ross():
     mine = level1(system, 9000 * RPM, system.basis.nodes[3], ref.stiffness_range)
     np.testing.assert_allclose(mine.log_dec, ref.log_dec, rtol=1e-6)
     assert ref.log_dec[0] > 0 > ref.log_dec[-1] and mine.q0 is not None
+
+
+def test_static_equals_ross():
+    """ROSS's run_static puts the rotor on rigid supports (1e20 N/m) under g = 9.8065 m/s^2
+    along its -y (our -z): the same here with the bearings pinned. Measured: reactions equal to
+    3e-14, deflections to 1e-12."""
+    rotor = ross.rotor_example()
+    ref = rotor.run_static()
+    system = from_ross(rotor)
+    fixed = tuple(d for s in system.supports for d in s.dofs)
+    pinned = dataclasses.replace(system, supports=(), fixed=fixed)
+    mine = static_analysis(pinned, gravity=(0.0, -9.8065))
+    forces = [rotor.bearing_forces_nodal[f"node_{n}"] for n in (0, 6)]
+    np.testing.assert_allclose([b.force_z for b in mine.bearings], forces, rtol=1e-9)
+    deformation = np.asarray(ref.deformation, float).ravel()
+    np.testing.assert_allclose(mine.deflection[:, 1], deformation, rtol=1e-9,
+                               atol=1e-9 * np.abs(deformation).max())  # fmt: skip
