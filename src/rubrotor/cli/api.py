@@ -10,7 +10,13 @@ import sys
 import numpy as np
 
 from rubrotor.cli.common import add_scenario, parse_speeds, print_json, table
-from rubrotor.cli.response import _positions, _speed, _write, figure_path, parse_stiffness
+from rubrotor.cli.response import (
+    figure_path,
+    on_rotor,
+    parse_stiffness,
+    speed_or_default,
+    write_figure,
+)
 from rubrotor.errors import InputError, ScenarioError
 from rubrotor.scenario.load import load_scenario
 
@@ -54,8 +60,8 @@ def clearance_run(args: argparse.Namespace) -> int:
 
     out = figure_path(args.figure)
     scenario = load_scenario(args.scenario)
-    nmc = _speed(args.max_speed, scenario.speed, "--max-speed")
-    nma = _speed(args.min_speed, 0.7 * nmc, "--min-speed")
+    nmc = speed_or_default(args.max_speed, scenario.speed, "--max-speed")
+    nma = speed_or_default(args.min_speed, 0.7 * nmc, "--min-speed")
     if not 0 < nmc or nma > nmc:
         raise InputError("--min-speed", nma, f"a speed in [0, {nmc:g}] rad/s (maximum > 0)")
     speeds = parse_speeds(args.speeds) if args.speeds else np.linspace(0.0, 1.25 * nmc, 251)
@@ -65,7 +71,7 @@ def clearance_run(args: argparse.Namespace) -> int:
             for i, c in enumerate(scenario.contacts)]  # fmt: skip
     system = linear_system(scenario, [p for p, _ in args.probe or []])
     probes = args.probe or [(s.position, None) for s in system.supports]
-    _positions(scenario, [p for p, _ in probes], "--probe")
+    on_rotor(scenario, [p for p, _ in probes], "--probe")
     res = clearance_check(system, speeds, nma, nmc, probes, gaps, args.mode,
                           scale_factor_cap=None if args.no_cap else 6.0)  # fmt: skip
     d = res.to_dict()
@@ -90,7 +96,7 @@ def clearance_run(args: argparse.Namespace) -> int:
             print(f"rubrotor: note: the scaled orbit at {c['name']} reaches its clearance at "
                   f"{s[0]:.5g}-{s[-1]:.5g} rad/s: simulate the rub there (set [speed] rad_per_s = "
                   f"{c['worst_speed_rad_s']:.5g} and run `rubrotor simulate`)", file=sys.stderr)  # fmt: skip
-    _write(clearance_figure(res, f"API 617 clearance check: {scenario.name}"), out, args.json)
+    write_figure(clearance_figure(res, f"API 617 clearance check: {scenario.name}"), out, args.json)
     return 0
 
 
@@ -134,9 +140,9 @@ def level1_run(args: argparse.Namespace) -> int:
     out = figure_path(args.figure)
     q = parse_stiffness(args.stiffness) if args.stiffness else None
     scenario = load_scenario(args.scenario)
-    speed = _speed(args.max_speed, scenario.speed, "--max-speed")
+    speed = speed_or_default(args.max_speed, scenario.speed, "--max-speed")
     at = args.at if args.at is not None else _station(scenario, linear_system(scenario))
-    _positions(scenario, [at], "--at")
+    on_rotor(scenario, [at], "--at")
     system = linear_system(scenario, (at,))
     qa = args.qa
     if args.stage:
@@ -159,5 +165,5 @@ def level1_run(args: argparse.Namespace) -> int:
         print(f"Q0 (log dec 0): {q0}")
         if qa is not None:
             print(f"Q_A {qa:.4g} N/m: log dec {res.log_dec_at_qa:.4g}, verdict: {res.verdict}")
-    _write(level1_figure(res, f"API 684 Level I: {scenario.name}"), out, args.json)
+    write_figure(level1_figure(res, f"API 684 Level I: {scenario.name}"), out, args.json)
     return 0

@@ -30,14 +30,14 @@ def figure_path(text: str | None, flag: str = "--figure") -> Path | None:
     return out
 
 
-def _speed(value: float | None, default: float, flag: str = "--speed") -> float:
+def speed_or_default(value: float | None, default: float, flag: str = "--speed") -> float:
     speed = default if value is None else value
     if not (math.isfinite(speed) and speed >= 0):
         raise InputError(flag, value, "a finite spin speed >= 0 (rad/s)")
     return float(speed)
 
 
-def _positions(scenario, values, flag: str) -> list[float]:
+def on_rotor(scenario, values, flag: str) -> list[float]:
     """Stations (m) on the rotor: ``[0, L]`` for a finite-element rotor, ``(0, L)`` for the
     continuous shaft (pinned at its ends); an InputError naming ``flag`` otherwise."""
     length = scenario.rotor.length if scenario.model.fe_rotor else scenario.shaft.length
@@ -57,7 +57,7 @@ def _common(parser: argparse.ArgumentParser, speed_help: str | None = None) -> N
     parser.add_argument("--figure", metavar="FILE.png", help="also write a figure (.png/.pdf/.svg)")
 
 
-def _write(fig, out: Path | None, as_json: bool) -> None:
+def write_figure(fig, out: Path | None, as_json: bool) -> None:
     if out is None:
         return
     save_atomic(fig, out)
@@ -76,7 +76,7 @@ def static_run(args: argparse.Namespace) -> int:
 
     out = figure_path(args.figure)
     scenario = load_scenario(args.scenario)
-    res = static_analysis(scenario, _speed(args.speed, scenario.speed))
+    res = static_analysis(scenario, speed_or_default(args.speed, scenario.speed))
     if args.json:
         print_json(res.to_dict())
     else:
@@ -89,7 +89,7 @@ def static_run(args: argparse.Namespace) -> int:
         rows = [[b.name, f"{b.position:.4g}", f"{b.force_y:.6g}", f"{b.force_z:.6g}"]
                 for b in res.bearings]  # fmt: skip
         print(table(["support", "x (m)", "F_y on rotor (N)", "F_z on rotor (N)"], rows))
-    _write(static_figure(res, f"static deflection: {scenario.name}"), out, args.json)
+    write_figure(static_figure(res, f"static deflection: {scenario.name}"), out, args.json)
     return 0
 
 
@@ -116,11 +116,11 @@ def response_run(args: argparse.Namespace) -> int:
     out = figure_path(args.figure)
     freqs = parse_speeds(args.frequencies)
     scenario = load_scenario(args.scenario)
-    _positions(scenario, [args.at], "--at")
-    probes = _positions(scenario, args.probe or [args.at], "--probe")
+    on_rotor(scenario, [args.at], "--at")
+    probes = on_rotor(scenario, args.probe or [args.at], "--probe")
     system = linear_system(scenario, (args.at, *probes))
     res = frequency_response(system, freqs, args.at, probes, args.kind, args.force,
-                             args.direction, _speed(args.speed, scenario.speed))  # fmt: skip
+                             args.direction, speed_or_default(args.speed, scenario.speed))  # fmt: skip
     if args.json:
         print_json(res.to_dict())
     else:
@@ -131,7 +131,7 @@ def response_run(args: argparse.Namespace) -> int:
             k = int(np.argmax(res.major[:, p]))
             rows.append([f"{x:.4g}", f"{res.major[k, p] * 1e6:.4g}", f"{freqs[k]:.6g}"])
         print(table(["probe x (m)", "peak major semi-axis (µm)", "at frequency (rad/s)"], rows))
-    _write(frequency_response_figure(res), out, args.json)
+    write_figure(frequency_response_figure(res), out, args.json)
     return 0
 
 
@@ -151,7 +151,7 @@ def unbalance_run(args: argparse.Namespace) -> int:
     out = figure_path(args.figure)
     speeds = parse_speeds(args.speeds)
     scenario = load_scenario(args.scenario)
-    res = scenario_unbalance_response(scenario, speeds, _positions(scenario, args.probe, "--probe"))
+    res = scenario_unbalance_response(scenario, speeds, on_rotor(scenario, args.probe, "--probe"))
     if args.json:
         print_json(unbalance_to_dict(res))
     else:
@@ -166,7 +166,7 @@ def unbalance_run(args: argparse.Namespace) -> int:
         x = args.probe[0]
         gaps = [c.clearance for c in scenario.contacts if abs(c.position - x) <= 1e-9]
         fig = unbalance_response_figure(res, 0, min(gaps) if gaps else None)
-        _write(fig, out, args.json)
+        write_figure(fig, out, args.json)
     return 0
 
 
@@ -216,7 +216,7 @@ def ucs_run(args: argparse.Namespace) -> int:
                 for i in pick]  # fmt: skip
         heads = ["k (N/m)"] + [f"mode {j + 1}" for j in range(data.critical_speeds.shape[1])]
         print(table(heads, rows))
-    _write(ucs_figure(data, f"undamped critical speed map: {scenario.name}"), out, args.json)
+    write_figure(ucs_figure(data, f"undamped critical speed map: {scenario.name}"), out, args.json)
     return 0
 
 
@@ -235,7 +235,7 @@ def shapes_run(args: argparse.Namespace) -> int:
     if args.modes < 1:
         raise InputError("--modes", args.modes, "a number of modes >= 1")
     scenario = load_scenario(args.scenario)
-    speed = _speed(args.speed, scenario.speed)
+    speed = speed_or_default(args.speed, scenario.speed)
     shapes = mode_shapes(linear_system(scenario), speed, args.modes)
     if args.json:
         print_json(shapes.to_dict())
@@ -247,5 +247,5 @@ def shapes_run(args: argparse.Namespace) -> int:
             rows.append([str(m.index), f"{m.frequency_hz:.4f}", f"{m.log_dec:.4g}", m.whirl,
                          str(int(np.sum(d == "forward"))), str(int(np.sum(d == "backward")))])  # fmt: skip
         print(table(["mode", "frequency (Hz)", "log dec", "whirl", "fwd nodes", "bwd nodes"], rows))
-    _write(mode_shapes_3d_figure(shapes), out, args.json)
+    write_figure(mode_shapes_3d_figure(shapes), out, args.json)
     return 0
