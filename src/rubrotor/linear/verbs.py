@@ -93,7 +93,7 @@ def linear_system(obj, stations=()) -> LinearSystem:
     if isinstance(obj, Scenario):
         if obj.model.fe_rotor:
             return obj.rotor.linear_system(tuple(obj.stations) + tuple(stations))
-        return continuous_system(obj.shaft)
+        return continuous_system(obj.shaft, obj.damping)
     if isinstance(obj, Rotor):
         return obj.linear_system(tuple(stations))
     if isinstance(obj, Shaft):
