@@ -2,8 +2,17 @@
 multiplies.
 
 A critical speed is a spin speed ``Omega`` at which a mode's damped natural frequency equals
-``Omega`` (synchronous excitation by unbalance, :func:`rubrotor.linear.analysis.linear_critical_speeds`);
-the first forward one is the lowest such speed whose mode whirls forward at every station.
+``Omega`` (synchronous excitation by unbalance,
+:func:`rubrotor.linear.analysis.linear_critical_speeds`). The first forward one is the lowest
+such speed whose mode
+
+* whirls predominantly forward: the amplitude-weighted ratio of minor to major orbit axis over
+  the stations is positive (on anisotropic bearings the first mode's orbits are ellipses that
+  may turn backward at a few stations: "mixed" at every station, yet the mode unbalance
+  excites);
+* is not critically damped: damping ratio at most 0.2 (API 617: an amplification factor
+  ``1 / (2 zeta)`` below 2.5 makes no critical speed; heavily damped bearings give such modes,
+  e.g. ``general_rotor.toml``'s two near 370 rad/s with ``zeta`` about 0.98).
 """
 
 from __future__ import annotations
@@ -13,17 +22,29 @@ import math
 
 from rubrotor.errors import InputError
 from rubrotor.linear.analysis import damped_modes, linear_critical_speeds
+from rubrotor.linear.shapes import mode_shapes
 from rubrotor.rotors.linear import LinearSystem
 
 __all__ = ["first_forward_critical_speed", "rotor_first_forward_critical"]
 
 MAX_SEARCH = 1e7
 """Highest spin speed (rad/s) searched for a forward critical speed (the scenario's limit)."""
+MAX_DAMPING_RATIO = 0.2
+"""Modes damped beyond this ratio make no critical speed (API 617's amplification factor 2.5)."""
+
+
+def _counts(system: LinearSystem, speed: float, index: int) -> bool:
+    """True when mode ``index`` (1-based) at ``speed`` (rad/s) whirls predominantly forward and
+    is not critically damped."""
+    shapes = mode_shapes(system, speed, index)
+    k = index - 1
+    ratio = shapes.minor[k].sum() / shapes.major[k].sum()
+    return ratio > 0 and shapes.modes.modes[k].damping_ratio <= MAX_DAMPING_RATIO
 
 
 def first_forward_critical_speed(system: LinearSystem, modes: int = 6) -> float:
-    """The lowest spin speed (rad/s) at which a forward-whirling mode's damped frequency equals
-    the spin.
+    """The lowest spin speed (rad/s) at which the damped frequency of a mode whirling
+    predominantly forward, not critically damped, equals the spin (module docstring).
 
     The search runs up to twice the lowest natural frequency at rest, then doubles its range
     until a forward crossing appears (each crossing refined by ``brentq`` to 1e-10 relative).
@@ -51,7 +72,7 @@ def first_forward_critical_speed(system: LinearSystem, modes: int = 6) -> float:
         found = [
             c
             for c in linear_critical_speeds(system, top, n=modes)
-            if c.whirl == "forward" and c.speed_rad_s <= MAX_SEARCH
+            if c.speed_rad_s <= MAX_SEARCH and _counts(system, c.speed_rad_s, c.index)
         ]
         if found:
             return float(found[0].speed_rad_s)
