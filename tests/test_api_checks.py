@@ -1,5 +1,5 @@
 """API 617 close-clearance check and API 684 Level I stability, against closed forms and the
-standards' formulas (ROSS 3.1's own runs are compared in test_api_checks_ross.py)."""
+standards' formulas (ROSS 3.1's own runs are compared in test_linear_verbs_ross.py)."""
 
 from __future__ import annotations
 

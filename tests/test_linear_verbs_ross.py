@@ -1,6 +1,7 @@
-"""API 617 clearance check, API 684 Level I and the static analysis against ROSS 3.1's own
-``run_clearance_analysis``, ``run_level1`` and ``run_static`` on ROSS's example rotor (same
-unbalance, speeds, probes, cross-coupling, gravity). Skipped without ROSS 3.1
+"""API 617 clearance check, API 684 Level I, the static analysis and the frequency response
+against ROSS 3.1's own ``run_clearance_analysis``, ``run_level1``, ``run_static`` and
+``run_freq_response`` on ROSS's example rotors (same unbalance, speeds, probes, cross-coupling,
+gravity, force). Skipped without ROSS 3.1
 (``api617_unbalance`` and ``run_clearance_analysis`` are new in 3.1)."""
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ with warnings.catch_warnings():  # ROSS's import warns about REFPROP (its ccp de
 import dataclasses  # noqa: E402
 
 from rubrotor.linear.api import api617_unbalance, clearance_check, level1  # noqa: E402
+from rubrotor.linear.response import frequency_response  # noqa: E402
 from rubrotor.linear.static import static_analysis  # noqa: E402
 from rubrotor.rotors.ross import from_ross  # noqa: E402
 
@@ -98,3 +100,20 @@ def test_static_equals_ross():
     deformation = np.asarray(ref.deformation, float).ravel()
     np.testing.assert_allclose(mine.deflection[:, 1], deformation, rtol=1e-9,
                                atol=1e-9 * np.abs(deformation).max())  # fmt: skip
+
+
+def test_frequency_response_equals_ross():
+    """ROSS's run_freq_response at a fixed spin (its ``speed=``: a non-synchronous force) on
+    rotor_example_with_damping: its transfer matrix column of a force along x (our y) or y
+    (our z) at node 2, read at node 4, equals our fixed-direction force response. Measured:
+    about 1e-13."""
+    rotor = ross.rotor_example_with_damping()
+    w = np.linspace(10.0, 1500.0, 12)
+    h = np.asarray(rotor.run_freq_response(speed_range=w, speed=500.0).freq_resp)
+    system = from_ross(rotor)
+    x, dof = system.basis.nodes, int(rotor.number_dof)
+    for direction, col in ((0.0, dof * 2), (np.pi / 2, dof * 2 + 1)):
+        got = frequency_response(system, w, x[2], [x[4]], "fixed", 1.0, direction, 500.0)
+        resp = got.complex_response[:, 0]
+        np.testing.assert_allclose(resp[:, 0], h[dof * 4, col], rtol=1e-9)
+        np.testing.assert_allclose(resp[:, 1], h[dof * 4 + 1, col], rtol=1e-9)
