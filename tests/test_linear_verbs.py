@@ -19,7 +19,7 @@ from rubrotor.linear.shapes import mode_shapes
 from rubrotor.linear.static import STANDARD_GRAVITY, static_analysis
 from rubrotor.linear.ucs import ucs_map
 from rubrotor.linear.verbs import linear_system
-from rubrotor.rotors.fe import Bearing, Material, Rotor, Section
+from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section
 from rubrotor.rotors.forces import RadialLoad
 from rubrotor.rotors.linear import LinearSystem, NodalBasis, Support
 from rubrotor.rotors.shaft import Shaft
@@ -240,13 +240,35 @@ def test_ucs_map_curves_and_bearing_tables():
         ucs_map(linear_system(sc), [-1.0])
 
 
+def test_ucs_crossings_are_the_critical_speeds_on_the_bearings():
+    """Reference: the undamped natural frequencies at rest of the rotor on its own (constant,
+    isotropic, undamped-for-this-purpose) bearings, by scipy.linalg.eigh on its matrices: a
+    bearing's vertical line crosses each mode's curve there (to the log-interpolation error of
+    a 401-point stiffness grid, below 1e-4 here)."""
+    import scipy.linalg
+
+    rotor = Rotor([Section(1.0, 0.05, STEEL)], disks=[Disk(0.5, 12.0, 0.05, 0.03)],
+                  bearings=[Bearing(0.0, kyy=3e6, kzz=3e6, cyy=100.0, czz=100.0),
+                            Bearing(1.0, kyy=3e6, kzz=3e6, cyy=100.0, czz=100.0)])  # fmt: skip
+    system = rotor.linear_system()
+    data = ucs_map(system, np.logspace(5, 8, 401), n=3)
+    mx = system.matrices(0.0)
+    even = np.flatnonzero(system.free % 2 == 0)
+    p = np.ix_(even, even)
+    ref = np.sqrt(scipy.linalg.eigh(mx.K[p], mx.M[p], eigvals_only=True)[:3])
+    for c in data.crossings():
+        assert c["stiffness_N_m"] == 3e6
+        assert c["speed_rad_s"] == pytest.approx(ref[c["mode"] - 1], rel=1e-4)
+    assert len(data.crossings()) == 2 * 2 * 3
+
+
 # ---- mode shapes -------------------------------------------------------------------------------
 def test_mode_shapes_circular_whirl_on_an_isotropic_rotor():
     """Reference: on isotropic supports a spinning rotor's modes are circular, W = -i V
     (forward) or W = +i V (backward), so minor / major = +1 or -1 at every station; the
     direction per node agrees with damped_modes' whirl label."""
     rotor = Rotor([Section(1.0, 0.05, STEEL)],
-                  disks=[rubrotor.rotors.fe.Disk(0.3, 10.0, 0.08, 0.04)],
+                  disks=[Disk(0.3, 10.0, 0.08, 0.04)],
                   bearings=[Bearing(0.0, kyy=1e7, kzz=1e7, cyy=50.0, czz=50.0),
                             Bearing(1.0, kyy=1e7, kzz=1e7, cyy=50.0, czz=50.0)])  # fmt: skip
     shapes = mode_shapes(rotor.linear_system(), 800.0, n=4)

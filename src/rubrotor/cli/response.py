@@ -216,6 +216,11 @@ def ucs_run(args: argparse.Namespace) -> int:
                 for i in pick]  # fmt: skip
         heads = ["k (N/m)"] + [f"mode {j + 1}" for j in range(data.critical_speeds.shape[1])]
         print(table(heads, rows))
+        cross = [[c["bearing"], c["direction"], str(c["mode"]), f"{c['stiffness_N_m']:.4g}",
+                  f"{c['speed_rad_s']:.5g}"] for c in data.crossings()]  # fmt: skip
+        if cross:
+            print("critical speeds on the bearings (their curve crosses a mode's):")
+            print(table(["bearing", "curve", "mode", "k (N/m)", "speed (rad/s)"], cross))
     write_figure(ucs_figure(data, f"undamped critical speed map: {scenario.name}"), out, args.json)
     return 0
 

@@ -66,8 +66,31 @@ class UCSMap:
     critical_speeds: np.ndarray
     bearings: tuple
 
+    def crossings(self) -> list[dict]:
+        """Where each bearing's ``kyy`` and ``kzz`` curve crosses each mode's curve: the
+        critical speed (rad/s) on that bearing's stiffness, ``Omega = w_j(k_b(Omega))``
+        (``w_j`` interpolated linearly in ``log k``; a constant bearing crosses at
+        ``w_j(k_b)``); crossings outside the stiffness range are left out.
+
+        Returns
+        -------
+        list of dict
+            ``{"bearing", "direction", "mode", "speed_rad_s", "stiffness_N_m"}``.
+        """
+        logk = np.log(self.stiffness)
+        out = []
+        for b in self.bearings:
+            for direction, kb in (("kyy", b.kyy), ("kzz", b.kzz)):
+                for j in range(self.critical_speeds.shape[1]):
+                    hit = _crossing(logk, self.critical_speeds[:, j], b.speeds, kb)
+                    if hit is not None:
+                        out.append({"bearing": b.name, "direction": direction, "mode": j + 1,
+                                    "speed_rad_s": hit[0], "stiffness_N_m": hit[1]})  # fmt: skip
+        return out
+
     def to_dict(self) -> dict:
-        """JSON form: stiffness (N/m), critical speeds (rad/s) per mode, bearing curves."""
+        """JSON form: stiffness (N/m), critical speeds (rad/s) per mode, bearing curves and
+        their crossings."""
         return {
             "stiffness_N_m": self.stiffness.tolist(),
             "critical_speeds_rad_s": self.critical_speeds.T.tolist(),
@@ -81,7 +104,33 @@ class UCSMap:
                 }
                 for b in self.bearings
             ],
+            "crossings": self.crossings(),
         }
+
+
+def _crossing(logk, crit, speeds, kb):
+    """``(speed rad/s, k N/m)`` where ``Omega = crit(k_b(Omega))``, or None."""
+    if np.any(kb <= 0):
+        return None
+
+    def w_at(k):
+        lk = np.log(k)
+        return np.where((lk >= logk[0]) & (lk <= logk[-1]), np.interp(lk, logk, crit), np.nan)
+
+    if speeds.size == 1:
+        w = float(w_at(kb[0]))
+        return None if math.isnan(w) else (w, float(kb[0]))
+    grid = np.linspace(speeds[0], speeds[-1], 2001)
+    g = w_at(np.interp(grid, speeds, kb)) - grid
+    idx = np.flatnonzero(
+        np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (np.sign(g[:-1]) != np.sign(g[1:]))
+    )
+    if not idx.size:
+        return None
+    i = idx[0]
+    t = g[i] / (g[i] - g[i + 1])
+    w = float(grid[i] + t * (grid[i + 1] - grid[i]))
+    return w, float(np.interp(w, speeds, kb))
 
 
 def _curve(s: Support) -> BearingCurve:

@@ -174,7 +174,8 @@ def mode_shape_figure(system: LinearSystem, mode: DampedMode, phases: int = 8) -
 
 def ucs_figure(data: UCSMap, title: str = "undamped critical speed map") -> Figure:
     """Critical speeds against support stiffness (log-log), with the bearings' ``kyy`` and
-    ``kzz`` against spin speed over them; a crossing is a critical speed on that bearing.
+    ``kzz`` against spin speed over them; a crossing (gold diamond) is a critical speed on that
+    bearing.
 
     Parameters
     ----------
@@ -201,6 +202,10 @@ def ucs_figure(data: UCSMap, title: str = "undamped critical speed map") -> Figu
         kz = b.kzz if b.speeds.size > 1 else np.repeat(b.kzz, 2)
         ax.loglog(ky, np.maximum(speeds, low), f"C{i}-", marker="o", ms=3, label=f"{b.name} kyy")
         ax.loglog(kz, np.maximum(speeds, low), f"C{i}--", marker="s", ms=3, label=f"{b.name} kzz")
+    cross = data.crossings()
+    if cross:
+        ax.plot([c["stiffness_N_m"] for c in cross], [c["speed_rad_s"] for c in cross], "D",
+                mfc="gold", mec="k", ms=6, label="critical speed on a bearing")  # fmt: skip
     ax.set(xlabel="support stiffness (N/m)", ylabel="critical speed (rad/s)", title=title,
            xlim=(data.stiffness[0], data.stiffness[-1]), ylim=(low, top))  # fmt: skip
     ax.grid(alpha=0.3, which="both")
