@@ -67,6 +67,23 @@ def test_monodromy_equals_central_differences(seal, orbit):
     assert np.all(np.abs(mu) < 1) and abs(mu[0]) > 0.5  # a contracting rub orbit, not trivial
 
 
+def test_monodromy_through_contact_onset_and_separation(tmp_path, orbit):
+    """The same rotor with the clearance opened to 46 um, from the 40 um orbit's state: the
+    revolution starts in contact, separates and touches again (101 of 128 steps in contact,
+    two events), so the propagated derivative crosses free steps, a separation step and an
+    onset step; it equals central differences to 1e-6 of its largest entry (measured 9.5e-10)."""
+    path = tmp_path / "wide.toml"
+    path.write_text(SEAL.read_text().replace("clearance = 40e-6", "clearance = 46e-6"))
+    mp = GeneralMap(load_scenario(path).with_changes(**{"speed.rad_per_s": 600.0}), 1, STEPS)
+    _, out, events = mp._kernel(orbit.state)
+    fn = out[4 * len(mp.plant.stations) + 6, 1:]
+    assert 0 < np.sum(fn > 0) < STEPS and len(events) >= 2
+    px, jac, _, grazes = mp.tangent(orbit.state)
+    px_d, jac_d, _ = mp.differences(orbit.state)
+    assert grazes == 0 and _rel(px, px_d) < 1e-12
+    assert _rel(jac, jac_d) < 1e-6
+
+
 def test_speed_family_plant_equals_dense_rebuild(seal, orbit):
     """Plants at 600 (the anchor), 612 (2 % away, same basis) and 640 rad/s (beyond
     ANCHOR_SPAN: a new anchor) from the speed family equal the engine's dense rebuild there,
