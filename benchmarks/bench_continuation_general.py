@@ -110,8 +110,9 @@ def compare(old, new, sc):
     their points at different key values, so points are compared at equal key values)."""
     first = GeneralMap(sc.with_changes(**{KEY: 600.0}), 1, STEPS)
     print(f"today's points re-shot on the previous route's maps: states equal to "
-          f"{reshot(new, first, 'previous'):.1e}; the previous route's points on today's: "
-          f"{reshot(old, first, 'today'):.1e} (relative)")  # fmt: skip
+          f"{reshot(new, first, 'previous'):.1e}; the previous route's points on today's "
+          f"maps: {reshot(old, first, 'today'):.1e}, on its own: "
+          f"{reshot(old, first, 'previous'):.1e} (relative; its corrector stops at 1e-6)")  # fmt: skip
 
 
 def long_branch(sc):

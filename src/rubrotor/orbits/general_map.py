@@ -116,8 +116,10 @@ class GeneralMap:
 
         if self.family is None:
             self.family = SpeedFamily(*self._problem, self.plant)
+        family = self.family if self.family.usable else None  # else rebuilt (non-symmetric
+        # mass, stiffness or damping bands: no transposed problem to reuse)
         return GeneralMap(self.scenario, self.k, self.steps, speed, self.reference or self,
-                          self.family)  # fmt: skip
+                          family)  # fmt: skip
 
     def repeat(self, k: int) -> GeneralMap:
         """The same map over ``k`` revolutions (the same plant and step coefficients)."""

@@ -68,6 +68,15 @@ class SpeedFamily:
         ``stations``, ``unbalances``, ``loads``, ``gravity`` (as :func:`build_plant`).
     plant : Plant
         The dense plant at ``run.speed`` (stator parts, contact laws, positions).
+
+    Attributes
+    ----------
+    usable : bool
+        Whether the rotor allows it: symmetric mass, stiffness and damping, skew gyroscopic
+        matrix, as many sub- as super-diagonals (the left eigenproblem is solved on the same
+        banded factors, transposed). Otherwise :meth:`GeneralMap.at_speed` rebuilds the plant.
+    anchors : list of rubrotor.engine.reduce.SpeedBasis
+        The bases built so far.
     """
 
     def __init__(self, system, run, kw, plant: Plant):
@@ -92,6 +101,13 @@ class SpeedFamily:
         positions = plant.stations
         self.orow = np.vstack([system.output_rows(x) for x in positions])
         self.parts = _band_parts(system, np.array([self.speed0]))
+        f = np.ix_(system.free, system.free)
+        # the left problem reuses the bands transposed: M, K, C symmetric (G skew), kl = ku
+        self.usable = (
+            self.parts.kl == self.parts.ku
+            and all(np.array_equal(a[f], a[f].T) for a in (system.M, system.K, system.C))
+            and np.array_equal(system.G[f], -system.G[f].T)
+        )
         b1 = np.zeros(n, complex)
         for u in kw["unbalances"]:
             b1 += unbalance_phasor(u, 1.0) * (system.force_map(u.position) @ np.array([1, -1j]))
