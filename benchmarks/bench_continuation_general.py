@@ -20,10 +20,11 @@ The routes' correctors place their points at different speeds, so each route's p
 re-shot (Newton to 1e-12) on the other route's maps at their speeds. Then a 200-point branch
 over 600-800 rad/s on today's route, timed.
 
-Measured 2026-11-25 on the shared 2-core machine (load ~9): marginal 1701 ms CPU (5.9 s wall)
-per point on the previous route, 14.4 ms CPU (21.7 ms wall) today: 118x CPU, 272x wall;
-today's points equal the previous route's fixed points to 1.2e-9; 200 points from 600 to
-794 rad/s in 13.8 s wall (4.1 s CPU).
+Measured 2026-11-25 on the shared 2-core machine (load 7-9, so wall times are inflated):
+marginal 1758 ms CPU (5.6 s wall) per point on the previous route, 14.7 ms CPU (43 ms wall)
+today: 119x CPU, 129x wall. Today's points equal the previous route's fixed points to 1.2e-9;
+the previous route's own points sit 1.4e-6 from its maps' fixed points and from today's alike
+(its corrector stops at 1e-6). 200 points from 600 to 798 rad/s in 15.2 s wall (4.3 s CPU).
 
 Run: ``PYTHONPATH=src OPENBLAS_NUM_THREADS=1 python benchmarks/bench_continuation_general.py``.
 """
