@@ -259,8 +259,9 @@ class _Problem:
         """Scaled ``G / s_x``, its Jacobian in ``z`` and the monodromy matrix at ``z``.
 
         The monodromy comes from the map's variational equations (one run); the derivative in
-        the key by central differences of the map at ``p +- 1e-6 |p|``. The largest radius of
-        the run is kept for :meth:`radius`.
+        the key by central differences of the map at ``p +- h_rel |p|`` (forward, at
+        ``p + h_rel |p|``, where ``central`` is False). The largest radius of the run is kept
+        for :meth:`radius`.
         """
         x, p = self.unscale(z)
         px, jac, rmax = self.map_at(p, steps).run(x, True)
