@@ -160,3 +160,20 @@ def test_band_solve_transposed_equals_dense_solve():
         solve(ab, kl, ku, ipiv, x)
         ref = scipy.linalg.solve(mat, b)
         assert np.max(np.abs(x - ref)) < 1e-12 * np.max(np.abs(ref))
+
+
+def test_pseudo_arclength_chord_with_exact_gx(seal, monkeypatch):
+    """Where Newton at the predicted speed is refused (near a fold), the pseudo-arclength
+    chord with the exact ``G_x`` at every iterate corrects the point: forced here on every
+    point, the branch advances in speed and its points are fixed points of their maps (re-shot
+    by Newton to 1e-12 they move by less than 1e-6 of the state, the corrector's tolerance)."""
+    from rubrotor.orbits import continuation
+
+    monkeypatch.setattr(continuation, "_fixed_key", lambda *args, **kw: None)
+    branch = continuation.continue_orbit(seal, "speed.rad_per_s", 600.0, 620.0, points=3,
+                                         steps=STEPS)  # fmt: skip
+    first = GeneralMap(seal, 1, STEPS)
+    for p in branch.points[1:]:
+        x = shooting.newton_orbit(first.at_speed(p.value), p.state, tol=1e-12)[0]
+        assert _rel(x, p.state) < 1e-6
+    assert branch.points[-1].value > branch.points[1].value > 600.0
