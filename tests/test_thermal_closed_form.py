@@ -53,8 +53,11 @@ def test_closed_form_equals_a_numerical_route(speed):
     hc, hb, zu = jeffcott_receptances(M, K, C, speed, UNB)
     lin = closed_form(hc, hb, zu, speed=speed, clearance=G, contact_stiffness=KC,
                       friction=MU, radius=R, thermal=TH)  # fmt: skip
-    b0 = scipy.optimize.root(lambda v: _rate(v, speed) * TH.time_constant,
-                             [lin.bow[0].real * 1.1, lin.bow[0].imag * 0.9], tol=1e-15).x
+    b0 = scipy.optimize.root(
+        lambda v: _rate(v, speed) * TH.time_constant,
+        [lin.bow[0].real * 1.1, lin.bow[0].imag * 0.9],
+        tol=1e-15,
+    ).x
     assert abs(complex(*b0) - lin.bow[0]) < 1e-7 * abs(lin.bow[0])
     assert abs(abs(lin.high_spot[0]) - G) > 0.05 * G  # well in contact: the law is exercised
     h = 1e-4 * abs(lin.bow[0])

@@ -210,3 +210,336 @@ def closed_form(contact, bow, unbalance_response, *, speed, clearance, contact_s
     bow0 = thermal.bow_per_heat * rot * heat
     jac = (m - np.eye(2)) / thermal.time_constant  # on [Re v, Im v]; a rotation of delta b
     return _summary(speed, bow0, rho * direction, heat, jac)
+
+
+# ---- the model on any general rotor ----------------------------------------------------------
+ORBIT_TOL = 1e-12
+"""Relative Newton step (dimensionless) at which a steady orbit counts as converged."""
+
+FD_BOW = 1e-4
+"""Relative increment of the central differences of the slow dynamics (of the bow scale)."""
+
+
+def arc_shape(system, supports: tuple[float, float], station: float) -> np.ndarray:
+    """The ``"arc"`` bow shape as a forward complex vector on the free DOFs.
+
+    A uniform curvature (to first order the parabola ``(x - x_a)(x - x_b)``) through the two
+    supports ``x_a, x_b`` (m), scaled to a deflection of 1 at ``station`` (m). Nodal values are
+    the parabola and its slope (the rotation DOFs of :class:`~rubrotor.rotors.linear.NodalBasis`
+    are slopes; constant curvature has no shear, so rotation and slope agree for Timoshenko
+    elements too). The bow deflection ``Re(b e^{i Omega t} Phi)`` turns with the rotor:
+    ``Phi = phi_y - i phi_z``.
+    """
+    xa, xb = supports
+    scale = (station - xa) * (station - xb)
+    if abs(scale) <= 1e-12 * max(abs(xb - xa), 1e-12) ** 2:
+        raise InputError("contact.position", station, "a contact station off the bearings "
+                         "(the arc bow is zero there)")  # fmt: skip
+    nodes = system.basis.nodes
+    val = (nodes - xa) * (nodes - xb) / scale
+    slope = (2 * nodes - xa - xb) / scale
+    full = np.zeros(system.M.shape[0], complex)
+    full[0::4], full[2::4] = val, slope  # v and its slope
+    full[1::4], full[3::4] = -1j * val, -1j * slope  # w, a quarter turn behind
+    return full[system.free]
+
+
+def _supports(scenario) -> tuple[float, float]:
+    xs = sorted(b.position for b in scenario.rotor.bearings)
+    if len(xs) < 2:
+        raise ScenarioError("bearing", len(xs), "two bearings at least (the arc bow's supports)")
+    return xs[0], xs[-1]
+
+
+class ThermalModel:
+    """Thermal bow on a general rotor at one constant speed (module docstring).
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        A general (``[[section]]``) rotor with its ``[[contact]]`` stations, unbalances,
+        stators, gravity, and ``[simulation] probes`` (m) for the 1X vectors.
+    thermal : ThermalBow, optional
+        Default ``scenario.thermal`` (the ``[thermal]`` table).
+    speed : float, optional
+        Spin speed (rad/s), default the scenario's.
+    steps : int
+        Fixed steps per revolution of the orbit map (its error is second order in the step).
+
+    Attributes
+    ----------
+    stations : ndarray
+        Contact positions (m), then probe positions (m).
+    """
+
+    def __init__(self, scenario, thermal: ThermalBow | None = None, *, speed=None, steps=1024):
+        from rubrotor.engine.driver import _particular
+        from rubrotor.orbits.general_map import GeneralMap
+
+        thermal = thermal or getattr(scenario, "thermal", None)
+        if thermal is None:
+            raise ScenarioError("thermal", None, "a [thermal] table (time_constant, bow_per_heat)")
+        if not scenario.model.fe_rotor:
+            raise ScenarioError("shaft", "a [shaft] rotor", "a general [[section]] rotor for "
+                                "the thermal bow (its shape is set between the bearings)")  # fmt: skip
+        sim = scenario.simulation
+        probes = tuple(sim.probes) if sim is not None else ()
+        self.scenario, self.thermal = scenario, thermal
+        self.map = GeneralMap(scenario, 1, steps, speed, probes=probes)
+        self.speed, self.steps = self.map.speed, steps
+        plant, system = self.map.plant, self.map.system
+        self._base = plant
+        self._st = scenario.engine.stations
+        self.stations = np.asarray(plant.stations, float)
+        sm = system.matrices(self.speed)
+        ks = system.K[np.ix_(system.free, system.free)]  # the shaft alone: no bearings
+        sup = _supports(scenario)
+        self._q_bow = [_particular(sm, ks @ arc_shape(system, sup, s.contact.position), self.speed)
+                       for s in self._st]  # fmt: skip
+        self._rows = np.vstack([system.output_rows(x) for x in plant.stations])
+        self._x = self.map.start()
+        self._lu = None
+
+    @property
+    def n_contacts(self) -> int:
+        """Number of contact stations (one bow each)."""
+        return len(self._st)
+
+    def _set_bow(self, b: np.ndarray) -> None:
+        """Put the bows ``b`` (m) into the map's steady forced response (no re-reduction)."""
+        p = self._base
+        q = p.q_unbalance + sum(bj * qj for bj, qj in zip(b, self._q_bow, strict=True))
+        pu = p.Bmat.T @ q
+        opu = self._rows @ q
+        iw = 1j * self.speed
+        self.map.plant = dataclasses.replace(
+            p, q_unbalance=q, contacts=p.contacts._replace(Pu=pu, Pv=iw * pu),
+            outputs=p.outputs._replace(OPu=opu, OPv=iw * opu),
+        )  # fmt: skip
+
+    def _newton(self) -> np.ndarray:
+        """Chord Newton on ``P(x) = x`` from the last orbit, refreshing the Jacobian when it
+        stops contracting."""
+        mp, x = self.map, self._x.copy()
+        eye, last = np.eye(x.size), math.inf
+        for _ in range(60):
+            if self._lu is None:
+                px, jac, _ = mp.run(x, True)
+                self._lu = scipy.linalg.lu_factor(jac - eye)
+            else:
+                px = mp.run(x)[0]
+            dx = scipy.linalg.lu_solve(self._lu, x - px)
+            step = np.linalg.norm(dx)
+            if step > 0.5 * last:  # stale Jacobian: refresh and redo from here
+                self._lu, last = None, math.inf
+                continue
+            x, last = x + dx, step
+            if step <= ORBIT_TOL * max(np.linalg.norm(x), 1e-30):
+                self._x = x
+                return x
+        raise InputError("thermal", "no steady orbit", "a bow near a bounded steady orbit")
+
+    def orbit(self, b) -> dict:
+        """The steady orbit under the bows ``b`` (m, complex, one per contact).
+
+        Returns
+        -------
+        dict
+            ``heat`` (W, complex per contact: revolution-averaged friction power ``|F_t| R
+            Omega`` as a vector at the contact point, rotor-fixed frame), ``high_spot`` (m,
+            complex per contact: 1X of the deflection relative to the stator centre),
+            ``one_x`` (m, complex, shape (stations, 2): the 1X phasors ``2 <v e^{-i Omega t}>``
+            and ``2 <w e^{-i Omega t}>`` of every contact and probe station).
+        """
+        self._set_bow(np.asarray(b, complex))
+        x = self._newton()
+        _, out, _ = self.map._kernel(x, 1)
+        out = out[:, 1:]  # sample k at t = k h, k = 1..steps (the last is t = T, angle 0)
+        ph = np.exp(-1j * 2 * np.pi * np.arange(1, out.shape[1] + 1) / out.shape[1])
+        n_st = len(self.stations)
+        v, w = out[0 : 4 * n_st : 4], out[1 : 4 * n_st : 4]
+        one_x = np.stack([2 * (v * ph).mean(axis=1), 2 * (w * ph).mean(axis=1)], axis=1)
+        heat, high = [], []
+        for i, st in enumerate(self._st):
+            r = 4 * n_st + 8 * i
+            p = (v[i] - out[r] - st.offset_y) + 1j * (w[i] - out[r + 1] - st.offset_z)
+            unit = np.where(np.abs(p) > 0, p / np.where(np.abs(p) > 0, np.abs(p), 1.0), 0)
+            power = np.abs(out[r + 7]) * st.contact.radius * self.speed
+            heat.append(np.mean(power * unit * ph))
+            high.append(np.mean(p * ph))
+        return {"heat": np.array(heat), "high_spot": np.array(high), "one_x": one_x}
+
+    def rate(self, bvec: np.ndarray) -> np.ndarray:
+        """Slow dynamics ``db/dt`` (m/s) on the real vector ``[Re b, Im b]`` (m)."""
+        n = self.n_contacts
+        b = bvec[:n] + 1j * bvec[n:]
+        th = self.thermal
+        rot = complex(math.cos(th.hot_spot_lag), -math.sin(th.hot_spot_lag))
+        db = (-b + th.bow_per_heat * rot * self.orbit(b)["heat"]) / th.time_constant
+        return np.concatenate([db.real, db.imag])
+
+    def _jacobian(self, bvec: np.ndarray, scale: float) -> np.ndarray:
+        h = FD_BOW * scale
+        cols = []
+        for j in range(bvec.size):
+            e = np.zeros(bvec.size)
+            e[j] = h
+            cols.append((self.rate(bvec + e) - self.rate(bvec - e)) / (2 * h))
+        return np.column_stack(cols)
+
+    def _scale(self, bvec) -> float:
+        gap = min(s.contact.clearance for s in self._st)
+        return max(float(np.max(np.abs(bvec))), gap)
+
+    def steady(self, guess=None, max_iter: int = 20) -> SlowLinear:
+        """The steady bow (Newton on ``db/dt = 0``) and the slow dynamics linearised about it.
+
+        Parameters
+        ----------
+        guess : array of complex, optional
+            Start bows (m); default the bow the no-bow orbit's heat drives.
+        max_iter : int
+            Newton iterations at most.
+
+        Returns
+        -------
+        SlowLinear
+        """
+        n = self.n_contacts
+        if guess is None:
+            th = self.thermal
+            rot = complex(math.cos(th.hot_spot_lag), -math.sin(th.hot_spot_lag))
+            guess = th.bow_per_heat * rot * self.orbit(np.zeros(n))["heat"]
+        g = np.asarray(guess, complex)
+        bvec = np.concatenate([g.real, g.imag])
+        for _ in range(max_iter):
+            r = self.rate(bvec)
+            jac = self._jacobian(bvec, self._scale(bvec))
+            dx = np.linalg.solve(jac, -r)
+            bvec = bvec + dx
+            if np.linalg.norm(dx) <= 1e-11 * self._scale(bvec):
+                break
+        else:
+            raise InputError("thermal", "no steady bow", "a guess nearer a steady bow")
+        jac = self._jacobian(bvec, self._scale(bvec))
+        b = bvec[:n] + 1j * bvec[n:]
+        orb = self.orbit(b)
+        return _summary(self.speed, b, orb["high_spot"], orb["heat"], jac)
+
+
+def growth_against_speed(scenario, speeds, *, thermal: ThermalBow | None = None,
+                         steps: int = 1024) -> list[SlowLinear]:  # fmt: skip
+    """Steady bow, growth rate and spiral period of a general rotor at each speed.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        A general rotor with contacts and a ``[thermal]`` table (or ``thermal``).
+    speeds : sequence of float
+        Spin speeds (rad/s), > 0.
+    thermal : ThermalBow, optional
+        Instead of the scenario's ``[thermal]`` table.
+    steps : int
+        Fixed steps per revolution of the orbit map.
+
+    Returns
+    -------
+    list of SlowLinear
+        One per speed; the steady bow found at one speed starts Newton at the next.
+    """
+    out, guess = [], None
+    for w in np.asarray(speeds, float):
+        if not w > 0:
+            raise InputError("--speeds", float(w), "spin speeds > 0 (rad/s)")
+        model = ThermalModel(scenario, thermal, speed=float(w), steps=steps)
+        lin = model.steady(guess)
+        guess = lin.bow
+        out.append(lin)
+    return out
+
+
+def slow_run(model: ThermalModel, duration: float, *, bow=None, samples: int = 200,
+             rtol: float = 1e-8, max_bow: float | None = None):  # fmt: skip
+    """Integrate the slow (thermal) dynamics over ``duration`` seconds of machine time.
+
+    Parameters
+    ----------
+    model : ThermalModel
+        The rotor at its speed.
+    duration : float
+        Machine time (s), > 0 (hours are thousands of seconds).
+    bow : array of complex, optional
+        Start bows (m) per contact; default 0 (a straight rotor: the rub starts).
+    samples : int
+        Output samples (>= 2), evenly spaced in time.
+    rtol : float
+        Relative tolerance of :func:`scipy.integrate.solve_ivp` (RK45).
+    max_bow : float, optional
+        Stop (status ``"runaway"``) when a bow exceeds this (m); default 50 clearances.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``one_x`` (m, complex as ``one_x_real``/``one_x_imag`` on ``(time, station, axis)``:
+        the 1X phasors of ``v`` and ``w`` at the contacts then the probes), ``bow_real/imag``
+        (m) and ``heat_real/imag`` (W) on ``(time, contact)``; attributes ``status``
+        (``"complete"`` or ``"runaway"``), ``speed_rad_s`` and the thermal parameters.
+    """
+    import scipy.integrate
+
+    if not (isinstance(duration, int | float) and duration > 0 and math.isfinite(duration)):
+        raise InputError("duration", duration, "a machine time > 0 (s)")
+    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
+        raise InputError("samples", samples, "an integer >= 2")
+    n = model.n_contacts
+    b0 = np.zeros(n, complex) if bow is None else np.asarray(bow, complex)
+    gap = max(s.contact.clearance for s in model._st)
+    limit = 50 * gap if max_bow is None else float(max_bow)
+
+    def runaway(t, y):
+        return limit - np.max(np.hypot(y[:n], y[n:]))
+
+    runaway.terminal = True
+    t_eval = np.linspace(0.0, float(duration), samples)
+    sol = scipy.integrate.solve_ivp(lambda t, y: model.rate(y), (0.0, float(duration)),
+                                    np.concatenate([b0.real, b0.imag]), method="RK45",
+                                    t_eval=t_eval, rtol=rtol, atol=1e-9 * gap,
+                                    events=runaway)  # fmt: skip
+    status = "runaway" if sol.status == 1 else "complete"
+    if sol.status == -1:
+        raise InputError("thermal", sol.message, "a slow run that the integrator completes")
+    return _slow_dataset(model, sol.t, sol.y, status)
+
+
+def _slow_dataset(model: ThermalModel, t, y, status: str):
+    import xarray as xr
+
+    n = model.n_contacts
+    bows = y[:n].T + 1j * y[n:].T
+    orbits = [model.orbit(b) for b in bows]
+    one_x = np.array([o["one_x"] for o in orbits])
+    heat = np.array([o["heat"] for o in orbits])
+    th = model.thermal
+    tdim, sdim = ("time",), ("time", "station", "axis")
+    data = {
+        "one_x_real": (sdim, one_x.real, {"units": "m", "long_name": "1X phasor, real part"}),
+        "one_x_imag": (sdim, one_x.imag, {"units": "m", "long_name": "1X phasor, imaginary"}),
+        "bow_real": (tdim + ("contact",), bows.real, {"units": "m"}),
+        "bow_imag": (tdim + ("contact",), bows.imag, {"units": "m"}),
+        "heat_real": (tdim + ("contact",), heat.real, {"units": "W"}),
+        "heat_imag": (tdim + ("contact",), heat.imag, {"units": "W"}),
+    }
+    coords = {
+        "time": ("time", t, {"units": "s", "long_name": "machine time"}),
+        "station": ("station", model.stations, {"units": "m", "long_name": "axial position"}),
+        "axis": ("axis", ["y", "z"]),
+        "contact": ("contact", np.arange(n)),
+    }
+    attrs = {
+        "status": status, "speed_rad_s": model.speed, "n_contacts": n,
+        "time_constant_s": th.time_constant, "bow_per_heat_m_per_W": th.bow_per_heat,
+        "hot_spot_lag_rad": th.hot_spot_lag, "bow_shape": th.bow_shape,
+        "scenario_name": model.scenario.name, "scenario": model.scenario.source,
+        "steps_per_revolution": model.steps,
+    }  # fmt: skip
+    return xr.Dataset(data, coords, attrs)
