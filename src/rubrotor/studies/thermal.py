@@ -323,11 +323,15 @@ class ThermalModel:
         mp, x = self.map, self._x.copy()
         eye, last = np.eye(x.size), math.inf
         for _ in range(60):
-            if self._lu is None:
-                px, jac, _ = mp.run(x, True)
-                self._lu = scipy.linalg.lu_factor(jac - eye)
-            else:
-                px = mp.run(x)[0]
+            try:
+                if self._lu is None:
+                    px, jac, _ = mp.run(x, True)
+                    self._lu = scipy.linalg.lu_factor(jac - eye)
+                else:
+                    px = mp.run(x)[0]
+            except InputError:
+                self._lu = None
+                raise
             dx = scipy.linalg.lu_solve(self._lu, x - px)
             step = np.linalg.norm(dx)
             if step > 0.5 * last:  # stale Jacobian: refresh and redo from here
@@ -391,6 +395,21 @@ class ThermalModel:
         gap = min(s.contact.clearance for s in self._st)
         return max(float(np.max(np.abs(bvec))), gap)
 
+    def _backtrack(self, bvec, dx, norm0):
+        """``bvec + t dx`` for the largest ``t = 2^-k`` whose orbit exists and whose rate is
+        smaller than ``norm0`` (a step at the rounding level is taken as it is)."""
+        if np.linalg.norm(dx) <= 1e-9 * self._scale(bvec):
+            return bvec + dx
+        t = 1.0
+        for _ in range(12):
+            try:
+                if np.linalg.norm(self.rate(bvec + t * dx)) < norm0:
+                    return bvec + t * dx
+            except InputError:  # a diverging orbit: the step went too far
+                self._lu = None
+            t /= 2
+        raise InputError("thermal", "no steady bow", "a guess nearer a steady bow")
+
     def steady(self, guess=None, max_iter: int = 20) -> SlowLinear:
         """The steady bow (Newton on ``db/dt = 0``) and the slow dynamics linearised about it.
 
@@ -416,7 +435,8 @@ class ThermalModel:
             r = self.rate(bvec)
             jac = self._jacobian(bvec, self._scale(bvec))
             dx = np.linalg.solve(jac, -r)
-            bvec = bvec + dx
+            dx *= min(1.0, 2 * self._scale(bvec) / max(np.linalg.norm(dx), 1e-300))
+            bvec = self._backtrack(bvec, dx, np.linalg.norm(r))
             if np.linalg.norm(dx) <= 1e-11 * self._scale(bvec):
                 break
         else:
@@ -445,15 +465,25 @@ def growth_against_speed(scenario, speeds, *, thermal: ThermalBow | None = None,
     Returns
     -------
     list of SlowLinear
-        One per speed; the steady bow found at one speed starts Newton at the next.
+        One per speed; the steady bow found at one speed starts Newton at the next. Where no
+        steady bow is found (its orbit diverges, Newton fails) every value is nan.
     """
     out, guess = [], None
     for w in np.asarray(speeds, float):
         if not w > 0:
             raise InputError("--speeds", float(w), "spin speeds > 0 (rad/s)")
         model = ThermalModel(scenario, thermal, speed=float(w), steps=steps)
-        lin = model.steady(guess)
-        guess = lin.bow
+        try:
+            try:
+                lin = model.steady(guess)
+            except InputError:
+                if guess is None:
+                    raise
+                lin = model.steady(None)  # the last speed's bow was too far: start afresh
+        except InputError:  # no steady bow found (e.g. no steady orbit at the bow): nan
+            nan = np.full(model.n_contacts, complex(math.nan, math.nan))
+            lin = SlowLinear(float(w), nan, nan, nan, np.full(2, nan[0]), math.nan, math.nan)
+        guess = None if math.isnan(lin.growth_rate) else lin.bow
         out.append(lin)
     return out
 
