@@ -59,9 +59,9 @@ from rubrotor.rotors.forces import (
     Contact,
     ModalDamping,
     RadialLoad,
+    ThermalBow,
     Unbalance,
     restitution_damping,
-    ThermalBow,
 )
 from rubrotor.rotors.shaft import Dimensionless, Shaft
 from rubrotor.scenario.dynamics import Builders, EngineSpec, engine_spec_or_none, split_engine_keys
