@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
 
 __all__ = ["spiral_figure", "growth_figure"]
 
@@ -45,6 +46,8 @@ def spiral_figure(ds, axis: str = "y") -> Figure:
         sc = ax.scatter(np.angle(z), np.abs(z), c=hours, cmap="viridis", s=12, zorder=3)
         ax.plot(np.angle(z[0]), abs(z[0]), "o", mfc="none", mec="k", ms=9)
         ax.plot(np.angle(z[-1]), abs(z[-1]), "s", mfc="none", mec="k", ms=9)
+        ax.yaxis.set_major_locator(MaxNLocator(4))
+        ax.tick_params(labelsize=8)
         kind = "contact" if i < int(ds.attrs.get("n_contacts", 0)) else "probe"
         ax.set_title(f"{kind} at {stations[i]:.3g} m: 1X {axis} (um)", fontsize=10)
     fig.colorbar(sc, ax=axes, label="machine time (h)", shrink=0.8)
