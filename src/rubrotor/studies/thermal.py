@@ -18,7 +18,7 @@ documentation page ``docs/guide/thermal.md``):
 the contact station) with a linear contact law exactly: steady state, eigenvalues of the slow
 dynamics, growth rate and spiral period. :class:`ThermalModel` solves any general rotor the
 engine runs: steady orbits by shooting on the engine's map
-(:mod:`rubrotor.orbits.general_map`), the slow dynamics by :func:`scipy.integrate.solve_ivp`,
+(``rubrotor.orbits.general_map``), the slow dynamics by :func:`scipy.integrate.solve_ivp`,
 the linearisation about the steady bow by central differences.
 """
 
