@@ -216,6 +216,9 @@ def closed_form(contact, bow, unbalance_response, *, speed, clearance, contact_s
 ORBIT_TOL = 1e-12
 """Relative Newton step (dimensionless) at which a steady orbit counts as converged."""
 
+TRANSIENT = 200
+"""Revolutions simulated before a second Newton attempt on a steady orbit."""
+
 FD_BOW = 1e-4
 """Relative increment of the central differences of the slow dynamics (of the bow scale)."""
 
@@ -318,13 +321,24 @@ class ThermalModel:
         )  # fmt: skip
 
     def _newton(self) -> np.ndarray:
-        """Chord Newton on ``P(x) = x`` from the last orbit, refreshing the Jacobian when it
-        stops contracting."""
-        mp, x = self.map, self._x.copy()
+        """Steady orbit from the last one; if Newton fails, once more after a transient of
+        :data:`TRANSIENT` revolutions (an orbit entering or leaving contact)."""
+        try:
+            return self._chord(self._x)
+        except InputError:
+            self._lu = None
+            x0 = self.map.repeat(TRANSIENT).run(self.map.start())[0]
+            return self._chord(x0)
+
+    def _chord(self, x0: np.ndarray) -> np.ndarray:
+        """Chord Newton on ``P(x) = x`` from ``x0``, refreshing the Jacobian when it stops
+        contracting (a fresh Jacobian's step is always taken)."""
+        mp, x = self.map, np.array(x0, float)
         eye, last = np.eye(x.size), math.inf
-        for _ in range(60):
+        for _ in range(80):
+            fresh = self._lu is None
             try:
-                if self._lu is None:
+                if fresh:
                     px, jac, _ = mp.run(x, True)
                     self._lu = scipy.linalg.lu_factor(jac - eye)
                 else:
@@ -334,8 +348,8 @@ class ThermalModel:
                 raise
             dx = scipy.linalg.lu_solve(self._lu, x - px)
             step = np.linalg.norm(dx)
-            if step > 0.5 * last:  # stale Jacobian: refresh and redo from here
-                self._lu, last = None, math.inf
+            if step > 0.5 * last and not fresh:  # stale Jacobian: refresh and redo from here
+                self._lu = None
                 continue
             x, last = x + dx, step
             if step <= ORBIT_TOL * max(np.linalg.norm(x), 1e-30):
