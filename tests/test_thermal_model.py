@@ -102,3 +102,46 @@ def test_slow_run_grows_at_the_linearised_rate():
     sigma = math.log(dev[-1] / dev[0]) / t_end
     assert abs(sigma - lin.growth_rate) < 1e-3 * abs(lin.growth_rate)
     assert ds.attrs["status"] == "complete"
+
+
+def test_unstable_bow_settles_into_a_limit_cycle():
+    """The shipped rotor with a stiff seal and a trailing hot spot: the steady bow is unstable
+    (growth > 0, a spiral) while the large-orbit limit (heat proportional to the vibration
+    vector, the closed form's s = 1 with the model's own receptances) is damped; the slow run
+    from a straight rotor stays bounded near the steady bow over 10 spiral periods and loses
+    the rub on part of its cycle (zero heat): a limit cycle, not a runaway."""
+    from importlib import resources
+
+    from rubrotor.scenario.load import load_scenario, scenario_to_dict
+
+    spec = scenario_to_dict(load_scenario(resources.files("rubrotor") / "scenarios" /
+                                          "thermal_rub.toml"))  # fmt: skip
+    spec["contact"][0]["stiffness"] = 2e6
+    spec["thermal"].update(hot_spot_lag=1.4, bow_per_heat=1e-6)
+    model = ThermalModel(scenario_from_dict(spec), steps=256)
+    lin = model.steady()
+    assert lin.growth_rate > 0 and math.isfinite(lin.spiral_period)
+    th = model.thermal
+    gain = th.bow_per_heat * 0.3 * 0.07 * model.speed * 2e6
+    system = model.map.system  # forward receptances by a dense solve of the full model
+    sm = system.matrices(model.speed)
+    dyn = sm.K - model.speed**2 * sm.M + 1j * model.speed * sm.damping
+    rows = system.output_rows(0.6)
+
+    def fwd(f):
+        q = np.linalg.solve(dyn, f)
+        return (rows[0] @ q + 1j * (rows[1] @ q)) / 2
+
+    ks = system.K[np.ix_(system.free, system.free)]
+    hb = fwd(ks @ arc_shape(system, (0.05, 1.15), 0.6))
+    hc = fwd(system.force_map(0.6) @ np.array([1, -1j]))
+    lam_large = -1 + gain * np.exp(-1j * th.hot_spot_lag) * hb / (1 + 2e6 * (1 + 0.3j) * hc)
+    assert lam_large.real < 0
+    ds = slow_run(model, 10 * lin.spiral_period, samples=40, rtol=1e-6)
+    assert ds.attrs["status"] == "complete"
+    b = ds.bow_real.values[:, 0] + 1j * ds.bow_imag.values[:, 0]
+    late = np.abs(b[20:] - lin.bow[0])
+    assert late.max() < 0.6 * abs(lin.bow[0])  # bounded, not running away
+    assert late.min() > 1e-3 * abs(lin.bow[0])  # and not settled on the unstable steady bow
+    heat = np.hypot(ds.heat_real.values[20:, 0], ds.heat_imag.values[20:, 0])
+    assert heat.min() == 0.0 and heat.max() > 0.0  # the rub is lost over part of the cycle
