@@ -36,6 +36,7 @@ from rubrotor.rotors.forces import ThermalBow
 
 __all__ = [
     "SlowLinear",
+    "arc_shape",
     "closed_form",
     "jeffcott_receptances",
     "ThermalModel",
@@ -159,8 +160,8 @@ def closed_form(contact, bow, unbalance_response, *, speed, clearance, contact_s
     frame of the high spot ``v = e^{-i theta} delta b``, is
     ``tau v' = -v + G e^{-i phi} (s a v + c Re(a v))`` with ``s = 1 - g/rho``,
     ``D_s = D + s k_c (1 + i mu)``, ``a = kappa/D_s`` and ``c`` from the radial constraint (see the
-    documentation page), a real 2x2 system (its eigenvalues: :func:`numpy.linalg.eigvals`
-    on the 2x2 matrix, whose trace and determinant are explicit). With ``g = 0``
+    documentation page), a real 2x2 system whose matrix is explicit (its two eigenvalues by
+    ``numpy.linalg.eig``). With ``g = 0``
     (``s = 1``) they are ``(-1 + G e^{-i phi} kappa/(D + k_c (1 + i mu)))/tau`` and its conjugate.
 
     Parameters
