@@ -145,3 +145,21 @@ def test_unstable_bow_settles_into_a_limit_cycle():
     assert late.min() > 1e-3 * abs(lin.bow[0])  # and not settled on the unstable steady bow
     heat = np.hypot(ds.heat_real.values[20:, 0], ds.heat_imag.values[20:, 0])
     assert heat.min() == 0.0 and heat.max() > 0.0  # the rub is lost over part of the cycle
+
+
+def test_a_seal_that_never_touches_adds_only_its_relaxation():
+    """Two seals, the second with a clearance the orbit never reaches: its bow sees no heat, so
+    the slow dynamics are the one-seal model's plus the pure relaxation -1/tau (twice), and the
+    first seal's steady bow and growth rate are unchanged (equivalence to 1e-8)."""
+    speed = 240.0
+    one = ThermalModel(scenario_from_dict(_jeffcott_like(speed)), TH, steps=512).steady()
+    spec = _jeffcott_like(speed)
+    far = {**spec["contact"][0], "position": 0.45, "clearance": 5e-3}
+    spec["contact"] = [spec["contact"][0], far]
+    two = ThermalModel(scenario_from_dict(spec), TH, steps=512).steady()
+    assert two.bow.shape == (2,) and two.heat[1] == 0
+    assert abs(two.bow[1]) < 1e-12 * abs(two.bow[0])
+    assert abs(two.bow[0] - one.bow[0]) < 1e-8 * abs(one.bow[0])
+    assert abs(two.growth_rate - one.growth_rate) < 1e-8 * abs(one.eigenvalues[0])
+    relax = np.sort_complex(two.eigenvalues)[:2]
+    assert np.allclose(relax, -1 / TH.time_constant, rtol=1e-8)
