@@ -100,3 +100,37 @@ def test_general_sweep_refusals_and_cli(free, tmp_path, capsys):
     assert code == 0, capsys.readouterr().err
     ds = open_sweep(out)
     assert ds["done"].values.all() and ds["peak_normal_force"].values[0] > 0  # the seal rubs
+
+
+def test_general_follow_sweep_resumes_to_the_same_store(free, tmp_path, monkeypatch):
+    """A general rotor's state-carrying sweep is written to the zarr store chunk by chunk (it
+    was held in memory); killed after two chunks and run again it gives the uninterrupted
+    sweep's store, the resumed chains starting from the stored end vectors."""
+    import rubrotor.sweeps.follow as fo
+    from rubrotor.sweeps.follow import follow_sweep
+
+    values = [600.0, 650.0, 700.0]
+    kw = dict(direction="both", transient_revolutions=2, revolutions=6, samples_per_revolution=64,
+              workers=1, chunk_size=1)  # fmt: skip
+    reference = follow_sweep(free, "speed.rad_per_s", values, store=tmp_path / "ref.zarr", **kw)
+    assert reference["done"].values.all()
+    # the carried state is the map's vector: a finite end state at every point
+    assert np.isfinite(reference["final_state"].values).all()
+    real, calls = fo.run_follow_chunk, []
+
+    def stop_after_two(task):
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        calls.append(task["chunk"])
+        return real(task)
+
+    store = tmp_path / "f.zarr"
+    monkeypatch.setattr(fo, "run_follow_chunk", stop_after_two)
+    with pytest.raises(KeyboardInterrupt):
+        follow_sweep(free, "speed.rad_per_s", values, store=store, **kw)
+    assert int(open_sweep(store)["done"].sum()) == 2
+    calls.clear()
+    monkeypatch.setattr(fo, "run_follow_chunk", lambda t: calls.append(t["chunk"]) or real(t))
+    resumed = follow_sweep(free, "speed.rad_per_s", values, store=store, **kw)
+    assert len(calls) == 4
+    xr.testing.assert_identical(resumed, reference)
