@@ -62,8 +62,8 @@ class SlowLinear:
         Revolution-averaged heat input per station (W), pointing at the hot spot's high spot.
     eigenvalues : ndarray of complex
         Eigenvalues of the linearised slow dynamics (1/s), largest real part first; of a
-        complex pair the one whose ``Im`` has the sign of the sense the bow turns in
-        (rotor-fixed frame: > 0 with the spin, < 0 against it).
+        complex pair first the one whose ``Im`` has the sign of the sense the bow turns in
+        (rotor-fixed frame: > 0 with the spin, < 0 against it), then its conjugate.
     growth_rate : float
         Largest real part (1/s): > 0 the spiral grows.
     spiral_frequency : float
@@ -92,12 +92,19 @@ def _signed(jac: np.ndarray) -> np.ndarray:
     vectors turn (``e^{i Im(lambda) t}``: > 0 with the spin, < 0 against it)."""
     lam, vec = np.linalg.eig(jac)
     n = jac.shape[0] // 2
-    out = []
-    for k in np.argsort(-lam.real, kind="stable"):
+    order = np.argsort(-lam.real, kind="stable")
+    out, i = [], 0
+    while i < len(order):
+        k = order[i]
         w = vec[:, k]
         forward = np.sum(np.abs(w[:n] + 1j * w[n:]) ** 2)  # turns as e^{i Im(lam) t}
         backward = np.sum(np.abs(np.conj(w[:n]) + 1j * np.conj(w[n:])) ** 2)
         out.append(lam[k] if forward >= backward else np.conj(lam[k]))
+        pair = i + 1 < len(order) and lam[k].imag != 0
+        if pair and abs(lam[order[i + 1]] - np.conj(lam[k])) <= 1e-9 * abs(lam[k]):
+            out.append(np.conj(out[-1]))  # its partner, second
+            i += 1
+        i += 1
     return np.array(out, complex)
 
 
