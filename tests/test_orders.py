@@ -221,3 +221,45 @@ def test_order_tracking_errors_name_the_field():
     with pytest.raises(InputError, match="speed"):
         spin_from_speed(t, -np.ones(t.size))
     assert block_revolutions([1 / 3, 0.5, 2.0]) == 6
+
+
+def test_diagnostics_figures_draw_the_tracked_data():
+    """Each figure draws the numbers of the analysis it is given (read back from its artists).
+
+    References: the track's |Y| (um) on the Bode amplitude axis; the centreline's mean position
+    and the clearance circle's radius on the centreline plot; the order lines' slope k in the
+    cascade.
+    """
+    from rubrotor.plotting.diagnostics import (
+        bode_figure,
+        cascade_figure,
+        centreline_figure,
+        orbit_figure,
+        polar_figure,
+    )
+
+    fs = 4000.0
+    t = np.arange(int(3.0 * fs)) / fs
+    spin = spin_from_speed(t, 60.0 + 40.0 * t)
+    y, z = _synthetic(t, spin.angle)
+    tr = track_orders(spin, y, z, orders=[1.0, 2.0])
+    fig = bode_figure({0.5: tr}, orders=(1.0,))
+    line = fig.axes[0].lines[0]
+    assert np.allclose(line.get_ydata(), np.abs(tr.y[0]) * 1e6)
+    assert np.allclose(line.get_xdata(), tr.speed_rad_s)
+    assert "rev/min" in bode_figure({0.5: tr}, rpm=True).axes[1].get_xlabel()
+    pol = polar_figure(tr, order=2.0, direction="z")
+    assert np.allclose(pol.axes[0].lines[0].get_ydata(), 4.0, rtol=1e-3)  # 2X z: 4 um
+    cl = shaft_centreline(spin, y, z)
+    cf = centreline_figure(cl, clearance=50e-6)
+    circle = cf.axes[0].lines[0]
+    assert np.allclose(np.hypot(circle.get_xdata(), circle.get_ydata()), 50.0)
+    assert np.allclose(cf.axes[0].collections[0].get_offsets()[:, 1], 3.0, rtol=1e-6)
+    casc = cascade(spin, y, z, revolutions=4)
+    order_lines = [ln for ln in cascade_figure(casc).axes[0].lines if ln.get_linestyle() == "--"]
+    slopes = sorted(
+        {round(float(np.ptp(ln.get_xdata()) / np.ptp(ln.get_ydata())), 9) for ln in order_lines}
+    )
+    assert slopes == [0.5, 1.0, 2.0, 3.0]
+    of = orbit_figure(spin, y, z, tr, at_speed=100.0, revolutions=2, clearance=50e-6)
+    assert len(of.axes) == 2 and len(of.axes[1].lines) == 3  # circle, filtered orbit, marks

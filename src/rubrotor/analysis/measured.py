@@ -21,12 +21,14 @@ import numpy as np
 from rubrotor.analysis.orders import SpinAngle, spin_from_keyphasor, spin_from_speed
 from rubrotor.errors import InputError
 
-__all__ = ["read_csv_table", "find_column", "time_column", "spin_from_table", "TIME_NAMES"]
+__all__ = ["read_csv_table", "find_column", "time_column", "spin_from_table", "AUXILIARY_NAMES"]
 
 TIME_NAMES = ("time", "t", "time_s")
 SPEED_NAMES = ("speed_rad_s", "speed", "omega")
 RPM_NAMES = ("rpm", "speed_rpm")
 KEYPHASOR_NAMES = ("keyphasor", "kp", "once_per_rev", "tacho")
+AUXILIARY_NAMES = TIME_NAMES + SPEED_NAMES + RPM_NAMES + KEYPHASOR_NAMES
+"""Column names that are not probe signals."""
 
 
 def read_csv_table(path) -> dict[str, np.ndarray]:

@@ -44,6 +44,8 @@ __all__ = [
     "spin_from_speed",
     "spin_from_keyphasor",
     "track_orders",
+    "block_revolutions",
+    "dataset_orders",
     "DEFAULT_TRACKED",
 ]
 
@@ -384,3 +386,79 @@ def _block_phasors(c, o, m: int, r0: int, b: int, starts, window: str) -> np.nda
     local = g * np.exp(1j * np.outer(ext, start))
     hann = 0.5 * local[:k] - 0.25 * (local[k : 2 * k] + local[2 * k :])
     return hann * np.exp(-1j * np.outer(o, start)) * (4.0 / n)
+
+
+def _steady_block(spin: SpinAngle, y, w, orders) -> OrderTrack:
+    """One block over the last half of a constant-speed record (whole revolutions)."""
+    sl = spin.valid
+    a = spin.angle[sl]
+    need = 2 * block_revolutions(orders)
+    revs = math.floor((a[-1] - a[0]) / _TWO_PI / 2 / need) * need
+    if revs < need:
+        return track_orders(spin, y, w, orders=orders)
+    start = _TWO_PI * (math.floor(a[-1] / _TWO_PI + 1e-12) - revs) - 1e-9
+    cut = np.flatnonzero(spin.angle >= start - _TWO_PI)[0]  # one revolution of margin
+    part = SpinAngle(spin.time[cut:], spin.angle[cut:], spin.speed[cut:])
+    wc = None if w is None else np.asarray(w, float)[cut:]
+    tr = track_orders(part, np.asarray(y, float)[cut:], wc, orders=orders, revolutions=revs)
+    return tr if tr.speed_rad_s.size == 1 else _last(tr)
+
+
+def _last(tr: OrderTrack) -> OrderTrack:
+    from dataclasses import replace
+
+    w = None if tr.w is None else tr.w[:, -1:]
+    return replace(tr, speed_rad_s=tr.speed_rad_s[-1:], time_s=tr.time_s[-1:], y=tr.y[:, -1:], w=w)
+
+
+def dataset_orders(ds, orders=DEFAULT_TRACKED) -> list[dict]:
+    """Tracked orders of every station of a results Dataset, as JSON-able rows.
+
+    A run-up, coast-down or speed table is tracked block by block (:func:`track_orders`); a
+    constant-speed run gives one block, the last half of its whole revolutions (past the start
+    transient), so one speed.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Results of :func:`rubrotor.simulate` (the general engine's ``station`` dimension, or the
+        seed engine's contact station and ``probe`` dimension).
+    orders : sequence of float
+        Orders to track (default 0.5, 1, 2).
+
+    Returns
+    -------
+    list of dict
+        One row per station and order: ``probe_m``, ``order``, ``speed_rad_s`` (list),
+        ``amplitude_y_m``, ``phase_y_rad``, ``amplitude_z_m``, ``phase_z_rad`` (lists; phase of
+        ``Re(Y exp(i k theta))`` from the keyphasor), ``forward_m``, ``backward_m`` (lists).
+    """
+    spin = spin_from_dataset(ds)
+    steady = bool(np.ptp(spin.speed) <= 1e-9 * np.max(spin.speed))
+    rows = []
+    for probe, y, w in _station_orbits(ds):
+        if steady:
+            tr = _steady_block(spin, y, w, orders)
+        else:
+            tr = track_orders(spin, y, w, orders=orders)
+        for i, k in enumerate(tr.orders):
+            rows.append({
+                "probe_m": probe, "order": float(k), "speed_rad_s": tr.speed_rad_s.tolist(),
+                "amplitude_y_m": np.abs(tr.y[i]).tolist(), "phase_y_rad": np.angle(tr.y[i]).tolist(),
+                "amplitude_z_m": np.abs(tr.w[i]).tolist(), "phase_z_rad": np.angle(tr.w[i]).tolist(),
+                "forward_m": np.abs(tr.forward[i]).tolist(),
+                "backward_m": np.abs(tr.backward[i]).tolist(),
+            })  # fmt: skip
+    return rows
+
+
+def _station_orbits(ds):
+    """``(position m, v, w)`` of every station of a results Dataset (m)."""
+    v, w = ds["v"].values, ds["w"].values
+    if v.ndim == 2:  # general engine: (station, time)
+        return [(float(x), v[j], w[j]) for j, x in enumerate(ds["station"].values)]
+    out = [(float(ds.attrs.get("contact_position_m", float("nan"))), v, w)]
+    if "probe" in ds.dims:
+        pv, pw = ds["probe_v"].values, ds["probe_w"].values
+        out += [(float(x), pv[j], pw[j]) for j, x in enumerate(ds["probe"].values)]
+    return out

@@ -780,7 +780,12 @@ def simulate_general(
     show = sys.stderr.isatty() if progress is None else progress
     sink = None
     if stream is not None:
-        sink = NetcdfSink(stream, plant.stations, nc, sample_dt, plant.speed)
+        angle = (
+            plant.speed
+            if run.speed_end is None and run.speed_table is None
+            else (lambda t: spin_angle(run, t))
+        )  # the spin angle of a run-up, as in the Dataset
+        sink = NetcdfSink(stream, plant.stations, nc, sample_dt, angle)
     if stream is None and chunk_samples < n_samples:
         inner = chunk
 

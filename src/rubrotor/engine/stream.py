@@ -94,8 +94,9 @@ class NetcdfSink:
     n_contacts : int
     sample_dt : float
         Sample spacing (s).
-    speed : float
-        Spin speed (rad/s), for ``tau``.
+    speed : float or callable
+        Spin speed (rad/s), for ``tau = speed * t``; or a function giving the spin angle (rad)
+        at an array of times (s), for a run-up, coast-down or speed table.
     """
 
     def __init__(self, path, stations, n_contacts: int, sample_dt: float, speed: float):
@@ -158,7 +159,7 @@ class NetcdfSink:
         a, b = self.n, self.n + k
         times = np.arange(a, b) * self.dt
         self.nc["time"][a:b] = times
-        self.nc["tau"][a:b] = self.speed * times
+        self.nc["tau"][a:b] = self.speed(times) if callable(self.speed) else self.speed * times
         for i, (name, _) in enumerate(STATION_VARS):
             self.nc[name][:, a:b] = block[[4 * s + i for s in range(self.S)]]
         for i, (name, _) in enumerate(CONTACT_VARS):
