@@ -4,6 +4,8 @@ rubrotor.analysis.diagnostics, rubrotor.analysis.measured)."""
 from __future__ import annotations
 
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,56 +21,8 @@ from rubrotor.analysis.orders import (
 )
 from rubrotor.errors import InputError
 
-# A slow run-up of a contact-free two-bearing rotor (the runup_rub rotor on 6 elements with
-# ten times its bearing damping: first forward critical 272 rad/s, damping ratio 0.025): held at
-# 120 rad/s for 1 s so the start transient decays, then 30 rad/s^2 up to 420 rad/s.
-SLOW_RUNUP = """
-[meta]
-name = "slow_runup"
-[materials.steel]
-youngs_modulus = 211e9
-poisson_ratio = 0.3
-density = 7810
-[[section]]
-length = 1.0
-diameter = 0.04
-material = "steel"
-elements = 6
-[[disk]]
-position = 0.5
-mass = 8.0
-polar_inertia = 0.04
-diametral_inertia = 0.02
-[[bearing]]
-position = 0.0
-kyy = 2.0e6
-kzz = 3.0e6
-kyz = 4.0e5
-kzy = -3.0e5
-cyy = 2000.0
-czz = 2500.0
-[[bearing]]
-position = 1.0
-kyy = 2.5e6
-kzz = 2.0e6
-cyy = 2000.0
-czz = 2000.0
-[speed]
-profile = "table"
-times = [0.0, 1.0, 11.0]
-speeds = [120.0, 120.0, 420.0]
-step = 6.0
-[[unbalance]]
-position = 0.5
-magnitude = 2e-4
-phase = 0.7
-[simulation]
-duration = 11.0
-dt = 2e-4
-save_every = 2
-probes = [0.25, 0.5]
-modes = 6
-"""
+sys.path.insert(0, str(Path(__file__).parent))
+from orders_reference import KNOWN, SLOW_RUNUP, synthetic  # noqa: E402
 
 
 def test_slow_runup_order_tracking_equals_steady_unbalance_response(tmp_path):
@@ -113,16 +67,6 @@ def test_slow_runup_order_tracking_equals_steady_unbalance_response(tmp_path):
         assert np.max(two / np.abs(ref[late, 0])) < 3e-3
 
 
-def _synthetic(t, theta):
-    """Known orders: 1X (25 um, 0.7 rad / 18 um, -1.2 rad) and 2X (6 um, -2.0 / 4 um, 0.4)."""
-    y = 25e-6 * np.cos(theta + 0.7) + 6e-6 * np.cos(2 * theta - 2.0) + 3e-6
-    z = 18e-6 * np.cos(theta - 1.2) + 4e-6 * np.cos(2 * theta + 0.4) - 5e-6
-    return y, z
-
-
-KNOWN = {1.0: ((25e-6, 0.7), (18e-6, -1.2)), 2.0: ((6e-6, -2.0), (4e-6, 0.4))}
-
-
 def _check_known(track, tol):
     for order, ((ay, py), (az, pz)) in KNOWN.items():
         i = track.order_index(order)
@@ -143,7 +87,7 @@ def test_measured_csv_orders_to_1e_3(tmp_path, column):
     fs = 4000.0
     t = np.arange(int(3.0 * fs)) / fs
     theta = 60.0 * t + 20.0 * t**2
-    y, z = _synthetic(t, theta)
+    y, z = synthetic(t, theta)
     speed = 60.0 + 40.0 * t
     col = {"speed_rad_s": speed, "rpm": speed * 60 / (2 * math.pi), "keyphasor": np.sin(theta)}
     data = np.column_stack([t, col[column], y, z])
@@ -187,7 +131,7 @@ def test_centreline_cascade_and_filtered_orbit():
     fs = 4000.0
     t = np.arange(int(2.0 * fs)) / fs
     spin = spin_from_speed(t, np.full(t.size, 100.0))
-    y, z = _synthetic(t, spin.angle)
+    y, z = synthetic(t, spin.angle)
     cl = shaft_centreline(spin, y, z)
     assert np.allclose(cl.y, 3e-6, rtol=1e-6) and np.allclose(cl.z, -5e-6, rtol=1e-6)
     assert np.allclose(cl.speed_rad_s, 100.0, rtol=1e-9)
@@ -241,7 +185,7 @@ def test_diagnostics_figures_draw_the_tracked_data():
     fs = 4000.0
     t = np.arange(int(3.0 * fs)) / fs
     spin = spin_from_speed(t, 60.0 + 40.0 * t)
-    y, z = _synthetic(t, spin.angle)
+    y, z = synthetic(t, spin.angle)
     tr = track_orders(spin, y, z, orders=[1.0, 2.0])
     fig = bode_figure({0.5: tr}, orders=(1.0,))
     line = fig.axes[0].lines[0]
