@@ -52,7 +52,7 @@ class RubIndicators:
         None without w.
     scalogram_peaks_hz : numpy.ndarray
         Frequencies (Hz) of the interior local maxima of the inner scalogram of v, strongest
-        first (the grid's edges are never reported, see :func:`scalogram_peaks`).
+        first (the grid's edges are never reported, see ``scalogram_peaks``).
     details : dict
         Parameters used (band_halfwidth_hz, window, scalogram frequency range).
     """

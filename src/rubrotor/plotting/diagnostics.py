@@ -4,7 +4,7 @@ and orbits unfiltered and order-filtered with keyphasor marks and the clearance 
 
 The data come from :mod:`rubrotor.analysis.orders` and :mod:`rubrotor.analysis.diagnostics`.
 Speeds are drawn in rad/s (``rpm=True``: rev/min); displacements in um; orbits with z across
-and y up, as :mod:`rubrotor.plotting.rub` draws them.
+and y up, as ``rubrotor.plotting.rub`` draws them.
 """
 
 from __future__ import annotations
@@ -315,7 +315,7 @@ def mark_orders(ax, time_s, speed_rad_s, orders=(0.5, 1.0, 2.0, 3.0), *, time_sc
     ----------
     ax : matplotlib.axes.Axes
         A map with time across (``time_scale`` units per s, ms by default) and frequency (Hz) up,
-        such as the CWT map of :func:`rubrotor.plotting.figures.analysis_figure`.
+        such as the CWT map of ``rubrotor.plotting.figures.analysis_figure``.
     time_s : array_like
         Times (s).
     speed_rad_s : array_like
