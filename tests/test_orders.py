@@ -178,6 +178,7 @@ def test_diagnostics_figures_draw_the_tracked_data():
         bode_figure,
         cascade_figure,
         centreline_figure,
+        mark_orders,
         orbit_figure,
         polar_figure,
     )
@@ -207,3 +208,11 @@ def test_diagnostics_figures_draw_the_tracked_data():
     assert slopes == [0.5, 1.0, 2.0, 3.0]
     of = orbit_figure(spin, y, z, tr, at_speed=100.0, revolutions=2, clearance=50e-6)
     assert len(of.axes) == 2 and len(of.axes[1].lines) == 3  # circle, filtered orbit, marks
+    from matplotlib.figure import Figure
+
+    ax = Figure().add_subplot()
+    ax.set_ylim(1, 100)
+    mark_orders(ax, spin.time, spin.speed, orders=(1.0, 2.0))
+    two = ax.lines[1]
+    assert np.allclose(two.get_ydata(), 2 * spin.speed / (2 * math.pi))  # 2X in Hz
+    assert np.allclose(two.get_xdata(), spin.time * 1e3)  # ms

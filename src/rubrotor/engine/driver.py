@@ -780,12 +780,7 @@ def simulate_general(
     show = sys.stderr.isatty() if progress is None else progress
     sink = None
     if stream is not None:
-        angle = (
-            plant.speed
-            if run.speed_end is None and run.speed_table is None
-            else (lambda t: spin_angle(run, t))
-        )  # the spin angle of a run-up, as in the Dataset
-        sink = NetcdfSink(stream, plant.stations, nc, sample_dt, angle)
+        sink = NetcdfSink(stream, plant.stations, nc, sample_dt, _stream_angle(run, plant.speed))
     if stream is None and chunk_samples < n_samples:
         inner = chunk
 
@@ -833,6 +828,14 @@ def _var(dims, data, attrs: dict):
     import xarray as xr
 
     return xr.Variable(dims, data, attrs, fastpath=True)
+
+
+def _stream_angle(run: Run, speed: float):
+    """``tau`` of a streamed file: ``speed`` (rad/s) for a constant speed, else the run's spin
+    angle (rad) as a function of time, as the in-memory Dataset has it."""
+    if run.speed_end is None and run.speed_table is None:
+        return speed
+    return lambda t: spin_angle(run, t)
 
 
 def result_dataset(res: EngineResult, *, coords=None, data=None, attrs=None):
