@@ -106,7 +106,9 @@ def rub_evidence(
         ``revolutions``; ``backward_share`` (energy fraction, None for one direction);
         ``subharmonic`` and
         ``superharmonic``: ``{order: {"max_ratio": ..., "speed_rad_s": ...}}`` (amplitude over 1X,
-        largest over the run, and the speed there); ``max_radius_m``; with a clearance also
+        largest over the run, and the speed there; only the orders the record is long enough
+        for: 1/3X needs 13 revolutions, 0.5X five, 2X and 3X three); ``max_radius_m``; with a
+        clearance also
         ``max_radius_over_clearance`` and ``centreline_offset_over_clearance`` (largest mean
         position per revolution about the centre, over the clearance).
     """
@@ -115,21 +117,13 @@ def rub_evidence(
     sl = spin.valid
     y = np.asarray(y, float)
     w = None if w is None else np.asarray(w, float)
-    track = track_orders(spin, y, w, orders=(*SUB, 1.0, *SUPER))
-    one = _amp(track, 1.0)
-    one = np.where(one > 0, one, np.inf)
-    harm = {}
-    for name, group in (("subharmonic", SUB), ("superharmonic", SUPER)):
-        harm[name] = {}
-        for k in group:
-            r = _amp(track, k) / one
-            j = int(np.argmax(r))
-            harm[name][f"{k:.4g}"] = {"max_ratio": float(r[j]), "speed_rad_s": float(track.speed_rad_s[j])}  # fmt: skip
+    revs = (spin.angle[sl][-1] - spin.angle[sl][0]) / (2 * math.pi)
+    harm = _harmonics(spin, y, w, revs)
     radius = (
         np.abs(y[sl] - centre[0]) if w is None else np.hypot(y[sl] - centre[0], w[sl] - centre[1])
     )
     out = {
-        "revolutions": float((spin.angle[sl][-1] - spin.angle[sl][0]) / (2 * math.pi)),
+        "revolutions": float(revs),
         "backward_share": None if w is None else _backward_share(y[sl], w[sl]),
         **harm,
         "max_radius_m": float(radius.max()),
@@ -139,11 +133,30 @@ def rub_evidence(
             raise InputError("clearance", clearance, "a radial clearance > 0 (m)")
         out["clearance_m"] = float(clearance)
         out["max_radius_over_clearance"] = float(radius.max() / clearance)
-        if w is not None:
+        if w is not None and revs >= 2:
             cl = shaft_centreline(spin, y, w)
             off = np.hypot(cl.y - centre[0], cl.z - centre[1])
             out["centreline_offset_over_clearance"] = float(off.max() / clearance)
     return out
+
+
+def _harmonics(spin: SpinAngle, y, w, revs: float) -> dict:
+    """Largest sub- and super-harmonic ratios to 1X over the run (orders that fit the record:
+    1/3X needs 12 revolutions per Hann block, 0.5X four, 2X and 3X two)."""
+    sub = tuple(k for k, need in zip(SUB, (12, 4), strict=True) if revs >= need + 1)
+    sup = SUPER if revs >= 3 else ()
+    harm: dict = {"subharmonic": {}, "superharmonic": {}}
+    if not sup:
+        return harm
+    track = track_orders(spin, y, w, orders=(*sub, 1.0, *sup))
+    one = _amp(track, 1.0)
+    one = np.where(one > 0, one, np.inf)
+    for name, group in (("subharmonic", sub), ("superharmonic", sup)):
+        for k in group:
+            r = _amp(track, k) / one
+            j = int(np.argmax(r))
+            harm[name][f"{k:.4g}"] = {"max_ratio": float(r[j]), "speed_rad_s": float(track.speed_rad_s[j])}  # fmt: skip
+    return harm
 
 
 def _signs(ev: dict) -> list[tuple[str, str]]:
@@ -195,7 +208,10 @@ def rub_verdict(ev: dict, contact: dict | None = None) -> RubVerdict:
 def _dataset_contact(ds) -> tuple[dict, float | None, tuple[float, float]]:
     """Contact data of the first contact of a results Dataset, its clearance (m) and centre."""
     t = ds["time"].values
-    ic = np.asarray(ds["in_contact"].values)
+    # streamed files hold no in_contact: it is normal_force > 0
+    ic = np.asarray(
+        ds["in_contact"].values if "in_contact" in ds else ds["normal_force"].values > 0
+    )
     if ic.ndim == 2:  # general engine: (contact, time); no contact table gives no rows
         ic = ic[0] if ic.shape[0] else np.zeros(t.size, np.int8)
     kind = ds["event_kind"].values
@@ -220,7 +236,8 @@ def _dataset_contact(ds) -> tuple[dict, float | None, tuple[float, float]]:
 
 
 def dataset_verdict(ds) -> RubVerdict:
-    """Rub verdict of a simulation results Dataset at its (first) contact station.
+    """Rub verdict of a simulation results Dataset at its (first) contact station (the orbit
+    relative to the stator's motion when the stator is flexible).
 
     Parameters
     ----------
@@ -233,11 +250,13 @@ def dataset_verdict(ds) -> RubVerdict:
     """
     from rubrotor.analysis.orders import spin_from_dataset
 
-    for var in ("v", "w", "in_contact", "event_kind", "time"):
+    for var in ("v", "w", "normal_force", "event_kind", "time"):
         if var not in ds.variables:
             raise InputError("results", f"no '{var}'", "a rubrotor simulation results Dataset")
     v, w = ds["v"].values, ds["w"].values
     v, w = (v[0], w[0]) if v.ndim == 2 else (v, w)
+    if "stator_y" in ds and ds["stator_y"].shape[0]:  # relative to a flexible stator's motion
+        v, w = v - ds["stator_y"].values[0], w - ds["stator_z"].values[0]
     contact, clearance, centre = _dataset_contact(ds)
     ev = rub_evidence(spin_from_dataset(ds), v, w, clearance=clearance, centre=centre)
     return rub_verdict(ev, contact)

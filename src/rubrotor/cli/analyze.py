@@ -314,7 +314,6 @@ def _signal_orders(sig: dict, orders) -> tuple[list[dict], dict]:
 
 def _orders_and_verdict(sig: dict, args: argparse.Namespace) -> tuple[dict, dict]:
     """``orders`` rows and the ``rub`` verdict of the analysed file, and the tracks drawn."""
-    from rubrotor.analysis.orders import dataset_orders, spin_from_dataset, track_orders
     from rubrotor.analysis.verdict import dataset_verdict, rub_evidence, rub_verdict
 
     orders = _parse_orders(args.orders)
@@ -322,23 +321,38 @@ def _orders_and_verdict(sig: dict, args: argparse.Namespace) -> tuple[dict, dict
     if spin is None:
         why = "no spin speed: give --spin-hz, or a speed_rad_s, rpm or keyphasor column"
         return {"orders": [], "rub": {"rub": "unknown", "reasons": [why], "evidence": {}}}, {}
+    if ds is not None and args.clearance is not None:
+        raise InputError("--clearance", args.clearance, "only with a signal file (a results file has its clearance)")  # fmt: skip
+    try:
+        rows, tracks = (
+            _dataset_orders(ds, orders) if ds is not None else _signal_orders(sig, orders)
+        )
+    except InputError as exc:  # a record shorter than one block of the orders
+        note = f"no orders: {exc.field} = {exc.value} ({exc.allowed})"
+        rows, tracks = [], {}
+    else:
+        note = None
     if ds is not None:
-        if args.clearance is not None:
-            raise InputError("--clearance", args.clearance, "only with a signal file (a results file has its clearance)")  # fmt: skip
-        rows = dataset_orders(ds, orders)
-        tracks = {}
-        if _varying(sig["speed_range_rad_s"]):
-            sp = spin_from_dataset(ds)
-            v, w = ds["v"].values, ds["w"].values
-            if v.ndim == 2:
-                tracks = {float(x): track_orders(sp, v[j], w[j], orders=orders)
-                          for j, x in enumerate(ds["station"].values)}  # fmt: skip
-            else:
-                tracks = {float(ds.attrs.get("contact_position_m", 0.0)): track_orders(sp, v, w, orders=orders)}  # fmt: skip
-        return {"orders": rows, "rub": dataset_verdict(ds).as_dict()}, tracks
-    rows, tracks = _signal_orders(sig, orders)
-    ev = rub_evidence(spin, sig["v"], sig["w"], clearance=args.clearance)
-    return {"orders": rows, "rub": rub_verdict(ev).as_dict()}, tracks
+        verdict = dataset_verdict(ds)
+    else:
+        verdict = rub_verdict(rub_evidence(spin, sig["v"], sig["w"], clearance=args.clearance))
+    out = {"orders": rows, "rub": verdict.as_dict()}
+    return (out | {"orders_note": note} if note else out), tracks
+
+
+def _dataset_orders(ds, orders) -> tuple[list[dict], dict]:
+    """Order rows of a results Dataset and, for a run with varying speed, the tracks drawn."""
+    from rubrotor.analysis.orders import dataset_orders, spin_from_dataset, track_orders
+
+    rows = dataset_orders(ds, orders)
+    sp = spin_from_dataset(ds)
+    if np.ptp(sp.speed) <= 1e-6 * np.max(sp.speed):
+        return rows, {}
+    v, w = ds["v"].values, ds["w"].values
+    if v.ndim == 2:
+        return rows, {float(x): track_orders(sp, v[j], w[j], orders=orders)
+                      for j, x in enumerate(ds["station"].values)}  # fmt: skip
+    return rows, {float(ds.attrs.get("contact_position_m", 0.0)): track_orders(sp, v, w, orders=orders)}  # fmt: skip
 
 
 def _order_figures(sig: dict, tracks: dict, args: argparse.Namespace, out: Path) -> list[Path]:
