@@ -10,7 +10,10 @@ block. An order ``k`` (any positive real with ``k * revolutions`` an integer: 0.
 block spans an exact number of periods of every tracked order, twice the fewest needed, so the
 Hann window's leakage stops at the neighbouring bins, which are no tracked order. It is exact
 for a steady run and, for a run-up, reads the window-weighted mean phasor over the block (two
-revolutions for integer orders, four with 0.5X). We chose it
+revolutions for integer orders, four with 0.5X). A component that is no order of the spin (a
+free whirl at a natural frequency, excited by impacts) is read into every tracked order within
+the Hann main lobe, ``2 / revolutions`` orders on either side: on a run with rub, a large 0.5X
+may be such a whirl; take longer blocks (``revolutions``) to separate them. We chose it
 over the Vold-Kalman filter because it needs no bandwidth parameter, its phase reference is
 the keyphasor exactly as on a machine, and its error is the resampling error alone
 (``O((k Omega dt)^4)`` for the cubic spline: below 1e-6 at 100 samples per period).

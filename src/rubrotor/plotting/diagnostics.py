@@ -86,6 +86,14 @@ def bode_figure(tracks: dict, *, orders=(1.0,), direction: str = "both", rpm: bo
                 ax_p.plot(sp, deg, style, color=f"C{colour % 10}", lw=1.2)
             colour += 1
     ax_a.set_ylabel("amplitude (um, 0-peak)")
+    top = max((float(np.nanmax(ln.get_ydata())) for ln in ax_a.lines), default=1.0)
+    ax_a.set_ylim(0, 1.08 * top if top > 0 else 1.0)
+    for ax in (ax_a, ax_p):
+        ax.ticklabel_format(axis="y", useOffset=False)
+    lo, hi = ax_p.get_ylim()
+    if hi - lo < 10:  # a steady phase: show +- 5 deg around it, not its round-off
+        mid = 0.5 * (lo + hi)
+        ax_p.set_ylim(mid - 5, mid + 5)
     ax_a.grid(alpha=0.3)
     ax_a.legend(fontsize=7, ncols=2)
     ax_p.set_ylabel("phase arg Y (deg)")
@@ -163,7 +171,7 @@ def cascade_figure(casc, *, orders=(0.5, 1.0, 2.0, 3.0), rpm: bool = False, max_
     -------
     matplotlib.figure.Figure
         Spectra drawn as lines whose baseline is the block's speed, heights scaled so the
-        largest amplitude spans four spacings; order lines dashed.
+        largest amplitude spans three spacings; order lines dashed (through the baselines).
     """
     sp, unit = _speed(casc.speed_rad_s, rpm)
     scale = RPM if rpm else 1.0
@@ -172,7 +180,7 @@ def cascade_figure(casc, *, orders=(0.5, 1.0, 2.0, 3.0), rpm: bool = False, max_
     keep = np.abs(f) <= fmax
     f, amp = f[keep], casc.amplitude[:, keep] * UM
     gap = np.median(np.diff(sp)) if sp.size > 1 else 1.0
-    gain = 4.0 * abs(gap) / max(float(amp.max()), 1e-300)
+    gain = 3.0 * abs(gap) / max(float(amp.max()), 1e-300)
     fig = Figure(figsize=(8.0, 6.4), layout="constrained")
     ax = fig.add_subplot()
     for j in range(sp.size)[::-1]:  # back to front
