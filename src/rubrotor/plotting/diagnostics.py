@@ -161,9 +161,9 @@ def cascade_figure(casc, *, orders=(0.5, 1.0, 2.0, 3.0), rpm: bool = False, max_
     orders : sequence of float
         Order lines drawn (``frequency = order * speed``; both signs for a full spectrum).
     rpm : bool
-        Speed axis in rev/min (frequencies stay in rad/s... and in rev/min with it).
+        Speed and frequency axes in rev/min instead of rad/s.
     max_frequency : float, optional
-        Largest |frequency| drawn (rad/s); default 4 times the top speed.
+        Largest absolute frequency drawn (rad/s); default 4 times the top speed.
     title : str
         Figure title.
 
