@@ -232,3 +232,42 @@ def test_coast_down_tracks_like_a_run_up():
     assert np.allclose(track.speed_rad_s, 180.0 - 40.0 * track.time_s, rtol=1e-6)
     casc = cascade(spin, y, z, revolutions=4)
     assert np.all(np.diff(casc.speed_rad_s) < 0)
+
+
+def test_constant_speed_run_gives_one_steady_phasor(tmp_path):
+    """A constant-speed contact-free run started on its steady state: ``dataset_orders`` gives
+    one speed per order and the 1X of the steady unbalance response.
+
+    Reference: :func:`rubrotor.linear.analysis.unbalance_response` of the full FE rotor at
+    200 rad/s. The run keeps 6 modes plus the residual flexibility, exact at steady state:
+    measured difference 5.7e-8 (the engine's and the resampling's round-off), tolerance 1e-6.
+    2X and 0.5X are absent from a linear response (measured below 1e-12 of 1X).
+    """
+    from rubrotor.analysis.orders import dataset_orders
+    from rubrotor.engine.general import engine_problem
+    from rubrotor.engine.simulate import simulate
+    from rubrotor.linear.analysis import unbalance_response
+    from rubrotor.scenario.load import load_scenario
+
+    text = SLOW_RUNUP.split("[speed]")[0] + "[speed]\nrad_per_s = 200.0\n"
+    text += SLOW_RUNUP.split("step = 6.0")[1].replace("duration = 11.0", "duration = 1.0")
+    path = tmp_path / "steady.toml"
+    path.write_text(text + '[initial]\nstate = "steady"\n')
+    scenario = load_scenario(path)
+    ds = simulate(scenario)
+    system, _, kw, _ = engine_problem(scenario)
+    planes = [(u.position, u.magnitude, u.phase) for u in kw["unbalances"]]
+    rows = dataset_orders(ds)
+    assert {(r["probe_m"], r["order"]) for r in rows} == {
+        (p, k) for p in (0.25, 0.5) for k in (0.5, 1.0, 2.0)
+    }
+    for r in rows:
+        assert r["speed_rad_s"] == pytest.approx([200.0], rel=1e-12)
+        resp = unbalance_response(system, [200.0, 201.0], planes, [r["probe_m"]])
+        ref = resp.complex_response[0, 0]  # at 200 rad/s
+        got = np.array([r["amplitude_y_m"][0] * np.exp(1j * r["phase_y_rad"][0]),
+                        r["amplitude_z_m"][0] * np.exp(1j * r["phase_z_rad"][0])])  # fmt: skip
+        if r["order"] == 1.0:
+            assert np.max(np.abs(got - ref) / np.abs(ref)) < 1e-6
+        else:
+            assert np.max(np.abs(got)) < 1e-9 * np.abs(ref).max()
