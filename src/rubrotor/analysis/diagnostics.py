@@ -12,14 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rubrotor.analysis.orders import (
-    _TWO_PI,
-    OrderTrack,
-    SpinAngle,
-    _angle_grid,
-    _per_rev,
-    _resample,
-)
+from rubrotor.analysis.orders import _TWO_PI, OrderTrack, SpinAngle, _per_rev, _rev_sums
 from rubrotor.errors import InputError
 
 __all__ = [
@@ -170,13 +163,11 @@ def shaft_centreline(spin: SpinAngle, y, w, *, samples_per_rev: int | None = Non
     Centreline
     """
     m = _per_rev(spin, samples_per_rev)
-    grid, _ = _angle_grid(spin, m)
-    tg, (ry, rw) = _resample(spin, [np.asarray(y, float), np.asarray(w, float)], grid)
-    n = (grid.size - 1) // m
-    my = ry[:-1].reshape(n, m).mean(axis=1)
-    mz = rw[:-1].reshape(n, m).mean(axis=1)
-    t0, t1 = tg[:-1:m], tg[m::m]
-    return Centreline(_TWO_PI / (t1 - t0), tg[m // 2 :: m][:n], my, mz)
+    chans = [np.asarray(y, float), np.asarray(w, float)]
+    r0, (sy, sz), time_at = _rev_sums(spin, chans, m, np.zeros(1))
+    edges = time_at(_TWO_PI * (r0 + np.arange(sy.shape[0] + 1)))
+    mid = time_at(_TWO_PI * (r0 + 0.5 + np.arange(sy.shape[0])))
+    return Centreline(_TWO_PI / np.diff(edges), mid, sy[:, 0].real / m, sz[:, 0].real / m)
 
 
 def filtered_orbit(spin: SpinAngle, track: OrderTrack, order: float = 1.0):

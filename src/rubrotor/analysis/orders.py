@@ -280,26 +280,51 @@ def _per_rev(spin: SpinAngle, samples_per_rev: int | None) -> int:
     return int(samples_per_rev)
 
 
-def _angle_grid(spin: SpinAngle, m: int) -> tuple[np.ndarray, int]:
-    """Angles of whole revolutions from the first keyphasor mark (rad) and its revolution index."""
+def _revolutions(spin: SpinAngle) -> tuple[int, int]:
+    """First keyphasor revolution index inside the record and the whole revolutions after it."""
     a = spin.angle[spin.valid]
     r0 = math.ceil(a[0] / _TWO_PI - 1e-12)
     r1 = math.floor(a[-1] / _TWO_PI + 1e-12)
     if r1 - r0 < 1:
         raise InputError("record", f"{(a[-1] - a[0]) / _TWO_PI:.3g} revolutions",
                          "at least one whole revolution between keyphasor marks")  # fmt: skip
-    grid = _TWO_PI * (r0 + np.arange((r1 - r0) * m + 1) / m)
-    return grid, r0
+    return r0, r1 - r0
 
 
-def _resample(spin: SpinAngle, signals: list[np.ndarray], grid: np.ndarray):
-    """Times at the grid angles (s) and the signals there (cubic splines in time)."""
+def _rev_sums(spin: SpinAngle, chans: list, m: int, ext: np.ndarray):
+    """Per-revolution DFT sums ``sum_n c(theta_n) exp(-i k theta_n)`` on the absolute angle.
+
+    Each channel is resampled at ``m`` equal angle steps per revolution (cubic splines: the time
+    at an angle, then the signal at that time), revolution by revolution in chunks, so memory
+    stays bounded on long records.
+
+    Returns
+    -------
+    r0 : int
+        Revolution index of the first keyphasor mark.
+    sums : list of numpy.ndarray, complex, shape (n_rev, n_ext)
+        One per channel.
+    time_at : callable
+        Time (s) at spin angles (rad), the spline of the record's angle.
+    """
     from scipy.interpolate import CubicSpline
 
     sl = spin.valid
     t, a = spin.time[sl], spin.angle[sl]
-    tg = CubicSpline(a, t)(grid)
-    return tg, [CubicSpline(t, s[sl])(tg) for s in signals]
+    time_at = CubicSpline(a, t)
+    splines = [CubicSpline(t, c[sl]) for c in chans]
+    r0, n_rev = _revolutions(spin)
+    kern = np.exp(-1j * np.outer(_TWO_PI * np.arange(m) / m, ext))  # (m, n_ext)
+    sums = [np.empty((n_rev, ext.size), complex) for _ in chans]
+    chunk = max(1, (1 << 20) // m)
+    for ra in range(0, n_rev, chunk):
+        rb = min(n_rev, ra + chunk)
+        revs = r0 + np.arange(ra, rb)
+        tg = time_at(_TWO_PI * (revs[:, None] + np.arange(m) / m)).ravel()
+        rot = np.exp(-1j * np.outer(_TWO_PI * revs, ext))  # (revs, n_ext)
+        for out, spl in zip(sums, splines, strict=True):
+            out[ra:rb] = spl(tg).reshape(rb - ra, m) @ kern * rot
+    return r0, sums, time_at
 
 
 def track_orders(spin: SpinAngle, y, w=None, *, orders=DEFAULT_TRACKED, revolutions=None,
@@ -350,35 +375,30 @@ def track_orders(spin: SpinAngle, y, w=None, *, orders=DEFAULT_TRACKED, revoluti
         if c.shape != spin.time.shape or not np.all(np.isfinite(c[spin.valid])):
             raise InputError(name, f"array of shape {c.shape}", f"finite samples at the {spin.time.size} times")  # fmt: skip
     m = _per_rev(spin, samples_per_rev)
-    grid, r0 = _angle_grid(spin, m)
     if o.max() >= m / 2:
         raise InputError("orders", o.max(), f"orders below samples_per_rev / 2 = {m / 2:g}")
-    tg, res = _resample(spin, chans, grid)
-    n_rev = (grid.size - 1) // m
+    ext = o if window == "rect" else np.concatenate([o, o - 1.0 / b, o + 1.0 / b])
+    r0, sums, time_at = _rev_sums(spin, chans, m, ext)
+    n_rev = sums[0].shape[0]
     if n_rev < b:
         raise InputError("record", f"{n_rev} whole revolutions", f"at least {b} (one block)")
     starts = np.arange(0, n_rev - b + 1, step)
-    phasors = [_block_phasors(c, o, m, r0, b, starts, window) for c in res]
-    mid = np.interp(grid[starts * m] + math.pi * b, grid, tg)
+    phasors = [_block_phasors(c, o, ext, m, r0, b, starts, window) for c in sums]
+    mid = time_at(_TWO_PI * (r0 + starts) + math.pi * b)
     sl = spin.valid
     speed = np.interp(mid, spin.time[sl], spin.speed[sl])
     return OrderTrack(o, speed, mid, phasors[0], phasors[1] if len(phasors) == 2 else None, b,
                       window)  # fmt: skip
 
 
-def _block_phasors(c, o, m: int, r0: int, b: int, starts, window: str) -> np.ndarray:
-    """Phasors ``Y`` (n_orders, n_blocks) of one resampled channel ``c`` (m samples per rev).
+def _block_phasors(part, o, ext, m: int, r0: int, b: int, starts, window: str) -> np.ndarray:
+    """Phasors ``Y`` (n_orders, n_blocks) from one channel's per-revolution sums ``part``.
 
-    Per-revolution DFT sums on the absolute angle, ``sum_n c_n exp(-i k theta_n)``, are summed
-    over each block's revolutions (cumulative sums). The Hann window is applied in the
+    The per-revolution DFT sums on the absolute angle (:func:`_rev_sums`, orders ``ext``) are
+    summed over each block's revolutions (cumulative sums). The Hann window is applied in the
     frequency domain: its block DFT at bin ``K`` is ``(R_K - (R_{K-1} + R_{K+1}) / 2) / 2`` of
     the rectangular DFTs ``R`` in the block's own angle, i.e. orders ``k`` and ``k -+ 1/b``.
     """
-    n_rev = (c.size - 1) // m
-    ext = o if window == "rect" else np.concatenate([o, o - 1.0 / b, o + 1.0 / b])
-    kern = np.exp(-1j * np.outer(_TWO_PI * np.arange(m) / m, ext))  # (m, n_ext)
-    rot = np.exp(-1j * np.outer(_TWO_PI * (r0 + np.arange(n_rev)), ext))  # (n_rev, n_ext)
-    part = c[:-1].reshape(n_rev, m) @ kern * rot
     csum = np.vstack([np.zeros(ext.size), np.cumsum(part, axis=0)])
     g = (csum[starts + b] - csum[starts]).T  # global-angle sums (n_ext, n_blocks)
     n = b * m
