@@ -48,7 +48,10 @@ def test_csv_with_time_and_speed_columns_gives_orders_without_fs(tmp_path, capsy
         assert np.max(np.abs(np.angle(np.exp(1j * (np.array(r["phase_y_rad"]) - py))))) < 1e-3
         assert np.max(np.abs(np.angle(np.exp(1j * (np.array(r["phase_z_rad"]) - pz))))) < 1e-3
     assert min(rows[1.0]["speed_rad_s"]) < 80 and max(rows[1.0]["speed_rad_s"]) > 130
-    assert d["rub"]["rub"] in ("no", "possible", "yes")
+    # no clearance given, no sub-harmonic, 2X/1X = |(6, 4)| / |(25, 18)| = 0.234 < 0.3: "no"
+    assert d["rub"]["rub"] == "no"
+    two = d["rub"]["evidence"]["superharmonic"]["2"]["max_ratio"]
+    assert two == pytest.approx(np.hypot(6, 4) / np.hypot(25, 18), rel=1e-3)
     assert (tmp_path / "o" / "orders.png").stat().st_size > 10000
     assert (tmp_path / "o" / "cascade.png").stat().st_size > 10000
     # the default column is the first probe signal, not the time or speed column

@@ -2,8 +2,8 @@ r"""A rub verdict, "rub: yes / no / possible", with the evidence it rests on.
 
 For a simulation the contact data decide: any contact time is "yes", none is "no" (the closest
 approach is given as evidence). For a measured probe record there is no contact data; the
-verdict weighs the signs machinery engineers read (Muszynska, *Rotordynamics*, ch. 5; API 684
-practice), each reported with its number so a reader can judge:
+verdict weighs the signs of rub that machinery engineers read on probe data (see e.g.
+Muszynska, *Rotordynamics*, 2005), each reported with its number so a reader can judge:
 
 * **proximity**: the largest orbit radius about the stator centre reaches ``PROXIMITY`` (0.9)
   of the radial clearance (needs the clearance);
