@@ -160,6 +160,8 @@ def test_order_tracking_errors_name_the_field():
         track_orders(spin, np.sin(spin.angle), orders=[0.0])
     with pytest.raises(InputError, match="revolutions"):
         track_orders(spin, np.sin(spin.angle), orders=[0.5], revolutions=3)
+    with pytest.raises(InputError, match="Nyquist"):  # 25X of 60 rad/s: 1500 > 400 pi rad/s
+        track_orders(spin, np.sin(spin.angle), orders=[25.0])
     with pytest.raises(InputError, match="keyphasor"):
         spin_from_keyphasor(t, np.zeros(t.size))
     with pytest.raises(InputError, match="speed"):

@@ -374,6 +374,12 @@ def track_orders(spin: SpinAngle, y, w=None, *, orders=DEFAULT_TRACKED, revoluti
     for name, c in zip(("y", "w"), chans, strict=False):
         if c.shape != spin.time.shape or not np.all(np.isfinite(c[spin.valid])):
             raise InputError(name, f"array of shape {c.shape}", f"finite samples at the {spin.time.size} times")  # fmt: skip
+    sl = spin.valid
+    nyquist = math.pi / float(np.max(np.diff(spin.time[sl])))  # rad/s
+    top = float(np.max(spin.speed[sl]))
+    if o.max() * top >= nyquist:
+        raise InputError("orders", o.max(), f"orders whose frequency at the top speed {top:.6g} rad/s "
+                         f"stays below the Nyquist frequency {nyquist:.6g} rad/s")  # fmt: skip
     m = _per_rev(spin, samples_per_rev)
     if o.max() >= m / 2:
         raise InputError("orders", o.max(), f"orders below samples_per_rev / 2 = {m / 2:g}")
@@ -385,7 +391,6 @@ def track_orders(spin: SpinAngle, y, w=None, *, orders=DEFAULT_TRACKED, revoluti
     starts = np.arange(0, n_rev - b + 1, step)
     phasors = [_block_phasors(c, o, ext, m, r0, b, starts, window) for c in sums]
     mid = time_at(_TWO_PI * (r0 + starts) + math.pi * b)
-    sl = spin.valid
     speed = np.interp(mid, spin.time[sl], spin.speed[sl])
     return OrderTrack(o, speed, mid, phasors[0], phasors[1] if len(phasors) == 2 else None, b,
                       window)  # fmt: skip

@@ -142,9 +142,13 @@ def rub_evidence(
 
 def _harmonics(spin: SpinAngle, y, w, revs: float) -> dict:
     """Largest sub- and super-harmonic ratios to 1X over the run (orders that fit the record:
-    1/3X needs 12 revolutions per Hann block, 0.5X four, 2X and 3X two)."""
+    1/3X needs 12 revolutions per Hann block, 0.5X four, 2X and 3X two, and below the Nyquist
+    frequency at the top speed)."""
+    sl = spin.valid
+    nyquist = math.pi / float(np.max(np.diff(spin.time[sl])))  # rad/s
+    top = float(np.max(spin.speed[sl]))
     sub = tuple(k for k, need in zip(SUB, (12, 4), strict=True) if revs >= need + 1)
-    sup = SUPER if revs >= 3 else ()
+    sup = tuple(k for k in SUPER if k * top < nyquist) if revs >= 3 else ()
     harm: dict = {"subharmonic": {}, "superharmonic": {}}
     if not sup:
         return harm
