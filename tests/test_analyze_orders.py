@@ -55,7 +55,7 @@ def test_csv_with_time_and_speed_columns_gives_orders_without_fs(tmp_path, capsy
     assert (tmp_path / "o" / "orders.png").stat().st_size > 10000
     assert (tmp_path / "o" / "cascade.png").stat().st_size > 10000
     # the default column is the first probe signal, not the time or speed column
-    assert main(["analyze", str(path), "--out", str(tmp_path / "o2")]) == 0
+    assert main(["analyze", str(path), "--out", str(tmp_path / "o2"), "--rpm"]) == 0
     text = capsys.readouterr().out
     assert "rub indicators of y\n" in text and "spin speed range" in text
     assert "spin frequency" not in text and "\nrub: " in text

@@ -376,11 +376,13 @@ def _order_figures(sig: dict, tracks: dict, args: argparse.Namespace, out: Path)
     ks = tuple(k for k in (1.0,) if np.any(np.abs(first.orders - k) < 1e-9)) or (
         float(first.orders[0]),
     )
-    figs = {
-        "orders.png": bode_figure(tracks, orders=ks, rpm=args.rpm, title=f"{name}: tracked {ks[0]:g}X"),
-        "cascade.png": cascade_figure(cascade(sig["spin"], y, z, revolutions=4), rpm=args.rpm,
-                                      title=f"{name}: cascade of the {label}"),
-    }  # fmt: skip
+    figs = {"orders.png": bode_figure(tracks, orders=ks, rpm=args.rpm, title=f"{name}: tracked {ks[0]:g}X")}  # fmt: skip
+    try:  # 8 revolutions or more: two spectra of 4
+        casc = cascade(sig["spin"], y, z, revolutions=4)
+    except InputError:
+        casc = None
+    if casc is not None and casc.speed_rad_s.size >= 2:
+        figs["cascade.png"] = cascade_figure(casc, rpm=args.rpm, title=f"{name}: cascade of the {label}")  # fmt: skip
     paths = []
     for fname, fig in figs.items():
         atomic_write(out / fname, lambda tmp, f=fig: f.savefig(tmp, format="png", dpi=110))
