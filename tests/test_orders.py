@@ -195,6 +195,9 @@ def test_diagnostics_figures_draw_the_tracked_data():
     assert np.allclose(line.get_ydata(), np.abs(tr.y[0]) * 1e6)
     assert np.allclose(line.get_xdata(), tr.speed_rad_s)
     assert "rev/min" in bode_figure({0.5: tr}, rpm=True).axes[1].get_xlabel()
+    # Bently-Nevada phase lag of 25 cos(theta + 0.7): the next positive peak is 2 pi - 0.7 on
+    lag = bode_figure({0.5: tr}, orders=(1.0,), phase="lag").axes[1].lines[0].get_ydata()
+    assert np.allclose(lag, 360.0 - np.degrees(0.7), atol=0.06)
     pol = polar_figure(tr, order=2.0, direction="z")
     assert np.allclose(pol.axes[0].lines[0].get_ydata(), 4.0, rtol=1e-3)  # 2X z: 4 um
     cl = shaft_centreline(spin, y, z)

@@ -46,7 +46,7 @@ def _direction(track, direction: str) -> list[tuple[str, np.ndarray]]:
 
 
 def bode_figure(tracks: dict, *, orders=(1.0,), direction: str = "both", rpm: bool = False,
-                title: str = "") -> Figure:  # fmt: skip
+                phase: str = "arg", title: str = "") -> Figure:  # fmt: skip
     """Transient Bode plot: amplitude and phase of tracked orders against speed.
 
     Parameters
@@ -59,15 +59,22 @@ def bode_figure(tracks: dict, *, orders=(1.0,), direction: str = "both", rpm: bo
         Which component: ``"both"`` draws y (solid) and z (dashed).
     rpm : bool
         Speed axis in rev/min instead of rad/s.
+    phase : {"arg", "lag"}
+        ``"arg"``: ``arg Y`` (deg, unwrapped), the phase of ``Re(Y exp(i k theta))`` relative to
+        the keyphasor; ``"lag"``: the Bently-Nevada phase lag ``-arg Y`` (deg, unwrapped, the
+        first value in 0-360), the angle from the keyphasor to the next positive peak.
     title : str
         Figure title.
 
     Returns
     -------
     matplotlib.figure.Figure
-        Top: amplitude (um, zero-to-peak); bottom: phase ``arg Y`` (deg, unwrapped), the
-        phase of ``Re(Y exp(i k theta))`` relative to the keyphasor (phase lag = ``-arg Y``).
+        Top: amplitude (um, zero-to-peak); bottom: phase (deg).
     """
+    if phase not in ("arg", "lag"):
+        from rubrotor.errors import InputError
+
+        raise InputError("phase", phase, '"arg" or "lag"')
     fig = Figure(figsize=(8.0, 6.0), layout="constrained")
     ax_a, ax_p = fig.subplots(2, 1, sharex=True, height_ratios=(3, 2))
     colour = 0
@@ -83,6 +90,9 @@ def bode_figure(tracks: dict, *, orders=(1.0,), direction: str = "both", rpm: bo
                 lab = f"{k:g}X {label}, {where}"
                 ax_a.plot(sp, np.abs(ph[i]) * UM, style, color=f"C{colour % 10}", lw=1.2, label=lab)
                 deg = np.degrees(np.unwrap(np.angle(ph[i])))
+                if phase == "lag":
+                    deg = -deg
+                    deg -= 360.0 * np.floor(deg[0] / 360.0)
                 ax_p.plot(sp, deg, style, color=f"C{colour % 10}", lw=1.2)
             colour += 1
     ax_a.set_ylabel("amplitude (um, 0-peak)")
@@ -96,7 +106,7 @@ def bode_figure(tracks: dict, *, orders=(1.0,), direction: str = "both", rpm: bo
         ax_p.set_ylim(mid - 5, mid + 5)
     ax_a.grid(alpha=0.3)
     ax_a.legend(fontsize=7, ncols=2)
-    ax_p.set_ylabel("phase arg Y (deg)")
+    ax_p.set_ylabel("phase arg Y (deg)" if phase == "arg" else "phase lag (deg)")
     ax_p.set_xlabel(xlabel)
     ax_p.grid(alpha=0.3)
     fig.suptitle(title or "transient Bode plot (order tracking)")
