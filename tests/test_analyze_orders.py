@@ -115,6 +115,8 @@ def test_runup_results_file_tracks_orders_and_warns(tmp_path, capsys):
     one = next(r for r in d["orders"] if r["probe_m"] == 0.5 and r["order"] == 1.0)
     assert len(one["speed_rad_s"]) > 40 and max(one["speed_rad_s"]) > 400
     assert d["rub"]["rub"] == "no" and d["rub"]["evidence"]["contact_time_s"] == 0.0
+    assert main(["analyze", str(nc), "--clearance", "1e-4"]) == 2  # a results file has its own
+    assert "--clearance" in capsys.readouterr().err
 
 
 def test_scalogram_peaks_are_interior():
@@ -156,3 +158,18 @@ def test_streamed_runup_file_has_the_spin_angle_of_the_run(tmp_path):
     streamed = load_dataset(simulate_engine(sc, stream=tmp_path / "s.nc", progress=False))
     assert np.allclose(streamed["tau"].values, mem["tau"].values, rtol=1e-12, atol=1e-9)
     assert streamed["tau"].values[-1] == pytest.approx(120.0 + 0.5 * (120 + 420) * 10, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("option", "needle"),
+    [(["--orders", "abc"], "--orders"), (["--orders", "0"], "--orders"),
+     (["--orders", "0.123456"], "--orders"), (["--clearance", "-1"], "--clearance")],
+)  # fmt: skip
+def test_bad_order_options_fail_first_naming_the_option(tmp_path, capsys, option, needle):
+    """Bad --orders / --clearance values exit 2 with one line naming the option and the value."""
+    path = _probe_csv(tmp_path / "probe.csv")
+    assert main(["analyze", str(path), *option, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("rubrotor: error:") and needle in err and option[1] in err
+    assert len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "o" / "analysis.png").exists()  # refused before any analysis

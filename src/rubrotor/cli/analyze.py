@@ -312,17 +312,14 @@ def _signal_orders(sig: dict, orders) -> tuple[list[dict], dict]:
     return rows, {" + i ".join(sig["names"]): tr}
 
 
-def _orders_and_verdict(sig: dict, args: argparse.Namespace) -> tuple[dict, dict]:
+def _orders_and_verdict(sig: dict, orders, clearance) -> tuple[dict, dict]:
     """``orders`` rows and the ``rub`` verdict of the analysed file, and the tracks drawn."""
     from rubrotor.analysis.verdict import dataset_verdict, rub_evidence, rub_verdict
 
-    orders = _parse_orders(args.orders)
     ds, spin = sig["dataset"], sig["spin"]
     if spin is None:
         why = "no spin speed: give --spin-hz, or a speed_rad_s, rpm or keyphasor column"
         return {"orders": [], "rub": {"rub": "unknown", "reasons": [why], "evidence": {}}}, {}
-    if ds is not None and args.clearance is not None:
-        raise InputError("--clearance", args.clearance, "only with a signal file (a results file has its clearance)")  # fmt: skip
     try:
         rows, tracks = (
             _dataset_orders(ds, orders) if ds is not None else _signal_orders(sig, orders)
@@ -335,7 +332,7 @@ def _orders_and_verdict(sig: dict, args: argparse.Namespace) -> tuple[dict, dict
     if ds is not None:
         verdict = dataset_verdict(ds)
     else:
-        verdict = rub_verdict(rub_evidence(spin, sig["v"], sig["w"], clearance=args.clearance))
+        verdict = rub_verdict(rub_evidence(spin, sig["v"], sig["w"], clearance=clearance))
     out = {"orders": rows, "rub": verdict.as_dict()}
     return (out | {"orders_note": note} if note else out), tracks
 
@@ -407,7 +404,13 @@ def analyze_run(args: argparse.Namespace) -> int:
     from rubrotor.engine.result import atomic_write
     from rubrotor.plotting.figures import analysis_figure
 
+    orders = _parse_orders(args.orders)  # bad options fail before the analysis
+    c = args.clearance
+    if c is not None and not (math.isfinite(c) and c > 0):
+        raise InputError("--clearance", c, "a radial clearance > 0 (m)")
     sig = load_signals(args.input, fs=args.fs, columns=args.columns, spin_hz=args.spin_hz)
+    if sig["dataset"] is not None and c is not None:
+        raise InputError("--clearance", c, "only with a signal file (a results file has its clearance)")  # fmt: skip
     _runup_warning(sig)
     chans = [sig["v"]] + ([sig["w"]] if sig["w"] is not None else [])
     chans, fs = decimate_to(chans, sig["fs"], _MAX_ANALYSIS_RATE)
@@ -430,7 +433,7 @@ def analyze_run(args: argparse.Namespace) -> int:
     d["channels"] = sig["names"]
     rng = sig["speed_range_rad_s"]
     d["speed_range_rad_s"] = None if rng is None else list(rng)
-    extra, tracks = _orders_and_verdict(sig, args)
+    extra, tracks = _orders_and_verdict(sig, orders, c)
     d |= extra
     name = sig["scenario_name"] or Path(args.input).name
     fig = analysis_figure(
