@@ -115,6 +115,7 @@ def test_runup_results_file_tracks_orders_and_warns(tmp_path, capsys):
     one = next(r for r in d["orders"] if r["probe_m"] == 0.5 and r["order"] == 1.0)
     assert len(one["speed_rad_s"]) > 40 and max(one["speed_rad_s"]) > 400
     assert d["rub"]["rub"] == "no" and d["rub"]["evidence"]["contact_time_s"] == 0.0
+    assert "no stator to rub" in d["rub"]["reasons"][0]
     assert main(["analyze", str(nc), "--clearance", "1e-4"]) == 2  # a results file has its own
     assert "--clearance" in capsys.readouterr().err
 

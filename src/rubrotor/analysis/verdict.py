@@ -200,13 +200,21 @@ def rub_verdict(ev: dict, contact: dict | None = None) -> RubVerdict:
                    f"({contact['contact_fraction']:.1%} of the run), "
                    f"{contact['impacts_per_revolution']:.3g} impacts per revolution")  # fmt: skip
             return RubVerdict("yes", (why, *reasons), evidence)
-        return RubVerdict("no", ("no contact in the simulation", *reasons), evidence)
+        why = "no contact in the simulation"
+        if _no_stations(contact):
+            why = "the scenario has no contact (no stator to rub)"
+        return RubVerdict("no", (why, *reasons), evidence)
     kinds = {s[0] for s in signs}
     if ("proximity" in kinds and len(kinds) >= 2) or {"backward", "subharmonic"} <= kinds:
         return RubVerdict("yes", tuple(reasons), evidence)
     if kinds:
         return RubVerdict("possible", tuple(reasons), evidence)
     return RubVerdict("no", ("no proximity, backward whirl or sub-/super-harmonic sign",), evidence)
+
+
+def _no_stations(contact: dict) -> bool:
+    """Whether simulation contact data come from a run without any contact station."""
+    return contact.get("contact_stations", 1) == 0
 
 
 def _dataset_contact(ds) -> tuple[dict, float | None, tuple[float, float]]:
@@ -224,7 +232,9 @@ def _dataset_contact(ds) -> tuple[dict, float | None, tuple[float, float]]:
     dt = float(np.mean(np.diff(t)))
     revs = float((ds["tau"].values[-1] - ds["tau"].values[0]) / (2 * math.pi))
     impacts = int(np.sum(kind > 0))
-    contact = {"contact_time_s": float(ic.sum() * dt), "contact_fraction": float(ic.mean()),
+    n_contacts = ds.sizes.get("contact", 1)
+    contact = {"contact_stations": int(n_contacts),
+               "contact_time_s": float(ic.sum() * dt), "contact_fraction": float(ic.mean()),
                "impacts": impacts, "impacts_per_revolution": impacts / revs if revs > 0 else 0.0}  # fmt: skip
     clearance, centre = None, (0.0, 0.0)
     if "contacts" in ds.attrs:
