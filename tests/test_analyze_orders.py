@@ -19,7 +19,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from orders_reference import KNOWN, SLOW_RUNUP, synthetic  # noqa: E402
 
 
-def _probe_csv(path, column="speed_rad_s", fs=2000.0):
+def _probe_csv(path, column="speed_rad_s", fs=1000.0):
     t = np.arange(int(2.0 * fs)) / fs
     theta = 60.0 * t + 20.0 * t**2
     y, z = synthetic(t, theta)
@@ -38,7 +38,7 @@ def test_csv_with_time_and_speed_columns_gives_orders_without_fs(tmp_path, capsy
     cap = capsys.readouterr()
     d = json.loads(cap.out)
     assert "speed varies from 60" in cap.err
-    assert d["fs_hz"] == pytest.approx(2000.0, rel=1e-9) and d["spin_hz"] is None
+    assert d["fs_hz"] == pytest.approx(1000.0, rel=1e-9) and d["spin_hz"] is None
     rows = {r["order"]: r for r in d["orders"]}
     assert set(rows) == {0.5, 1.0, 2.0}
     for k, ((ay, py), (az, pz)) in KNOWN.items():
