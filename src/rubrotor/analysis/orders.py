@@ -1,7 +1,8 @@
 r"""Order tracking of run-ups, coast-downs and steady runs: computed order tracking.
 
-The method is *computed order tracking* (Potter 1990; Fyfe and Munck 1997), what the
-Bently-Nevada ADRE family does with a once-per-revolution keyphasor: each signal is resampled
+The method is *computed order tracking* (Potter 1990; Fyfe and Munck 1997), the digital
+counterpart of sampling synchronously with a once-per-revolution keyphasor as machinery
+monitoring systems do: each signal is resampled
 at equal increments of the spin angle ``theta`` (``samples_per_rev`` per revolution, cubic
 spline through the time samples), cut into blocks of a whole number of revolutions starting at
 the keyphasor (``theta`` a multiple of ``2 pi``), Hann windowed and Fourier-analysed per
