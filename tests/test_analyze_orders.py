@@ -159,6 +159,11 @@ def test_streamed_runup_file_has_the_spin_angle_of_the_run(tmp_path):
     streamed = load_dataset(simulate_engine(sc, stream=tmp_path / "s.nc", progress=False))
     assert np.allclose(streamed["tau"].values, mem["tau"].values, rtol=1e-12, atol=1e-9)
     assert streamed["tau"].values[-1] == pytest.approx(120.0 + 0.5 * (120 + 420) * 10, rel=1e-12)
+    from rubrotor.cli.simulate import streamed_summary
+
+    summary = streamed_summary(tmp_path / "s.nc")  # read chunk by chunk, as the CLI does
+    assert summary["speed_profile"]["speeds_rad_s"] == [120.0, 120.0, 420.0]
+    assert summary["speed_end_rad_s"] == pytest.approx(420.0, rel=1e-12)
 
 
 @pytest.mark.parametrize(
