@@ -63,13 +63,16 @@ class GeneralMap:
     reference : GeneralMap, optional
         Align the modes with this map's (:func:`aligned`), so that states mean the same in
         both (continuation along a key).
+    probes : sequence of float
+        Axial stations (m) whose deflection the kernel writes after the contact stations'
+        (``_kernel``'s samples); the orbit itself does not depend on them.
     family : rubrotor.orbits.speed_family.SpeedFamily, optional
         Take the plant from this family of the same rotor (only the speed-dependent parts
-        updated) instead of building it (:meth:`at_speed` passes it).
+        updated; its probes) instead of building it (:meth:`at_speed` passes it).
     """
 
     def __init__(self, scenario, k: int, steps: int, speed: float | None = None,
-                 reference: GeneralMap | None = None, family=None):  # fmt: skip
+                 reference: GeneralMap | None = None, probes=(), family=None):  # fmt: skip
         from rubrotor.engine.general import engine_problem
 
         eng = scenario.engine
@@ -84,10 +87,12 @@ class GeneralMap:
         self.scenario, self.k, self.steps = scenario, int(k), int(steps)
         self.speed = float(scenario.speed if speed is None else speed)
         if family is None:
-            integ = Integrator(revolutions=float(k), dtau=2 * math.pi / steps, save_every=1)
+            integ = Integrator(revolutions=float(k), dtau=2 * math.pi / steps, save_every=1,
+                               probes=tuple(probes))  # fmt: skip
             system, run, kw, _ = engine_problem(scenario, integ)
         else:  # the same rotor and settings: nothing to rebuild but the speed's parts
             system, run, kw = family.problem
+        self.system = system
         T = 2 * math.pi / self.speed
         run = dataclasses.replace(run, speed=self.speed, initial="steady", duration=k * T,
                                   step=T / steps, save_every=1)  # fmt: skip
@@ -119,7 +124,7 @@ class GeneralMap:
         family = self.family if self.family.usable else None  # else rebuilt (non-symmetric
         # mass, stiffness or damping bands: no transposed problem to reuse)
         return GeneralMap(self.scenario, self.k, self.steps, speed, self.reference or self,
-                          family)  # fmt: skip
+                          family=family)  # fmt: skip
 
     def repeat(self, k: int) -> GeneralMap:
         """The same map over ``k`` revolutions (the same plant and step coefficients)."""
