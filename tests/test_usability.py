@@ -1,0 +1,66 @@
+"""Issue 23, "no hand arithmetic, no guessing": each usability item through the library and the
+CLI (``rubrotor.cli.main`` in-process)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import rubrotor
+from rubrotor.errors import ScenarioError
+from rubrotor.linear.modal_mass import modal_masses
+from rubrotor.rotors.shaft import Shaft
+
+
+# ---- shipped scenarios by name -----------------------------------------------------------------
+def test_shipped_scenario_by_name_from_any_folder(tmp_path, monkeypatch):
+    """``load_scenario("seed_case1.toml")`` from a folder without that file reads the shipped
+    one; a local file of that name takes precedence; an unknown name points to the list."""
+    monkeypatch.chdir(tmp_path)
+    assert rubrotor.load_scenario("seed_case1.toml").name == "seed_case1"
+    assert rubrotor.load_scenario("seed_case1").name == "seed_case1"
+    (tmp_path / "seed_case1.toml").write_text(
+        '[meta]\nname = "mine"\n[shaft]\nlength = 0.4\ndiameter = 0.1\nyoungs_modulus = 71e9\n'
+        "density = 2660\npoisson_ratio = 0.33\n[speed]\nrpm = 1000\n"
+    )
+    assert rubrotor.load_scenario("seed_case1.toml").name == "mine"
+    with pytest.raises(ScenarioError, match="rubrotor scenarios"):
+        rubrotor.load_scenario("no_such_rotor.toml")
+
+
+# ---- modal masses ------------------------------------------------------------------------------
+def test_modal_mass_of_pinned_shaft_is_half_its_mass():
+    """Closed form: the first mode of a uniform pinned-pinned Euler-Bernoulli shaft is
+    ``sin(pi x / L)``; with ``phi^T M phi = 1`` its midspan modal mass is ``rho A L / 2`` and its
+    modal stiffness ``omega^2 rho A L / 2`` with ``omega = (pi/L)^2 sqrt(E I / (rho A))``."""
+    shaft = Shaft(length=0.4, diameter=0.1, youngs_modulus=71e9, density=2660, poisson_ratio=0.33,
+                  theory="euler-bernoulli", gyroscopic=False, modes=3)  # fmt: skip
+    area, inertia = math.pi * 0.1**2 / 4, math.pi * 0.1**4 / 64
+    m_ref = 2660 * area * 0.4 / 2
+    w_ref = (math.pi / 0.4) ** 2 * math.sqrt(71e9 * inertia / (2660 * area))
+    first = modal_masses(shaft)[0]
+    assert first.station == pytest.approx(0.2, abs=1e-3)
+    assert first.modal_mass == pytest.approx(m_ref, rel=1e-9)
+    assert first.modal_stiffness == pytest.approx(w_ref**2 * m_ref, rel=1e-9)
+    at_quarter = modal_masses(shaft, station=0.1)[0]  # sin(pi/4)^2 = 1/2: twice the mass
+    assert at_quarter.modal_mass == pytest.approx(2 * m_ref, rel=1e-9)
+
+
+def test_modal_masses_sum_to_static_flexibility():
+    """Second route (modal expansion of the static flexibility): with every mode,
+    ``sum_i u_i(x)^2 / omega_i^2 = sum_i 1 / k_i`` at a station equals the static deflection
+    per unit force there, ``(K^-1)_xx``, solved directly on the FE rotor at rest."""
+    from rubrotor.linear.verbs import linear_system
+
+    scenario = rubrotor.load_scenario("general_rotor.toml")
+    system = linear_system(scenario)
+    x = 0.45
+    mm = modal_masses(scenario, speed=0.0, station=x, n=system.n_dof)
+    mats = system.matrices(0.0)
+    row = system.basis.rows(x)[:, system.free]
+    ks = 0.5 * (mats.K + mats.K.T)
+    flex = row @ np.linalg.solve(ks, row.T)
+    assert len(mm) == system.n_dof
+    assert sum(1 / m.modal_stiffness for m in mm) == pytest.approx(np.trace(flex), rel=1e-8)
