@@ -3,6 +3,7 @@ CLI (``rubrotor.cli.main`` in-process)."""
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -64,3 +65,70 @@ def test_modal_masses_sum_to_static_flexibility():
     flex = row @ np.linalg.solve(ks, row.T)
     assert len(mm) == system.n_dof
     assert sum(1 / m.modal_stiffness for m in mm) == pytest.approx(np.trace(flex), rel=1e-8)
+
+
+# ---- through the CLI ---------------------------------------------------------------------------
+def test_cli_finds_shipped_scenarios_and_says_version(tmp_path, monkeypatch, capsys):
+    """``rubrotor modes seed_rotor.toml`` from an empty folder; an unknown name exits 2 with one
+    line pointing to ``rubrotor scenarios``; ``rubrotor --version`` prints the package's."""
+    from rubrotor.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["modes", "seed_rotor.toml", "--json", "--speed", "0"]) == 0
+    capsys.readouterr()
+    assert main(["modes", "seed_rotr.toml"]) == 2
+    err = capsys.readouterr().err
+    assert "seed_rotr.toml" in err and "rubrotor scenarios" in err and err.count("\n") == 1
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"rubrotor {rubrotor.__version__}"
+    assert main(["scenarios", "--json"]) == 0
+    described = json.loads(capsys.readouterr().out)["scenarios"]
+    assert all(s["description"] for s in described), [s["name"] for s in described]
+
+
+def test_cli_modes_prints_modal_masses(capsys):
+    """``rubrotor modes`` gives modal masses at a station; for the seed rotor's first mode at
+    midspan, the closed form of the two-field model's first mode: ``m = 1 / u^2`` with the mode
+    ``[v, psi]`` of the 2x2 pencil ``(K - w^2 M)`` of mode 1 mass-normalised (independent of
+    the FE-free eigen-solver: solved here with numpy on rubrotor.rotors.shaft.modal_matrices)."""
+    from rubrotor.cli import main
+    from rubrotor.rotors.shaft import modal_matrices
+
+    assert main(["modes", "seed_rotor.toml", "--json", "--speed", "0", "--station", "0.2"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert "phi^T M phi = 1" in out["modal_mass_normalisation"]
+    first = out["modal_masses"][0]
+    shaft = rubrotor.load_scenario("seed_rotor.toml").shaft
+    b = modal_matrices(shaft, 1)
+    m, k = b.M.real, b.K.real
+    w2, vec = np.linalg.eig(np.linalg.solve(m, k))
+    j = int(np.argmin(w2.real))
+    v = vec[:, j].real
+    v = v / math.sqrt(v @ m @ v)  # phi^T M phi = 1; the sine is 1 at midspan
+    assert first["station_m"] == 0.2
+    assert first["modal_mass_kg"] == pytest.approx(1 / v[0] ** 2, rel=1e-9)
+    assert first["modal_stiffness_N_per_m"] == pytest.approx(w2[j].real / v[0] ** 2, rel=1e-9)
+    assert main(["modes", "general_rotor.toml"]) == 0
+    text = capsys.readouterr().out
+    assert "modal mass (kg)" in text and "phi^T M phi = 1" in text
+
+
+def test_cli_stability_round_off_is_neutral(capsys):
+    """Undamped whirls of the pressed seed rotor come out at |growth| ~ 1e-11 1/s (round-off of
+    eigenvalues ~1e5 rad/s); they are "neutral", and the friction-driven seed-eq1 whirls (growth
+    ~ +1e-2 1/s, 500 times the tolerance of 2e-5 1/s) stay "unstable"."""
+    from rubrotor.cli import main
+
+    args = ["stability", "seed_case1.toml", "--indentation", "1e-6", "--no-friction", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    for r in out["results"]:
+        growth = np.array([e[0] for e in r["eigenvalues"]])
+        tol = r["growth_tolerance_per_s"]
+        assert 1e-7 < tol < 1e-3
+        small = np.abs(growth) < tol
+        assert small.any()
+        assert all(v == "neutral" for v, s in zip(r["verdicts"], small, strict=True) if s)
+        assert r["unstable"] == bool((growth > tol).any())
+    eq1 = [r for r in out["results"] if r["formulation"] == "seed-eq1"][0]
+    assert eq1["unstable"] and eq1["max_growth_rate_per_s"] > 100 * eq1["growth_tolerance_per_s"]
