@@ -93,6 +93,9 @@ def simulate_args(parser: argparse.ArgumentParser) -> None:
         "--figure", action="store_true", help="also write FILE with .png: orbit, force, spectrum"
     )
     parser.add_argument(
+        "--rpm", action="store_true", help="speed axis of the figure in rev/min (default rad/s)"
+    )
+    parser.add_argument(
         "--progress",
         action=argparse.BooleanOptionalAction,
         default=None,
@@ -121,7 +124,7 @@ def simulate_run(args: argparse.Namespace) -> int:
         ds = simulate(scenario, progress=args.progress)
         save_dataset(ds, out)
     if args.figure:
-        _simulate_figure(ds, out.with_suffix(".png"))
+        _simulate_figure(ds, out.with_suffix(".png"), args.rpm)
     summary = run_summary(ds)
     summary["results"] = str(out)
     print(json.dumps(summary, indent=2))
@@ -131,13 +134,13 @@ def simulate_run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _simulate_figure(ds, path: Path) -> None:
+def _simulate_figure(ds, path: Path, rpm: bool = False) -> None:
     from rubrotor.plotting.figures import response_figure
 
     if ds.attrs.get("engine") == "general":
         from rubrotor.plotting.rub import engine_figure
 
-        fig = engine_figure(ds)
+        fig = engine_figure(ds, rpm=rpm)
     else:
         fig = response_figure(ds)
     save_atomic(fig, path)
