@@ -1,0 +1,73 @@
+"""Issue 23, "figures that hold up": what a reader needs from each figure, checked on the drawn
+artists (the figures themselves were rendered to PNG and looked at)."""
+
+from __future__ import annotations
+
+import ast
+import itertools
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.text import Text
+
+from rubrotor.linear.analysis import CampbellData, LinearCritical
+from rubrotor.plotting.linear import _LOGDEC_CMAP, campbell_stability_figure
+from rubrotor.plotting.rub import per_revolution
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def _luminance(rgba) -> float:
+    """Relative luminance (ITU-R BT.709 weights on the sRGB components)."""
+    r, g, b = rgba[:3]
+    return 0.2126 * r + 0.7152 * g + 0.0722 * b
+
+
+def test_campbell_labels_never_overlap_and_light_damping_is_dark():
+    """Four critical speeds within 3 % of each other (general_rotor's 368, 379, 468, 478
+    rad/s came out on top of each other): their label boxes, measured on the rendered canvas,
+    are pairwise disjoint. The colour of log dec 0 is dark (luminance < 0.2) and that of the
+    well-damped end is not pale on white (< 0.75; viridis_r's yellow was 0.87)."""
+    speeds = np.linspace(0.0, 1500.0, 31)
+    freq = np.stack([np.full(31, 60.0), np.full(31, 62.0), np.full(31, 75.0)], axis=1)
+    data = CampbellData(speeds, freq, np.full((31, 3), 0.05), np.full((31, 3), "forward"))
+    crit = [LinearCritical(i + 1, "forward", 1.0, w) for i, w in enumerate((368, 372, 376, 380))]
+    fig = campbell_stability_figure(data, crit, operating_speed=628.0)
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    boxes = [Text.get_window_extent(t, renderer) for t in fig.axes[0].texts]  # text, no arrow
+    assert len(boxes) == 4
+    for a, b in itertools.combinations(boxes, 2):
+        assert not a.overlaps(b)
+    assert _luminance(_LOGDEC_CMAP(0.0)) < 0.2
+    assert _luminance(_LOGDEC_CMAP(1.0)) < 0.75
+
+
+def test_per_revolution_envelope():
+    """Closed form: ``sin(tau + 0.3) + k`` in revolution ``k`` has maximum ``k + 1`` and minimum
+    ``k - 1``; sampled 1000 times per revolution the sampled extremes miss them by at most
+    ``(2 pi / 1000)^2 / 2 = 2e-5``; the incomplete last revolution is left out."""
+    tau = np.linspace(0.0, 2 * math.pi * 7.5, 7501)
+    x = np.sin(tau + 0.3) + np.floor(tau / (2 * math.pi))
+    starts, vmax, vmin = per_revolution(tau, x)
+    assert starts.size == 7
+    np.testing.assert_allclose(vmax, np.arange(7) + 1.0, atol=3e-5)
+    np.testing.assert_allclose(vmin, np.arange(7) - 1.0, atol=3e-5)
+
+
+@pytest.mark.parametrize("path", sorted(EXAMPLES.glob("plot_*.py")), ids=lambda p: p.name)
+def test_gallery_blocks_end_without_a_repr(path):
+    """sphinx-gallery prints the value of an expression closing a code block: a bare
+    ``ax.legend()`` put ``<matplotlib.legend.Legend object at 0x...>`` on the run-up page.
+    Only ``print(...)`` may close a block."""
+    for block in path.read_text().split("\n# %%"):
+        body = ast.parse(block).body
+        if body and isinstance(body[-1], ast.Expr):
+            call = body[-1].value
+            assert isinstance(call, ast.Call) and getattr(call.func, "id", "") == "print", (
+                ast.unparse(body[-1])
+            )
