@@ -239,6 +239,8 @@ _REGIME_COLORS = {
     "full annular rub": "tab:red",
     "quasi-periodic": "tab:green",
     "chaotic": "black",
+    "aperiodic": "darkslategray",
+    "indentation > clearance": "gold",
     "not classified": "tab:pink",
     "not computed": "white",
 }
@@ -253,7 +255,8 @@ def _regime_color(label: str) -> str:
 
 
 def _label_order(label: str) -> tuple:
-    order = ["no contact", "partial rub", "full annular rub", "quasi-periodic", "chaotic"]
+    order = ["no contact", "partial rub", "full annular rub", "quasi-periodic", "aperiodic",
+             "chaotic", "indentation > clearance"]  # fmt: skip
     for i, name in enumerate(order):
         if label.startswith(name):
             k = int(label.rsplit("-", 1)[1].rstrip(")")) if name == "partial rub" else 0

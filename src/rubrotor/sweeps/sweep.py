@@ -61,7 +61,9 @@ import numpy as np
 from rubrotor.errors import InputError
 from rubrotor.scenario.load import key_unit
 from rubrotor.sweeps.regimes import (
+    APERIODIC,
     CHAOTIC,
+    DEEP,
     FULL,
     NO_CONTACT,
     PARTIAL,
@@ -86,7 +88,9 @@ __all__ = [
     "find_period",
     "poincare_dimension",
     "regime_label",
+    "APERIODIC",
     "CHAOTIC",
+    "DEEP",
     "FULL",
     "NO_CONTACT",
     "PARTIAL",
@@ -284,6 +288,7 @@ def window_metrics(
     revolutions: int,
     samples_per_revolution: int,
     lyapunov: float = np.nan,
+    clearance: float | None = None,
 ) -> dict:
     """:func:`point_metrics` of the kept window alone (the samples ``T N .. R N - 1``).
 
@@ -295,6 +300,9 @@ def window_metrics(
         Normal contact force (N) over the kept window.
     events, speed, transient_revolutions, revolutions, samples_per_revolution, lyapunov
         As in :func:`point_metrics` (s, rad/s, counts, 1/s).
+    clearance : float, optional
+        Clearance (m) of a rigid stator centred on the axis, for the ``"indentation >
+        clearance"`` regime (:func:`rubrotor.sweeps.regimes.classify`).
 
     Returns
     -------
@@ -327,9 +335,8 @@ def window_metrics(
     out["poincare_dimension"] = dim
     out["lyapunov_exponent"] = lyapunov
     per_rev = lyapunov * 2 * np.pi / speed
-    code, period = classify(
-        cf, ripple, z, lines, dim, lyapunov_per_rev=per_rev, scale=float(absp.max())
-    )
+    code, period = classify(cf, ripple, z, lines, dim, lyapunov_per_rev=per_rev,
+                            scale=float(absp.max()), clearance=clearance)  # fmt: skip
     out["regime"] = code
     out["period"] = period
     out["status"] = 1
@@ -485,9 +492,22 @@ def simulate_point(
     ch = r.channels
     pw = ch[0, i0:i1] + 1j * ch[1, i0:i1]
     fn = ch[6 * len(r.stations), i0:i1]
+    gap = _rigid_clearance(scenario)
     metrics = window_metrics(pw, fn, r.events, r.speed, transient_revolutions, revolutions,
-                             samples_per_revolution, lam)  # fmt: skip
+                             samples_per_revolution, lam, gap)  # fmt: skip
     return metrics, r.final_state
+
+
+def _rigid_clearance(scenario) -> float | None:
+    """Clearance (m) of a Hertz contact on the continuous shaft's path (a rigid stator centred
+    on the axis), else None. The Hertz law models the local elastic indentation of two solids:
+    an indentation beyond the clearance (millimetres for the seed rotor) lies far outside it,
+    so such a run is labelled ``"indentation > clearance"``, not a rub. A linear law stands for
+    a compliant seal or stator, whose deflection may exceed the gap: no such label."""
+    c = getattr(scenario, "contact", None)
+    if c is None or c.law != "hertz" or getattr(scenario, "engine", None) is not None:
+        return None
+    return c.clearance
 
 
 def run_chunk(task: dict) -> dict:
