@@ -100,6 +100,13 @@ def sweep_run(args: argparse.Namespace) -> int:
         raise InputError("--netcdf", args.netcdf, "a file name ending in .nc")
     scenario = load_scenario(args.scenario)
     progress = sys.stderr.isatty() if args.progress is None else args.progress
+    if args.follow is None and scenario.rotor is not None:
+        raise InputError(
+            "--follow", None,
+            "--follow up|down|both on a general rotor ([[section]] tables): its points run as "
+            "a state-carrying sweep of one key (a grid sweep of independent runs needs the "
+            "continuous [shaft]), e.g. rubrotor sweep SCENARIO --vary KEY=A:B:N --follow both",
+        )  # fmt: skip
     if args.follow is not None:
         if len(vary) != 1:
             raise InputError("--follow", args.follow, "a sweep of one key (one --vary)")

@@ -26,7 +26,7 @@ from rubrotor.engine.parts import Run, spin_angle
 from rubrotor.engine.stream import check_size
 from rubrotor.errors import InputError, ScenarioError
 
-__all__ = ["engine_problem", "simulate_engine", "STREAM_SAMPLES"]
+__all__ = ["engine_problem", "simulate_engine", "given_state", "STREAM_SAMPLES"]
 
 STREAM_SAMPLES = 1 << 21
 """``rubrotor simulate`` streams runs with more saved samples than this to the results file."""
@@ -76,6 +76,43 @@ def _restart(path: str, speed: float, n: int) -> tuple[np.ndarray, float]:
     return x, float(end)
 
 
+def given_state(system, speed: float, given: tuple) -> np.ndarray:
+    """The state ``[q, q']`` (SI, free DOFs) through given deflections and velocities.
+
+    Of all shapes with the deflections ``d`` at the stations, the one of least strain energy:
+    the static shape under point forces at those stations alone, ``q = F (B F)^-1 d`` with
+    ``F = K^-1 B^T`` (``B`` the rows giving ``v, w`` at the stations, ``K`` with the bearings
+    at ``speed``); the velocities take the same form. So ``B q = d`` and ``B q' = d'``
+    exactly, and a single station's deflection gives the static deflection line of a point
+    load there.
+
+    Parameters
+    ----------
+    system : rubrotor.rotors.linear.LinearSystem
+        The rotor (a node at each station).
+    speed : float
+        Spin speed (rad/s) for the bearings' coefficients.
+    given : tuple
+        ``(positions, v, w, v_dot, w_dot)`` of :class:`rubrotor.scenario.dynamics.EngineSpec`
+        (m, m, m, m/s, m/s).
+
+    Returns
+    -------
+    ndarray, shape (2 n,)
+    """
+    positions, v, w, vd, wd = (np.asarray(g, float) for g in given)
+    b = np.vstack([system.basis.rows(float(x))[:, system.free] for x in positions])  # (2P, n)
+    f = np.linalg.solve(system.matrices(speed).K, b.T)
+    bf = b @ f
+    if np.linalg.cond(bf) > 1e12:
+        raise ScenarioError("initial.positions", tuple(positions),
+                            "stations far enough apart to be deflected independently")  # fmt: skip
+    shape = f @ np.linalg.inv(bf)
+    d = np.column_stack([v, w]).ravel()
+    dd = np.column_stack([vd, wd]).ravel()
+    return np.concatenate([shape @ d, shape @ dd])
+
+
 def engine_problem(scenario, integrator=None):
     """The engine's inputs for a scenario.
 
@@ -119,6 +156,8 @@ def engine_problem(scenario, integrator=None):
         initial, t0 = _restart(eng.initial_path, speed, system.n_dof)
         # constant speed: continuing at t0 equals starting at 0 with phases advanced by Omega t0
         unb = tuple(dataclasses.replace(u, phase=u.phase + speed * t0) for u in unb)
+    elif initial == "given":
+        initial = given_state(system, speed, eng.initial_given)
     run = Run(
         speed=speed, duration=_duration(integ, speed, end),
         step=integ.output_spacing(speed) if adaptive else step,
