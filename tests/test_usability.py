@@ -132,3 +132,123 @@ def test_cli_stability_round_off_is_neutral(capsys):
         assert r["unstable"] == bool((growth > tol).any())
     eq1 = [r for r in out["results"] if r["formulation"] == "seed-eq1"][0]
     assert eq1["unstable"] and eq1["max_growth_rate_per_s"] > 100 * eq1["growth_tolerance_per_s"]
+
+
+def _shipped_text(name: str) -> str:
+    from importlib import resources
+
+    return (resources.files("rubrotor") / "scenarios" / name).read_text()
+
+
+def test_cli_run_up_needs_no_dt(tmp_path, capsys):
+    """A run-up without ``dt`` runs with the default step of the highest retained mode and the
+    contact stiffness. Reference: the steps the shipped files set by hand and were validated
+    with (seal_rub 2e-5 s, 16 modes; runup_rub 5e-5 s, every mode): the default lies within
+    25 % of each (2.14e-5 and 4.57e-5 s measured), and the run's saved samples are spaced by
+    that default times ``save_every``."""
+    from rubrotor.cli import main
+    from rubrotor.engine.general import _system, default_step
+    from rubrotor.engine.result import load_dataset
+
+    for name, hand in (("seal_rub.toml", 2e-5), ("runup_rub.toml", 5e-5)):
+        sc = rubrotor.load_scenario(name)
+        top = sc.engine.speed_end or sc.speed
+        dt = default_step(_system(sc, sc.simulation.probes), sc.engine, top)
+        assert 0.8 < dt / hand < 1.25, (name, dt)
+    text = _shipped_text("runup_rub.toml").replace("dt = 5e-5", "").replace(
+        "duration = 1.0", "duration = 0.02").replace("to = 450.0", "to = 160.0")  # fmt: skip
+    f = tmp_path / "runup.toml"
+    f.write_text(text)
+    assert main(["simulate", str(f), "--out", str(tmp_path / "r.nc")]) == 0
+    capsys.readouterr()
+    ds = load_dataset(tmp_path / "r.nc")
+    sc = rubrotor.load_scenario(f)
+    dt = default_step(_system(sc, sc.simulation.probes), sc.engine, 160.0)
+    assert ds.attrs["status"] == "complete"
+    assert float(ds.time[1] - ds.time[0]) == pytest.approx(2 * dt, rel=1e-9)
+
+
+DROP = """
+[materials.steel]
+youngs_modulus = 211e9
+poisson_ratio = 0.3
+density = 7810
+[[section]]
+length = 1.0
+diameter = 0.05
+material = "steel"
+[[disk]]
+position = 0.5
+mass = 10.0
+[[bearing]]
+position = 0.0
+kyy = 1e12
+kzz = 1e12
+[[bearing]]
+position = 1.0
+kyy = 1e12
+kzz = 1e12
+[rotor]
+theory = "euler-bernoulli"
+[speed]
+rad_per_s = 100.0
+[initial]
+state = "given"
+positions = [0.5]
+v = [1e-4]
+w_dot = [0.02]
+[simulation]
+duration = 0.001
+dt = 1e-5
+probes = [0.5, 0.25]
+"""
+
+
+def test_cli_initial_given_state(tmp_path, capsys):
+    """``[initial] state = "given"``: the run starts at the given deflection and velocity at the
+    station, in the static deflection line of a point load there. Closed form: a pinned-pinned
+    Euler-Bernoulli beam loaded at midspan deflects at L/4 by 11/16 of its midspan deflection
+    (bearings 1e12 N/m: their compliance moves the ratio by ~1e-7; cubic elements are exact for
+    nodal point loads); the velocity shape is the same line."""
+    from rubrotor.cli import main
+    from rubrotor.engine.result import load_dataset
+
+    f = tmp_path / "drop.toml"
+    f.write_text(DROP)
+    assert main(["simulate", str(f), "--out", str(tmp_path / "d.nc")]) == 0
+    capsys.readouterr()
+    ds = load_dataset(tmp_path / "d.nc").isel(time=0)
+    mid, quarter = (list(ds.station.values).index(x) for x in (0.5, 0.25))
+    assert float(ds.v[mid]) == pytest.approx(1e-4, rel=1e-9)
+    assert float(ds.w_dot[mid]) == pytest.approx(0.02, rel=1e-9)
+    assert abs(float(ds.w[mid])) < 1e-12 and abs(float(ds.v_dot[mid])) < 1e-9
+    assert float(ds.v[quarter]) / 1e-4 == pytest.approx(11 / 16, rel=1e-5)
+    assert float(ds.w_dot[quarter]) / 0.02 == pytest.approx(11 / 16, rel=1e-5)
+    bad = {"v = [1e-4]": "v = [1e-4, 0.0]", 'state = "given"': 'state = "rest"',
+           "positions = [0.5]": "positions = [1.5]"}  # fmt: skip
+    for old, new in bad.items():
+        f.write_text(DROP.replace(old, new))
+        assert main(["simulate", str(f), "--out", str(tmp_path / "x.nc")]) == 2
+        err = capsys.readouterr().err
+        assert "initial." in err and err.count("\n") == 1, err
+
+
+def test_cli_errors_say_which_table_and_sweep_says_follow(tmp_path, capsys):
+    """An error in the second ``[[contact]]`` table names it as such, counted from 1; a plain
+    sweep of a general rotor exits 2 pointing to ``--follow``."""
+    from rubrotor.cli import main
+
+    text = _shipped_text("seal_rub.toml")
+    second = text[text.index("[[contact]]"):text.index("[initial]")].replace(
+        "friction = 0.1", "friction = -0.1").replace("position = 0.75", "position = 0.5")  # fmt: skip
+    f = tmp_path / "two.toml"
+    f.write_text(text.replace("[initial]", second + "\n[initial]"))
+    assert main(["modes", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert "contact[2].friction" in err and "the second [[contact]] table, counted from 1" in err
+    seal = _shipped_text("seal_rub.toml")
+    (tmp_path / "seal.toml").write_text(seal)
+    args = ["sweep", str(tmp_path / "seal.toml"), "--vary", "speed.rad_per_s=600:700:3"]
+    assert main(args + ["--out", str(tmp_path / "s.zarr")]) == 2
+    err = capsys.readouterr().err
+    assert "--follow" in err and err.count("\n") == 1

@@ -26,7 +26,7 @@ from rubrotor.engine.parts import Run, spin_angle
 from rubrotor.engine.stream import check_size
 from rubrotor.errors import InputError, ScenarioError
 
-__all__ = ["engine_problem", "simulate_engine", "given_state", "STREAM_SAMPLES"]
+__all__ = ["engine_problem", "simulate_engine", "given_state", "default_step", "STREAM_SAMPLES"]
 
 STREAM_SAMPLES = 1 << 21
 """``rubrotor simulate`` streams runs with more saved samples than this to the results file."""
@@ -74,6 +74,70 @@ def _restart(path: str, speed: float, n: int) -> tuple[np.ndarray, float]:
         raise ScenarioError("initial.path", path, "a constant-speed results file")
     end = ds.attrs.get("end_time_s", ds.attrs.get("start_time_s", 0.0) + ds["time"].values[-1])
     return x, float(end)
+
+
+POINTS_PER_PERIOD = 20
+"""Steps per period of the fastest motion the default step resolves (:func:`default_step`)."""
+
+RESOLVED_BAND = 10.0
+"""With every mode kept, the default step resolves the modes up to this multiple of the
+fastest contact, stator or spin frequency (higher ones are propagated exactly by the
+exponential integrator, but their response to the contact force is not resolved)."""
+
+
+def default_step(system, eng, top_speed: float) -> float:
+    """Fixed step (s) of a run-up whose ``[simulation]`` gives neither ``dt`` nor ``dtau``.
+
+    ``dt = 2 pi / (POINTS_PER_PERIOD omega_ref)``, ``omega_ref`` (rad/s) the largest of: the
+    highest retained mode (``simulation.modes`` or ``cutoff``; with every mode kept, the
+    highest below ``RESOLVED_BAND`` times the next three), each contact's frequency
+    ``sqrt(k / m)`` (``k`` the linear stiffness, or the Hertz law's ``1.5 k_h sqrt(g)`` at an
+    indentation of one clearance ``g``; ``m`` the smallest modal mass at the contact,
+    :func:`rubrotor.linear.modal_mass.modal_masses`), each flexible stator's
+    ``sqrt((k_s + k) / m_s)`` and the top spin speed. Modes are the undamped ones at rest
+    (bearings at ``top_speed``). On ``seal_rub.toml`` (16 modes) this gives 2.1e-5 s, the
+    step the file sets by hand (2e-5 s).
+
+    Parameters
+    ----------
+    system : rubrotor.rotors.linear.LinearSystem
+        The rotor.
+    eng : rubrotor.scenario.dynamics.EngineSpec
+        Contacts, stators and the retained modes.
+    top_speed : float
+        Largest spin speed of the profile (rad/s).
+
+    Returns
+    -------
+    float
+        The step (s).
+    """
+    import scipy.linalg
+
+    from rubrotor.linear.modal_mass import modal_masses
+
+    mats = system.matrices(top_speed)
+    w2 = scipy.linalg.eigh(0.5 * (mats.K + mats.K.T), mats.M, eigvals_only=True)
+    omega = np.sqrt(w2[w2 > 1e-9 * w2.max()])
+    kept = omega.size if eng.modes is None else min(eng.modes, omega.size)
+    fast = [top_speed]
+    for st in eng.stations:
+        c = st.contact
+        k = c.stiffness if c.law == "linear" else 1.5 * c.stiffness * math.sqrt(c.clearance)
+        mm = modal_masses(system, top_speed, c.position, n=kept)
+        fast.append(math.sqrt(k / min(m.modal_mass for m in mm)))
+        if st.stator is not None:
+            s = st.stator
+            fast += [math.sqrt((s.stiffness_y + k) / s.mass_y),
+                     math.sqrt((s.stiffness_z + k) / s.mass_z)]  # fmt: skip
+    if eng.cutoff is not None:
+        modes = omega[omega <= eng.cutoff]
+    elif eng.modes is not None:
+        modes = omega[:kept]
+    else:
+        modes = omega[omega <= RESOLVED_BAND * max(fast)]
+    ref = max(fast + [float(modes[-1]) if modes.size else 0.0])
+    return 2 * math.pi / (POINTS_PER_PERIOD * ref)
 
 
 def given_state(system, speed: float, given: tuple) -> np.ndarray:
@@ -143,11 +207,10 @@ def engine_problem(scenario, integrator=None):
         raise ScenarioError("speed", speed, "a spin speed > 0 (rad/s) for a time simulation")
     system = _system(scenario, integ.probes)
     step = integ.step_seconds(speed)
+    if step is None and (end is not None or table):  # a profile needs a fixed step
+        top = max([speed, end or 0.0, *(w for _, w in table or ())])
+        step = default_step(system, eng, top)
     adaptive = step is None
-    if adaptive and (end is not None or table):
-        raise ScenarioError(
-            "simulation.dt", None, 'a fixed step (dt or dtau) with a "linear" or "table" profile'
-        )
     if table and integ.duration is None:
         raise ScenarioError("simulation.revolutions", integ.revolutions,
                             'simulation.duration (s) instead, with speed.profile = "table"')  # fmt: skip

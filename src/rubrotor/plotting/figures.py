@@ -1127,9 +1127,9 @@ def _draw_clearance(ax, geometry: dict, handles) -> None:
         ax.axhspan(g - off, g + off, color="0.85", zorder=0)
         handles.append(Patch(color="0.85", label="first touch possible (clearance ± offset)"))
     if geometry["why"]:
-        ax.text(0.01, 0.01, "radius about the bearing axis; the stator centre differs by: "
+        ax.text(0.01, 0.99, "radius about the bearing axis; the stator centre differs by: "
                 + ", ".join(geometry["why"]), transform=ax.transAxes, fontsize=7,
-                color="0.3", va="bottom")  # fmt: skip
+                color="0.3", va="top")  # fmt: skip
 
 
 def branch_figure(branch, sweep=None, others=(), geometry: dict | None = None) -> Figure:
