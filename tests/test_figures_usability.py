@@ -13,6 +13,7 @@ import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.text import Text
 
+import rubrotor
 from rubrotor.linear.analysis import CampbellData, LinearCritical
 from rubrotor.plotting.linear import _LOGDEC_CMAP, campbell_stability_figure
 from rubrotor.plotting.rub import per_revolution
@@ -71,3 +72,34 @@ def test_gallery_blocks_end_without_a_repr(path):
             assert isinstance(call, ast.Call) and getattr(call.func, "id", "") == "print", (
                 ast.unparse(body[-1])
             )
+
+
+def _seal_like_branch():
+    from rubrotor.orbits.continuation import Branch, BranchPoint
+
+    values = np.linspace(600.0, 800.0, 11)
+    pts = tuple(BranchPoint(float(v), None, 60e-6 + 1e-7 * (v - 600.0), np.zeros(2), True)
+                for v in values)  # fmt: skip
+    return Branch("speed.rad_per_s", 1, pts, ())
+
+
+def test_branch_figure_draws_the_clearance_and_says_why_the_radius_exceeds_it():
+    """seal_rub's no-contact orbit lies at 60-65 um about the bearing axis against a 40 um
+    clearance: the figure draws the clearance, the band of radii where an orbit can first touch
+    a stator offset by 25 um (15 .. 65 um), and names the offset, gravity sag and the flexible
+    stator, read from the scenario (:func:`rubrotor.plotting.figures.contact_geometry`)."""
+    from matplotlib.patches import Rectangle
+
+    from rubrotor.plotting.figures import branch_figure, contact_geometry
+
+    geometry = contact_geometry(rubrotor.load_scenario("seal_rub.toml"))
+    assert geometry["clearance"] == 40e-6 and geometry["offset"] == pytest.approx(25e-6)
+    assert geometry["why"] == ["stator centre offset 25 um", "gravity sag", "flexible stator"]
+    fig = branch_figure(_seal_like_branch(), geometry=geometry)
+    ax = fig.axes[0]
+    assert any(np.allclose(line.get_ydata(), 40.0) for line in ax.lines)
+    band = [p for p in ax.patches if isinstance(p, Rectangle)]
+    assert len(band) == 1
+    y0, y1 = band[0].get_bbox().y0, band[0].get_bbox().y1
+    assert (y0, y1) == pytest.approx((15.0, 65.0))
+    assert "gravity sag" in ax.get_title(loc="left")

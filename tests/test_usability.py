@@ -252,3 +252,23 @@ def test_cli_errors_say_which_table_and_sweep_says_follow(tmp_path, capsys):
     assert main(args + ["--out", str(tmp_path / "s.zarr")]) == 2
     err = capsys.readouterr().err
     assert "--follow" in err and err.count("\n") == 1
+
+
+def test_cli_continue_says_where_and_why_it_stops(tmp_path, capsys):
+    """``rubrotor continue`` without ``--json`` prints a short summary; with too few points it
+    says so in the JSON (``stopped``, ``complete``) and in one warning line on stderr. On the
+    one-mode annular rub from 1.3 to 1.45 x critical the default (turning-controlled) step
+    reaches the end of the range."""
+    from rubrotor.cli import main
+
+    base = ["continue", "one_mode_annular_rub.toml", "--vary", "speed.critical_multiple=1.3:1.45",
+            "--out", str(tmp_path / "b.nc")]  # fmt: skip
+    assert main(base) == 0
+    out, err = capsys.readouterr()
+    assert "reached the end of the range" in out and "wrote" in out and "warning" not in err
+    assert main(base + ["--points", "4", "--json"]) == 0
+    out, err = capsys.readouterr()
+    summary = json.loads(out)
+    assert summary["stopped"] == "points" and summary["complete"] is False
+    assert len(summary["points"]) == 4 and summary["points"][-1]["value"] < 1.45
+    assert err.count("\n") == 1 and "warning" in err and "--points 4" in err

@@ -1127,9 +1127,8 @@ def _draw_clearance(ax, geometry: dict, handles) -> None:
         ax.axhspan(g - off, g + off, color="0.85", zorder=0)
         handles.append(Patch(color="0.85", label="first touch possible (clearance ± offset)"))
     if geometry["why"]:
-        ax.text(0.01, 0.99, "radius about the bearing axis; the stator centre differs by: "
-                + ", ".join(geometry["why"]), transform=ax.transAxes, fontsize=7,
-                color="0.3", va="top")  # fmt: skip
+        ax.set_title("radius about the bearing axis; the stator centre differs by: "
+                     + ", ".join(geometry["why"]), fontsize=8, loc="left", color="0.3")  # fmt: skip
 
 
 def branch_figure(branch, sweep=None, others=(), geometry: dict | None = None) -> Figure:
