@@ -272,3 +272,37 @@ def test_cli_continue_says_where_and_why_it_stops(tmp_path, capsys):
     assert summary["stopped"] == "points" and summary["complete"] is False
     assert len(summary["points"]) == 4 and summary["points"][-1]["value"] < 1.45
     assert err.count("\n") == 1 and "warning" in err and "--points 4" in err
+
+
+def test_cli_stability_reads_contact_tables(tmp_path, capsys):
+    """``rubrotor stability`` on a general rotor's ``[[contact]]`` table. Second route: without
+    friction and with a rigid stator, a linear contact pressed in by ``eps`` along y is a
+    bearing at the station with ``kyy = k``, ``kzz = F_n0 / (g + eps) = k eps / (g + eps)``
+    (the normal force turning with the position) and ``cyy = c``: the damped modes of the rotor
+    with that ``[[bearing]]`` (assembled by the FE rotor, eigenvalues by
+    rubrotor.linear.analysis) equal the pressed-contact eigenvalues of the rotor with a bearing
+    of zero coefficients there (the same mesh) to 1e-8."""
+    from rubrotor.cli import main
+    from rubrotor.linear.verbs import damped_modes
+
+    text = _shipped_text("seal_rub.toml")
+    rigid = "\n".join(line for line in text.splitlines() if not line.startswith("stator_"))
+    eps, k, c, g = 5e-6, 2e8, 500.0, 40e-6
+
+    def bearing(kyy, kzz, cyy):  # at the seal: the same mesh for both routes
+        return f"[[bearing]]\nposition = 0.75\nkyy = {kyy}\nkzz = {kzz}\ncyy = {cyy}\n\n[rotor]"
+
+    f = tmp_path / "rigid.toml"
+    f.write_text(rigid.replace("[rotor]", bearing(0.0, 0.0, 0.0), 1))
+    assert main(["stability", str(f), "--indentation", str(eps), "--no-friction", "--json",
+                 "--top", "400"]) == 0  # fmt: skip
+    res = json.loads(capsys.readouterr().out)["results"][0]
+    assert res["formulation"] == "general" and res["normal_force_N"] == pytest.approx(k * eps)
+    (tmp_path / "b.toml").write_text(
+        rigid.replace("[rotor]", bearing(k, k * eps / (g + eps), c), 1)
+    )
+    ref = damped_modes(rubrotor.load_scenario(tmp_path / "b.toml"), n=8).modes
+    got = np.array([complex(e[0], 2 * math.pi * abs(e[1])) for e in res["eigenvalues"]])
+    for mode in ref:  # each reference eigenvalue (Im >= 0) has its twin
+        lam = complex(mode.eigenvalue.real, abs(mode.eigenvalue.imag))
+        assert np.min(np.abs(got - lam)) < 1e-8 * abs(lam), mode

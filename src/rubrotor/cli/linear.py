@@ -305,6 +305,8 @@ def stability_run(args: argparse.Namespace) -> int:
     if args.modes is not None and not 1 <= args.modes <= 200:
         raise InputError("--modes", args.modes, "an integer in 1..200")
     forms = ("two-field", "seed-eq1") if args.formulation == "both" else (args.formulation,)
+    if scenario.rotor is not None:
+        forms = ("general",)  # the finite-element rotor: one formulation
     res = [
         contact_stability(
             scenario,
@@ -324,9 +326,11 @@ def stability_run(args: argparse.Namespace) -> int:
     print(
         f"{scenario.name}: pressed contact, indentation {r0.indentation:.4g} m, F_n0 "
         f"{r0.normal_force:.4g} N, radial stiffness {r0.radial_stiffness:.4g} N/m, damping "
-        f"{r0.radial_damping:.4g} N s/m (b_h = {r0.contact_damping:.4g} s/m), "
-        f"{args.linearisation} linearisation"
-    )
+        f"{r0.radial_damping:.4g} N s/m"
+        + (", the first [[contact]] table of the finite-element rotor" if r0.formulation ==
+           "general" else f" (b_h = {r0.contact_damping:.4g} s/m), {args.linearisation} "
+           "linearisation")
+    )  # fmt: skip
     rows = [
         [
             r.formulation,
