@@ -82,12 +82,12 @@ class ContactStability:
 
     @property
     def growth_tolerance(self) -> float:
-        """Growth rates of modulus below this are round-off (1/s): :data:`GROWTH_RTOL` times
+        """Growth rates of modulus below this are round-off (1/s): ``GROWTH_RTOL`` times
         the largest eigenvalue modulus."""
         return GROWTH_RTOL * float(np.max(np.abs(self.eigenvalues), initial=0.0))
 
     def verdict(self, eigenvalue: complex) -> str:
-        """``"unstable"``, ``"neutral"`` (growth rate within :attr:`growth_tolerance`) or
+        """``"unstable"``, ``"neutral"`` (growth rate within ``growth_tolerance``) or
         ``"stable"`` for one eigenvalue (rad/s)."""
         tol = self.growth_tolerance
         return "unstable" if eigenvalue.real > tol else "stable" if eigenvalue.real < -tol else (
@@ -95,12 +95,12 @@ class ContactStability:
 
     @property
     def unstable(self) -> bool:
-        """Whether a growth rate exceeds :attr:`growth_tolerance` (the contact state grows)."""
+        """Whether a growth rate exceeds ``growth_tolerance`` (the contact state grows)."""
         return self.max_growth_rate > self.growth_tolerance
 
     @property
     def max_growth_rate(self) -> float:
-        """Largest growth rate (1/s); above :attr:`growth_tolerance` the contact state is
+        """Largest growth rate (1/s); above ``growth_tolerance`` the contact state is
         unstable."""
         return float(self.eigenvalues[0].real)
 
@@ -178,7 +178,7 @@ def contact_stability(
     scenario : rubrotor.scenario.Scenario
         Shaft, speed (rad/s), modal damping and a Hertz ``[contact]`` (stiffness, damping,
         clearance, friction, sign, position), or the first of its ``[[contact]]`` tables. A
-        general rotor (``[[section]]`` tables) goes to :func:`general_contact_stability`.
+        general rotor (``[[section]]`` tables) goes to :func:`rubrotor.linear.stability.general_contact_stability`.
     indentation : float
         Static indentation ``eps0`` (m), > 0.
     formulation : {"two-field", "seed-eq1"}, optional

@@ -33,10 +33,10 @@ function's value by bracketing secant (Illinois) steps to :data:`LOCATE_TOL` of 
 Step size: with ``ds_max=None`` (the default) the arclength step follows the branch's
 turning: after each point ``ds`` is scaled by ``ANGLE_TARGET / angle`` (clipped to 0.5 .. 2,
 never grown after a slow corrector), the angle being the one between successive tangents, up
-to :data:`AUTO_DS_MAX`; so the step grows where the branch is straight and shrinks at folds,
+to ``AUTO_DS_MAX``; so the step grows where the branch is straight and shrinks at folds,
 and the default number of points reaches the end of the range. A given ``ds_max`` keeps the
 fixed rule (grow by 1.5 after a quick corrector, up to ``ds_max``). The branch says why it
-stopped (:attr:`Branch.stopped`).
+stopped (``Branch.stopped``).
 """
 
 from __future__ import annotations
@@ -68,7 +68,7 @@ STOPS = {
     "step": "the corrector failed down to the smallest step (1e-8)",
     "met": "met the branch it was born from again",
 }
-"""Why a branch ended (:attr:`Branch.stopped`) and what that means."""
+"""Why a branch ended (``Branch.stopped``) and what that means."""
 
 ANGLE_TARGET = 0.1
 """Angle (rad) between successive tangents the automatic step aims at."""
@@ -120,7 +120,7 @@ class Branch:
         ``"shooting"`` or ``"synchronous"`` (rotating-frame equilibria), see
         :func:`rubrotor.orbits.continuation.continue_orbit`.
     stopped : str
-        Why the branch ended, a key of :data:`STOPS`; anything but ``"range"`` (or ``"met"``
+        Why the branch ended, a key of ``STOPS``; anything but ``"range"`` (or ``"met"``
         for a switched branch) means it stopped before the end of the asked range.
     """
 
@@ -724,7 +724,7 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     Returns
     -------
     Branch
-        With :attr:`Branch.stopped` saying why it ended.
+        With ``Branch.stopped`` saying why it ended.
     """
     if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
         raise InputError("--vary", f"{start}:{stop}", "START:STOP with finite START != STOP")

@@ -1148,7 +1148,7 @@ def branch_figure(branch, sweep=None, others=(), geometry: dict | None = None) -
         :func:`rubrotor.orbits.continuation.switch_period_doubling`), one colour each, labelled by
         their period in revolutions.
     geometry : dict, optional
-        :func:`contact_geometry` of the scenario: draws the clearance (and, for an offset
+        :func:`rubrotor.plotting.figures.contact_geometry` of the scenario: draws the clearance (and, for an offset
         stator, the band of radii where the orbit can first touch) and says why the radius
         about the bearing axis differs from the one about the stator centre.
 

@@ -821,7 +821,7 @@ def load_scenario(path) -> Scenario:
     ----------
     path : str or os.PathLike
         The file, or the name of a shipped scenario (``"seed_case1.toml"`` or ``"seed_case1"``,
-        looked up when no such file exists in the working folder: :func:`find_scenario`).
+        looked up when no such file exists in the working folder: :func:`rubrotor.scenario.load.find_scenario`).
         ``meta.name`` defaults to the file stem.
 
     Returns
