@@ -306,3 +306,16 @@ def test_cli_stability_reads_contact_tables(tmp_path, capsys):
     for mode in ref:  # each reference eigenvalue (Im >= 0) has its twin
         lam = complex(mode.eigenvalue.real, abs(mode.eigenvalue.imag))
         assert np.min(np.abs(got - lam)) < 1e-8 * abs(lam), mode
+
+
+def test_cli_sweep_without_exponents_calls_nothing_chaotic(tmp_path, capsys):
+    """The one-mode chaotic rub (largest Lyapunov exponent +0.7 per revolution,
+    tests/test_bifurcation.py) swept without ``--lyapunov``: no period, a broadband spectrum, and
+    no exponent to call it chaotic, so "aperiodic" (the spectral rule used to say "chaotic")."""
+    from rubrotor.cli import main
+
+    args = ["sweep", "one_mode_chaotic_rub.toml", "--vary", "speed.critical_multiple=1.5:1.5:1",
+            "--transient", "100", "--revolutions", "200", "--workers", "1",
+            "--out", str(tmp_path / "c.zarr")]  # fmt: skip
+    assert main(args) == 0
+    assert json.loads(capsys.readouterr().out)["regimes"] == {"aperiodic": 1}
