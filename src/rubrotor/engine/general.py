@@ -177,6 +177,45 @@ def given_state(system, speed: float, given: tuple) -> np.ndarray:
     return np.concatenate([shape @ d, shape @ dd])
 
 
+def modal_state(system, speed: float, modal: tuple) -> np.ndarray:
+    """The state ``[q, q']`` (SI, free DOFs) made of undamped modes.
+
+    Mode ``j`` (1-based, by frequency) of ``K_s phi = omega^2 M phi`` (``K_s`` the symmetric
+    part of the stiffness with the bearings at ``speed``, as
+    :func:`rubrotor.linear.modal_mass.modal_masses`) scaled so that its largest deflection
+    ``max |(v, w)|`` over the nodes is 1 m: ``q = sum a_j phi_j``, ``q' = sum a'_j phi_j``.
+
+    Parameters
+    ----------
+    system : rubrotor.rotors.linear.LinearSystem
+        The rotor.
+    speed : float
+        Spin speed (rad/s) for the bearings' coefficients.
+    modal : tuple
+        ``(modes, amplitudes, modal_velocities)`` (1-based; m; m/s).
+
+    Returns
+    -------
+    ndarray, shape (2 n,)
+    """
+    import scipy.linalg
+
+    from rubrotor.linear.modal_mass import _grid
+
+    modes, amps, vels = modal
+    mats = system.matrices(speed)
+    w2, phi = scipy.linalg.eigh(0.5 * (mats.K + mats.K.T), mats.M)
+    if max(modes) > phi.shape[1]:
+        raise ScenarioError("initial.modes", modes, f"mode numbers 1 .. {phi.shape[1]}")
+    rows = np.stack([system.basis.rows(x)[:, system.free] for x in _grid(system)])
+    q, qd = np.zeros(phi.shape[0]), np.zeros(phi.shape[0])
+    for m, a, ad in zip(modes, amps, vels, strict=True):
+        shape = phi[:, m - 1] / np.max(np.hypot(*np.moveaxis(rows @ phi[:, m - 1], -1, 0)))
+        q += a * shape
+        qd += ad * shape
+    return np.concatenate([q, qd])
+
+
 def engine_problem(scenario, integrator=None):
     """The engine's inputs for a scenario.
 
@@ -219,6 +258,8 @@ def engine_problem(scenario, integrator=None):
         initial, t0 = _restart(eng.initial_path, speed, system.n_dof)
         # constant speed: continuing at t0 equals starting at 0 with phases advanced by Omega t0
         unb = tuple(dataclasses.replace(u, phase=u.phase + speed * t0) for u in unb)
+    elif initial == "given" and eng.initial_modes is not None:
+        initial = modal_state(system, speed, eng.initial_modes)
     elif initial == "given":
         initial = given_state(system, speed, eng.initial_given)
     run = Run(

@@ -21,7 +21,9 @@ allowed. The new keys, their kinds, units and ranges are listed in :data:`ENGINE
                   the general engine; the run continues from its final state) | "given" with
                   positions (m) and any of v, w (m), v_dot, w_dot (m/s), one per position: the
                   rotor starts in the least-strain-energy shape through those deflections and
-                  with that velocity shape (a drop, a kick, a whirl to start from)
+                  with that velocity shape (a drop, a kick, a whirl to start from); or with
+                  modes (1 = lowest undamped mode), amplitudes (m) and modal_velocities (m/s),
+                  each the mode's deflection (velocity) at its largest point
     [simulation]  besides today's keys: modes (retained count), cutoff (rad/s), residual (bool)
 """
 
@@ -47,7 +49,8 @@ _ENGINE_NAMES = (
     "load.position", "load.force_y", "load.force_z", "gravity.y", "gravity.z",
     "speed.profile", "speed.from", "speed.to", "speed.step", "speed.times", "speed.speeds",
     "initial.state", "initial.path", "initial.positions", "initial.v", "initial.w",
-    "initial.v_dot", "initial.w_dot",
+    "initial.v_dot", "initial.w_dot", "initial.modes", "initial.amplitudes",
+    "initial.modal_velocities",
     "simulation.modes", "simulation.cutoff", "simulation.residual",
 )  # fmt: skip
 ENGINE_KEYS: dict[str, Key] = {n: key_row(*n.split(".")) for n in _ENGINE_NAMES}
@@ -67,6 +70,7 @@ class Builders(NamedTuple):
 PROFILES = ("constant", "linear", "table")
 ENGINE_INITIAL = ("static", "file", "given")
 _GIVEN = ("v", "w", "v_dot", "w_dot")
+_MODAL = ("modes", "amplitudes", "modal_velocities")
 _CONTACT_NEW = tuple(k.split(".", 1)[1] for k in ENGINE_KEYS if k.startswith("contact."))
 _SPEED_NEW = ("profile", "from", "to", "step", "times", "speeds")
 _SIM_NEW = ("modes", "cutoff", "residual")
@@ -106,6 +110,9 @@ class EngineSpec:
     initial_given : tuple or None
         ``initial == "given"``: ``(positions, v, w, v_dot, w_dot)``, tuples of equal length
         (m, m, m, m/s, m/s; absent components 0).
+    initial_modes : tuple or None
+        ``initial == "given"`` by modes: ``(modes, amplitudes, modal_velocities)`` (1-based
+        undamped mode numbers; m and m/s at each mode's largest deflection).
     """
 
     stations: tuple = ()
@@ -121,6 +128,7 @@ class EngineSpec:
     residual: bool = True
     speed_table: tuple | None = None
     initial_given: tuple | None = None
+    initial_modes: tuple | None = None
 
     @property
     def positions(self) -> tuple[float, ...]:
@@ -194,7 +202,7 @@ def split_engine_keys(mapping: Mapping) -> tuple[dict, dict]:
         extras["gravity"] = base.pop("gravity")
     _split_speed(base, extras)
     ini = base.get("initial")
-    engine_ini = ("path", "positions", *_GIVEN)
+    engine_ini = ("path", "positions", *_GIVEN, *_MODAL)
     if isinstance(ini, Mapping) and (ini.get("state") in ENGINE_INITIAL
                                      or any(k in ini for k in engine_ini)):  # fmt: skip
         extras["initial"] = dict(ini)
@@ -370,6 +378,22 @@ def _gravity(g) -> tuple[float, float]:
     return tuple(float(_value(f"gravity.{a}", g.get(a, 0.0))) for a in "yz")
 
 
+def _modal(ini: dict) -> tuple:
+    """``[initial] state = "given"`` by modes: mode numbers, amplitudes, modal velocities."""
+    modes = _value("initial.modes", ini["modes"])
+    if not modes or any(int(m) != m for m in modes) or len(set(modes)) != len(modes):
+        raise _err("initial.modes", modes, "a non-empty list of distinct mode numbers >= 1")
+    if "amplitudes" not in ini and "modal_velocities" not in ini:
+        raise _err("initial.amplitudes", None, "amplitudes (m) or modal_velocities (m/s)")
+    out = [tuple(int(m) for m in modes)]
+    for key in _MODAL[1:]:
+        vals = _value(f"initial.{key}", ini.get(key, [0.0] * len(modes)))
+        if len(vals) != len(modes):
+            raise _err(f"initial.{key}", vals, f"{len(modes)} values, one per initial.modes")
+        out.append(tuple(float(v) for v in vals))
+    return tuple(out)
+
+
 def _given(ini: dict) -> tuple:
     """``[initial] state = "given"``: positions and equally long v, w, v_dot, w_dot lists."""
     if "positions" not in ini:
@@ -390,15 +414,15 @@ def _given(ini: dict) -> tuple:
 
 def _initial(ini: dict) -> tuple[str, str | None]:
     for key in ini:
-        if key not in ("state", "path", "positions", *_GIVEN):
-            raise _err(f"initial.{key}", ini[key],
-                       "one of the keys state, path, positions, v, w, v_dot, w_dot of [initial]")  # fmt: skip
+        if key not in ("state", "path", "positions", *_GIVEN, *_MODAL):
+            raise _err(f"initial.{key}", ini[key], "one of the keys state, path, positions, v, "
+                       "w, v_dot, w_dot, modes, amplitudes, modal_velocities of [initial]")  # fmt: skip
     state = _value("initial.state", ini.get("state", "rest"))
     allowed = ("rest", "steady", *ENGINE_INITIAL)
     if state not in allowed:
         raise _err("initial.state", state, " or ".join(f'"{s}"' for s in allowed))
     if state != "given":
-        for key in ("positions", *_GIVEN):
+        for key in ("positions", *_GIVEN, *_MODAL):
             if key in ini:
                 raise _err(
                     f"initial.{key}", ini[key], 'to be given only with initial.state = "given"'
@@ -448,7 +472,11 @@ def build_engine(extras: dict, parts: dict, builders: Builders) -> EngineSpec:
     speed_table = extras.get("speed", {}).get("table")
     speed_step = extras.get("speed", {}).get("step")
     state, path = _initial(extras["initial"]) if "initial" in extras else (parts["initial"], None)
-    given = _given(extras["initial"]) if state == "given" else None
+    ini = extras.get("initial", {})
+    if state == "given" and "modes" in ini and any(k in ini for k in ("positions", *_GIVEN)):
+        raise _err("initial.modes", ini["modes"], "either modes or positions, not both")
+    modal = _modal(ini) if state == "given" and "modes" in ini else None
+    given = _given(ini) if state == "given" and modal is None else None
     if given is not None:
         for x in given[0]:
             _position_on(span, x)
@@ -462,7 +490,7 @@ def build_engine(extras: dict, parts: dict, builders: Builders) -> EngineSpec:
         raise _err("simulation.modes / simulation.cutoff", (modes, cutoff), "at most one")
     residual = _value("simulation.residual", sim.get("residual", True))
     return EngineSpec(stations, unb, loads, gravity, speed_end, speed_step, state, path, modes,
-                      cutoff, residual, speed_table, given)  # fmt: skip
+                      cutoff, residual, speed_table, given, modal)  # fmt: skip
 
 
 def _position_on(span, x: float) -> None:

@@ -439,6 +439,12 @@ _ENGINE = (
        _closed(-1e4, 1e4)),
     _k("initial", "w_dot", "list", "m/s", "Start velocity along z, one per initial.positions",
        _closed(-1e4, 1e4)),
+    _k("initial", "modes", "list", "1", 'Undamped modes (1 = lowest) the start state is made of '
+       '(state = "given", instead of positions)', _closed(1, 1e5)),
+    _k("initial", "amplitudes", "list", "m",
+       "Start deflection of each of initial.modes at its largest point", _closed(-1.0, 1.0)),
+    _k("initial", "modal_velocities", "list", "m/s",
+       "Start velocity of each of initial.modes at its largest point", _closed(-1e4, 1e4)),
     _k("simulation", "modes", "int", "1", "Retained modes of the general engine",
        _closed(1, 100000)),
     _k("simulation", "cutoff", "number", "rad/s",
