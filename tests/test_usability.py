@@ -233,9 +233,8 @@ def test_cli_initial_given_state(tmp_path, capsys):
         assert "initial." in err and err.count("\n") == 1, err
 
 
-def test_cli_errors_say_which_table_and_sweep_says_follow(tmp_path, capsys):
-    """An error in the second ``[[contact]]`` table names it as such, counted from 1; a plain
-    sweep of a general rotor exits 2 pointing to ``--follow``."""
+def test_cli_errors_say_which_table(tmp_path, capsys):
+    """An error in the second ``[[contact]]`` table names it as such, counted from 1."""
     from rubrotor.cli import main
 
     text = _shipped_text("seal_rub.toml")
@@ -246,12 +245,6 @@ def test_cli_errors_say_which_table_and_sweep_says_follow(tmp_path, capsys):
     assert main(["modes", str(f)]) == 2
     err = capsys.readouterr().err
     assert "contact[2].friction" in err and "the second [[contact]] table, counted from 1" in err
-    seal = _shipped_text("seal_rub.toml")
-    (tmp_path / "seal.toml").write_text(seal)
-    args = ["sweep", str(tmp_path / "seal.toml"), "--vary", "speed.rad_per_s=600:700:3"]
-    assert main(args + ["--out", str(tmp_path / "s.zarr")]) == 2
-    err = capsys.readouterr().err
-    assert "--follow" in err and err.count("\n") == 1
 
 
 def test_cli_continue_says_where_and_why_it_stops(tmp_path, capsys):

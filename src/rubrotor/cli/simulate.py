@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -20,10 +21,14 @@ from rubrotor.errors import InputError
 from rubrotor.scenario.load import load_scenario
 
 
-# ---- run ---------------------------------------------------------------------------------------
+# ---- run (an alias of simulate --out DIR/) ---------------------------------------------------
 def run_args(parser: argparse.ArgumentParser) -> None:
     add_scenario(parser)
     parser.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    _run_options(parser)
+
+
+def _run_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--revolutions", type=float, help="override the scenario's simulated revolutions"
     )
@@ -56,76 +61,85 @@ def run_summary(ds) -> dict:
 
 
 def run_run(args: argparse.Namespace) -> int:
-    import dataclasses
-
-    from rubrotor.engine.result import atomic_write, save_dataset
-    from rubrotor.engine.simulate import simulate
-
-    scenario = load_scenario(args.scenario)
-    if scenario.engine is None:
-        scenario.require_shaft("time simulation")
-    integ = scenario.simulation
-    if integ is None:
-        raise InputError("simulation", None, "a [simulation] section in the scenario")
-    if args.revolutions is not None:
-        integ = dataclasses.replace(integ, revolutions=args.revolutions, duration=None)
+    """``rubrotor run SCENARIO --out DIR``: ``rubrotor simulate SCENARIO --out DIR/``, saying so
+    once the run is written (an input error stays one line)."""
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out", args.out, "a directory")
-    ds = simulate(scenario, integrator=integ, progress=args.progress)
-    save_dataset(ds, out / "results.nc")
-    summary = run_summary(ds)
-    atomic_write(
-        out / "summary.json", lambda tmp: Path(tmp).write_text(json.dumps(summary, indent=2))
+    args.out = str(out) + "/"
+    args.figure = False
+    status = simulate_run(args)
+    print(
+        "rubrotor: note: `rubrotor run` is an alias of `rubrotor simulate SCENARIO --out DIR/` "
+        "and will be removed in a later release",
+        file=sys.stderr,
     )
-    print(json.dumps(summary, indent=2))
-    if ds.attrs["status"] != "complete":
-        print(f"rubrotor: warning: {ds.attrs['status_message']}", file=sys.stderr)
-        return 1
-    return 0
+    return status
 
 
 # ---- simulate ----------------------------------------------------------------------------------
 def simulate_args(parser: argparse.ArgumentParser) -> None:
     add_scenario(parser)
-    parser.add_argument("--out", required=True, metavar="FILE", help="results file (.nc)")
+    parser.add_argument(
+        "--out",
+        required=True,
+        metavar="FILE|DIR/",
+        help="results file (.nc), or a folder (ending in /, or existing) for "
+        "DIR/results.nc and DIR/summary.json",
+    )
     parser.add_argument(
         "--figure", action="store_true", help="also write FILE with .png: orbit, force, spectrum"
     )
     parser.add_argument(
         "--rpm", action="store_true", help="speed axis of the figure in rev/min (default rad/s)"
     )
-    parser.add_argument(
-        "--progress",
-        action=argparse.BooleanOptionalAction,
-        default=None,
-        help="show progress on long runs (default: when stderr is a terminal)",
-    )
+    _run_options(parser)
+
+
+def _outputs(text: str) -> tuple[Path, Path | None]:
+    """The results file and the summary file (None for a plain file) of ``--out``."""
+    out = Path(text)
+    if text.endswith(("/", os.sep)) or out.is_dir():
+        if out.exists() and not out.is_dir():
+            raise InputError("--out", text, "a directory")
+        return out / "results.nc", out / "summary.json"
+    if out.suffix != ".nc":
+        raise InputError("--out", text, "a results file name ending in .nc, or a folder DIR/")
+    return out, None
 
 
 def simulate_run(args: argparse.Namespace) -> int:
-    """Simulate any scenario into one netCDF file; long general-engine runs stream to it."""
-    from rubrotor.engine.result import load_dataset, save_dataset
+    """Simulate any scenario into one netCDF file (or DIR/results.nc and DIR/summary.json);
+    long general-engine runs stream to it."""
+    import dataclasses
+
+    from rubrotor.engine.result import atomic_write, load_dataset, save_dataset
     from rubrotor.engine.simulate import simulate
 
     scenario = load_scenario(args.scenario)
-    out = Path(args.out)
-    if out.suffix != ".nc" or out.is_dir():
-        raise InputError("--out", args.out, "a results file name ending in .nc")
+    out, summary_file = _outputs(args.out)
+    integ = scenario.simulation
+    if args.revolutions is not None:
+        if integ is None:
+            raise InputError("simulation", None, "a [simulation] section in the scenario")
+        integ = dataclasses.replace(integ, revolutions=args.revolutions, duration=None)
     ds = None
-    if scenario.engine is not None:
+    if scenario.model.general:
         from rubrotor.engine.general import STREAM_SAMPLES, engine_problem, simulate_engine
 
-        _, run, _, _ = engine_problem(scenario)
+        _, run, _, _ = engine_problem(scenario, integ)
         if run.duration / (run.step * run.save_every) > STREAM_SAMPLES:
-            simulate_engine(scenario, progress=args.progress, stream=out)
+            simulate_engine(scenario, integrator=integ, progress=args.progress, stream=out)
             ds = load_dataset(out)
     if ds is None:
-        ds = simulate(scenario, progress=args.progress)
+        ds = simulate(scenario, integrator=integ, progress=args.progress)
         save_dataset(ds, out)
     if args.figure:
-        _simulate_figure(ds, out.with_suffix(".png"), args.rpm)
+        _simulate_figure(ds, out.with_suffix(".png"), getattr(args, "rpm", False))
     summary = run_summary(ds)
+    if summary_file is not None:
+        text = json.dumps(summary, indent=2)
+        atomic_write(summary_file, lambda tmp: Path(tmp).write_text(text))
     summary["results"] = str(out)
     print(json.dumps(summary, indent=2))
     if ds.attrs["status"] != "complete":

@@ -89,9 +89,9 @@ def linear_system(obj) -> LinearSystem:
     if isinstance(obj, LinearSystem):
         return obj
     if isinstance(obj, Scenario):
-        if obj.rotor is not None:
+        if obj.model.fe_rotor:
             return obj.rotor.linear_system(obj.stations)
-        return continuous_system(obj.shaft)
+        return continuous_system(obj.shaft, obj.damping)
     if isinstance(obj, Rotor):
         return obj.linear_system(())
     if isinstance(obj, Shaft):
