@@ -33,7 +33,8 @@ function's value by bracketing secant (Illinois) steps to :data:`LOCATE_TOL` of 
 Step size: with ``ds_max=None`` (the default) the arclength step follows the branch's
 turning: after each point ``ds`` is scaled by ``ANGLE_TARGET / angle`` (clipped to 0.5 .. 2,
 never grown after a slow corrector), the angle being the one between successive tangents, up
-to ``AUTO_DS_MAX``; so the step grows where the branch is straight and shrinks at folds,
+to ``AUTO_DS_MAX`` and to a key change of ``1 / RANGE_STEPS`` of the range (bifurcations
+seen only in the multipliers must not share a step); so the step grows where the branch is straight and shrinks at folds,
 and the default number of points reaches the end of the range. A given ``ds_max`` keeps the
 fixed rule (grow by 1.5 after a quick corrector, up to ``ds_max``). The branch says why it
 stopped (``Branch.stopped``).
@@ -74,6 +75,11 @@ ANGLE_TARGET = 0.1
 
 AUTO_DS_MAX = 5.0
 """Largest automatic arclength step (scaled units)."""
+
+RANGE_STEPS = 20
+"""The automatic step moves the key by at most ``1 / RANGE_STEPS`` of the range: bifurcations
+that do not bend the branch (period doubling, Neimark-Sacker) show only in the multipliers, and
+two of them inside one step would cancel in the sign tests."""
 
 
 @dataclass(frozen=True)
@@ -784,13 +790,15 @@ def _problem(scenario, key, k, steps, x0, p0, kind=_Problem) -> _Problem:
     return kind(scenario, key, k, steps, sx, abs(p0))
 
 
-def _next_ds(ds: float, ds_max: float | None, t, t1, quick: bool) -> float:
-    """The next arclength step: fixed rule with a ``ds_max``, else angle-controlled."""
+def _next_ds(ds: float, ds_max: float | None, t, t1, quick: bool, span: float) -> float:
+    """The next arclength step: fixed rule with a ``ds_max``, else angle-controlled and moving
+    the key by at most ``span / RANGE_STEPS`` (``span``: the range in scaled units)."""
     if ds_max is not None:
         return min(1.5 * ds, ds_max) if quick else ds
     angle = float(np.arccos(np.clip(t @ t1, -1.0, 1.0)))
     factor = float(np.clip(ANGLE_TARGET / max(angle, 1e-12), 0.5, 2.0))
-    return min(ds * (factor if quick else min(factor, 1.0)), AUTO_DS_MAX)
+    cap = span / RANGE_STEPS / max(abs(float(t1[-1])), 1e-12)
+    return min(ds * (factor if quick else min(factor, 1.0)), AUTO_DS_MAX, cap)
 
 
 def _found(prob, z, t, ds, gz, hit, onset) -> list:
@@ -839,7 +847,7 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
         found = _found(prob, z, t, ds, gz, _changed(sig, sig1), onset)
         pts.append(new)
         bifs += [_radius(b, pts[-2], pts[-1]) for b in found]
-        ds = _next_ds(ds, ds_max, t, t1, iters <= (6 if chord else 3))
+        ds = _next_ds(ds, ds_max, t, t1, iters <= (6 if chord else 3), (hi - lo) / prob.sp)
         z, t, sig, gz = z1, t1, sig1, gz1
         if onset is not None:
             grazings.append(onset)
