@@ -305,7 +305,7 @@ def stability_run(args: argparse.Namespace) -> int:
     if args.modes is not None and not 1 <= args.modes <= 200:
         raise InputError("--modes", args.modes, "an integer in 1..200")
     forms = ("two-field", "seed-eq1") if args.formulation == "both" else (args.formulation,)
-    if scenario.rotor is not None:
+    if scenario.model.fe_rotor:
         forms = ("general",)  # the finite-element rotor: one formulation
     res = [
         contact_stability(

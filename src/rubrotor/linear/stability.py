@@ -208,10 +208,10 @@ def contact_stability(
     """
     from rubrotor.engine.simulate import assemble
 
-    if scenario.rotor is not None:
+    if scenario.model.fe_rotor:
         return general_contact_stability(scenario, indentation, friction=friction)
     c = scenario.contact
-    if c is None and scenario.engine is not None and scenario.engine.stations:
+    if c is None and scenario.model.general and scenario.engine.stations:
         c = scenario.engine.stations[0].contact  # the first [[contact]] table
     if c is None or c.law != "hertz":
         raise InputError("contact", None if c is None else c.law, "a Hertz [contact] section")
@@ -327,7 +327,7 @@ def general_contact_stability(scenario, indentation: float, *, friction: bool = 
     """
     from rubrotor.linear.verbs import linear_system
 
-    stations = scenario.engine.stations if scenario.engine is not None else ()
+    stations = scenario.engine.stations if scenario.model.general else ()
     if not 0 <= contact < len(stations):
         raise InputError("contact", contact, f"0 .. {len(stations) - 1} ([[contact]] tables, "
                          "0-based)" if stations else "a [[contact]] table")  # fmt: skip

@@ -1103,7 +1103,7 @@ def contact_geometry(scenario) -> dict | None:
         sag, side load, flexible stator); None without a contact.
     """
     spec = scenario.engine
-    if spec is not None and spec.stations:
+    if scenario.model.general and spec.stations:
         st = spec.stations[0]
         g, off, flexible = st.contact.clearance, math.hypot(st.offset_y, st.offset_z), st.stator
         why = [f"stator centre offset {off * 1e6:.3g} um"] if off > 0 else []

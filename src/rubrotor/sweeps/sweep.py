@@ -316,7 +316,7 @@ def _rigid_clearance(scenario) -> float | None:
     so such a run is labelled ``"indentation > clearance"``, not a rub. A linear law stands for
     a compliant seal or stator, whose deflection may exceed the gap: no such label."""
     c = getattr(scenario, "contact", None)
-    if c is None or c.law != "hertz" or getattr(scenario, "engine", None) is not None:
+    if c is None or c.law != "hertz" or scenario.model.general:
         return None
     return c.clearance
 
