@@ -48,7 +48,7 @@ def _modal_masses(scenario, speed: float, station: float | None, out: dict | Non
         return
     print(f"\nmodal masses and stiffnesses ({NORMALISATION})")
     rows = [[str(m.index), f"{m.frequency_hz:.2f}", f"{m.station:.4g}", f"{m.modal_mass:.4g}",
-             f"{m.modal_stiffness:.4g}", f"{math.degrees(m.direction):.0f}"] for m in mm]  # fmt: skip
+             f"{m.modal_stiffness:.4g}", f"{round(math.degrees(m.direction)) % 180}"] for m in mm]  # fmt: skip
     heads = ["mode", "undamped (Hz)", "station x (m)", "modal mass (kg)", "stiffness (N/m)",
              "direction (deg from y)"]  # fmt: skip
     print(table(heads, rows))
