@@ -115,7 +115,7 @@ def _runup(ax, ds, rpm: bool = False) -> None:
     if np.any(np.diff(w) > 1e-9 * w.max()) and np.any(np.diff(w) < -1e-9 * w.max()):
         title = "speed profile"
     ax.set_title(f"{title}: envelope per revolution")
-    ax.legend(loc="lower right", fontsize=7)
+    ax.legend(loc="best", fontsize=7)
 
 
 def engine_figure(ds, *, title: str | None = None, rpm: bool = False) -> Figure:
