@@ -113,7 +113,7 @@ def simulate_run(args: argparse.Namespace) -> int:
     long general-engine runs stream to it."""
     import dataclasses
 
-    from rubrotor.engine.result import atomic_write, load_dataset, save_dataset
+    from rubrotor.engine.result import save_dataset
     from rubrotor.engine.simulate import simulate
 
     scenario = load_scenario(args.scenario)
@@ -123,27 +123,66 @@ def simulate_run(args: argparse.Namespace) -> int:
         if integ is None:
             raise InputError("simulation", None, "a [simulation] section in the scenario")
         integ = dataclasses.replace(integ, revolutions=args.revolutions, duration=None)
-    ds = None
     if scenario.model.general:
         from rubrotor.engine.general import STREAM_SAMPLES, engine_problem, simulate_engine
 
         _, run, _, _ = engine_problem(scenario, integ)
         if run.duration / (run.step * run.save_every) > STREAM_SAMPLES:
             simulate_engine(scenario, integrator=integ, progress=args.progress, stream=out)
-            ds = load_dataset(out)
-    if ds is None:
-        ds = simulate(scenario, integrator=integ, progress=args.progress)
-        save_dataset(ds, out)
+            return _report(streamed_summary(out), out, summary_file, args.figure)
+    ds = simulate(scenario, integrator=integ, progress=args.progress)
+    save_dataset(ds, out)
     if args.figure:
         _simulate_figure(ds, out.with_suffix(".png"), getattr(args, "rpm", False))
-    summary = run_summary(ds)
+    return _report(run_summary(ds), out, summary_file, False)
+
+
+FIGURE_SAMPLES = 1 << 18
+"""Samples (from the end) a streamed run's figure draws."""
+
+
+def streamed_summary(path: Path) -> dict:
+    """:func:`run_summary` of a streamed results file, read chunk by chunk (bounded memory)."""
+    from rubrotor.engine.stream import file_summary
+
+    fs = file_summary(path)
+    at = fs["attrs"]
+    stats = json.loads(at.get("integrator_stats", "{}"))
+    return {
+        "scenario": at.get("scenario_name", ""),
+        "status": at["status"],
+        "status_message": at["status_message"],
+        "speed_rad_s": float(at["speed_rad_s"]),
+        "duration_s": fs["duration_s"],
+        "samples": fs["samples"],
+        "max_displacement_m": fs["max_displacement_m"],
+        "max_normal_force_N": fs["max_normal_force_N"],
+        "contact_fraction": fs["contact_fraction"],
+        "contact_events": int(stats.get("contact_events", 0)),
+        "wall_time_s": float(stats.get("wall_s", float("nan"))),
+    }
+
+
+def _report(summary: dict, out: Path, summary_file, figure: bool) -> int:
+    """Write the summary (and a streamed run's figure of its last samples); the exit status."""
+    from rubrotor.engine.result import atomic_write
+
+    if figure:
+        from rubrotor.engine.stream import tail_dataset
+        from rubrotor.plotting.rub import engine_figure
+
+        ds = tail_dataset(out, FIGURE_SAMPLES)
+        t = ds["time"].values
+        title = (f"{summary['scenario']} ({summary['status']}): the last {t[-1] - t[0]:.4g} s "
+                 f"of {summary['duration_s']:.4g} s")  # fmt: skip
+        save_atomic(engine_figure(ds, title=title), out.with_suffix(".png"))
     if summary_file is not None:
         text = json.dumps(summary, indent=2)
         atomic_write(summary_file, lambda tmp: Path(tmp).write_text(text))
     summary["results"] = str(out)
     print(json.dumps(summary, indent=2))
-    if ds.attrs["status"] != "complete":
-        print(f"rubrotor: warning: {ds.attrs['status_message']}", file=sys.stderr)
+    if summary["status"] != "complete":
+        print(f"rubrotor: warning: {summary['status_message']}", file=sys.stderr)
         return 1
     return 0
 
