@@ -103,3 +103,24 @@ def test_branch_figure_draws_the_clearance_and_says_why_the_radius_exceeds_it():
     y0, y1 = band[0].get_bbox().y0, band[0].get_bbox().y1
     assert (y0, y1) == pytest.approx((15.0, 65.0))
     assert "gravity sag" in ax.get_title(loc="left")
+
+
+def test_resonance_speeds_make_the_polar_circle_smooth():
+    """Closed form: a one-degree-of-freedom receptance ``1 / (k - m w^2 + i c w)`` (zeta 1 %)
+    turns its phase by 180 degrees within about 2 zeta of its natural frequency. On 100 uniform
+    speeds the polar curve jumps by tens of degrees near the peak; on the grid refined by
+    :func:`rubrotor.plotting.linear.resonance_speeds` no step exceeds 5 degrees."""
+    from rubrotor.plotting.linear import resonance_speeds
+
+    m, k, zeta = 1.0, 1e4, 0.01
+    wn = math.sqrt(k / m)
+
+    def phase_steps(w):
+        h = 1 / (k - m * w**2 + 2j * zeta * wn * m * w)
+        return np.degrees(np.abs(np.diff(np.unwrap(np.angle(h)))))
+
+    coarse = np.linspace(10.0, 300.0, 100)
+    fine = resonance_speeds(coarse, 1 / np.abs(k - m * coarse**2 + 2j * zeta * wn * m * coarse))
+    assert phase_steps(coarse).max() > 30.0
+    assert phase_steps(fine).max() < 5.0
+    assert fine[0] == coarse[0] and fine[-1] == coarse[-1] and np.all(np.diff(fine) > 0)

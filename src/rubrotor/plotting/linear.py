@@ -14,6 +14,7 @@ from rubrotor.linear.ucs import UCSMap
 from rubrotor.rotors.linear import LinearSystem
 
 __all__ = [
+    "resonance_speeds",
     "campbell_stability_figure",
     "unbalance_response_figure",
     "mode_shape_figure",
@@ -165,6 +166,36 @@ def unbalance_response_figure(
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     return fig
+
+
+def resonance_speeds(speeds, amplitude, points: int = 200, width: float = 0.05) -> np.ndarray:
+    """A speed grid refined around each peak of a response, for smooth Bode and polar plots.
+
+    A resonance sampled on a uniform grid shows as a coarse polygon in the polar plot (its
+    circle spans about twice the damping ratio times the critical speed). This adds ``points``
+    speeds within ``+-width`` (relative) of every interior local maximum of ``amplitude``.
+
+    Parameters
+    ----------
+    speeds : array_like
+        Spin speeds (rad/s), increasing.
+    amplitude : array_like
+        Response amplitude at those speeds (any unit), e.g. the major semi-axis.
+    points : int
+        Speeds added around each peak.
+    width : float
+        Half-width of the refined band, relative to the peak's speed.
+
+    Returns
+    -------
+    ndarray
+        The sorted union of ``speeds`` and the added speeds (rad/s), within the original range.
+    """
+    w, a = np.asarray(speeds, float), np.asarray(amplitude, float)
+    peaks = [i for i in range(1, w.size - 1) if a[i] >= a[i - 1] and a[i] >= a[i + 1]]
+    extra = [np.linspace(w[i] * (1 - width), w[i] * (1 + width), points) for i in peaks]
+    out = np.unique(np.concatenate([w, *extra]))
+    return out[(out >= w[0]) & (out <= w[-1])]
 
 
 def _polar_axes(ax, resp: UnbalanceResponse, probe: int, clearance: float | None = None) -> None:
