@@ -4,8 +4,8 @@ Each verb is a :class:`~rubrotor.cli.common.Command`: a name, a help line, a fun
 arguments to an :mod:`argparse` subparser and a function running it (``run(args) -> int``). The
 verbs live in one module per group (:mod:`rubrotor.cli.linear`, :mod:`rubrotor.cli.simulate`,
 :mod:`rubrotor.cli.sweeps`, :mod:`rubrotor.cli.analyze`, :mod:`rubrotor.cli.orbits`,
-:mod:`rubrotor.cli.studies`); to add one, write its two functions in its group's module and add
-a row to :data:`COMMANDS`, the one table.
+:mod:`rubrotor.cli.studies`, :mod:`rubrotor.cli.thermal`); to add one, write its two functions
+in its group's module and add a row to :data:`COMMANDS`, the one table.
 
 Errors the user can cause (:class:`rubrotor.errors.RubrotorError`, including scenario errors)
 print ``rubrotor: error: <message>`` on stderr and give exit status 2, with no traceback.
@@ -18,7 +18,17 @@ import os
 import sys
 
 from rubrotor import __version__
-from rubrotor.cli import analyze, api, linear, orbits, response, simulate, studies, sweeps
+from rubrotor.cli import (
+    analyze,
+    api,
+    linear,
+    orbits,
+    response,
+    simulate,
+    studies,
+    sweeps,
+    thermal,
+)
 from rubrotor.cli.analyze import load_signals
 from rubrotor.cli.common import Command, parse_speeds
 from rubrotor.cli.simulate import run_summary
@@ -131,6 +141,12 @@ COMMANDS: list[Command] = [
         "pseudo-arclength continuation of a periodic orbit: branch, stability, bifurcations",
         orbits.continue_args,
         orbits.continue_run,
+    ),
+    Command(
+        "thermal",
+        "thermal bow (Newkirk spiral): growth rate and period against speed, slow-time runs",
+        thermal.thermal_args,
+        thermal.thermal_run,
     ),
     Command(
         "analyze",

@@ -61,6 +61,7 @@ from rubrotor.rotors.forces import (
     Contact,
     ModalDamping,
     RadialLoad,
+    ThermalBow,
     Unbalance,
     restitution_damping,
 )
@@ -418,6 +419,8 @@ def _build(spec: dict, mapping: Mapping | None = None) -> dict:
         sec = spec.get("simulation")
         simulation = None if sec is None else _build_simulation(sec, span, speed)
         initial = spec.get("initial", {}).get("state", _default("initial", "state"))
+        sec = spec.get("thermal")
+        thermal = None if sec is None else ThermalBow(**sec)
     except ScenarioError:
         raise
     except InputError as exc:
@@ -435,6 +438,7 @@ def _build(spec: dict, mapping: Mapping | None = None) -> dict:
         damping=damping,
         simulation=simulation,
         initial=initial,
+        thermal=thermal,
     )
 
 
@@ -513,6 +517,9 @@ class Scenario:
         The general engine's contacts, stators, planes, gravity, speed profile and initial
         state (``rubrotor.scenario.dynamics``) when the scenario uses its keys or a general
         rotor; None for a scenario the seed's engine runs.
+    thermal : rubrotor.rotors.forces.ThermalBow or None
+        The ``[thermal]`` table: the thermal bow's time constant, bow per heat input, hot-spot
+        lag and shape (``rubrotor thermal``, :mod:`rubrotor.studies.thermal`).
     model : rubrotor.scenario.model.Model
         What the scenario is (rotor kind, engine, formulation, general-engine features),
         decided once when the scenario is built; every verb asks it.
@@ -532,6 +539,7 @@ class Scenario:
     initial: str = "rest"
     rotor: Rotor | None = None
     engine: EngineSpec | None = None
+    thermal: ThermalBow | None = None
     source: str = field(default="", compare=False, repr=False)
     _spec: dict | None = field(default=None, compare=False, repr=False)
     model: Model = field(init=False, compare=False, repr=False)
@@ -808,6 +816,8 @@ def _resolved_parts(sc: Scenario, out: dict) -> dict:
         c = dataclasses.asdict(sc.contact)
         out["contact"] = {k: v for k, v in c.items() if v is not None}
     out["initial"] = {"state": sc.initial}
+    if sc.thermal is not None:
+        out["thermal"] = dataclasses.asdict(sc.thermal)
     if sc.simulation is not None:
         sim = dataclasses.asdict(sc.simulation)
         sim["probes"] = list(sim["probes"])

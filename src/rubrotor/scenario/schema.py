@@ -52,7 +52,7 @@ import numpy as np
 from rubrotor.engine.settings import METHODS
 from rubrotor.errors import ScenarioError
 from rubrotor.rotors.fe import BEARING_KINDS, COEFFICIENTS
-from rubrotor.rotors.forces import CONTACT_LAWS, FRICTION_SIGNS, RESTITUTION_MODELS
+from rubrotor.rotors.forces import BOW_SHAPES, CONTACT_LAWS, FRICTION_SIGNS, RESTITUTION_MODELS
 from rubrotor.rotors.shaft import FORMULATIONS, PLAUSIBLE_RANGES, SHEAR_COEFFICIENTS, THEORIES
 
 __all__ = [
@@ -455,6 +455,21 @@ _ENGINE = (
 )  # fmt: skip
 """Keys of the general engine (:mod:`rubrotor.scenario.dynamics` builds them)."""
 
+_THERMAL = (
+    _k("thermal", "time_constant", "number", "s", "Thermal time constant tau of the bow",
+       _positive(), required=True),
+    _k("thermal", "bow_per_heat", "number", "m/W",
+       "Steady bow at the rubbing station per watt of heat input (beta)", _closed(0.0),
+       required=True),
+    _k("thermal", "hot_spot_lag", "number", "rad",
+       "Angle by which the hot spot lags the high spot, against the spin",
+       (-math.pi, math.pi, True, True), default=0.0),
+    _k("thermal", "bow_shape", "str", "",
+       "Bow shape along the rotor: uniform curvature through the outermost bearings",
+       choices=BOW_SHAPES, default="arc"),
+)  # fmt: skip
+"""Keys of the thermal bow (:class:`rubrotor.rotors.forces.ThermalBow`)."""
+
 TABLES: tuple[Table, ...] = (
     Table("meta", "table", "any", "Name and description"),
     Table("shaft", "table", "shaft", "A uniform, simply supported continuous shaft",
@@ -487,13 +502,15 @@ TABLES: tuple[Table, ...] = (
     Table("disk", "array", "general", "Rigid disks"),
     Table("bearing", "array", "general", "Bearings and supports"),
     Table("rotor", "table", "general", "Settings of the general rotor"),
+    Table("thermal", "table", "any",
+          "Thermal bow at the rubbing stations (rubrotor thermal; general rotors)"),
 )  # fmt: skip
 """Every scenario table, in the order the docs list them."""
 
 _ORDER = {t.name: i for i, t in enumerate(TABLES)}
 KEYS: tuple[Key, ...] = tuple(sorted((
     *_META, *_SHAFT, *_SPEED, *_UNBALANCE, *_LOAD, *_CONTACT, *_DAMPING, *_INITIAL,
-    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_ROTOR,
+    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_ROTOR, *_THERMAL,
 ), key=lambda row: _ORDER[row.table]))  # fmt: skip
 """Every key of every scenario table, grouped by table: the one source of the schema."""
 
