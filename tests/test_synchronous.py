@@ -211,24 +211,19 @@ def test_cli_continue_method_and_richardson(tmp_path, capsys):
 
 def test_general_rotor_is_refused_by_name_not_a_traceback(tmp_path):
     """The synchronous route and the seed engine's simulate_scenario run on the continuous
-    [shaft] rotor, and a general rotor's state-carrying sweep is held in memory (shooting,
-    continuation, sweeps and Lyapunov exponents of general rotors:
-    tests/test_shooting_general.py): a general ([[section]]) rotor gets an error naming the
-    field, not a traceback."""
+    [shaft] rotor (shooting, continuation, sweeps and Lyapunov exponents of general rotors:
+    tests/test_shooting_general.py, tests/test_sweep_general.py): a general ([[section]]) rotor
+    gets an error naming the field, not a traceback."""
     from importlib import resources
 
     from rubrotor.engine.settings import Integrator
     from rubrotor.engine.simulate import simulate_scenario
     from rubrotor.scenario import load_scenario
-    from rubrotor.sweeps.follow import follow_sweep
-
     path = resources.files("rubrotor") / "scenarios" / "seal_rub.toml"
     sc = load_scenario(path)
     calls = (
         (lambda: synchronous_orbit(sc), "section"),
         (lambda: simulate_scenario(sc, Integrator(revolutions=1.0)), "section"),
-        (lambda: follow_sweep(sc, "speed.rad_per_s", [600.0], store=tmp_path / "s.zarr"),
-         "store"),
     )  # fmt: skip
     for call, field in calls:
         with pytest.raises(InputError, match=field):
