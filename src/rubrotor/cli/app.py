@@ -17,6 +17,7 @@ import argparse
 import os
 import sys
 
+from rubrotor import __version__
 from rubrotor.cli import (
     analyze,
     api,
@@ -31,8 +32,8 @@ from rubrotor.cli import (
 from rubrotor.cli.analyze import load_signals
 from rubrotor.cli.common import Command, parse_speeds
 from rubrotor.cli.simulate import run_summary
-from rubrotor.cli.studies import shipped_scenarios
 from rubrotor.errors import RubrotorError
+from rubrotor.scenario.load import shipped_scenarios
 
 __all__ = [
     "main",
@@ -175,6 +176,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Rotor-stator rub on real rotors: modes, critical speeds, rub simulation, "
         "periodic orbits, sweeps and rub analysis.",
     )
+    parser.add_argument("--version", action="version", version=f"rubrotor {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for cmd in COMMANDS:
         p = sub.add_parser(cmd.name, help=cmd.help, description=cmd.help)

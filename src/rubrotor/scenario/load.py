@@ -86,6 +86,8 @@ from rubrotor.scenario.schema import (
 __all__ = [
     "Scenario",
     "load_scenario",
+    "find_scenario",
+    "shipped_scenarios",
     "scenario_from_dict",
     "scenario_to_dict",
     "SCHEMA",
@@ -823,13 +825,75 @@ def _resolved_parts(sc: Scenario, out: dict) -> dict:
     return out
 
 
-def load_scenario(path) -> Scenario:
-    """Read and validate a scenario TOML file.
+def shipped_scenarios() -> list[dict]:
+    """The scenario files shipped with rubrotor: name, description and path.
+
+    Returns
+    -------
+    list of dict
+        ``{"name", "description", "path"}`` sorted by file name.
+    """
+    from importlib import resources
+
+    folder = resources.files("rubrotor") / "scenarios"
+    out = []
+    for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+        if not entry.name.endswith(".toml"):
+            continue
+        meta = tomllib.loads(entry.read_text(encoding="utf-8")).get("meta", {})
+        description = " ".join(meta.get("description", "").split())
+        out.append({"name": meta.get("name", entry.name[:-5]), "description": description,
+                    "path": str(entry)})  # fmt: skip
+    return out
+
+
+def find_scenario(path) -> Path:
+    """The scenario file a path or a shipped scenario's name means.
+
+    A file that exists (relative to the working folder or absolute) is taken as it is, so a
+    local file named like a shipped scenario takes precedence. Otherwise a bare name, with or
+    without ``.toml`` (``"seed_case1"``, ``"seed_case1.toml"``), is looked up among the
+    scenarios shipped with rubrotor (``rubrotor scenarios`` lists them).
 
     Parameters
     ----------
     path : str or os.PathLike
-        The file. ``meta.name`` defaults to the file stem.
+        A file path or the name of a shipped scenario.
+
+    Returns
+    -------
+    pathlib.Path
+        The file to read.
+
+    Raises
+    ------
+    ScenarioError
+        Field ``"scenario file"``: neither a file nor a shipped scenario's name; the message
+        points to ``rubrotor scenarios``.
+    """
+    p = Path(path)
+    if p.exists() or p.parent != Path("."):
+        return p
+    stem = p.name[:-5] if p.name.endswith(".toml") else p.name
+    for item in shipped_scenarios():
+        if Path(item["path"]).stem == stem:
+            return Path(item["path"])
+    raise _err(
+        "scenario file", str(path),
+        "an existing TOML file or the name of a shipped scenario (`rubrotor scenarios` lists "
+        "them)",
+    )  # fmt: skip
+
+
+def load_scenario(path) -> Scenario:
+    """Read and validate a scenario TOML file, or a shipped scenario given by name.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file, or the name of a shipped scenario (``"seed_case1.toml"`` or ``"seed_case1"``,
+        looked up when no such file exists in the working folder: :func:`rubrotor.scenario.load.find_scenario`).
+        ``meta.name`` defaults to the file stem.
 
     Returns
     -------
@@ -841,7 +905,7 @@ def load_scenario(path) -> Scenario:
         The file cannot be read, is not valid TOML (the parser's message and the file name), or
         a key is invalid (the message starts with the file name and names the key).
     """
-    p = Path(path)
+    p = find_scenario(path)
     try:
         text = p.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:

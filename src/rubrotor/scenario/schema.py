@@ -302,9 +302,10 @@ _DAMPING = (
 )  # fmt: skip
 _INITIAL = (
     _k("initial", "state", "str", "",
-       "Start at rest, on the steady no-contact orbit, in static equilibrium or from a results "
-       "file (static and file: general engine)",
-       choices=("rest", "steady", "static", "file"), default="rest"),
+       "Start at rest, on the steady no-contact orbit, in static equilibrium, from a results "
+       "file, or from a given deflection and velocity at stations (static, file and given: "
+       "general engine)",
+       choices=("rest", "steady", "static", "file", "given"), default="rest"),
 )  # fmt: skip
 _SIMULATION = (
     _k("simulation", "revolutions", "number", "rev", "Length of the run in revolutions",
@@ -428,6 +429,23 @@ _ENGINE = (
        _closed(1e-6, 1e7)),
     _k("initial", "path", "str", "",
        'Results file of the general engine whose final state starts the run (state = "file")'),
+    _k("initial", "positions", "list", "m",
+       'Stations where the start deflection and velocity are given (state = "given")',
+       _closed(0.0)),
+    _k("initial", "v", "list", "m", "Start deflection along y, one per initial.positions",
+       _closed(-1.0, 1.0)),
+    _k("initial", "w", "list", "m", "Start deflection along z, one per initial.positions",
+       _closed(-1.0, 1.0)),
+    _k("initial", "v_dot", "list", "m/s", "Start velocity along y, one per initial.positions",
+       _closed(-1e4, 1e4)),
+    _k("initial", "w_dot", "list", "m/s", "Start velocity along z, one per initial.positions",
+       _closed(-1e4, 1e4)),
+    _k("initial", "modes", "list", "1", 'Undamped modes (1 = lowest) the start state is made of '
+       '(state = "given", instead of positions)', _closed(1, 1e5)),
+    _k("initial", "amplitudes", "list", "m",
+       "Start deflection of each of initial.modes at its largest point", _closed(-1.0, 1.0)),
+    _k("initial", "modal_velocities", "list", "m/s",
+       "Start velocity of each of initial.modes at its largest point", _closed(-1e4, 1e4)),
     _k("simulation", "modes", "int", "1", "Retained modes of the general engine",
        _closed(1, 100000)),
     _k("simulation", "cutoff", "number", "rad/s",
