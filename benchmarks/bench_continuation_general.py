@@ -20,11 +20,12 @@ The routes' correctors place their points at different speeds, so each route's p
 re-shot (Newton to 1e-12) on the other route's maps at their speeds. Then a 200-point branch
 over 600-800 rad/s on today's route, timed.
 
-Measured 2026-11-25 on the shared 2-core machine (load 7-9, so wall times are inflated):
-marginal 1758 ms CPU (5.6 s wall) per point on the previous route, 14.7 ms CPU (43 ms wall)
-today: 119x CPU, 129x wall. Today's points equal the previous route's fixed points to 1.2e-9;
-the previous route's own points sit 1.4e-6 from its maps' fixed points and from today's alike
-(its corrector stops at 1e-6). 200 points from 600 to 798 rad/s in 15.2 s wall (4.3 s CPU).
+Measured 2026-11-25 on the shared 2-core machine (load 7-9; least of 3 runs each): marginal
+2883 ms wall (1485 ms CPU) per point on the previous route, 26.8 ms wall (13.0 ms CPU) today:
+107x wall, 114x CPU (single runs under heavier load gave 40x-130x). Today's points equal the
+previous route's fixed points to 1.2e-9; the previous route's own points sit 1.7e-7 from its
+maps' fixed points and from today's alike (its corrector stops at 1e-6). 200 points from 600
+to 798 rad/s in 5.5 s wall (3.8 s CPU).
 
 Run: ``PYTHONPATH=src OPENBLAS_NUM_THREADS=1 python benchmarks/bench_continuation_general.py``.
 """
@@ -43,6 +44,8 @@ from rubrotor.orbits.general_map import GeneralMap
 from rubrotor.scenario import load_scenario
 
 KEY, STEPS = "speed.rad_per_s", 128
+REPEATS = 3
+"""Runs of each length per route; the least time counts."""
 DS_LONG = 0.083
 """Arclength step (scaled) of the long branch: about 200 points from 600 to 800 rad/s."""
 
@@ -80,15 +83,18 @@ def timed(sc, points, **kw):
     return time.perf_counter() - t0, time.process_time() - c0, branch
 
 
-def marginal(sc, label):
-    """Marginal wall and CPU time per point (s): (8-point run - 2-point run) / 6."""
+def marginal(sc, label, repeats=REPEATS):
+    """Marginal wall and CPU time per point (s): (8-point run - 2-point run) / 6, each run's
+    time the least of ``repeats`` (the least disturbed by other processes)."""
     timed(sc, 2)  # warm-up: numba compilation and caches
-    w2, c2, _ = timed(sc, 2)
-    w8, c8, branch = timed(sc, 8)
+    two = [timed(sc, 2) for _ in range(repeats)]
+    eight = [timed(sc, 8) for _ in range(repeats)]
+    w2, c2 = min(t[0] for t in two), min(t[1] for t in two)
+    w8, c8 = min(t[0] for t in eight), min(t[1] for t in eight)
     wall, cpu = (w8 - w2) / 6, (c8 - c2) / 6
-    print(f"{label}: 2 points {w2:.2f} s, 8 points {w8:.2f} s (wall); marginal "
-          f"{1e3 * wall:.1f} ms/point wall, {1e3 * cpu:.1f} ms/point CPU")  # fmt: skip
-    return (wall, cpu), branch
+    print(f"{label}: 2 points {w2:.2f} s, 8 points {w8:.2f} s (wall, least of {repeats}); "
+          f"marginal {1e3 * wall:.1f} ms/point wall, {1e3 * cpu:.1f} ms/point CPU")  # fmt: skip
+    return (wall, cpu), eight[-1][2]
 
 
 def reshot(branch, first, route):
