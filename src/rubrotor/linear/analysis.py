@@ -837,24 +837,20 @@ class UnbalanceResponse:
 
 def _support_values(system: LinearSystem, speeds: np.ndarray):
     """Support entries on the free DOFs: rows, columns and their ``k`` (N/m), ``c`` (N s/m) at
-    every speed (rad/s), interpolated as :meth:`Support.coefficients` does (clipped, linear)."""
+    every speed (rad/s), as :meth:`Support.tabulate` gives them (linked supports expanded)."""
     pos = np.full(len(system.M), -1)
     pos[system.free] = np.arange(system.free.size)
     rows, cols, kv, cv = [], [], [], []
     for sup in system.supports:
-        tab = sup.speeds if sup.speeds is not None and len(sup.speeds) > 1 else None
-        for i, di in enumerate(sup.dofs):
-            for j, dj in enumerate(sup.dofs):
+        ks, cs = (sup.block(a) for a in sup.tabulate(speeds))
+        for i, di in enumerate(sup.all_dofs):
+            for j, dj in enumerate(sup.all_dofs):
                 if pos[di] < 0 or pos[dj] < 0:
                     continue
                 rows.append(pos[di])
                 cols.append(pos[dj])
-                for out, table in ((kv, sup.k), (cv, sup.c)):
-                    out.append(
-                        np.full(speeds.size, table[0, i, j])
-                        if tab is None
-                        else np.interp(speeds, tab, table[:, i, j])
-                    )
+                kv.append(ks[:, i, j])
+                cv.append(cs[:, i, j])
     shape = (speeds.size, len(rows))
     k = np.array(kv).T.reshape(shape) if kv else np.zeros(shape)
     c = np.array(cv).T.reshape(shape) if cv else np.zeros(shape)
