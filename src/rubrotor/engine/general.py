@@ -36,7 +36,7 @@ def _system(scenario, probes):
     from rubrotor.rotors.shaft_system import continuous_system
 
     eng = scenario.engine
-    if scenario.rotor is not None:
+    if scenario.model.fe_rotor:
         return scenario.rotor.linear_system(tuple(sorted(set(eng.positions + tuple(probes)))))
     if any(r != 0 for r in scenario.damping.ratios):
         raise ScenarioError(

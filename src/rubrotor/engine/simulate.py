@@ -826,7 +826,7 @@ def simulate(
     """
     from rubrotor.engine.result import to_dataset
 
-    if getattr(scenario, "engine", None) is not None:  # general rotor or general-engine keys
+    if scenario.model.general:  # a finite-element rotor or general-engine keys
         from rubrotor.engine.general import simulate_engine
 
         if track_energy:

@@ -89,7 +89,7 @@ def linear_system(obj) -> LinearSystem:
     if isinstance(obj, LinearSystem):
         return obj
     if isinstance(obj, Scenario):
-        if obj.rotor is not None:
+        if obj.model.fe_rotor:
             return obj.rotor.linear_system(obj.stations)
         return continuous_system(obj.shaft)
     if isinstance(obj, Rotor):

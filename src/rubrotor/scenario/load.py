@@ -64,6 +64,7 @@ from rubrotor.rotors.forces import (
 )
 from rubrotor.rotors.shaft import Dimensionless, Shaft
 from rubrotor.scenario.dynamics import Builders, EngineSpec, engine_spec_or_none, split_engine_keys
+from rubrotor.scenario.model import Model
 from rubrotor.scenario.rotor import build_rotor, normalise_rotor_tables, rotor_to_dict
 from rubrotor.scenario.schema import (
     ALTERNATIVES,
@@ -484,6 +485,9 @@ class Scenario:
         The general engine's contacts, stators, planes, gravity, speed profile and initial
         state (``rubrotor.scenario.dynamics``) when the scenario uses its keys or a general
         rotor; None for a scenario the seed's engine runs.
+    model : rubrotor.scenario.model.Model
+        What the scenario is (rotor kind, engine, formulation, general-engine features),
+        decided once when the scenario is built; every verb asks it.
     source : str
         TOML text the scenario was read from (provenance); not compared by ``==``.
     """
@@ -502,6 +506,10 @@ class Scenario:
     engine: EngineSpec | None = None
     source: str = field(default="", compare=False, repr=False)
     _spec: dict | None = field(default=None, compare=False, repr=False)
+    model: Model = field(init=False, compare=False, repr=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "model", Model.for_scenario(self))
 
     def with_changes(self, **dotted) -> Scenario:
         """A new validated scenario with some keys changed.
@@ -586,24 +594,17 @@ class Scenario:
         return self.shaft
 
     def require_seed_engine(self, what: str) -> Shaft:
-        """The uniform shaft of a scenario the seed's engine runs, or a ScenarioError saying
-        ``what`` needs one (a general rotor, or keys of the general engine such as
-        ``[[contact]]`` arrays, ``[gravity]`` or a speed profile).
+        """The uniform shaft of a scenario the seed shaft's engine runs, or a ScenarioError
+        naming the key that needs the general engine (:meth:`Model.require_shaft_engine
+        <rubrotor.scenario.model.Model.require_shaft_engine>`).
 
         Parameters
         ----------
         what : str
             The verb, e.g. ``"a parameter sweep"``.
         """
-        shaft = self.require_shaft(what)
-        if self.engine is not None:
-            raise ScenarioError(
-                "scenario",
-                "general-engine keys",
-                f"a scenario without them for {what} (it runs the seed's engine: one [contact], "
-                "[unbalance] and [load] table, no [gravity], constant speed)",
-            )
-        return shaft
+        self.model.require_shaft_engine(what)
+        return self.shaft
 
     def dimensionless(self) -> dict:
         """The seed's dimensionless groups of this scenario (seed eqs. 3-5, 10-16).

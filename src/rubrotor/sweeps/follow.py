@@ -277,7 +277,6 @@ def follow_sweep(
         (``rubrotor.orbits.general_map.follow_general``, in memory, 256 fixed steps per
         revolution) holds the scalar metrics and regimes only.
     """
-    from rubrotor.orbits.general_map import is_general
     from rubrotor.sweeps.sweep import (
         _check_keys,
         _definition,
@@ -287,7 +286,7 @@ def follow_sweep(
         run_lengths,
     )
 
-    if is_general(scenario):
+    if scenario.model.fe_rotor:
         if store is not None:
             raise InputError("store", store, "none for a general rotor (its sweep is held in "
                              "memory and returned)")  # fmt: skip
