@@ -406,7 +406,11 @@ class PointScenarios:
         by_multiple = swept_speed == ["speed.critical_multiple"] or (
             not swept_speed and spec[0] == "critical_multiple"
         )
-        if by_multiple and not base.model.fe_rotor and not any(k.startswith("shaft.") for k in keys):
+        if (
+            by_multiple
+            and not base.model.fe_rotor
+            and not any(k.startswith("shaft.") for k in keys)
+        ):
             from rubrotor.linear.shaft import first_forward_critical
 
             self.critical = first_forward_critical(base.shaft)
