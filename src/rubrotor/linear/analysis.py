@@ -86,7 +86,8 @@ class DampedMode:
         ``lambda`` (1/s).
     shape : ndarray, complex
         Mode shape on all DOFs of the system (fixed DOFs zero), normalised to unit largest
-        deflection (m per unit modal amplitude).
+        deflection (m per unit modal amplitude; a mode without deflection, of rotations or
+        housings only, to unit largest DOF).
     """
 
     index: int
@@ -378,7 +379,10 @@ def _modes(system: LinearSystem, speed: float, n: int | None, natural: bool) -> 
     defl = rows @ full  # V, W at the stations, (2 S, count)
     whirl = _whirl_labels(defl.T)
     big = np.argmax(np.abs(defl), axis=0)
-    full = full / defl[big, np.arange(count)]  # unit largest deflection
+    scale = defl[big, np.arange(count)]
+    flat = scale == 0  # a mode of rotations or housings only: unit largest DOF instead
+    scale[flat] = full[np.argmax(np.abs(full[:, flat]), axis=0), np.flatnonzero(flat)]
+    full = full / scale  # unit largest deflection
     modes = []
     for k in range(count):
         lk = complex(lam[k])
@@ -454,6 +458,8 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise InputError("n", n, "a number of modes >= 1")
     lam, shapes, ok = _refined_modes(system, s, n)
+    with np.errstate(invalid="ignore"):  # Newton landed on a real root: not a mode, redo densely
+        ok = ok & (lam.imag > OSCILLATING * np.abs(lam))
     f = np.full((s.size, n), np.nan)
     ld = np.full((s.size, n), np.nan)
     wh = np.full((s.size, n), "", dtype=object)
@@ -867,9 +873,12 @@ def stability_threshold(
         The threshold speed (rad/s); 0.0 when the rotor is already unstable at rest.
     """
     max_speed = _check_speed("max_speed", max_speed)
+    if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
+        raise InputError("n", n, "a number of modes >= 1")
 
     def least(w):
-        return min(m.damping_ratio for m in damped_modes(system, w, n=n).modes)
+        # the n lowest by frequency (the Campbell route): overdamped roots never set the least
+        return min(m.damping_ratio for m in _modes(system, w, n, natural=False).modes)
 
     if least(0.0) < 0:
         return 0.0
