@@ -339,7 +339,7 @@ def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None)
         Frequencies (Hz), damping ratios, logarithmic decrements, whirl and shapes, ranked by
         undamped natural frequency ``|lambda|`` as ROSS ranks them; real roots and roots with
         ``Im(lambda) <= OVERDAMPED |lambda|`` are kept in that rank and marked
-        :attr:`DampedMode.overdamped` (ranked by ``Im(lambda)`` they would come first).
+        ``DampedMode.overdamped`` (ranked by ``Im(lambda)`` they would come first).
 
     Examples
     --------
@@ -823,7 +823,7 @@ def linear_critical_speeds(
     -------
     list of LinearCritical
         Sorted by speed, each with the mode's damping ratio there; those above
-        :data:`CRITICALLY_DAMPED` are flagged by :attr:`LinearCritical.critically_damped`.
+        ``CRITICALLY_DAMPED`` are flagged by ``LinearCritical.critically_damped``.
     """
     max_speed = _check_speed("max_speed", max_speed)
     if max_speed <= 0 or not harmonic > 0:

@@ -161,6 +161,7 @@ class Support:
     interpolation: str = "linear"
     extrapolation: str = "hold"
     link: tuple[int, int] | None = None
+    _pchip: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         if self.interpolation not in INTERPOLATIONS:
@@ -191,7 +192,7 @@ class Support:
         if self.speeds is None or len(self.speeds) == 1:
             return (np.broadcast_to(self.k[0], (s.size, 2, 2)).copy(),
                     np.broadcast_to(self.c[0], (s.size, 2, 2)).copy())  # fmt: skip
-        return _interpolate(self, self.k, s), _interpolate(self, self.c, s)
+        return _interpolate(self, "k", s), _interpolate(self, "c", s)
 
     def coefficients(self, speed: float) -> tuple[np.ndarray, np.ndarray]:
         """``(K, C)`` 2x2 arrays (N/m, N s/m) at ``speed`` (rad/s), see :meth:`tabulate`."""
@@ -199,16 +200,20 @@ class Support:
         return k[0], c[0]
 
 
-def _interpolate(sup: Support, table: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """``table`` (m, 2, 2) at speeds ``s`` (rad/s) as ``sup`` interpolates and extrapolates."""
+def _interpolate(sup: Support, name: str, s: np.ndarray) -> np.ndarray:
+    """``sup.k`` or ``sup.c`` (``name``; (m, 2, 2)) at speeds ``s`` (rad/s), as ``sup``
+    interpolates and extrapolates."""
+    table = getattr(sup, name)
     x = np.asarray(sup.speeds, float)
     w = np.clip(s, x[0], x[-1])
     if sup.interpolation == "pchip" and len(x) > 2:
-        from scipy.interpolate import PchipInterpolator
+        if name not in sup._pchip:  # built once per support and table (a few 0.1 ms each)
+            from scipy.interpolate import PchipInterpolator
 
-        f = PchipInterpolator(x, table, axis=0)
+            f = PchipInterpolator(x, table, axis=0)
+            sup._pchip[name] = (f, f.derivative()(x[[0, -1]]))
+        f, slopes = sup._pchip[name]
         out = f(w)
-        slopes = f.derivative()(x[[0, -1]])
     else:
         j = np.clip(np.searchsorted(x, w) - 1, 0, len(x) - 2)
         t = ((w - x[j]) / (x[j + 1] - x[j]))[:, None, None]

@@ -21,7 +21,7 @@ becomes ``T^T A T``. The axial and torsional DOFs are dropped; they must be unco
 lateral ones (true for ROSS's shaft, disk, bearing and point-mass elements), else
 :func:`from_ross` refuses, naming the element that couples them. A point mass (ROSS
 ``PointMass``, e.g. a bearing housing) adds its two lateral DOFs ``[v, w] = [x, y]`` after the
-nodal ones (:attr:`rubrotor.rotors.linear.NodalBasis.extra`).
+nodal ones (``NodalBasis.extra``).
 
 What is imported
 ----------------
