@@ -172,7 +172,7 @@ def test_shaft_only_verbs_refuse_general_rotor(tmp_path):
     """The convergence study and the seed's dimensionless form need [shaft]; time simulation
     runs through the general engine (here refused only for want of a [simulation] section)."""
     sc = load_scenario(GENERAL)
-    with pytest.raises(ScenarioError, match="not available yet") as err:
+    with pytest.raises(ScenarioError, match="continuous shaft only") as err:
         rubrotor.converge(sc)
     assert err.value.field == "section"
     with pytest.raises(rubrotor.InputError) as err:

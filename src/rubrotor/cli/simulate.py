@@ -61,18 +61,20 @@ def run_summary(ds) -> dict:
 
 
 def run_run(args: argparse.Namespace) -> int:
-    """``rubrotor run SCENARIO --out DIR``: ``rubrotor simulate SCENARIO --out DIR/``, saying so."""
-    print(
-        "rubrotor: note: `rubrotor run` is an alias of `rubrotor simulate SCENARIO --out DIR/` "
-        "and will be removed in a later release",
-        file=sys.stderr,
-    )
+    """``rubrotor run SCENARIO --out DIR``: ``rubrotor simulate SCENARIO --out DIR/``, saying so
+    once the run is written (an input error stays one line)."""
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out", args.out, "a directory")
     args.out = str(out) + "/"
     args.figure = False
-    return simulate_run(args)
+    status = simulate_run(args)
+    print(
+        "rubrotor: note: `rubrotor run` is an alias of `rubrotor simulate SCENARIO --out DIR/` "
+        "and will be removed in a later release",
+        file=sys.stderr,
+    )
+    return status
 
 
 # ---- simulate ----------------------------------------------------------------------------------

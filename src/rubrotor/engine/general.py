@@ -38,14 +38,7 @@ def _system(scenario, probes):
     eng = scenario.engine
     if scenario.model.fe_rotor:
         return scenario.rotor.linear_system(tuple(sorted(set(eng.positions + tuple(probes)))))
-    if any(r != 0 for r in scenario.damping.ratios):
-        raise ScenarioError(
-            "damping.ratio",
-            scenario.damping.ratios,
-            "0 (no modal damping) with the general engine's keys; run the [shaft] scenario "
-            "without them to keep its modal damping",
-        )
-    return continuous_system(scenario.shaft)
+    return continuous_system(scenario.shaft, scenario.damping)
 
 
 def _duration(integ, speed: float, speed_end: float | None) -> float:

@@ -91,7 +91,7 @@ def linear_system(obj) -> LinearSystem:
     if isinstance(obj, Scenario):
         if obj.model.fe_rotor:
             return obj.rotor.linear_system(obj.stations)
-        return continuous_system(obj.shaft)
+        return continuous_system(obj.shaft, obj.damping)
     if isinstance(obj, Rotor):
         return obj.linear_system(())
     if isinstance(obj, Shaft):
