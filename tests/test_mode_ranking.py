@@ -174,3 +174,42 @@ def test_support_linked_to_a_housing():
     v = (k1 + k2 - m2 * speeds**2) * f / det
     np.testing.assert_allclose(resp[:, 0, 0], v, rtol=1e-10)
     np.testing.assert_allclose(resp[:, 0, 1], -1j * v, rtol=1e-10)
+
+
+@pytest.mark.parametrize("dashpot", [0.0, 2e5])
+def test_n_modes_routes_equal_the_dense_route(dashpot):
+    """On a 40-element rotor (a speed-tabulated cross-coupled bearing) ``damped_modes(n=6)``
+    takes the projection + Newton route when the projection ranks alike, and shift-invert
+    ARPACK when a heavy dashpot (2e5 N s/m on a soft 1e5 N/m support at the disk) adds a real
+    root below the 6th mode; both equal the dense eigen-solve of all 2N roots ranked by
+    ``|lambda|`` (reference: ``scipy.linalg.eigvals`` of the first-order matrix) to 1e-9."""
+    import scipy.linalg
+
+    from rubrotor.linear.analysis import OSCILLATING, OVERDAMPED, _newton_eig
+
+    sec = rubrotor.Section(length=0.6, diameter=0.04, material=rubrotor.Material(
+        name="steel", youngs_modulus=211e9, poisson_ratio=0.3, density=7810), elements=40)  # fmt: skip
+    bearings = [
+        rubrotor.Bearing(position=0.0, speeds=(0.0, 1000.0, 4000.0), kyy=(3e6, 4e6, 6e6),
+                         kzz=5e6, kyz=(0.0, 4e5, 9e5), kzy=(0.0, -4e5, -9e5), cyy=400.0,
+                         czz=(600.0, 500.0, 450.0)),
+        rubrotor.Bearing(position=0.6, kyy=3e6, kzz=5e6, cyy=400.0, czz=600.0),
+    ]  # fmt: skip
+    if dashpot:
+        bearings.append(rubrotor.Bearing(position=0.3, kyy=1e5, kzz=1e5, cyy=dashpot, czz=dashpot))
+    disk = rubrotor.Disk(position=0.3, mass=4.0, polar_inertia=0.02, diametral_inertia=0.011)
+    system = rubrotor.Rotor(sections=(sec,), disks=(disk,), bearings=tuple(bearings)).linear_system(
+        ()
+    )
+    for speed in (0.0, 2500.0):
+        lam = scipy.linalg.eigvals(system.matrices(speed).first_order()[0])
+        a = np.abs(lam)
+        osc = lam[lam.imag > OVERDAMPED * a]
+        osc = osc[np.argsort(np.abs(osc))][:6]
+        over = lam[(lam.imag > -OSCILLATING * a) & (lam.imag <= OVERDAMPED * a)]
+        over = over[np.abs(over) <= np.abs(osc).max()]
+        ref = np.concatenate([osc, np.sort(over.real)[::-1]])
+        got = [md.eigenvalue for md in damped_modes(system, speed, n=6).modes]
+        np.testing.assert_allclose(got, ref, rtol=1e-9)
+        assert (_newton_eig(system, speed, 6, natural=True) is None) is bool(dashpot)
+        assert len(over) == (2 if dashpot else 0)

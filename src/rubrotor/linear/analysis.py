@@ -234,18 +234,19 @@ def _real_made_real(lam: np.ndarray) -> np.ndarray:
 def _eig(system: LinearSystem, speed: float, n: int | None = None, natural: bool = False):
     """Eigenvalues of the modes (:func:`_select`) and the ``q`` part of their eigenvectors.
 
-    With ``n`` given on a large system, ranked by frequency: the Campbell route at one speed
-    (:func:`_newton_eig`: projection starts, Newton on the banded quadratic eigenproblem; it
-    finds the oscillating modes next to the lowest undamped ones, so it can miss a heavily
-    damped root of small ``|lam|``). Ranked by ``|lam|``, or if one of its checks fails:
-    shift-invert Arnoldi (ARPACK) finds the ``2 n + 8`` eigenvalues nearest zero, i.e. of least
-    ``|lam|`` (twice as many while fewer than ``n`` modes are among them), from one sparse LU
-    of ``K``. Both instead of a dense solve of all ``2 N``; the tests check them against the
-    dense route.
+    With ``n`` given on a large system: the Campbell route at one speed (:func:`_newton_eig`:
+    projection starts, Newton on the banded quadratic eigenproblem; it finds the oscillating
+    modes next to the lowest undamped ones). Ranked by ``|lam|`` it is taken only where the
+    projected problem has no root left out below the ``n``-th mode's ``|lam|`` (no overdamped
+    root there, the same ``n`` modes by frequency as by ``|lam|``: :func:`_ranks_alike`). Else,
+    or if one of its checks fails: shift-invert Arnoldi (ARPACK) finds the ``2 n + 8``
+    eigenvalues nearest zero, i.e. of least ``|lam|`` (twice as many while fewer than ``n``
+    modes are among them), from one sparse LU of ``K``. Both instead of a dense solve of all
+    ``2 N``; the tests check them against the dense route.
     """
     size = 2 * system.n_dof
-    if n is not None and size > 16 * n and not natural:
-        found = _newton_eig(system, speed, n)
+    if n is not None and size > 16 * n:
+        found = _newton_eig(system, speed, n, natural)
         if found is not None:
             return found
     mx = system.matrices(speed)
@@ -286,15 +287,39 @@ def _eigvals_then_vectors(mx, a: np.ndarray, n: int, natural: bool = False):
     return lam, vec.T
 
 
-def _newton_eig(system: LinearSystem, speed: float, n: int):
+def _ranks_alike(red: Reduced, n: int) -> bool:
+    """True when the projected problem's ``n`` lowest modes by frequency are all its roots of
+    ``|lam|`` up to theirs (with a 1e-3 margin), none overdamped: ranked by ``|lam|`` the
+    Newton route then finds the same modes."""
+    m = red.mr.shape[0]
+    a = np.zeros((2 * m, 2 * m))
+    a[:m, m:] = np.eye(m)
+    a[m:, :m] = -np.linalg.solve(red.mr, red.kr[0])
+    a[m:, m:] = -np.linalg.solve(red.mr, red.dr[0])
+    lam = np.linalg.eigvals(a)
+    size = np.abs(lam)
+    osc = lam[lam.imag > OSCILLATING * size]
+    if osc.size < n:
+        return False
+    top = np.abs(osc[np.argsort(osc.imag)][:n]).max() * (1 + 1e-3)
+    low = lam[(lam.imag > -OSCILLATING * size) & (size <= top)]
+    return low.size == n and bool(np.all(low.imag > OVERDAMPED * np.abs(low)))
+
+
+def _newton_eig(system: LinearSystem, speed: float, n: int, natural: bool = False):
     """The ``n`` lowest modes at ``speed`` (rad/s) as :func:`campbell_data` finds them, with
-    full eigenvectors on the free DOFs; ``None`` when a check fails (fewer than ``n`` projected
-    modes, Newton not converged, a start that moved by more than 1e-3 of itself, or two
-    starts that converged to one eigenvalue), so that the caller takes another route."""
+    full eigenvectors on the free DOFs, by frequency or (``natural``) by ``|lam|``; ``None``
+    when a check fails (fewer than ``n`` projected modes, with ``natural`` a projection that
+    ranks otherwise (:func:`_ranks_alike`) or an overdamped result, Newton not converged, a
+    start that moved by more than 1e-3 of itself, or two starts that converged to one
+    eigenvalue), so that the caller takes another route."""
     speeds = np.array([speed])
     parts = _band_parts(system, speeds)
     try:
-        lam0, vec0 = _ritz_starts(system, parts, speeds, n)
+        red = _reduced(system, parts, speeds, n)
+        if natural and not _ranks_alike(red, n):
+            return None
+        lam0, vec0 = _ritz_starts(system, parts, speeds, n, red)
     except np.linalg.LinAlgError:
         return None
     if not np.all(np.isfinite(lam0)):
@@ -314,10 +339,10 @@ def _newton_eig(system: LinearSystem, speed: float, n: int):
         np.any(ref.steps <= 0)
         or np.any(np.abs(lam - start) > 1e-3 * np.abs(start))
         or np.any(same & apart)
-        or not np.all(lam.imag > OSCILLATING * np.abs(lam))
+        or not np.all(lam.imag > (OVERDAMPED if natural else OSCILLATING) * np.abs(lam))
     ):
         return None
-    order = np.argsort(lam.imag)
+    order = np.argsort(np.abs(lam) if natural else lam.imag, kind="stable")
     return lam[order], ref.shapes[0].T[:, order]
 
 
@@ -620,7 +645,9 @@ def _projected_lam(red: Reduced, idx: np.ndarray, n: int) -> np.ndarray:
     return out
 
 
-def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int):
+def _ritz_starts(
+    system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int, red: Reduced | None = None
+):
     """Starting eigenpairs at every speed from a projection onto :func:`_ritz_basis`.
 
     The projected eigenvalues come from :func:`_projected_lam` and the projected shapes from one
@@ -628,7 +655,7 @@ def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: 
     cheaper than batched eigenvectors). Returns ``lam0`` (S, n), NaN where fewer than ``n``
     oscillating modes were found, and ``vec0`` (S, n, N) on the free DOFs.
     """
-    red = _reduced(system, parts, speeds, n)
+    red = _reduced(system, parts, speeds, n) if red is None else red
     lam0 = _projected_lam(red, np.arange(speeds.size), n)
     return lam0, ritz_vectors(red.mr, red.dr, red.kr, lam0) @ red.phi.T
 
