@@ -207,7 +207,7 @@ def _interpolate(sup: Support, name: str, s: np.ndarray) -> np.ndarray:
     x = np.asarray(sup.speeds, float)
     w = np.clip(s, x[0], x[-1])
     if sup.interpolation == "pchip" and len(x) > 2:
-        if name not in sup._pchip:  # built once per support and table (a few 0.1 ms each)
+        if name not in sup._pchip:  # SciPy's PCHIP, built once per support and table
             from scipy.interpolate import PchipInterpolator
 
             f = PchipInterpolator(x, table, axis=0)
