@@ -303,8 +303,8 @@ def test_pchip_or_linear_between_table_points():
 
 
 def test_unmappable_elements_refused_by_name():
-    """A bearing mass tabulated against speed, and a skew one, are refused naming the element
-    (class, tag, node) and the field."""
+    """A bearing mass tabulated against speed, a skew one and a disk whose mass couples lateral
+    and torsional DOFs are refused naming the element (class, tag, node) and the field."""
     shaft, _ = _shaft()
     table = ross.BearingElement(
         6, **_table(kxx=[1e6, 2e6], cxx=[0.0, 0.0], mxx=[1.0, 2.0], axis=[0.0, 100.0]), tag="mb"
@@ -318,3 +318,15 @@ def test_unmappable_elements_refused_by_name():
         from_ross(rotor)
     with pytest.raises(InputError, match="interpolation"):
         from_ross(rotor8(), interpolation="cubic")
+
+    class Coupled(ross.DiskElement):  # a disk whose mass couples x with the torsion (a gear's)
+        def M(self, *args, **kwargs):
+            m = np.array(super().M(*args, **kwargs), float)
+            m[0, 5] = m[5, 0] = 1e-3
+            return m
+
+    disk = Coupled(n=3, m=5.0, Id=0.02, Ip=0.04, tag="gearish")
+    bearings = [ross.BearingElement(n, kxx=1e6, cxx=0) for n in (0, 6)]
+    rotor = _quiet(ross.Rotor, shaft, [disk], bearings)
+    with pytest.raises(InputError, match=r"Coupled 'gearish' at node 3 .*M couples lateral"):
+        from_ross(rotor)  # named: not the shaft element that holds the same two DOFs

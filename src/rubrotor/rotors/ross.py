@@ -192,19 +192,31 @@ def _refuse_coupling(rotor, name: str, a: np.ndarray, idx: np.ndarray) -> None:
     if block.max(initial=0.0) <= 1e-12 * scale:
         return
     i, j = np.unravel_index(np.argmax(block), block.shape)
-    pair = {int(idx[i]), int(other[j])}
-    culprit = next(
-        (
-            e
-            for e in rotor.elements
-            if pair <= set((getattr(e, "dof_global_index", None) or {}).values())
-        ),
-        None,
-    )
+    pair = (int(idx[i]), int(other[j]))
+    held = [e for e in rotor.elements if set(pair) <= set(_dofs(e).values())]
+    culprit = next((e for e in held if _couples(e, name, pair)), held[0] if held else None)
     where = _label(culprit) if culprit is not None else f"ROSS DOFs {sorted(pair)}"
     raise InputError(
         where, f"{name} couples lateral with axial/torsional DOFs", "uncoupled lateral DOFs"
     )
+
+
+def _dofs(e) -> dict:
+    return getattr(e, "dof_global_index", None) or {}
+
+
+def _couples(e, name: str, pair: tuple[int, int]) -> bool:
+    """Whether element ``e``'s own matrix ``name`` (``M``, ``K``, ``C`` or ``G``) holds the
+    entry between the global DOFs ``pair``."""
+    where = list(_dofs(e).values())
+    for args in ((), (0.0,)):
+        try:
+            a = np.asarray(getattr(e, name)(*args), float)
+        except TypeError:
+            continue
+        if a.shape[0] == len(where):
+            return bool(a[where.index(pair[0]), where.index(pair[1])] != 0.0)
+    return False
 
 
 def _check_elements(rotor) -> None:
