@@ -123,6 +123,7 @@ def test_modal_damping_through_the_general_engine():
     assert common.size > 3000
     v1, v2 = shaft_run.v.values[i1], general_run.v.values[0, i2]
     assert np.max(np.abs(v1 - v2)) <= 1e-10 * np.max(np.abs(v1))
+
     # the damping acts: the free vibration around the circular steady orbit decays
     # (exp(-zeta omega_1 t) ~ 0.2 after 20 revolutions; undamped it does not)
     def ripple(ds):

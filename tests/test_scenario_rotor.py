@@ -145,7 +145,7 @@ _DELETE = object()
         (("bearing",), _DELETE, "bearing"),
         (("rotor", "theory"), "bernoulli", "rotor.theory"),
         (("rotor", "mesh"), 3, "rotor.mesh"),
-        (("speed",), {"critical_multiple": 1.5}, "speed.critical_multiple"),
+        (("speed",), {"dimensionless": 1.5}, "speed.dimensionless"),
         (("unbalance", "position"), 1.31, "unbalance.position"),
         (("damping",), {"ratio": 0.01}, "damping"),
         (("section",), {"length": 0.1}, "section"),

@@ -40,8 +40,36 @@ def _run_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def speed_profile(attrs: dict) -> dict:
+    """The speed law in a results file's attributes: ``{"kind": "constant"}``,
+    ``{"kind": "linear", "from_rad_s", "to_rad_s"}`` (run-up or coast-down over the run) or
+    ``{"kind": "table", "times_s", "speeds_rad_s"}`` (rows linear between them)."""
+    if "speed_table" in attrs:
+        rows = json.loads(attrs["speed_table"])
+        return {"kind": "table", "times_s": [r[0] for r in rows], "speeds_rad_s": [r[1] for r in rows]}  # fmt: skip
+    if "speed_end_rad_s" in attrs:
+        return {"kind": "linear", "from_rad_s": float(attrs["speed_rad_s"]),
+                "to_rad_s": float(attrs["speed_end_rad_s"])}  # fmt: skip
+    return {"kind": "constant"}
+
+
+def _speed_end(attrs: dict, duration_s: float) -> dict:
+    """``speed_end_rad_s`` (the law's speed at the last sample) and ``speed_profile`` of a run
+    whose speed varies; nothing for a constant speed."""
+    law = speed_profile(attrs)
+    if law["kind"] == "constant":
+        return {}
+    if law["kind"] == "linear":
+        end = law["to_rad_s"]
+    else:
+        end = float(np.interp(duration_s, law["times_s"], law["speeds_rad_s"]))
+    return {"speed_end_rad_s": end, "speed_profile": law}
+
+
 def run_summary(ds) -> dict:
-    """Short JSON-able summary of a results Dataset (SI units in the key names)."""
+    """Short JSON-able summary of a results Dataset (SI units in the key names); for a run-up,
+    coast-down or speed table ``speed_rad_s`` is the start speed, ``speed_end_rad_s`` the end
+    speed and ``speed_profile`` the law (:func:`speed_profile`)."""
     p = np.hypot(ds["v"].values, ds["w"].values)
     fn = ds["normal_force"].values
     stats = json.loads(ds.attrs["integrator_stats"])
@@ -50,11 +78,12 @@ def run_summary(ds) -> dict:
         "status": ds.attrs["status"],
         "status_message": ds.attrs["status_message"],
         "speed_rad_s": float(ds.attrs["speed_rad_s"]),
+        **_speed_end(ds.attrs, float(ds["time"].values[-1] - ds["time"].values[0])),
         "duration_s": float(ds["time"].values[-1]),
         "samples": int(ds.sizes["time"]),
         "max_displacement_m": float(p.max()),
-        "max_normal_force_N": float(fn.max()),
-        "contact_fraction": float(np.mean(fn > 0)),
+        "max_normal_force_N": float(fn.max()) if fn.size else 0.0,  # no contact table: none
+        "contact_fraction": float(np.mean(fn > 0)) if fn.size else 0.0,
         "contact_events": int(stats.get("contact_events", 0)),
         "wall_time_s": float(stats.get("wall_s", float("nan"))),
     }
@@ -110,7 +139,7 @@ def simulate_run(args: argparse.Namespace) -> int:
     long general-engine runs stream to it."""
     import dataclasses
 
-    from rubrotor.engine.result import atomic_write, load_dataset, save_dataset
+    from rubrotor.engine.result import save_dataset
     from rubrotor.engine.simulate import simulate
 
     scenario = load_scenario(args.scenario)
@@ -120,27 +149,67 @@ def simulate_run(args: argparse.Namespace) -> int:
         if integ is None:
             raise InputError("simulation", None, "a [simulation] section in the scenario")
         integ = dataclasses.replace(integ, revolutions=args.revolutions, duration=None)
-    ds = None
     if scenario.model.general:
         from rubrotor.engine.general import STREAM_SAMPLES, engine_problem, simulate_engine
 
         _, run, _, _ = engine_problem(scenario, integ)
         if run.duration / (run.step * run.save_every) > STREAM_SAMPLES:
             simulate_engine(scenario, integrator=integ, progress=args.progress, stream=out)
-            ds = load_dataset(out)
-    if ds is None:
-        ds = simulate(scenario, integrator=integ, progress=args.progress)
-        save_dataset(ds, out)
+            return _report(streamed_summary(out), out, summary_file, args.figure)
+    ds = simulate(scenario, integrator=integ, progress=args.progress)
+    save_dataset(ds, out)
     if args.figure:
         _simulate_figure(ds, out.with_suffix(".png"))
-    summary = run_summary(ds)
+    return _report(run_summary(ds), out, summary_file, False)
+
+
+FIGURE_SAMPLES = 1 << 18
+"""Samples (from the end) a streamed run's figure draws."""
+
+
+def streamed_summary(path: Path) -> dict:
+    """:func:`run_summary` of a streamed results file, read chunk by chunk (bounded memory)."""
+    from rubrotor.engine.stream import file_summary
+
+    fs = file_summary(path)
+    at = fs["attrs"]
+    stats = json.loads(at.get("integrator_stats", "{}"))
+    return {
+        "scenario": at.get("scenario_name", ""),
+        "status": at["status"],
+        "status_message": at["status_message"],
+        "speed_rad_s": float(at["speed_rad_s"]),
+        **_speed_end(at, fs["duration_s"] - float(at.get("start_time_s", 0.0))),
+        "duration_s": fs["duration_s"],
+        "samples": fs["samples"],
+        "max_displacement_m": fs["max_displacement_m"],
+        "max_normal_force_N": fs["max_normal_force_N"],
+        "contact_fraction": fs["contact_fraction"],
+        "contact_events": int(stats.get("contact_events", 0)),
+        "wall_time_s": float(stats.get("wall_s", float("nan"))),
+    }
+
+
+def _report(summary: dict, out: Path, summary_file, figure: bool) -> int:
+    """Write the summary (and a streamed run's figure of its last samples); the exit status."""
+    from rubrotor.engine.result import atomic_write
+
+    if figure:
+        from rubrotor.engine.stream import tail_dataset
+        from rubrotor.plotting.rub import engine_figure
+
+        ds = tail_dataset(out, FIGURE_SAMPLES)
+        t = ds["time"].values
+        title = (f"{summary['scenario']} ({summary['status']}): the last {t[-1] - t[0]:.4g} s "
+                 f"of {summary['duration_s']:.4g} s")  # fmt: skip
+        save_atomic(engine_figure(ds, title=title), out.with_suffix(".png"))
     if summary_file is not None:
         text = json.dumps(summary, indent=2)
         atomic_write(summary_file, lambda tmp: Path(tmp).write_text(text))
     summary["results"] = str(out)
     print(json.dumps(summary, indent=2))
-    if ds.attrs["status"] != "complete":
-        print(f"rubrotor: warning: {ds.attrs['status_message']}", file=sys.stderr)
+    if summary["status"] != "complete":
+        print(f"rubrotor: warning: {summary['status_message']}", file=sys.stderr)
         return 1
     return 0
 

@@ -34,8 +34,10 @@ Positions default to midspan and are stored resolved, in m. Keys that need the s
 General rotor: instead of ``[shaft]`` (never with it), the tables ``[materials.NAME]``,
 ``[[section]]``, ``[[disk]]``, ``[[bearing]]`` and ``[rotor]`` of
 :mod:`rubrotor.scenario.rotor` build :attr:`Scenario.rotor` (a :class:`rubrotor.rotors.fe.Rotor`).
-Then ``[speed]`` takes ``rad_per_s``, ``rpm`` or ``hz`` only (``critical_multiple`` and
-``dimensionless`` are defined for the uniform shaft), positions of ``[unbalance]``, ``[load]``
+Then ``[speed]`` takes ``rad_per_s``, ``rpm``, ``hz`` or ``critical_multiple`` (a multiple
+of the rotor's first forward critical speed,
+:func:`rubrotor.linear.critical.first_forward_critical_speed`; ``dimensionless`` is defined for
+the uniform shaft only), positions of ``[unbalance]``, ``[load]``
 and ``[contact]`` are required and lie in ``[0, L]``, ``_nd`` keys and ``[damping]`` are
 rejected, and verbs that need the continuous shaft (time simulation, sweeps, the convergence
 study) raise :class:`ScenarioError` on field ``"section"`` (:meth:`Scenario.require_shaft`).
@@ -252,7 +254,9 @@ def _build_shaft(sec: dict) -> Shaft:
     return Shaft(**kwargs)
 
 
-def _resolve_speed(sec: dict, shaft: Shaft) -> tuple[float, tuple]:
+def _resolve_speed(sec: dict, shaft: Shaft | Rotor, stations: tuple = ()) -> tuple[float, tuple]:
+    """The spin speed (rad/s) of ``[speed]``; a general rotor's critical multiple is taken on
+    its mesh with nodes at ``stations`` (m), the mesh of :func:`rubrotor.linear_system`."""
     ((key, value),) = sec.items()
     name = f"speed.{key}"
     v = float(value)
@@ -262,6 +266,10 @@ def _resolve_speed(sec: dict, shaft: Shaft) -> tuple[float, tuple]:
         om = v * 2 * math.pi / 60
     elif key == "hz":
         om = v * 2 * math.pi
+    elif key == "critical_multiple" and isinstance(shaft, Rotor):
+        from rubrotor.linear.critical import rotor_first_forward_critical
+
+        om = v * rotor_first_forward_critical(shaft, stations) if v else 0.0
     elif key == "critical_multiple":
         om = v * first_forward_critical(shaft)
     else:
@@ -370,15 +378,33 @@ def _build_simulation(sec: dict, shaft: Shaft, speed: float) -> Integrator:
     return Integrator(**kwargs)
 
 
-def _build(spec: dict) -> dict:
-    """Build every object of a normalised spec; InputErrors become ScenarioErrors."""
+def _mapping_stations(mapping: Mapping, length: float) -> tuple[float, ...]:
+    """Positions (m, in ``[0, length]``) of every unbalance, load, contact and probe of a raw
+    scenario mapping (single tables or arrays): the stations a general rotor is meshed at."""
+    out = []
+    for section in ("unbalance", "load", "contact"):
+        body = mapping.get(section)
+        for item in [body] if isinstance(body, Mapping) else body or []:
+            if isinstance(item, Mapping):
+                out.append(item.get("position"))
+    sim = mapping.get("simulation")
+    if isinstance(sim, Mapping) and isinstance(sim.get("probes"), list):
+        out += sim["probes"]
+    ok = [float(x) for x in out if isinstance(x, int | float) and not isinstance(x, bool)]
+    return tuple(sorted({x for x in ok if 0 <= x <= length}))
+
+
+def _build(spec: dict, mapping: Mapping | None = None) -> dict:
+    """Build every object of a normalised spec; InputErrors become ScenarioErrors. ``mapping``
+    (the raw scenario) gives a general rotor's stations for ``speed.critical_multiple``."""
     rotor = build_rotor(spec) if "section" in spec else None
     if rotor is not None:
         _check_general(spec)
     try:
         shaft = _build_shaft(spec["shaft"]) if rotor is None else None
         span = shaft if rotor is None else rotor
-        speed, speed_spec = _resolve_speed(spec["speed"], span)
+        stations = () if rotor is None else _mapping_stations(mapping or spec, rotor.length)
+        speed, speed_spec = _resolve_speed(spec["speed"], span, stations)
         sec = spec.get("unbalance")
         unbalance = None if sec is None else _build_unbalance(sec, span, speed)
         sec = spec.get("load")
@@ -410,7 +436,7 @@ def _build(spec: dict) -> dict:
     )
 
 
-_GENERAL_SPEEDS = ("rad_per_s", "rpm", "hz")
+_GENERAL_SPEEDS = ("rad_per_s", "rpm", "hz", "critical_multiple")
 
 
 def _check_general(spec: dict) -> None:
@@ -420,8 +446,8 @@ def _check_general(spec: dict) -> None:
         raise _err(
             f"speed.{key}",
             value,
-            "speed.rad_per_s, speed.rpm or speed.hz for a general rotor (critical multiples "
-            "and the seed's dimensionless speed are defined for a uniform [shaft] only)",
+            "speed.rad_per_s, speed.rpm, speed.hz or speed.critical_multiple for a general "
+            "rotor (the seed's dimensionless speed is defined for a uniform [shaft] only)",
         )
     for section in ("unbalance", "load", "contact"):
         for k, v in spec.get(section, {}).items():
@@ -569,11 +595,45 @@ class Scenario:
 
     @property
     def stations(self) -> tuple[float, ...]:
-        """Axial positions (m) of the unbalance, load, contact and probes, in that order."""
+        """Axial positions (m) of the unbalances, loads, contacts and probes, in that order,
+        each once: every ``[[unbalance]]``, ``[[load]]`` and ``[[contact]]`` table counts (a
+        general rotor is meshed with a node at each, as the general engine meshes it)."""
         parts = (self.unbalance, self.load, self.contact)
         out = [p.position for p in parts if p is not None]
+        if self.engine is not None:
+            out += list(self.engine.positions)
         probes = self.simulation.probes if self.simulation is not None else ()
-        return tuple(float(x) for x in out + list(probes))
+        return tuple(dict.fromkeys(float(x) for x in out + list(probes)))
+
+    @property
+    def unbalances(self) -> tuple[Unbalance, ...]:
+        """Every unbalance plane (kg m, m, rad): the ``[[unbalance]]`` tables, or the single
+        ``[unbalance]``; empty when there is none."""
+        if self.engine is not None:
+            return tuple(self.engine.unbalances)
+        return () if self.unbalance is None else (self.unbalance,)
+
+    @property
+    def contacts(self) -> tuple[Contact, ...]:
+        """Every contact (SI, position in m): the ``[[contact]]`` tables, or the single
+        ``[contact]``; empty when there is none."""
+        if self.engine is not None:
+            return tuple(s.contact for s in self.engine.stations)
+        return () if self.contact is None else (self.contact,)
+
+    @property
+    def loads(self) -> tuple[RadialLoad, ...]:
+        """Every constant point load (N, m): the ``[[load]]`` tables, or the single ``[load]``."""
+        if self.engine is not None:
+            return tuple(self.engine.loads)
+        return () if self.load is None else (self.load,)
+
+    @property
+    def gravity(self) -> tuple[float, float] | None:
+        """``(g_y, g_z)`` (m/s^2) of the ``[gravity]`` table, or None when the scenario has none."""
+        if self.engine is None or self._spec is None or "gravity" not in self._spec:
+            return None
+        return tuple(float(g) for g in self.engine.gravity)
 
     def require_shaft(self, what: str) -> Shaft:
         """The uniform shaft, or a ScenarioError saying ``what`` needs one.
@@ -673,7 +733,7 @@ def scenario_from_dict(mapping: Mapping, source_text: str = "") -> Scenario:
     """
     base, extras = split_engine_keys(mapping)
     spec = _normalise(base)
-    parts = _build(spec)
+    parts = _build(spec, mapping)
     engine, full = engine_spec_or_none(mapping, extras, parts, Builders(_position, _build_contact))
     spec = full if extras else spec
     return Scenario(**parts, engine=engine, source=source_text, _spec=spec)

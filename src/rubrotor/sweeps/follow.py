@@ -353,22 +353,7 @@ def follow_sweep(
         definition["steps_per_revolution"] = steps
     if lyapunov:
         definition["lyapunov"] = True
-    attrs = {
-        "title": f"rubrotor follow sweep {scenario.name}".strip(),
-        "scenario_name": scenario.name,
-        "rotor": scenario.model.rotor,
-        "swept_keys": key,
-        "follow": direction,
-        "transient_revolutions": t_rev,
-        "revolutions": revs,
-        "samples_per_revolution": n_rev,
-        "regime_rules": "see rubrotor.sweeps.sweep and rubrotor.sweeps.regimes module docstrings",
-        "follow_rules": "see rubrotor.sweeps.follow module docstring",
-        "scenario": getattr(scenario, "source", ""),
-        "Conventions": "CF-1.8",
-    }
-    if scenario.contact is not None:
-        attrs["clearance_m"] = float(scenario.contact.clearance)
+    attrs = _follow_attrs(scenario, key, direction, t_rev, revs, n_rev)
     size = n if steps is not None else 4 * n
     ds = _follow_template(key, arr, directions, revs - t_rev, size, attrs)
     ds.attrs["sweep_definition"] = json.dumps(definition, sort_keys=True)
@@ -389,6 +374,27 @@ def follow_sweep(
         if pool is not None:
             pool.shutdown(wait=True, cancel_futures=True)
     return ds
+
+
+def _follow_attrs(scenario, key, direction, t_rev, revs, n_rev) -> dict:
+    """The attributes of a follow sweep's Dataset (rules, lengths, the scenario text)."""
+    attrs = {
+        "title": f"rubrotor follow sweep {scenario.name}".strip(),
+        "scenario_name": scenario.name,
+        "rotor": scenario.model.rotor,
+        "swept_keys": key,
+        "follow": direction,
+        "transient_revolutions": t_rev,
+        "revolutions": revs,
+        "samples_per_revolution": n_rev,
+        "regime_rules": "see rubrotor.sweeps.sweep and rubrotor.sweeps.regimes module docstrings",
+        "follow_rules": "see rubrotor.sweeps.follow module docstring",
+        "scenario": getattr(scenario, "source", ""),
+        "Conventions": "CF-1.8",
+    }
+    if scenario.contact is not None:
+        attrs["clearance_m"] = float(scenario.contact.clearance)
+    return attrs
 
 
 def _general_steps(scenario, steps_per_revolution, samples_per_revolution) -> int | None:
