@@ -124,7 +124,7 @@ def _axis_points(rotor) -> np.ndarray:
     """The union of every bearing's table axes (rad/s): where both codes hold ROSS's values."""
     axes = [getattr(b, nm, None) for b in rotor.bearing_elements for nm in ("speed", "frequency")]
     pts = [np.atleast_1d(np.asarray(a, float)) for a in axes if a is not None and np.size(a) > 1]
-    return np.unique(np.concatenate(pts))
+    return np.unique(np.concatenate(pts)) if pts else np.zeros(0)
 
 
 CASES = {  # name: (builder, table speeds to compare at (rad/s), modes)
@@ -145,7 +145,8 @@ def case(request):
         speeds = _axis_points(rotor)[[0, 3, -1]]
     # ROSS 2.3's smoothing splines: where another element has a table point, read each element
     # there from ROSS (speeds=); ROSS 3.x: each element's own table, PCHIP between as ROSS
-    system = from_ross(rotor) if ROSS3 else from_ross(rotor, speeds=_axis_points(rotor))
+    points = _axis_points(rotor)
+    system = from_ross(rotor) if ROSS3 or not points.size else from_ross(rotor, speeds=points)
     return request.param, rotor, system, np.asarray(speeds, float), n
 
 
@@ -318,6 +319,8 @@ def test_unmappable_elements_refused_by_name():
         from_ross(rotor)
     with pytest.raises(InputError, match="interpolation"):
         from_ross(rotor8(), interpolation="cubic")
+    with pytest.raises(InputError, match="speeds"):
+        from_ross(rotor8(), speeds=[])
 
     class Coupled(ross.DiskElement):  # a disk whose mass couples x with the torsion (a gear's)
         def M(self, *args, **kwargs):

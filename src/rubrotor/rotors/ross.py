@@ -271,6 +271,10 @@ def from_ross(rotor, speeds=None, interpolation: str = "ross") -> LinearSystem:
     _import_ross()
     if interpolation not in INTERPOLATION:
         raise InputError("interpolation", interpolation, " or ".join(map(repr, INTERPOLATION)))
+    if speeds is not None:
+        grid = np.atleast_1d(np.asarray(speeds, float))
+        if grid.ndim != 1 or grid.size == 0 or not np.all(np.isfinite(grid)):
+            raise InputError("speeds", speeds, "a non-empty list of finite speeds (rad/s)")
     _check_elements(rotor)
     nodes = np.asarray(rotor.nodes_pos, float)
     idx, sign, extra_nodes, labels = _ours(rotor, nodes)
