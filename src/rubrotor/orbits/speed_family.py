@@ -74,7 +74,8 @@ class SpeedFamily:
     usable : bool
         Whether the rotor allows it: symmetric mass, stiffness and damping, skew gyroscopic
         matrix, as many sub- as super-diagonals (the left eigenproblem is solved on the same
-        banded factors, transposed). Otherwise :meth:`GeneralMap.at_speed` rebuilds the plant.
+        banded factors, transposed), supports to the ground (none linked to a housing).
+        Otherwise :meth:`GeneralMap.at_speed` rebuilds the plant.
     anchors : list of rubrotor.engine.reduce.SpeedBasis
         The bases built so far.
     """
@@ -107,6 +108,7 @@ class SpeedFamily:
             self.parts.kl == self.parts.ku
             and all(np.array_equal(a[f], a[f].T) for a in (system.M, system.K, system.C))
             and np.array_equal(system.G[f], -system.G[f].T)
+            and all(getattr(sup, "link", None) is None for sup in system.supports)
         )
         b1 = np.zeros(n, complex)
         for u in kw["unbalances"]:
