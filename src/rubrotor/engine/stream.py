@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rubrotor.engine.output import usual_mode
 from rubrotor.errors import InputError
 
 __all__ = ["check_size", "NetcdfSink", "STATION_VARS", "CONTACT_VARS"]
@@ -186,6 +187,7 @@ class NetcdfSink:
         finally:
             self.nc.close()
         if ok:
+            usual_mode(self.tmp)  # mkstemp made it 0600
             os.replace(self.tmp, self.path)
         elif os.path.exists(self.tmp):
             os.remove(self.tmp)

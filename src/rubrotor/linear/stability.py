@@ -177,7 +177,9 @@ def contact_stability(
         No Hertz contact, a non-positive indentation, an unknown formulation.
     """
     from rubrotor.engine.simulate import assemble
+    from rubrotor.scenario.load import as_scenario
 
+    scenario = as_scenario(scenario)
     c = scenario.contact
     if c is None or c.law != "hertz":
         raise InputError("contact", None if c is None else c.law, "a Hertz [contact] section")

@@ -676,6 +676,9 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     -------
     Branch
     """
+    from rubrotor.scenario.load import as_scenario
+
+    scenario = as_scenario(scenario)
     if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
         raise InputError("--vary", f"{start}:{stop}", "START:STOP with finite START != STOP")
     if isinstance(points, bool) or not isinstance(points, int) or points < 2:

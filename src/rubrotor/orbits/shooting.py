@@ -377,7 +377,9 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
     PeriodicOrbit
     """
     from rubrotor.orbits.general_map import is_general
+    from rubrotor.scenario.load import as_scenario
 
+    scenario = as_scenario(scenario)
     general = is_general(scenario)
     if not general:
         scenario.require_seed_engine("periodic orbits (shooting, continuation)")

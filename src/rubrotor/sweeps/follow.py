@@ -278,6 +278,7 @@ def follow_sweep(
         revolution) holds the scalar metrics and regimes only.
     """
     from rubrotor.orbits.general_map import is_general
+    from rubrotor.scenario.load import as_scenario
     from rubrotor.sweeps.sweep import (
         _check_keys,
         _definition,
@@ -287,6 +288,7 @@ def follow_sweep(
         run_lengths,
     )
 
+    scenario = as_scenario(scenario)
     if is_general(scenario):
         if store is not None:
             raise InputError("store", store, "none for a general rotor (its sweep is held in "

@@ -59,7 +59,7 @@ from pathlib import Path
 import numpy as np
 
 from rubrotor.errors import InputError
-from rubrotor.scenario.load import key_unit
+from rubrotor.scenario.load import as_scenario, key_unit
 from rubrotor.sweeps.regimes import (
     CHAOTIC,
     FULL,
@@ -815,6 +815,7 @@ def sweep(
         variables as listed in the module docstring, plus ``done``; attributes hold the sweep
         definition (JSON) and the scenario text.
     """
+    scenario = as_scenario(scenario)
     scenario.require_seed_engine("a parameter sweep (time simulations)")
     keys, grid = _check_keys(scenario, vary)
     t_rev, revs = run_lengths(scenario, transient_revolutions, revolutions)
