@@ -1,14 +1,14 @@
 """rubrotor: rotor-stator rub on real rotors.
 
-The package is laid out by concern: :mod:`rubrotor.scenario` (scenario files),
-:mod:`rubrotor.rotors` (builders: continuous shaft, finite-element rotor, ROSS import, the one
-linear system), :mod:`rubrotor.linear` (modes, Campbell, critical speeds, responses, stability),
-:mod:`rubrotor.engine` (reduction, steppers, runs, results), :mod:`rubrotor.core` (compiled
-kernels only), :mod:`rubrotor.orbits` (shooting, continuation, Lyapunov),
-:mod:`rubrotor.sweeps`, :mod:`rubrotor.analysis`, :mod:`rubrotor.plotting`,
-:mod:`rubrotor.studies` and :mod:`rubrotor.cli`. Module paths of earlier releases
+The package is laid out by concern: ``rubrotor.scenario`` (scenario files),
+``rubrotor.rotors`` (builders: continuous shaft, finite-element rotor, ROSS import, the one
+linear system), ``rubrotor.linear`` (modes, Campbell, critical speeds, responses, stability),
+``rubrotor.engine`` (reduction, steppers, runs, results), ``rubrotor.core`` (compiled
+kernels only), ``rubrotor.orbits`` (shooting, continuation, Lyapunov),
+``rubrotor.sweeps``, ``rubrotor.analysis``, ``rubrotor.plotting``,
+``rubrotor.studies`` and ``rubrotor.cli``. Module paths of earlier releases
 (``rubrotor.simulation``, ``rubrotor.model``, ...) still import, with one warning each
-(:mod:`rubrotor._moved`).
+(``rubrotor._moved``).
 
 The public surface, each name defined once in its own module:
 

@@ -1,0 +1,102 @@
+"""What every verb module of the command line shares: the :class:`Command` record, JSON and
+table printing, speed ranges and atomic figure writing."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from rubrotor.errors import InputError
+
+TWO_PI = 2 * math.pi
+
+
+@dataclass(frozen=True)
+class Command:
+    """One subcommand.
+
+    Attributes
+    ----------
+    name : str
+        Subcommand name.
+    help : str
+        One-line description shown by ``rubrotor --help``.
+    add_arguments : callable
+        ``add_arguments(parser)`` adds the subcommand's arguments.
+    run : callable
+        ``run(args) -> int`` runs it and returns the exit status.
+    """
+
+    name: str
+    help: str
+    add_arguments: Callable[[argparse.ArgumentParser], None]
+    run: Callable[[argparse.Namespace], int]
+
+
+def print_json(obj) -> None:
+    print(json.dumps(obj, indent=2))
+
+
+def add_scenario(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("scenario", metavar="SCENARIO", help="scenario TOML file")
+
+
+def table(headers: list[str], rows: list[list[str]]) -> str:
+    widths = [
+        max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(headers)
+    ]
+    lines = ["  ".join(h.rjust(w) for h, w in zip(headers, widths, strict=True))]
+    lines.append("  ".join("-" * w for w in widths))
+    lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows]
+    return "\n".join(lines)
+
+
+def parse_speeds(text: str) -> np.ndarray:
+    """Parse ``START:STOP:COUNT`` into ``COUNT`` evenly spaced spin speeds (rad/s).
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"0:60000:200"``: ``0 <= START < STOP`` (rad/s), integer ``COUNT >= 2``.
+
+    Returns
+    -------
+    ndarray, shape (COUNT,)
+        Speeds (rad/s).
+
+    Examples
+    --------
+    >>> parse_speeds("0:100:3")
+    array([  0.,  50., 100.])
+    """
+    allowed = "START:STOP:COUNT with 0 <= START < STOP (rad/s) and an integer COUNT >= 2"
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise InputError("--speeds", text, allowed)
+    try:
+        start, stop = float(parts[0]), float(parts[1])
+        count = int(parts[2])
+    except ValueError:
+        raise InputError("--speeds", text, allowed) from None
+    if not (math.isfinite(start) and math.isfinite(stop)) or not 0 <= start < stop:
+        raise InputError("--speeds", text, allowed)
+    if not 2 <= count <= 1_000_000:
+        raise InputError("--speeds", text, allowed.replace(">= 2", "in 2..1000000"))
+    return np.linspace(start, stop, count)
+
+
+def save_atomic(fig, out: Path) -> None:
+    """Write the figure atomically (see :func:`rubrotor.engine.result.atomic_write`)."""
+    from rubrotor.engine.result import atomic_write
+
+    directory = out.parent if str(out.parent) else Path(".")
+    if not directory.is_dir():
+        raise InputError("--out", str(out), "a file in an existing directory")
+    fmt = out.suffix.lstrip(".").lower() or "png"
+    atomic_write(out, lambda tmp: fig.savefig(tmp, format=fmt, dpi=150))

@@ -1,0 +1,313 @@
+"""Linear verbs: ``modes``, ``critical``, ``campbell`` and ``stability`` (a pressed contact)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+from rubrotor.cli.common import (
+    TWO_PI,
+    add_scenario,
+    parse_speeds,
+    print_json,
+    save_atomic,
+    table,
+)
+from rubrotor.errors import InputError
+from rubrotor.scenario.load import load_scenario
+
+
+# ---- modes -------------------------------------------------------------------------------------
+def modes_args(parser: argparse.ArgumentParser) -> None:
+    add_scenario(parser)
+    parser.add_argument(
+        "--speed",
+        type=float,
+        metavar="RAD_PER_S",
+        help="spin speed (rad/s); default: the scenario's speed",
+    )
+    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+
+
+def modes_run(args: argparse.Namespace) -> int:
+    from rubrotor.linear.verbs import modes
+
+    scenario = load_scenario(args.scenario)
+    speed = scenario.speed if args.speed is None else args.speed
+    if not math.isfinite(speed) or speed < 0:
+        raise InputError("--speed", args.speed, "a finite spin speed >= 0 (rad/s)")
+    if scenario.rotor is not None:
+        return _general_modes(scenario, speed, args.json)
+    result = modes(scenario, speed)
+    if args.json:
+        print_json(
+            {
+                "speed_rad_s": speed,
+                "modes": [
+                    {"n": m.n, "branch": m.branch, "whirl": m.whirl, "frequency_hz": m.frequency_hz}
+                    for m in result
+                ],
+            }
+        )
+        return 0
+    print(f"{scenario.name}: whirl frequencies at {speed:.6g} rad/s ({speed / TWO_PI:.6g} Hz)")
+    rows = [
+        [str(m.n), m.branch, m.whirl, f"{m.frequency_hz:.2f}", f"{m.frequency_rad_s:.2f}"]
+        for m in result
+    ]
+    print(table(["n", "branch", "whirl", "frequency (Hz)", "frequency (rad/s)"], rows))
+    return 0
+
+
+def _general_modes(scenario, speed: float, as_json: bool) -> int:
+    """Damped modes of a general rotor: JSON, or a table."""
+    from rubrotor.linear.verbs import damped_modes
+
+    result = damped_modes(scenario, speed)
+    if as_json:
+        print_json(result.to_dict())
+        return 0
+    print(f"{scenario.name}: damped modes at {speed:.6g} rad/s ({speed / TWO_PI:.6g} Hz)")
+    rows = [
+        [
+            str(m.index),
+            f"{m.frequency_hz:.3f}",
+            f"{m.damping_ratio:.4g}",
+            f"{m.log_dec:.4g}",
+            m.whirl,
+        ]
+        for m in result.modes[:20]
+    ]
+    print(table(["mode", "frequency (Hz)", "damping ratio", "log dec", "whirl"], rows))
+    return 0
+
+
+def _general_critical(scenario, as_json: bool, max_speed: float | None) -> int:
+    """Critical speeds (1X crossings) and the stability threshold of a general rotor."""
+    from rubrotor.linear.analysis import linear_critical_speeds, stability_threshold
+    from rubrotor.linear.verbs import linear_system
+
+    top = max_speed if max_speed is not None else max(3.0 * scenario.speed, 100.0)
+    system = linear_system(scenario)
+    crit = linear_critical_speeds(system, top, n=8)
+    threshold = stability_threshold(system, top, n=8)
+    if as_json:
+        print_json(
+            {
+                "max_speed_rad_s": top,
+                "critical_speeds": [
+                    {"index": c.index, "whirl": c.whirl, "speed_rad_s": c.speed_rad_s} for c in crit
+                ],
+                "stability_threshold_rad_s": threshold,
+            }
+        )
+        return 0
+    print(f"{scenario.name}: critical speeds up to {top:.6g} rad/s (damped frequency = spin)")
+    rows = [[str(c.index), c.whirl, f"{c.speed_rad_s:.2f}", f"{c.speed_rpm:.0f}"] for c in crit]
+    print(table(["mode", "whirl", "speed (rad/s)", "speed (rpm)"], rows))
+    print(
+        "stability threshold: "
+        + (f"{threshold:.6g} rad/s" if threshold is not None else f"none up to {top:.6g} rad/s")
+    )
+    return 0
+
+
+# ---- critical ----------------------------------------------------------------------------------
+def critical_args(parser: argparse.ArgumentParser) -> None:
+    add_scenario(parser)
+    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    parser.add_argument(
+        "--max-speed",
+        type=float,
+        metavar="RAD_PER_S",
+        help="general rotors: search up to this speed (default 3 x the scenario's speed)",
+    )
+
+
+def critical_run(args: argparse.Namespace) -> int:
+    from rubrotor.linear.verbs import critical_speeds
+
+    scenario = load_scenario(args.scenario)
+    if scenario.rotor is not None:
+        if args.max_speed is not None and not (
+            math.isfinite(args.max_speed) and args.max_speed > 0
+        ):
+            raise InputError("--max-speed", args.max_speed, "a finite speed > 0 (rad/s)")
+        return _general_critical(scenario, args.json, args.max_speed)
+    result = critical_speeds(scenario)
+    if args.json:
+        print_json(
+            {
+                "critical_speeds": [
+                    {"n": c.n, "branch": c.branch, "whirl": c.whirl, "speed_rad_s": c.speed_rad_s}
+                    for c in result
+                ]
+            }
+        )
+        return 0
+    print(f"{scenario.name}: critical speeds (whirl frequency = spin)")
+    rows = [
+        [
+            str(c.n),
+            c.branch,
+            c.whirl,
+            f"{c.speed_rad_s:.2f}",
+            f"{c.speed_hz:.2f}",
+            f"{c.speed_hz * 60:.0f}",
+        ]
+        for c in result
+    ]
+    print(table(["n", "branch", "whirl", "speed (rad/s)", "speed (Hz)", "speed (rpm)"], rows))
+    return 0
+
+
+# ---- campbell ----------------------------------------------------------------------------------
+
+
+def campbell_args(parser: argparse.ArgumentParser) -> None:
+    add_scenario(parser)
+    parser.add_argument(
+        "--speeds",
+        required=True,
+        metavar="START:STOP:COUNT",
+        help="spin speeds (rad/s), e.g. 0:60000:200",
+    )
+    parser.add_argument("--out", required=True, metavar="FILE.png", help="figure file to write")
+    parser.add_argument(
+        "--json", action="store_true", help="also print the diagram data as JSON on stdout"
+    )
+
+
+def campbell_run(args: argparse.Namespace) -> int:
+    from rubrotor.linear.shaft import campbell
+    from rubrotor.plotting.figures import campbell_figure
+
+    speeds = parse_speeds(args.speeds)
+    out = Path(args.out)
+    fmt = out.suffix.lstrip(".").lower()
+    if fmt not in ("png", "pdf", "svg"):
+        raise InputError("--out", args.out, "a file name ending in .png, .pdf or .svg")
+    scenario = load_scenario(args.scenario)
+    if scenario.rotor is not None:
+        return _general_campbell(scenario, speeds, out, args.json)
+    shaft = scenario.require_shaft("the Campbell diagram")
+    fig = campbell_figure(shaft, speeds, operating_speed=scenario.speed)
+    save_atomic(fig, out)
+    if args.json:
+        data = campbell(shaft, speeds)
+        curves = []
+        for i, n in enumerate(data["n"]):
+            for j, (branch, whirl) in enumerate(data["labels"]):
+                curves.append(
+                    {
+                        "n": int(n),
+                        "branch": branch,
+                        "whirl": whirl,
+                        "frequency_hz": data["frequency_hz"][:, i, j].tolist(),
+                    }
+                )
+        print_json(
+            {
+                "speed_rad_s": data["speed_rad_s"].tolist(),
+                "operating_speed_rad_s": scenario.speed,
+                "modes": curves,
+                "figure": str(out),
+            }
+        )
+    else:
+        print(f"wrote {out}")
+    return 0
+
+
+def _general_campbell(scenario, speeds, out: Path, as_json: bool) -> int:
+    """Campbell diagram with stability (log dec in colour) of a general rotor."""
+    from rubrotor.linear.analysis import campbell_data, linear_critical_speeds
+    from rubrotor.linear.verbs import linear_system
+    from rubrotor.plotting.linear import campbell_stability_figure
+
+    system = linear_system(scenario)
+    data = campbell_data(system, speeds, n=8)
+    crit = linear_critical_speeds(system, float(speeds[-1]), n=8) if speeds[-1] > 0 else []
+    title = f"Campbell diagram: {scenario.name}"
+    save_atomic(campbell_stability_figure(data, crit, scenario.speed, title), out)
+    if as_json:
+        print_json(
+            {
+                "speed_rad_s": data.speeds.tolist(),
+                "frequency_hz": data.frequency_hz.tolist(),
+                "log_dec": data.log_dec.tolist(),
+                "whirl": data.whirl.tolist(),
+                "figure": str(out),
+            }
+        )
+    else:
+        print(f"wrote {out}")
+    return 0
+
+
+# ---- stability of a pressed contact ----------------------------------------------------------
+def stability_args(parser: argparse.ArgumentParser) -> None:
+    add_scenario(parser)
+    parser.add_argument(
+        "--indentation", type=float, required=True, metavar="M", help="static indentation (m)"
+    )
+    parser.add_argument(
+        "--bh-nd", type=float, metavar="BH", help="contact damping b_h' (default: the scenario's)"
+    )
+    parser.add_argument(
+        "--formulation",
+        choices=("both", "two-field", "seed-eq1"),
+        default="both",
+        help="shaft formulation(s) (default both)",
+    )
+    parser.add_argument("--modes", type=int, metavar="N", help="shaft modes (default: scenario's)")
+    parser.add_argument("--no-friction", action="store_true", help="set mu = 0")
+    parser.add_argument(
+        "--linearisation", choices=("radial", "isotropic"), default="radial", help="contact model"
+    )
+    parser.add_argument("--top", type=int, default=6, help="eigenvalues listed per formulation")
+    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+
+
+def stability_run(args: argparse.Namespace) -> int:
+    from rubrotor.linear.stability import contact_stability
+
+    scenario = load_scenario(args.scenario)
+    if args.modes is not None and not 1 <= args.modes <= 200:
+        raise InputError("--modes", args.modes, "an integer in 1..200")
+    forms = ("two-field", "seed-eq1") if args.formulation == "both" else (args.formulation,)
+    res = [
+        contact_stability(
+            scenario,
+            args.indentation,
+            formulation=f,
+            contact_damping_nd=args.bh_nd,
+            modes=args.modes,
+            friction=not args.no_friction,
+            linearisation=args.linearisation,
+        )
+        for f in forms
+    ]
+    if args.json:
+        print_json({"speed_rad_s": scenario.speed, "results": [r.as_dict() for r in res]})
+        return 0
+    r0 = res[0]
+    print(
+        f"{scenario.name}: pressed contact, indentation {r0.indentation:.4g} m, F_n0 "
+        f"{r0.normal_force:.4g} N, radial stiffness {r0.radial_stiffness:.4g} N/m, damping "
+        f"{r0.radial_damping:.4g} N s/m (b_h = {r0.contact_damping:.4g} s/m), "
+        f"{args.linearisation} linearisation"
+    )
+    rows = [
+        [
+            r.formulation,
+            f"{e.real:+.4g}",
+            f"{e.imag / TWO_PI:+.2f}",
+            "unstable" if e.real > 0 else "",
+        ]
+        for r in res
+        for e in r.eigenvalues[: max(args.top, 1)]
+    ]
+    print(table(["formulation", "growth rate (1/s)", "whirl frequency (Hz)", ""], rows))
+    return 0

@@ -1,0 +1,151 @@
+"""``continue``: pseudo-arclength continuation of periodic orbits and their bifurcations."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+import numpy as np
+
+from rubrotor.cli.common import (
+    add_scenario,
+    print_json,
+)
+from rubrotor.errors import InputError
+from rubrotor.scenario.load import load_scenario
+
+# ---- continuation of periodic orbits ---------------------------------------------------------
+SWITCHES = ("period-doubling",)
+"""Values of ``rubrotor continue --switch``."""
+
+
+def continue_args(parser: argparse.ArgumentParser) -> None:
+    add_scenario(parser)
+    parser.add_argument("--vary", required=True, metavar="KEY=START:STOP", help="continued key")
+    parser.add_argument("--out", required=True, metavar="BRANCH.nc", help="branch (netCDF)")
+    parser.add_argument("--json", action="store_true", help="print points and bifurcations")
+    parser.add_argument("--figure", metavar="F.png", help="branch over a follow sweep")
+    parser.add_argument("--points", type=int, default=200, help="largest number of points")
+    parser.add_argument("--k", type=int, default=1, help="revolutions per period (default 1)")
+    parser.add_argument(
+        "--sweep-points", type=int, default=25, help="points of the figure's follow sweep"
+    )
+    parser.add_argument(
+        "--switch",
+        metavar="KIND",
+        help="after the branch, switch onto the branch born at its first bifurcation of this "
+        "kind and continue it to STOP (period-doubling: the 2k-revolution branch); --out, "
+        "--json and --figure then hold both branches",
+    )
+    parser.add_argument(
+        "--steps", type=int, default=1024, help="fixed steps per revolution of the map (>= 16)"
+    )
+    parser.add_argument(
+        "--ds-max", type=float, default=0.2, help="largest arclength step (scaled, default 0.2)"
+    )
+    parser.add_argument(
+        "--method",
+        default="auto",
+        help="auto (default): circular orbits of an axisymmetric rotor without load as exact "
+        "rotating-frame equilibria, any other orbit by shooting; shooting; synchronous",
+    )
+    parser.add_argument(
+        "--richardson",
+        action="store_true",
+        help="shooting: extrapolate points and folds to zero step from --steps and 2 x --steps "
+        "(fourth order on orbits in permanent contact or without contact)",
+    )
+
+
+def _parse_range(text: str) -> tuple[str, float, float]:
+    key, sep, rng = text.partition("=")
+    parts = rng.split(":")
+    allowed = "KEY=START:STOP with finite START != STOP, e.g. speed.critical_multiple=1.8:1.2"
+    try:
+        start, stop = (float(v) for v in parts)
+    except ValueError:
+        raise InputError("--vary", text, allowed) from None
+    if not sep or not key.strip() or not (math.isfinite(start) and math.isfinite(stop)):
+        raise InputError("--vary", text, allowed)
+    if start == stop:
+        raise InputError("--vary", text, allowed)
+    return key.strip(), start, stop
+
+
+def continue_run(args: argparse.Namespace) -> int:
+    from rubrotor.engine.result import save_dataset
+    from rubrotor.orbits.continuation import branches_dataset, continue_orbit
+
+    key, start, stop = _check_continue(args)
+    scenario = load_scenario(args.scenario)
+    scenario.with_changes(**{key: start})  # names a bad key before any work
+    branch = continue_orbit(scenario, key, start, stop, k=args.k, points=args.points,
+                            steps=args.steps, ds_max=args.ds_max, method=args.method,
+                            richardson=args.richardson)  # fmt: skip
+    branches = [branch]
+    if args.switch is not None:
+        branches.append(_switch(scenario, key, branch, stop, args))
+    save_dataset(branches_dataset(branches), args.out)
+    if args.figure is not None:
+        from rubrotor.orbits.general_map import is_general
+        from rubrotor.plotting.figures import branch_figure
+        from rubrotor.sweeps.follow import follow_sweep
+
+        values = np.linspace(min(start, stop), max(start, stop), max(args.sweep_points, 2))
+        if is_general(scenario):
+            from rubrotor.sweeps.follow import follow_general
+
+            sweep = follow_general(scenario, key, values, "both", 100, 20, steps=args.steps)
+        else:
+            sweep = follow_sweep(scenario, key, values, direction="both", workers=2)
+        branch_figure(branch, sweep, others=branches[1:]).savefig(args.figure, dpi=130)
+    if args.json:
+        summary = branch.summary()
+        for other in branches[1:]:
+            summary["period_doubled"] = {
+                "revolutions_per_period": other.k,
+                "start": other.points[0].value,
+                **other.summary(),
+            }
+        print_json(summary)
+    return 0
+
+
+def _check_continue(args: argparse.Namespace) -> tuple[str, float, float]:
+    """Validate the options of ``continue`` before any work; returns the parsed ``--vary``."""
+    key, start, stop = _parse_range(args.vary)
+    if not args.out.endswith(".nc"):
+        raise InputError("--out", args.out, "a file name ending in .nc")
+    if not Path(args.out).resolve().parent.is_dir():
+        raise InputError("--out", args.out, "a file in an existing directory")
+    if args.figure is not None and Path(args.figure).suffix.lower() not in (".png", ".pdf", ".svg"):
+        raise InputError("--figure", args.figure, "a file name ending in .png, .pdf or .svg")
+    if args.points < 2:
+        raise InputError("--points", args.points, "an integer >= 2")
+    if args.switch is not None and args.switch not in SWITCHES:
+        raise InputError("--switch", args.switch, " or ".join(SWITCHES))
+    if args.steps < 16:
+        raise InputError("--steps", args.steps, "an integer >= 16 (steps per revolution)")
+    if not (math.isfinite(args.ds_max) and args.ds_max > 0):
+        raise InputError("--ds-max", args.ds_max, "a finite number > 0")
+    from rubrotor.orbits.continuation import METHODS
+
+    if args.method not in METHODS:
+        raise InputError("--method", args.method, " | ".join(METHODS))
+    return key, start, stop
+
+
+def _switch(scenario, key: str, branch, stop: float, args: argparse.Namespace):
+    """The period-doubled branch born at ``branch``'s first period doubling, continued to stop."""
+    from rubrotor.orbits.continuation import switch_period_doubling
+
+    if not any(b.type == "period-doubling" for b in branch.bifurcations):
+        found = sorted({b.type for b in branch.bifurcations}) or ["no bifurcation"]
+        raise InputError(
+            "--switch",
+            args.switch,
+            f"a branch with a period doubling in --vary {args.vary} (found: {', '.join(found)})",
+        )
+    return switch_period_doubling(scenario, key, branch, stop, steps=args.steps,
+                                  points=args.points, ds_max=args.ds_max)  # fmt: skip
