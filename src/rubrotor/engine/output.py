@@ -72,6 +72,8 @@ def check_output(path: str | os.PathLike, field: str = "--out", *, folder: bool 
         no permission); the message names ``field``, the path and the reason.
     """
     p = Path(path)
+    if folder and p.exists() and not p.is_dir():
+        raise InputError(field, str(path), "a directory (this is a file)")
     where = p if folder else p.parent
     base = _existing_ancestor(where)
     if not base.is_dir():

@@ -42,6 +42,7 @@ from collections.abc import Iterator, Sequence
 import numpy as np
 
 from rubrotor.errors import InputError
+from rubrotor.sweeps.pool import LostTasks
 
 __all__ = ["DIRECTIONS", "follow_general", "follow_sweep", "run_follow_chunk"]
 
@@ -210,12 +211,17 @@ def _execute_chains(chains: list[list[dict]], pool) -> Iterator[dict]:
     running = {
         pool.submit(run_follow_chunk, tasks[0]): c for c, tasks in enumerate(chains) if tasks
     }
+    from concurrent.futures.process import BrokenProcessPool
+
     try:
         while running:
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             for fut in finished:
                 c = running.pop(fut)
-                result = fut.result()
+                try:
+                    result = fut.result()
+                except BrokenProcessPool:
+                    raise LostTasks([chains[c][pos[c]]]) from None
                 pos[c] += 1
                 if pos[c] < len(chains[c]):
                     nxt = chains[c][pos[c]] | {"start": result["state"]}
