@@ -2,8 +2,8 @@
 
 A sweep's worker can die under it (killed, out of memory); :class:`concurrent.futures.ProcessPoolExecutor`
 then fails every unfinished task with ``BrokenProcessPool``. :func:`run_pool` runs those tasks
-once more in a fresh pool and hands the tasks lost a second time to the caller (or raises
-:class:`LostTasks`, one line). The workers of :func:`local_pool` end when the process that
+again in a fresh pool (then alone, if that pool breaks too) and hands the tasks whose worker
+died alone to the caller (or raises :class:`LostTasks`, one line). The workers of :func:`local_pool` end when the process that
 started them ends, however it ends (``kill -9`` included): on Linux the kernel signals them
 (``prctl(PR_SET_PDEATHSIG)``), elsewhere a thread in each worker watches the parent's pid.
 """
@@ -132,9 +132,11 @@ def _drain(pool, fn, tasks: Sequence, failed: list) -> Iterator:
 def run_pool(fn, tasks: Sequence, pool, lost: list | None = None) -> Iterator:
     """``fn(task)`` for every task, in process (``pool`` None) or on a process pool.
 
-    Tasks whose worker died are run once more in a fresh pool; those lost again are appended
-    to ``lost`` (the caller reports them), or, without ``lost``, raise :class:`LostTasks` once
-    every other task has been yielded.
+    When a worker dies, every unfinished task fails with it; those are run again in a fresh
+    pool, and any that fail there too run once more alone in a one-worker pool (so that the task
+    killing its worker is told apart from those that died with it). Tasks whose worker died
+    alone are appended to ``lost`` (the caller reports them), or, without ``lost``, raise
+    :class:`LostTasks` once every other task has been yielded.
 
     Parameters
     ----------
@@ -158,15 +160,22 @@ def run_pool(fn, tasks: Sequence, pool, lost: list | None = None) -> Iterator:
         return
     failed: list = []
     yield from _drain(pool, fn, tasks, failed)
-    if failed:
-        n = min(getattr(pool, "rubrotor_workers", os.cpu_count() or 1), len(failed))
-        again: list = []
-        retry = _pool(n)
-        try:
-            yield from _drain(retry, fn, failed, again)
-        finally:
-            retry.shutdown(wait=True, cancel_futures=True)
-        if again and lost is None:
-            raise LostTasks(again)
-        if again:
-            lost.extend(again)
+    if not failed:
+        return
+    again: list = []
+    yield from _in_fresh_pool(fn, failed, again, getattr(pool, "rubrotor_workers", 2))
+    gone: list = []
+    for task in again:  # alone, so that a task killing its worker takes no other with it
+        yield from _in_fresh_pool(fn, [task], gone, 1)
+    if gone and lost is None:
+        raise LostTasks(gone)
+    if gone:
+        lost.extend(gone)
+
+
+def _in_fresh_pool(fn, tasks: list, failed: list, workers: int) -> Iterator:
+    pool = _pool(min(workers, len(tasks)))
+    try:
+        yield from _drain(pool, fn, tasks, failed)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
