@@ -62,6 +62,7 @@ from rubrotor.engine.parts import (
     unbalance_phasor,
 )
 from rubrotor.engine.reduce import (
+    IllConditioned,
     Modes,
     RitzBasis,
     basis_from_modes,
@@ -74,6 +75,7 @@ from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
 from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Plan, Steps
 from rubrotor.errors import InputError
+from rubrotor.rotors.scales import explain
 
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "result_dataset", "STEPPERS"]
 
@@ -174,12 +176,15 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     m = 2 * nc
     Bc = [system.force_map(s.contact.position) for s in stations]
     Bmat = np.hstack(Bc) if nc else np.zeros((sm.M.shape[0], 0))
-    if basis is not None:
-        modes = reduce_projected(sm.M, sm.damping, sm.K, basis, run.modes, run.cutoff)
-    elif dense:
-        modes = reduce_matrices(sm.M, sm.damping, sm.K, run.modes, run.cutoff)
-    else:
-        modes = reduce_auto(sm.M, sm.damping, sm.K, run.modes, run.cutoff, fmap=Bmat)
+    try:
+        if basis is not None:
+            modes = reduce_projected(sm.M, sm.damping, sm.K, basis, run.modes, run.cutoff)
+        elif dense:
+            modes = reduce_matrices(sm.M, sm.damping, sm.K, run.modes, run.cutoff)
+        else:
+            modes = reduce_auto(sm.M, sm.damping, sm.K, run.modes, run.cutoff, fmap=Bmat)
+    except IllConditioned as exc:  # name the scenario key far off the rotor's scale, if any
+        raise explain(exc, system.scales) from None
     Rq, Rv = (modes.Rq, modes.Rv) if run.residual else (0 * modes.Rq, 0 * modes.Rv)
     st_modes = [_stator_modes(s) for s in stations]
     nsr = modes.size
