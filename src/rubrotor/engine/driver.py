@@ -242,7 +242,10 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     positions = np.array([s.contact.position for s in stations] + list(run.probes), float)
     orow = np.vstack([system.output_rows(x) for x in positions]) if len(positions) else None
     if orow is None:
-        raise InputError("probes", run.probes, "at least one probe or contact station (m)")
+        raise InputError(
+            "simulation.probes", list(run.probes) or None, "at least one station (m) to save "
+            "when the rotor has no [[contact]] (whose station is saved otherwise)"
+        )  # fmt: skip
     Od = np.zeros((len(orow), ns), complex)
     Od[:, :nsr] = orow @ modes.Vq
     outputs = Outputs(

@@ -645,8 +645,9 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     key : str
         Numeric scenario key (``"section.key"``), e.g. ``"speed.critical_multiple"``.
     start, stop : float
-        Range of the key (its units); the branch starts at ``start`` and ends when it leaves
-        the closed range or after ``points`` points.
+        Range of the key (its units); the branch starts at ``start`` and ends where it leaves
+        the closed range (its last point corrected onto the bound it crossed) or after
+        ``points`` points.
     guess : RotorState, optional
         Guess of the first orbit (default: ``transient_revolutions`` from the steady
         no-contact orbit).
@@ -774,19 +775,42 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
                 if i == 0 and prob.richardson:
                     where = _richardson_fold(prob, z, t, ds, gz, where)
                 bifs.append(Bifurcation(name, where))
-        z, t, sig, gz = z1, t1, sig1, gz1
+        z_in, z, t, sig, gz = z, z1, t1, sig1, gz1
         pts.append(new)
         bifs[len(bifs) - found :] = [
             _radius(b, pts[-2], pts[-1]) for b in bifs[len(bifs) - found :]
         ]
         if onset is not None:
             grazings.append(onset)
-        if not lo <= pts[-1].value <= hi or (born_at is not None and _meets_again(bifs, born_at)):
+        if not lo <= pts[-1].value <= hi:  # the last point lands on the bound it crossed
+            pts[-1:] = _land(prob, z_in, z, hi if pts[-1].value > hi else lo, t)
+            bifs = [b for b in bifs if lo <= b.value <= hi]
+            grazings = [g for g in grazings if lo <= g <= hi]
+            break
+        if born_at is not None and _meets_again(bifs, born_at):
             break
         if iters <= (6 if chord else 3):
             ds = min(1.5 * ds, ds_max)
     method = "synchronous" if isinstance(prob, _SyncProblem) else "shooting"
     return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings), method)
+
+
+def _land(prob, z_in, z_out, value: float, t) -> list:
+    """The branch point at key ``value`` (the range's bound) between ``z_in`` (inside the
+    range) and ``z_out`` (beyond it): Newton with the key held at ``value``, from the chord's
+    point there. A list of that point, or an empty list when Newton fails (the branch then
+    ends at its last point inside the range)."""
+    p = value / prob.sp
+    w = (p - z_in[-1]) / (z_out[-1] - z_in[-1])
+    guess = z_in + w * (z_out - z_in)
+    guess[-1] = p
+    fixed = np.zeros_like(guess)
+    fixed[-1] = 1.0
+    out = _correct(prob, guess, fixed)
+    if out is None:
+        return []
+    z, gz, jac, _ = out
+    return [_point(prob, z, jac, gz, _tangent(gz, t))]
 
 
 def _meets_again(bifs, born_at: float) -> bool:

@@ -532,6 +532,7 @@ class Scenario:
         """
         spec = scenario_to_dict(self)
         schema = {**SCHEMA, "rotor": ROTOR_SCHEMA["rotor"]} if self.rotor is not None else SCHEMA
+        removed = {}  # "section.key" dropped as an alternative -> (the key that dropped it, value)
         for dotted_key, value in dotted.items():
             section, _, key = dotted_key.partition(".")
             if section not in schema:
@@ -556,10 +557,19 @@ class Scenario:
             for group, _required in ALTERNATIVES.get(section, []):
                 if key in group:
                     for other in group:
-                        if other != key:
-                            sec.pop(other, None)
+                        if other != key and other in sec:
+                            removed[f"{section}.{other}"] = (dotted_key, sec.pop(other))
             sec[key] = value
-        return scenario_from_dict(spec)
+        try:
+            return scenario_from_dict(spec)
+        except ScenarioError as exc:
+            if exc.field not in removed:
+                raise
+            key, old = removed[exc.field]
+            raise _err(
+                key, dotted[key], f"a change this scenario can take: setting it removes "
+                f"{exc.field} = {old!r}, which it needs ({exc.allowed})"
+            ) from None  # fmt: skip
 
     @property
     def stations(self) -> tuple[float, ...]:
