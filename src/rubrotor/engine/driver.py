@@ -40,6 +40,7 @@ from rubrotor.core.engine import (
     I_STEP,
     I_SUBSTEPS,
     N_ISTATE,
+    NEWTON_FAILED,
     OK,
     STATUS_NAMES,
     expo_fixed,
@@ -257,6 +258,33 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     y0 = np.zeros(ns, complex)
     y0[:nsr] = _initial(run, modes, q_s, Q, speed)
     return Plant(lam, beta, contacts, outputs, positions, y0, modes, nsr, q_s, Q, speed, Bmat)
+
+
+def stiffness_hint(plant: Plant, h: float) -> str:
+    """Why a contact solve can fail: a contact far stiffer than the step resolves.
+
+    ``k_e |S_d|`` compares the contact's stiffness ``k_e = F(g) / g`` (N/m, its force at one
+    clearance of penetration over that clearance) with the step's compliance ``|S_d|`` (m/N,
+    the largest sensitivity of the contact displacement to its force over a step ``h``).
+    Above 1 the step cannot follow the contact's own oscillation, and far above (``> 1e6``)
+    the law's force is the penetration's round-off times ``k``. Returns ``""`` or a hint
+    naming ``contact[i].stiffness`` and ``simulation.dt``.
+    """
+    c = plant.contacts
+    if c.cp.shape[0] == 0:
+        return ""
+    Sd = _steps(plant, h, 1).Sd[0]
+    worst, which = 0.0, 0
+    for i in range(c.cp.shape[0]):
+        ks = c.cp[i, 9] / c.cp[i, 4] * np.max(np.abs(Sd[2 * i : 2 * i + 2, 2 * i : 2 * i + 2]))
+        if ks > worst:
+            worst, which = ks, i
+    if worst <= 1.0:
+        return ""
+    return (
+        f" (contact[{which + 1}] is {worst:.2g} times stiffer than a step of {h:.3g} s "
+        f"resolves: lower contact[{which + 1}].stiffness or simulation.dt)"
+    )
 
 
 def _steps(plant: Plant, h0: float, levels: int) -> Steps:
@@ -802,6 +830,8 @@ def simulate_general(
             sink.close({}, ok=False)
         raise
     _add_counts(stats, state, method, plant, run, wall)
+    if int(state.istate[I_STATUS]) == NEWTON_FAILED:
+        msg += stiffness_hint(plant, run.step)
     n_out = done + 1
     events = state.events[: min(int(state.istate[I_EVENTS]), len(state.events))].copy()
     status = "complete" if not msg else "partial"
