@@ -425,11 +425,21 @@ def _tests(gz, t, jac):
     a real matrix, hence real and continuous through multiplier collisions.
     """
     mu = np.linalg.eigvals(jac)
-    pd = np.sign(np.prod(mu + 1).real)
+    pd = _product_sign(mu + 1)
     i, j = np.triu_indices(mu.size, 1)
-    ns = np.sign(np.prod(mu[i] * mu[j] - 1).real)
+    ns = _product_sign(mu[i] * mu[j] - 1)
     out = np.sum(np.abs(mu) > 1)
     return np.array([np.sign(t[-1]), pd, ns, np.sign(np.linalg.det(np.vstack([gz, t]))), out])
+
+
+def _product_sign(x: np.ndarray) -> float:
+    """Sign of the real part of ``prod(x)`` (real for the symmetric functions of :func:`_tests`)
+    as the product of ``x / |x|``: the product itself overflows with large multipliers (a
+    scenario far off scale) where its sign is still defined."""
+    a = np.abs(x)
+    if np.any(a == 0):
+        return 0.0
+    return float(np.sign(np.prod(x / a).real))
 
 
 def _changed(sig, sig1):
