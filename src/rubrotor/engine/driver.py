@@ -260,18 +260,19 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     return Plant(lam, beta, contacts, outputs, positions, y0, modes, nsr, q_s, Q, speed, Bmat)
 
 
-def stiffness_hint(plant: Plant, h: float) -> str:
+def stiffness_hint(plant: Plant, h: float, status: int) -> str:
     """Why a contact solve can fail: a contact far stiffer than the step resolves.
 
     ``k_e |S_d|`` compares the contact's stiffness ``k_e = F(g) / g`` (N/m, its force at one
     clearance of penetration over that clearance) with the step's compliance ``|S_d|`` (m/N,
     the largest sensitivity of the contact displacement to its force over a step ``h``).
     Above 1 the step cannot follow the contact's own oscillation, and far above (``> 1e6``)
-    the law's force is the penetration's round-off times ``k``. Returns ``""`` or a hint
-    naming ``contact[i].stiffness`` and ``simulation.dt``.
+    the law's force is the penetration's round-off times ``k``. Returns ``""`` (also when the
+    kernel's ``status`` is not a failed contact solve) or a hint naming ``contact[i].stiffness``
+    and ``simulation.dt``.
     """
     c = plant.contacts
-    if c.cp.shape[0] == 0:
+    if status != NEWTON_FAILED or c.cp.shape[0] == 0:
         return ""
     Sd = _steps(plant, h, 1).Sd[0]
     worst, which = 0.0, 0
@@ -723,7 +724,8 @@ def _check_call(method: str | None, stations, run: Run) -> str:
 
 
 def _add_counts(stats: dict, state: _Chunks, method: str, plant: Plant, run: Run, wall: float):
-    """The run's counters (named slots of the kernel's integer state) into ``stats``."""
+    """The run's counters (named slots of the kernel's integer state) into ``stats``; returns
+    the hint to add to a failed contact solve's message (:func:`stiffness_hint`), else ``""``."""
     ist = state.istate
     stats.update(
         method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
@@ -732,6 +734,7 @@ def _add_counts(stats: dict, state: _Chunks, method: str, plant: Plant, run: Run
         rejected_steps=int(ist[I_REJECTED]), grazing_closures=int(ist[I_GRAZE]),
         contact_events=int(ist[I_EVENTS]) + state.flushed, wall_s=wall, residual=run.residual,
     )  # fmt: skip
+    return stiffness_hint(plant, run.step, int(ist[I_STATUS]))
 
 
 def simulate_general(
@@ -829,9 +832,7 @@ def simulate_general(
         if sink is not None:
             sink.close({}, ok=False)
         raise
-    _add_counts(stats, state, method, plant, run, wall)
-    if int(state.istate[I_STATUS]) == NEWTON_FAILED:
-        msg += stiffness_hint(plant, run.step)
+    msg += _add_counts(stats, state, method, plant, run, wall)
     n_out = done + 1
     events = state.events[: min(int(state.istate[I_EVENTS]), len(state.events))].copy()
     status = "complete" if not msg else "partial"

@@ -27,7 +27,7 @@ def usual_mode(path: str | os.PathLike) -> None:
     Parameters
     ----------
     path : path-like
-        A file made by :func:`tempfile.mkstemp` (mode 0600) that is about to be renamed onto
+        A file made by ``tempfile.mkstemp`` (mode 0600) that is about to be renamed onto
         its target.
     """
     umask = os.umask(0o022)
@@ -78,8 +78,6 @@ def check_output(path: str | os.PathLike, field: str = "--out", *, folder: bool 
     base = _existing_ancestor(where)
     if not base.is_dir():
         raise InputError(field, str(path), f"a path inside a folder ({base} is not a folder)")
-    if not folder and p.is_dir():
-        raise InputError(field, str(path), "a file name (this is a folder)")
     probe = base / f".rubrotor-probe-{os.getpid()}"
     try:
         fd = os.open(probe, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600)

@@ -811,7 +811,7 @@ def simulate(
     ----------
     scenario : rubrotor.scenario.Scenario or path-like
         Shaft, speed, unbalance, load, contact, damping and ``[simulation]`` settings; a path is
-        read with :func:`~rubrotor.scenario.load.load_scenario`.
+        read with :func:`~rubrotor.load_scenario`.
     integrator : Integrator, optional
         Overrides the scenario's ``[simulation]`` section.
     progress : bool, optional

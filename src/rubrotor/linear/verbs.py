@@ -39,7 +39,7 @@ def modes(scenario_or_shaft: Scenario | Shaft, speed: float | None = None) -> li
     Parameters
     ----------
     scenario_or_shaft : Scenario, Shaft or path-like
-        The rotor; a path is read with :func:`~rubrotor.scenario.load.load_scenario`.
+        The rotor; a path is read with :func:`~rubrotor.load_scenario`.
     speed : float, optional
         Spin speed ``Omega`` (rad/s), ``>= 0``. Default: the scenario's speed, or 0 (at rest) for
         a bare shaft.
@@ -67,7 +67,7 @@ def critical_speeds(scenario_or_shaft: Scenario | Shaft) -> list[CriticalSpeed]:
     Parameters
     ----------
     scenario_or_shaft : Scenario, Shaft or path-like
-        The rotor; a path is read with :func:`~rubrotor.scenario.load.load_scenario`.
+        The rotor; a path is read with :func:`~rubrotor.load_scenario`.
 
     Returns
     -------

@@ -131,7 +131,7 @@ def lyapunov_exponents(
     ----------
     scenario : rubrotor.scenario.Scenario or path-like
         Shaft, speed, unbalance, contact, load, damping; a path is read with
-        :func:`~rubrotor.scenario.load.load_scenario`.
+        :func:`~rubrotor.load_scenario`.
     count : int
         Number of exponents, 1 .. ``2 ns`` (``ns`` complex modal state coordinates; the real
         state dimension is ``2 ns``).

@@ -61,7 +61,7 @@ DEFAULT_WAVENUMBER = 11.0
 """``k L`` of the highest bending wave the default mesh resolves (third free-free mode)."""
 MESH_MATRICES = 8
 """Dense ``n x n`` float64 matrices a mesh of ``n`` DOFs is budgeted for (see
-:meth:`Rotor.check_mesh_size`): measured, the peak memory of assembly plus
+:meth:`rubrotor.Rotor.check_mesh_size`): measured, the peak memory of assembly plus
 :func:`rubrotor.damped_modes` grows as 6.3 such matrices (seal_rub.toml meshed to 2032 and 4024
 DOFs: 599 and 1208 MB peak RSS)."""
 
@@ -576,7 +576,7 @@ class Rotor:
         plus one per extra node. The finite-element system keeps four dense ``n x n`` matrices
         of float64 (``n = 4 (elements + 1)`` DOFs) and its analyses factor or diagonalise them
         (a reduction's dense eigenproblem, the damped modes' ``2n`` state space): the estimate
-        is :data:`MESH_MATRICES` such matrices, ``8 MESH_MATRICES n^2`` bytes, against 80 % of
+        is :data:`rubrotor.rotors.fe.MESH_MATRICES` such matrices, ``8 MESH_MATRICES n^2`` bytes, against 80 % of
         the memory available now.
 
         Parameters

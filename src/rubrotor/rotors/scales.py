@@ -122,7 +122,7 @@ def explain(exc: InputError, scales: tuple) -> InputError:
     ----------
     exc : InputError
         The eigenproblem's error (its field is not a scenario key), with a ``reason``
-        attribute (e.g. :class:`rubrotor.engine.reduce.IllConditioned`).
+        attribute (e.g. ``rubrotor.engine.reduce.IllConditioned``).
     scales : tuple
         From :func:`rotor_scales` (empty for rotors without them).
 

@@ -42,7 +42,8 @@ from collections.abc import Iterator, Sequence
 import numpy as np
 
 from rubrotor.errors import InputError
-from rubrotor.sweeps.pool import LostTasks
+from rubrotor.scenario.load import as_scenario
+from rubrotor.sweeps.pool import LostTasks, local_pool
 
 __all__ = ["DIRECTIONS", "follow_general", "follow_sweep", "run_follow_chunk"]
 
@@ -284,12 +285,10 @@ def follow_sweep(
         revolution) holds the scalar metrics and regimes only.
     """
     from rubrotor.orbits.general_map import is_general
-    from rubrotor.scenario.load import as_scenario
     from rubrotor.sweeps.sweep import (
         _check_keys,
         _definition,
         _int_arg,
-        _local_pool,
         _open_or_create,
         run_lengths,
     )
@@ -347,7 +346,7 @@ def follow_sweep(
             with xr.open_zarr(store, consolidated=False) as old:
                 ds = old.load()
     chains = _chains(ds, key, directions, chunk_size, definition, n)
-    pool = _local_pool(workers, sum(1 for c in chains if c))
+    pool = local_pool(workers, sum(1 for c in chains if c))
     try:
         _run_chains(ds, store, chains, chunk_size, pool, progress)
     finally:

@@ -1,6 +1,6 @@
 """The local process pool of sweeps: workers that die with their parent, lost tasks retried once.
 
-A sweep's worker can die under it (killed, out of memory); :class:`concurrent.futures.ProcessPoolExecutor`
+A sweep's worker can die under it (killed, out of memory); ``concurrent.futures.ProcessPoolExecutor``
 then fails every unfinished task with ``BrokenProcessPool``. :func:`run_pool` runs those tasks
 again in a fresh pool (then alone, if that pool breaks too) and hands the tasks whose worker
 died alone to the caller (or raises :class:`LostTasks`, one line). The workers of :func:`local_pool` end when the process that
