@@ -78,3 +78,21 @@ def test_no_import_cycle_between_modules():
         tuple(graphlib.TopologicalSorter(edges).static_order())
     except graphlib.CycleError as exc:
         raise AssertionError(f"import cycle: {' -> '.join(exc.args[1])}") from None
+
+
+def test_scenario_kind_is_decided_once():
+    """No module outside ``rubrotor.scenario`` tests which tables a scenario had (``.shaft is
+    None``, ``.rotor is not None``, ``.engine is None``, ...): every verb asks
+    ``scenario.model`` (:class:`rubrotor.scenario.model.Model`)."""
+    import re
+
+    root = Path(rubrotor.__file__).parent
+    pattern = re.compile(r"\.(shaft|rotor|engine) is (not )?None")
+    found = [
+        f"{path.relative_to(root)}:{i}"
+        for path in sorted(root.rglob("*.py"))
+        if not path.is_relative_to(root / "scenario")
+        for i, line in enumerate(path.read_text().splitlines(), 1)
+        if pattern.search(line)
+    ]
+    assert not found, found

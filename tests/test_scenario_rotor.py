@@ -145,7 +145,7 @@ _DELETE = object()
         (("bearing",), _DELETE, "bearing"),
         (("rotor", "theory"), "bernoulli", "rotor.theory"),
         (("rotor", "mesh"), 3, "rotor.mesh"),
-        (("speed",), {"critical_multiple": 1.5}, "speed.critical_multiple"),
+        (("speed",), {"dimensionless": 1.5}, "speed.dimensionless"),
         (("unbalance", "position"), 1.31, "unbalance.position"),
         (("damping",), {"ratio": 0.01}, "damping"),
         (("section",), {"length": 0.1}, "section"),
@@ -172,7 +172,7 @@ def test_shaft_only_verbs_refuse_general_rotor(tmp_path):
     """The convergence study and the seed's dimensionless form need [shaft]; time simulation
     runs through the general engine (here refused only for want of a [simulation] section)."""
     sc = load_scenario(GENERAL)
-    with pytest.raises(ScenarioError, match="not available yet") as err:
+    with pytest.raises(ScenarioError, match="continuous shaft only") as err:
         rubrotor.converge(sc)
     assert err.value.field == "section"
     with pytest.raises(rubrotor.InputError) as err:

@@ -105,7 +105,7 @@ def test_point_scenarios_equal_with_changes(keys, values):
 @pytest.mark.parametrize("seed", range(20))
 def test_largest_first_equals_a_full_stable_sort(seed):
     """Reference: ``np.argsort(-mag[idx], kind="stable")`` of all peaks (ties in index order)."""
-    from rubrotor.sweeps.sweep import _largest_first
+    from rubrotor.sweeps.metrics import _largest_first
 
     rng = np.random.default_rng(seed)
     n = int(rng.integers(1, 60))

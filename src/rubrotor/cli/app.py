@@ -18,7 +18,7 @@ import contextlib
 import os
 import sys
 
-from rubrotor.cli import analyze, linear, orbits, simulate, studies, sweeps
+from rubrotor.cli import analyze, api, linear, orbits, response, simulate, studies, sweeps
 from rubrotor.cli.analyze import load_signals
 from rubrotor.cli.common import Command, parse_speeds
 from rubrotor.cli.simulate import run_summary
@@ -61,6 +61,55 @@ COMMANDS: list[Command] = [
         "eigenvalues of the rotor pressed into the stator (linearised contact)",
         linear.stability_args,
         linear.stability_run,
+    ),
+    Command(
+        "static",
+        "static deflection under gravity and loads, and the bearing reactions",
+        response.static_args,
+        response.static_run,
+        outputs=("figure",),
+    ),
+    Command(
+        "response",
+        "frequency response to a fixed or rotating force at a station (Bode, polar)",
+        response.response_args,
+        response.response_run,
+        outputs=("figure",),
+    ),
+    Command(
+        "unbalance",
+        "unbalance response of every unbalance plane at probes, over spin speed",
+        response.unbalance_args,
+        response.unbalance_run,
+        outputs=("figure",),
+    ),
+    Command(
+        "ucs",
+        "undamped critical speed map: critical speeds against support stiffness",
+        response.ucs_args,
+        response.ucs_run,
+        outputs=("figure",),
+    ),
+    Command(
+        "shapes",
+        "mode shapes along the rotor: whirl orbits, forward and backward",
+        response.shapes_args,
+        response.shapes_run,
+        outputs=("figure",),
+    ),
+    Command(
+        "clearance",
+        "API 617 close-clearance check of the unbalance response at every contact",
+        api.clearance_args,
+        api.clearance_run,
+        outputs=("figure",),
+    ),
+    Command(
+        "level1",
+        "API 684 Level I stability: log dec against added cross-coupled stiffness",
+        api.level1_args,
+        api.level1_run,
+        outputs=("figure",),
     ),
     Command(
         "run",

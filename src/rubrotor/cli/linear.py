@@ -37,7 +37,7 @@ def modes_run(args: argparse.Namespace) -> int:
     speed = scenario.speed if args.speed is None else args.speed
     if not math.isfinite(speed) or speed < 0:
         raise InputError("--speed", args.speed, "a finite spin speed >= 0 (rad/s)")
-    if scenario.rotor is not None:
+    if scenario.model.fe_rotor:
         return _general_modes(scenario, speed, args.json)
     result = modes(scenario, speed)
     if args.json:
@@ -129,7 +129,7 @@ def critical_run(args: argparse.Namespace) -> int:
     from rubrotor.linear.verbs import critical_speeds
 
     scenario = load_scenario(args.scenario)
-    if scenario.rotor is not None:
+    if scenario.model.fe_rotor:
         if args.max_speed is not None and not (
             math.isfinite(args.max_speed) and args.max_speed > 0
         ):
@@ -189,7 +189,7 @@ def campbell_run(args: argparse.Namespace) -> int:
     if fmt not in ("png", "pdf", "svg"):
         raise InputError("--out", args.out, "a file name ending in .png, .pdf or .svg")
     scenario = load_scenario(args.scenario)
-    if scenario.rotor is not None:
+    if scenario.model.fe_rotor:
         return _general_campbell(scenario, speeds, out, args.json)
     shaft = scenario.require_shaft("the Campbell diagram")
     fig = campbell_figure(shaft, speeds, operating_speed=scenario.speed)

@@ -88,12 +88,11 @@ def continue_run(args: argparse.Namespace) -> int:
         branches.append(_switch(scenario, key, branch, stop, args))
     save_dataset(branches_dataset(branches), args.out)
     if args.figure is not None:
-        from rubrotor.orbits.general_map import is_general
         from rubrotor.plotting.figures import branch_figure
         from rubrotor.sweeps.follow import follow_sweep
 
         values = np.linspace(min(start, stop), max(start, stop), max(args.sweep_points, 2))
-        if is_general(scenario):
+        if scenario.model.fe_rotor:
             from rubrotor.sweeps.follow import follow_general
 
             sweep = follow_general(scenario, key, values, "both", 100, 20, steps=args.steps)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -20,10 +21,14 @@ from rubrotor.errors import InputError
 from rubrotor.scenario.load import load_scenario
 
 
-# ---- run ---------------------------------------------------------------------------------------
+# ---- run (an alias of simulate --out DIR/) ---------------------------------------------------
 def run_args(parser: argparse.ArgumentParser) -> None:
     add_scenario(parser)
     parser.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    _run_options(parser)
+
+
+def _run_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--revolutions", type=float, help="override the scenario's simulated revolutions"
     )
@@ -48,85 +53,133 @@ def run_summary(ds) -> dict:
         "duration_s": float(ds["time"].values[-1]),
         "samples": int(ds.sizes["time"]),
         "max_displacement_m": float(p.max()),
-        "max_normal_force_N": float(fn.max()) if fn.size else 0.0,  # no [[contact]]: none
-        "contact_fraction": float(np.mean(fn > 0)) if fn.size else 0.0,
+        "max_normal_force_N": float(fn.max()) if fn.size else None,  # None: no [[contact]]
+        "contact_fraction": float(np.mean(fn > 0)) if fn.size else None,
         "contact_events": int(stats.get("contact_events", 0)),
         "wall_time_s": float(stats.get("wall_s", float("nan"))),
     }
 
 
 def run_run(args: argparse.Namespace) -> int:
-    import dataclasses
-
-    from rubrotor.engine.result import atomic_write, save_dataset
-    from rubrotor.engine.simulate import simulate
-
-    scenario = load_scenario(args.scenario)
-    if scenario.engine is None:
-        scenario.require_shaft("time simulation")
-    integ = scenario.simulation
-    if integ is None:
-        raise InputError("simulation", None, "a [simulation] section in the scenario")
-    if args.revolutions is not None:
-        integ = dataclasses.replace(integ, revolutions=args.revolutions, duration=None)
+    """``rubrotor run SCENARIO --out DIR``: ``rubrotor simulate SCENARIO --out DIR/``, saying so
+    once the run is written (an input error stays one line)."""
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError("--out", args.out, "a directory")
-    ds = simulate(scenario, integrator=integ, progress=args.progress)
-    save_dataset(ds, out / "results.nc")
-    summary = run_summary(ds)
-    atomic_write(
-        out / "summary.json", lambda tmp: Path(tmp).write_text(json.dumps(summary, indent=2))
+    args.out = str(out) + "/"
+    args.figure = False
+    status = simulate_run(args)
+    print(
+        "rubrotor: note: `rubrotor run` is an alias of `rubrotor simulate SCENARIO --out DIR/` "
+        "and will be removed in a later release",
+        file=sys.stderr,
     )
-    print(json.dumps(summary, indent=2))
-    if ds.attrs["status"] != "complete":
-        print(f"rubrotor: warning: {ds.attrs['status_message']}", file=sys.stderr)
-        return 1
-    return 0
+    return status
 
 
 # ---- simulate ----------------------------------------------------------------------------------
 def simulate_args(parser: argparse.ArgumentParser) -> None:
     add_scenario(parser)
-    parser.add_argument("--out", required=True, metavar="FILE", help="results file (.nc)")
+    parser.add_argument(
+        "--out",
+        required=True,
+        metavar="FILE|DIR/",
+        help="results file (.nc), or a folder (ending in /, or existing) for "
+        "DIR/results.nc and DIR/summary.json",
+    )
     parser.add_argument(
         "--figure", action="store_true", help="also write FILE with .png: orbit, force, spectrum"
     )
-    parser.add_argument(
-        "--progress",
-        action=argparse.BooleanOptionalAction,
-        default=None,
-        help="show progress on long runs (default: when stderr is a terminal)",
-    )
+    _run_options(parser)
+
+
+def _outputs(text: str) -> tuple[Path, Path | None]:
+    """The results file and the summary file (None for a plain file) of ``--out``."""
+    out = Path(text)
+    if text.endswith(("/", os.sep)) or out.is_dir():
+        if out.exists() and not out.is_dir():
+            raise InputError("--out", text, "a directory")
+        return out / "results.nc", out / "summary.json"
+    if out.suffix != ".nc":
+        raise InputError("--out", text, "a results file name ending in .nc, or a folder DIR/")
+    return out, None
 
 
 def simulate_run(args: argparse.Namespace) -> int:
-    """Simulate any scenario into one netCDF file; long general-engine runs stream to it."""
-    from rubrotor.engine.result import load_dataset, save_dataset
+    """Simulate any scenario into one netCDF file (or DIR/results.nc and DIR/summary.json);
+    long general-engine runs stream to it."""
+    import dataclasses
+
+    from rubrotor.engine.result import save_dataset
     from rubrotor.engine.simulate import simulate
 
     scenario = load_scenario(args.scenario)
-    out = Path(args.out)
-    if out.suffix != ".nc" or out.is_dir():
-        raise InputError("--out", args.out, "a results file name ending in .nc")
-    ds = None
-    if scenario.engine is not None:
+    out, summary_file = _outputs(args.out)
+    integ = scenario.simulation
+    if args.revolutions is not None:
+        if integ is None:
+            raise InputError("simulation", None, "a [simulation] section in the scenario")
+        integ = dataclasses.replace(integ, revolutions=args.revolutions, duration=None)
+    if scenario.model.general:
         from rubrotor.engine.general import STREAM_SAMPLES, engine_problem, simulate_engine
 
-        _, run, _, _ = engine_problem(scenario)
+        _, run, _, _ = engine_problem(scenario, integ)
         if run.duration / (run.step * run.save_every) > STREAM_SAMPLES:
-            simulate_engine(scenario, progress=args.progress, stream=out)
-            ds = load_dataset(out)
-    if ds is None:
-        ds = simulate(scenario, progress=args.progress)
-        save_dataset(ds, out)
+            simulate_engine(scenario, integrator=integ, progress=args.progress, stream=out)
+            return _report(streamed_summary(out), out, summary_file, args.figure)
+    ds = simulate(scenario, integrator=integ, progress=args.progress)
+    save_dataset(ds, out)
     if args.figure:
         _simulate_figure(ds, out.with_suffix(".png"))
-    summary = run_summary(ds)
+    return _report(run_summary(ds), out, summary_file, False)
+
+
+FIGURE_SAMPLES = 1 << 18
+"""Samples (from the end) a streamed run's figure draws."""
+
+
+def streamed_summary(path: Path) -> dict:
+    """:func:`run_summary` of a streamed results file, read chunk by chunk (bounded memory)."""
+    from rubrotor.engine.stream import file_summary
+
+    fs = file_summary(path)
+    at = fs["attrs"]
+    stats = json.loads(at.get("integrator_stats", "{}"))
+    return {
+        "scenario": at.get("scenario_name", ""),
+        "status": at["status"],
+        "status_message": at["status_message"],
+        "speed_rad_s": float(at["speed_rad_s"]),
+        "duration_s": fs["duration_s"],
+        "samples": fs["samples"],
+        "max_displacement_m": fs["max_displacement_m"],
+        "max_normal_force_N": fs["max_normal_force_N"],
+        "contact_fraction": fs["contact_fraction"],
+        "contact_events": int(stats.get("contact_events", 0)),
+        "wall_time_s": float(stats.get("wall_s", float("nan"))),
+    }
+
+
+def _report(summary: dict, out: Path, summary_file, figure: bool) -> int:
+    """Write the summary (and a streamed run's figure of its last samples); the exit status."""
+    from rubrotor.engine.result import atomic_write
+
+    if figure:
+        from rubrotor.engine.stream import tail_dataset
+        from rubrotor.plotting.rub import engine_figure
+
+        ds = tail_dataset(out, FIGURE_SAMPLES)
+        t = ds["time"].values
+        title = (f"{summary['scenario']} ({summary['status']}): the last {t[-1] - t[0]:.4g} s "
+                 f"of {summary['duration_s']:.4g} s")  # fmt: skip
+        save_atomic(engine_figure(ds, title=title), out.with_suffix(".png"))
+    if summary_file is not None:
+        text = json.dumps(summary, indent=2)
+        atomic_write(summary_file, lambda tmp: Path(tmp).write_text(text))
     summary["results"] = str(out)
     print(json.dumps(summary, indent=2))
-    if ds.attrs["status"] != "complete":
-        print(f"rubrotor: warning: {ds.attrs['status_message']}", file=sys.stderr)
+    if summary["status"] != "complete":
+        print(f"rubrotor: warning: {summary['status_message']}", file=sys.stderr)
         return 1
     return 0
 

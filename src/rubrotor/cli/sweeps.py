@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 from pathlib import Path
 
@@ -163,39 +162,12 @@ def _regime_counts(ds, regime_labels) -> dict:
     return {str(k): int(c) for k, c in zip(labels, counts, strict=True)}
 
 
-def _follow_general_store(scenario, key, values, args: argparse.Namespace):
-    """A general rotor's state-carrying sweep, computed in memory and written to ``--out`` as
-    a zarr store at the end (atomically: a temporary store renamed; not resumable)."""
-    import shutil
-    import tempfile
-
-    from rubrotor.sweeps.follow import follow_sweep
-
-    out = Path(args.out)
-    if out.exists():
-        raise InputError("--out", args.out, "a new store (a general rotor's sweep is not resumed)")
-    ds = follow_sweep(scenario, key, values, direction=args.follow,
-                      transient_revolutions=args.transient, revolutions=args.revolutions,
-                      samples_per_revolution=args.samples, lyapunov=args.lyapunov)  # fmt: skip
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.resolve().parent))
-    try:
-        ds.to_zarr(tmp / "store.zarr", mode="w", consolidated=True, zarr_format=2)
-        os.replace(tmp / "store.zarr", out)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    return ds
-
-
 def _sweep_or_follow(scenario, vary: dict, args: argparse.Namespace, progress: bool):
     from rubrotor.sweeps.follow import follow_sweep
     from rubrotor.sweeps.sweep import sweep
 
     if args.follow is not None:
-        from rubrotor.orbits.general_map import is_general
-
         ((key, values),) = vary.items()
-        if is_general(scenario):
-            return _follow_general_store(scenario, key, values, args)
         return follow_sweep(
             scenario,
             key,

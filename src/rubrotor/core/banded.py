@@ -27,6 +27,7 @@ __all__ = [
     "refine_eigenpairs",
     "ritz_vectors",
     "unbalance_sweep",
+    "frequency_sweep",
 ]
 
 OK = 0
@@ -171,6 +172,42 @@ def unbalance_sweep(parts, speeds, rhs, out_rows):
                 continue
             for i in range(n):
                 x[i] = rhs[i] * w * w
+            band_solve(ab, kl, ku, ipiv, x)
+            for r in range(out_rows.shape[0]):
+                acc = 0j
+                for i in range(n):
+                    acc += out_rows[r, i] * x[i]
+                out[s, r] = acc
+    for s in range(ns):
+        if bad[s]:
+            return out, SINGULAR, s
+    return out, OK, -1
+
+
+@njit(cache=True, parallel=True)
+def frequency_sweep(parts, spin, freqs, rhs, out_rows):
+    """Forced response at every excitation frequency at one spin: ``out[s] = R Q`` with
+    ``(K + K_s - w^2 M + i w (C + C_s + spin G)) Q = rhs`` (``w = freqs[s]``, rad/s; the
+    supports' entries at sweep index 0, ``spin`` in rad/s).
+
+    Returns ``(out, status, index)`` as :func:`unbalance_sweep`.
+    """
+    n = parts.m.shape[0]
+    kl, ku = parts.kl, parts.ku
+    ns = freqs.size
+    out = np.zeros((ns, out_rows.shape[0]), np.complex128)
+    bad = np.zeros(ns, np.bool_)
+    nblk = min(ns, 64)
+    for blk in prange(nblk):
+        ab = np.empty((n, 2 * kl + ku + 1), np.complex128)
+        ipiv = np.empty(n, np.int64)
+        x = np.empty(n, np.complex128)
+        for s in range(blk * ns // nblk, (blk + 1) * ns // nblk):
+            _assemble(parts, 0, spin, 1j * freqs[s], ab)
+            if band_factor(ab, kl, ku, ipiv) != OK:
+                bad[s] = True
+                continue
+            x[:] = rhs
             band_solve(ab, kl, ku, ipiv, x)
             for r in range(out_rows.shape[0]):
                 acc = 0j

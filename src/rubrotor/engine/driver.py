@@ -21,7 +21,9 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import signal
 import sys
+import threading
 import time as _time
 from dataclasses import dataclass, field
 
@@ -54,6 +56,7 @@ from rubrotor.core.engine_adaptive import (
     T_TIME,
     expo_adaptive,
 )
+from rubrotor.engine import restart
 from rubrotor.engine.parts import (
     RubStation,
     Run,
@@ -71,6 +74,7 @@ from rubrotor.engine.reduce import (
     reduce_matrices,
     reduce_projected,
 )
+from rubrotor.engine.restart import physical_state
 from rubrotor.engine.result import _jsonable
 from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
@@ -137,6 +141,9 @@ def _initial(run: Run, modes: Modes, q_s, Q, speed) -> np.ndarray:
         x = np.asarray(run.initial, float)
         if x.shape != (2 * n,):
             raise InputError("initial.state", x.shape, f"a state [q, q'] of shape ({2 * n},)")
+        if not np.all(np.isfinite(x)):
+            bad = int(np.flatnonzero(~np.isfinite(x))[0])
+            raise InputError("initial.state", f"{x[bad]} at index {bad}", "finite values")
         shift = x - x_s - x_p
     return modes.project(shift)
 
@@ -322,6 +329,7 @@ class _Chunks:
     events: np.ndarray
     istate: np.ndarray = field(default_factory=lambda: np.zeros(N_ISTATE, np.int64))
     flushed: int = 0  # events already handed to a sink (streamed runs)
+    kernel: dict | None = None  # the stepper's kernel state (restartable steppers only)
 
 
 @dataclass(frozen=True)
@@ -344,17 +352,6 @@ def _kernel_state(plant: Plant, run: Run):
     m = plant.beta.shape[1]
     return dict(y=plant.y0.copy(), F=np.zeros(m), Fp=np.zeros(m), dprev=np.zeros(m // 2),
                 zt=np.ones(1, complex), hp=np.array([run.step]))  # fmt: skip
-
-
-def physical_state(plant: Plant, y: np.ndarray, F: np.ndarray, z: complex) -> np.ndarray:
-    """Total rotor state ``[q, q']`` (m, rad; m/s, rad/s) on the free DOFs from the modal
-    state ``y``, the contact forces ``F`` (N) and the unbalance phasor ``z``."""
-    yr = y[: plant.n_rotor]
-    fq = plant.Bmat @ F
-    Q = plant.q_unbalance * z
-    q = np.real(plant.rotor.Vq @ yr) + plant.rotor.Rq @ fq + plant.q_static + Q.real
-    qd = np.real(plant.rotor.Vq @ (plant.rotor.lam * yr)) + plant.rotor.Rv @ fq
-    return np.concatenate([q, qd + np.real(1j * plant.speed * Q)])
 
 
 def _first_sample(state, k, plant):
@@ -417,6 +414,8 @@ def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks, 
     k = _kernel_state(plant, run)
     tst = np.zeros(N_TSTATE)
     tst[T_HPREV] = run.step
+    k["tst"] = tst
+    state.kernel = k
 
     def chunk(offset: int, count: int, done: int) -> int:
         return expo_adaptive(k["y"], k["F"], k["Fp"], k["dprev"], tst, state.istate, count,
@@ -449,6 +448,7 @@ def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     steps = _steps(plant, run.step, levels)
     control = _control(plant, steps, run)
     k = _kernel_state(plant, run)
+    state.kernel = k
     drive = _no_drive(plant.lam.size)
 
     def chunk(offset: int, count: int, done: int) -> int:
@@ -633,8 +633,13 @@ class EngineResult:
     speed : float
         rad/s (the start speed of a run-up).
     final_state : ndarray
-        Rotor state ``[q, q']`` on the free DOFs at the last completed step (SI): pass it as
-        ``Run(initial=...)`` to continue the run (a flexible stator restarts from rest).
+        Rotor state ``[q, q']`` on the free DOFs (SI) at the end of the last completed chunk
+        (the last good state of a run stopped by a failure): pass it as ``Run(initial=...)`` to
+        continue the run, or ``restart`` as ``simulate_general(..., resume=...)`` to continue it
+        exactly.
+    restart : dict or None
+        The full physical state at that time (:func:`rubrotor.engine.restart.snapshot`; its
+        ``time_s`` counts from ``t0``), or ``None`` for a speed profile.
     """
 
     time: np.ndarray
@@ -648,6 +653,7 @@ class EngineResult:
     stats: dict
     speed: float
     final_state: np.ndarray
+    restart: dict | None = None
 
     def to_dataset(self):
         """The results as an xarray Dataset (dims ``time``, ``station``, ``contact``, ``event``);
@@ -655,50 +661,106 @@ class EngineResult:
         return result_dataset(self)
 
 
-def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: float, sink=None):
-    """Shared chunk loop: progress between chunks, Ctrl-C, event-buffer growth, status.
+class _Signals:
+    """SIGINT and SIGTERM noted while running, acted on between chunks (so never inside a
+    file write); the previous handlers are restored on exit. Only in the main thread, and a
+    signal the process ignores stays ignored."""
+
+    NAMES = {
+        signal.SIGINT: "interrupted by the user (SIGINT)",
+        signal.SIGTERM: "terminated (SIGTERM)",
+    }
+
+    def __enter__(self):
+        self.got, self.old = None, {}
+        if threading.current_thread() is threading.main_thread():
+            for sig in self.NAMES:
+                if signal.getsignal(sig) is not signal.SIG_IGN:
+                    self.old[sig] = signal.signal(sig, self._note)
+        return self
+
+    def _note(self, signum, frame) -> None:
+        self.got = signum
+
+    def __exit__(self, *exc) -> None:
+        for sig, handler in self.old.items():
+            signal.signal(sig, handler)
+
+
+def _first_bad(block: np.ndarray) -> int | None:
+    """Index of the first sample (column) holding a non-finite value, or ``None``."""
+    ok = np.isfinite(block).all(axis=0)
+    return None if ok.all() else int(np.argmin(ok))
+
+
+def _loop(chunk, n_samples: int, state: _Chunks, progress: bool, sample_dt: float, sink=None,
+          checkpoint=None):  # fmt: skip
+    """Shared chunk loop: progress between chunks, SIGINT/SIGTERM, event-buffer growth, status.
 
     Without ``sink`` the samples fill ``state.out`` in place; with one, every chunk is written
-    at the start of the (chunk-sized) buffer and handed to ``sink.write``.
+    at the start of the (chunk-sized) buffer and handed to ``sink.write``. After every chunk
+    that ends well, ``checkpoint(done)`` keeps the state. Non-finite samples stop the run
+    (kept up to the last finite one).
     """
-    done, t0, interrupted = 0, _time.perf_counter(), False
+    done, t0, stop = 0, _time.perf_counter(), ""
     width = state.out.shape[1] - 1
     try:
-        while done < n_samples:
-            offset = 1 if sink is not None else 1 + done
-            wrote = chunk(offset, min(width, n_samples - done), done)
-            if sink is not None:
-                sink.write(state.out[:, (0 if done == 0 else 1) : 1 + wrote])
-            done += wrote
-            st = int(state.istate[I_STATUS])
-            lost = state.istate[I_EVENTS] > len(state.events)
-            if sink is not None and not lost:
-                flushed = _flush_events(state, sink)
-                if st == EVENT_BUFFER_FULL:
-                    if not flushed:  # smaller than the kernel's margin: grow it once
-                        state.events = np.concatenate([state.events, np.zeros_like(state.events)])
-                    state.istate[I_STATUS] = OK
+        with _Signals() as sig:
+            while done < n_samples:
+                offset = 1 if sink is not None else 1 + done
+                wrote = chunk(offset, min(width, n_samples - done), done)
+                bad = _first_bad(state.out[:, offset : offset + wrote])
+                if bad is not None:
+                    wrote = bad
+                    stop = (f"non-finite values at t = {(done + bad + 1) * sample_dt:.6g} s "
+                            "(the run cannot be resolved at this step)")  # fmt: skip
+                if sink is not None:
+                    sink.write(state.out[:, (0 if done == 0 else 1) : 1 + wrote])
+                done += wrote
+                if stop:
+                    break
+                st = int(state.istate[I_STATUS])
+                if _grow_events(state, st, sink):
                     continue
-            if st == EVENT_BUFFER_FULL and not lost and len(state.events) < EVENT_BUFFER_MAX:
-                state.events = np.concatenate([state.events, np.zeros_like(state.events)])
-                state.istate[I_STATUS] = OK
-                continue
-            if st != OK:
-                break
-            el = _time.perf_counter() - t0
-            if progress and el > 2.0:
-                print(f"\rrubrotor: {100 * done / n_samples:5.1f} %", end="", file=sys.stderr)
-    except KeyboardInterrupt:
-        interrupted = True
+                if st != OK:
+                    break
+                if checkpoint is not None:
+                    checkpoint(done)
+                if sig.got is not None:
+                    stop = sig.NAMES[sig.got]
+                    break
+                el = _time.perf_counter() - t0
+                if progress and el > 2.0:
+                    print(f"\rrubrotor: {100 * done / n_samples:5.1f} %", end="", file=sys.stderr)
+    except KeyboardInterrupt:  # outside the main thread's handler
+        stop = "interrupted by the user"
     if progress and _time.perf_counter() - t0 > 2.0:
         print(file=sys.stderr)
     st = int(state.istate[I_STATUS])
     msg = ""
-    if interrupted:
-        msg = f"interrupted by the user after t = {done * sample_dt:.6g} s"
+    if stop:
+        msg = f"{stop}; data up to t = {done * sample_dt:.6g} s kept"
     elif st != OK:
         msg = f"{STATUS_NAMES[st]} at t = {(done + 1) * sample_dt:.6g} s; data up to t = {done * sample_dt:.6g} s kept"
     return done, msg, _time.perf_counter() - t0
+
+
+def _grow_events(state: _Chunks, st: int, sink) -> bool:
+    """After a chunk stopped for a full event buffer: flush (streamed) or grow the buffer and
+    return True to resume; False when the run goes on as usual or must stop."""
+    lost = state.istate[I_EVENTS] > len(state.events)
+    if sink is not None and not lost:
+        flushed = _flush_events(state, sink)
+        if st == EVENT_BUFFER_FULL:
+            if not flushed:  # smaller than the kernel's margin: grow it once
+                state.events = np.concatenate([state.events, np.zeros_like(state.events)])
+            state.istate[I_STATUS] = OK
+            return True
+    if st == EVENT_BUFFER_FULL and not lost and len(state.events) < EVENT_BUFFER_MAX:
+        state.events = np.concatenate([state.events, np.zeros_like(state.events)])
+        state.istate[I_STATUS] = OK
+        return True
+    return False
 
 
 def _flush_events(state: _Chunks, sink) -> int:
@@ -710,9 +772,9 @@ def _flush_events(state: _Chunks, sink) -> int:
     return ne
 
 
-def _check_call(method: str | None, stations, run: Run) -> str:
-    """The stepper (default by ``run.rtol``); refuse an unknown one or a station that is not a
-    :class:`RubStation`."""
+def _check_call(method: str | None, stations, run: Run, chunk_samples) -> str:
+    """The stepper (default by ``run.rtol``); refuse an unknown one, a station that is not a
+    :class:`RubStation` or a chunk size below one sample."""
     if method is None:
         method = "exponential" if run.rtol is None else DEFAULT_ADAPTIVE
     if method not in STEPPERS:
@@ -720,6 +782,12 @@ def _check_call(method: str | None, stations, run: Run) -> str:
     for i, s in enumerate(stations):
         if not isinstance(s, RubStation):
             raise InputError(f"contact[{i + 1}]", s, "a RubStation")
+    if (
+        isinstance(chunk_samples, bool)
+        or not isinstance(chunk_samples, int | np.integer)
+        or (chunk_samples < 1)
+    ):
+        raise InputError("chunk_samples", chunk_samples, "an integer >= 1 (samples per call)")
     return method
 
 
@@ -737,6 +805,43 @@ def _add_counts(stats: dict, state: _Chunks, method: str, plant: Plant, run: Run
     return stiffness_hint(plant, run.step, int(ist[I_STATUS]))
 
 
+def _phasor(state: _Chunks, plant: Plant) -> complex:
+    """Unbalance phasor ``e^{i Omega t}`` of the kernel state (fixed or adaptive steps)."""
+    k = state.kernel
+    if "tst" in k:
+        return complex(np.exp(1j * plant.speed * k["tst"][T_TIME]))
+    return complex(k["zt"][0])
+
+
+class _Keeper:
+    """The state at the end of the last good chunk, and the streamed file's checkpoints."""
+
+    def __init__(self, plant, state, final, sink, t0: float, sample_dt: float, status_attrs):
+        self.plant, self.state, self.final, self.sink = plant, state, final, sink
+        self.t0, self.dt, self.status_attrs = t0, sample_dt, status_attrs
+        self.snap, self.x = None, None
+        self(0, sync=False)
+
+    def __call__(self, done: int, sync: bool = True) -> None:
+        if self.state.kernel is not None:
+            self.snap = restart.snapshot(self.plant, self.state.kernel,
+                                         _phasor(self.state, self.plant), done * self.dt)  # fmt: skip
+            self.x = np.array(self.snap["x"])
+        else:
+            self.x = self.final()
+        if self.sink is not None and sync:
+            if self.snap is None:
+                self.sink.checkpoint()
+            else:
+                vec = restart.flatten(self.snap)
+                self.sink.checkpoint(self.t0 + self.snap["time_s"], vec)
+
+    def attrs(self, done: int) -> dict:
+        """Attributes of the kept state (the times count from the file's start)."""
+        return {**self.status_attrs(), "end_time_s": self.t0 + done * self.dt,
+                "final_state": self.x.tolist()}  # fmt: skip
+
+
 def simulate_general(
     system,
     run: Run,
@@ -751,6 +856,8 @@ def simulate_general(
     chunk_samples: int = 1 << 14,
     plant: Plant | None = None,
     attrs: dict | None = None,
+    resume: dict | None = None,
+    t0: float = 0.0,
 ) -> EngineResult:
     """Simulate a linear rotor with rub at several stations (see the module docstring).
 
@@ -770,16 +877,24 @@ def simulate_general(
         Progress on stderr for long runs (default: when stderr is a terminal).
     stream : str, optional
         Write samples and events to this netCDF file chunk by chunk (bounded memory; read it
-        with :func:`rubrotor.load_dataset`); the result then holds neither (``time``, ``channels``,
-        ``events`` empty), only ``stats`` (``"contact_events"`` counts them) and the final state.
+        with :func:`rubrotor.load_dataset`), flushed after every chunk with ``status =
+        "partial"`` and the state kept so far (``rubrotor.engine.stream``); the result then
+        holds neither (``time``, ``channels``, ``events`` empty), only ``stats``
+        (``"contact_events"`` counts them) and the final state.
     chunk_samples : int
-        Samples per compiled call (and the buffer size when streaming).
+        Samples per compiled call (>= 1; the buffer size when streaming).
     plant : Plant, optional
         A plant already built by ``build_plant`` for the same rotor, stations, loads and
         ``run`` (speed, reduction, initial state): skips the reduction (the array-level path
         for repeated runs; the caller vouches that it matches).
     attrs : dict, optional
-        Extra attributes of a streamed file (provenance); ``final_state`` is always added.
+        Extra attributes of a streamed file (provenance); the state attributes are added.
+    resume : dict, optional
+        A restart state (``EngineResult.restart``) of this model to continue exactly: the
+        unbalance phases must be advanced by ``Omega t`` to its time and ``run.initial`` be its
+        ``x`` (constant speed only).
+    t0 : float
+        Time (s) of the first sample in a streamed file (a continued run's start).
 
     Returns
     -------
@@ -790,7 +905,7 @@ def simulate_general(
     InputError
         Bad input, or an output too large for memory (or disk when streamed), before running.
     """
-    method = _check_call(method, stations, run)
+    method = _check_call(method, stations, run, chunk_samples)
     problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity))
     if run.speed_end is not None:
         method = "runup"
@@ -815,48 +930,69 @@ def simulate_general(
         events=np.empty((EVENT_BUFFER, 2)),
     )
     chunk, first, stats, final = STEPPERS[method](problem, plant, run, state)
+    if resume is not None:
+        if state.kernel is None:
+            raise InputError("initial.state", "file", "a constant-speed run to continue")
+        restart.resume(plant, state.kernel, resume, stations)
     first()
-    show = sys.stderr.isatty() if progress is None else progress
-    sink = None
-    if stream is not None:
-        sink = NetcdfSink(stream, plant.stations, nc, sample_dt, plant.speed)
     if stream is None and chunk_samples < n_samples:
         inner = chunk
 
         def chunk(offset, count, done):  # the in-memory run still calls in bounded chunks
             return inner(offset, min(count, chunk_samples), done)
 
+    return _run(chunk, final, stats, state, plant, run, method,
+                (progress, stream, attrs, t0, n_samples, sample_dt))  # fmt: skip
+
+
+def _run(chunk, final, stats, state, plant, run, method, opts) -> EngineResult:
+    """Run the chunk loop (into the sink when streaming) and gather the result."""
+    progress, stream, attrs, t0, n_samples, sample_dt = opts
+    show = sys.stderr.isatty() if progress is None else progress
+    nc = len(plant.outputs.flex)
+    wall = [0.0]
+
+    def status_attrs() -> dict:
+        _add_counts(stats, state, method, plant, run, wall[0])
+        return {"speed_rad_s": plant.speed, "integrator_stats": json.dumps(_jsonable(stats))}
+
+    sink = None
+    if stream is not None:
+        lay = None
+        if state.kernel is not None:
+            lay = restart.layout(restart.snapshot(plant, state.kernel, 1.0, 0.0))
+        sink = NetcdfSink(stream, plant.stations, nc, sample_dt, plant.speed, t0=t0,
+                          tau=lambda t: spin_angle(run, t) + run.speed * t0,
+                          attrs={**(attrs or {}), **status_attrs()},
+                          restart_layout=lay)  # fmt: skip
+    keep = _Keeper(plant, state, final, sink, t0, sample_dt, status_attrs)
+    if sink is not None:
+        keep(0)  # the initial state: a run killed in its first chunk can restart from it
     try:
-        done, msg, wall = _loop(chunk, n_samples, state, show, sample_dt, sink)
-    except BaseException:
+        done, msg, wall[0] = _loop(chunk, n_samples, state, show, sample_dt, sink, keep)
+    except BaseException as exc:
         if sink is not None:
-            sink.close({}, ok=False)
+            sink.close({"status": "partial", "status_message": f"stopped by an error: {exc!r}"})
         raise
-    msg += _add_counts(stats, state, method, plant, run, wall)
+    msg += _add_counts(stats, state, method, plant, run, wall[0])
     n_out = done + 1
     events = state.events[: min(int(state.istate[I_EVENTS]), len(state.events))].copy()
     status = "complete" if not msg else "partial"
-    final_state = final()
+    if msg and keep.snap is not None and keep.snap["time_s"] < done * sample_dt:
+        msg += f"; restart state at t = {t0 + keep.snap['time_s']:.6g} s (the last completed chunk)"
+    if msg and keep.snap is not None and stream is not None:
+        msg += f'; continue it with [initial] state = "file", path = "{stream}"'
     if sink is not None:
         sink.write_events(events)
-        sink.close({"status": status, "status_message": msg, "speed_rad_s": plant.speed,
-                            "integrator_stats": json.dumps(_jsonable(stats)), **(attrs or {}),
-                            "final_state": json.dumps(final_state.tolist())})  # fmt: skip
+        sink.close({**keep.attrs(done), "status": status, "status_message": msg,
+                    "end_time_s": t0 + done * sample_dt})  # fmt: skip
         stats["stream"] = str(stream)
         n_out = 0
     return EngineResult(
-        time=np.arange(n_out) * sample_dt,
-        stations=plant.stations,
-        n_contacts=nc,
-        channels=state.out[:, :n_out],
-        events=events,
-        states=state.ys[:n_out],
-        status=status,
-        message=msg,
-        stats=stats,
-        speed=plant.speed,
-        final_state=final_state,
-    )
+        time=np.arange(n_out) * sample_dt, stations=plant.stations, n_contacts=nc,
+        channels=state.out[:, :n_out], events=events, states=state.ys[:n_out], status=status,
+        message=msg, stats=stats, speed=plant.speed, final_state=keep.x, restart=keep.snap,
+    )  # fmt: skip
 
 
 _STATION = STATION_VARS

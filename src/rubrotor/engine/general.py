@@ -36,16 +36,9 @@ def _system(scenario, probes):
     from rubrotor.rotors.shaft_system import continuous_system
 
     eng = scenario.engine
-    if scenario.rotor is not None:
+    if scenario.model.fe_rotor:
         return scenario.rotor.linear_system(tuple(sorted(set(eng.positions + tuple(probes)))))
-    if any(r != 0 for r in scenario.damping.ratios):
-        raise ScenarioError(
-            "damping.ratio",
-            scenario.damping.ratios,
-            "0 (no modal damping) with the general engine's keys; run the [shaft] scenario "
-            "without them to keep its modal damping",
-        )
-    return continuous_system(scenario.shaft)
+    return continuous_system(scenario.shaft, scenario.damping)
 
 
 def _duration(integ, speed: float, speed_end: float | None) -> float:
@@ -55,28 +48,66 @@ def _duration(integ, speed: float, speed_end: float | None) -> float:
     return integ.revolutions * 2 * math.pi / mean
 
 
-def _restart(path: str, speed: float, n: int) -> tuple[np.ndarray, float]:
-    """Final state (SI) and end time (s) stored in an earlier results file of the engine."""
-    from rubrotor.engine.result import load_dataset
+def _restart(path: str, scenario, system, speed: float) -> tuple[np.ndarray, float, dict | None]:
+    """State, start time (s) and restart state stored in an earlier results file of the engine.
 
+    The file must belong to the scenario's model (:func:`rubrotor.engine.restart.fingerprint`,
+    refused naming what differs) and hold a finite state; a file that stopped partial (killed,
+    interrupted, diverged) continues from the state at the end of its last completed chunk.
+    """
+    import xarray as xr
+
+    if not Path(path).is_file():
+        raise ScenarioError("initial.path", path, "an existing results file (.nc)")
     try:
-        ds = load_dataset(path)
-    except InputError:
-        raise ScenarioError("initial.path", path, "an existing results file (.nc)") from None
-    if "final_state" not in ds.attrs:
+        with xr.open_dataset(path, engine="netcdf4") as ds:  # lazily: read what is used
+            return _restart_from(ds, path, scenario, system, speed)
+    except (OSError, ValueError) as exc:
+        raise ScenarioError("initial.path", path, f"a readable results file ({exc})") from None
+
+
+def _restart_from(ds, path: str, scenario, system, speed: float):
+    """:func:`_restart` on the opened file."""
+    from rubrotor.engine.restart import check_fingerprint, fingerprint, finite_state, unflatten
+
+    at = ds.attrs
+    if "final_state" not in at and "restart_vector" not in ds:
         raise ScenarioError("initial.path", path, "a results file written by the general engine")
-    x = np.array(json.loads(ds.attrs["final_state"]), float)
+    if "speed_end_rad_s" in at:
+        raise ScenarioError("initial.path", path, "a constant-speed results file")
+    if not math.isclose(float(at["speed_rad_s"]), speed, rel_tol=1e-12):
+        raise ScenarioError("initial.path", path, f"a results file run at {speed:g} rad/s")
+    if "model_fingerprint" in at:
+        now = fingerprint(system, scenario.engine.stations, speed)
+        check_fingerprint(json.loads(at["model_fingerprint"]), now, path)
+    snap = None
+    if "restart_vector" in ds and ds.sizes["checkpoint"]:
+        lay = json.loads(ds["restart_vector"].attrs["layout"])
+        t_last = float(ds["restart_time"].values[-1])
+        snap = unflatten(ds["restart_vector"].values[-1], lay, t_last)
+        x, end = np.array(snap["x"], float), t_last
+        if not finite_state(snap):
+            raise ScenarioError("initial.path", path, "a results file whose kept state is finite")
+    else:  # a file of an earlier version: the rotor state only
+        x = np.array(json.loads(at["final_state"]), float)
+        end = float(
+            at.get("end_time_s", float(at.get("start_time_s", 0.0)) + ds["time"].values[-1])
+        )
+        if at.get("status") != "complete" or not np.all(np.isfinite(x)):
+            raise ScenarioError("initial.path", path,
+                                "a complete results file (this one has no restart state)")  # fmt: skip
+    n = system.n_dof
     if x.shape != (2 * n,):
         raise ScenarioError("initial.path", path, f"a results file of this rotor ({2 * n} states)")
-    if not math.isclose(float(ds.attrs["speed_rad_s"]), speed, rel_tol=1e-12):
-        raise ScenarioError("initial.path", path, f"a results file run at {speed:g} rad/s")
-    if "speed_end_rad_s" in ds.attrs:
-        raise ScenarioError("initial.path", path, "a constant-speed results file")
-    end = ds.attrs.get("end_time_s", ds.attrs.get("start_time_s", 0.0) + ds["time"].values[-1])
-    return x, float(end)
+    return x, end, snap
 
 
 def engine_problem(scenario, integrator=None):
+    """The engine's inputs for a scenario (see :func:`_problem`; without the restart state)."""
+    return _problem(scenario, integrator)[:4]
+
+
+def _problem(scenario, integrator=None):
     """The engine's inputs for a scenario.
 
     Parameters
@@ -94,6 +125,8 @@ def engine_problem(scenario, integrator=None):
         ``stations``, ``unbalances``, ``loads``, ``gravity`` of ``simulate_general``.
     t0 : float
         Start time (s): the end time of the file a restart continues, else 0.
+    snap : dict or None
+        The restart state of that file (``simulate_general(resume=...)``).
     """
     eng = scenario.engine
     integ = integrator or scenario.simulation
@@ -114,9 +147,9 @@ def engine_problem(scenario, integrator=None):
     if table and integ.duration is None:
         raise ScenarioError("simulation.revolutions", integ.revolutions,
                             'simulation.duration (s) instead, with speed.profile = "table"')  # fmt: skip
-    unb, t0, initial = eng.unbalances, 0.0, eng.initial
+    unb, t0, initial, snap = eng.unbalances, 0.0, eng.initial, None
     if initial == "file":
-        initial, t0 = _restart(eng.initial_path, speed, system.n_dof)
+        initial, t0, snap = _restart(eng.initial_path, scenario, system, speed)
         # constant speed: continuing at t0 equals starting at 0 with phases advanced by Omega t0
         unb = tuple(dataclasses.replace(u, phase=u.phase + speed * t0) for u in unb)
     run = Run(
@@ -130,7 +163,7 @@ def engine_problem(scenario, integrator=None):
     )  # fmt: skip
     _check_one_sample(integ, run)
     kwargs = dict(stations=eng.stations, unbalances=unb, loads=eng.loads, gravity=eng.gravity)
-    return system, run, kwargs, t0
+    return system, run, kwargs, t0, snap
 
 
 def _check_one_sample(integ, run: Run) -> None:
@@ -215,23 +248,40 @@ def _dataset(res, scenario, run: Run, t0: float):
     attrs["end_time_s"] = t0 + float(res.time[-1]) if res.time.size else t0
     attrs["final_state"] = json.dumps(res.final_state.tolist())
     data = _accelerations(res, time)
+    if res.restart is not None:
+        data.update(_restart_vars(res.restart, t0))
+    data["event_time"] = xr.Variable("event", res.events[:, 0] + t0, {"units": "s"})
     return result_dataset(res, coords=coords, data=data, attrs=attrs)
 
 
-def _accelerations(res, t: np.ndarray) -> dict:
-    """``v_ddot, w_ddot`` (m/s^2): central differences of the saved velocities (order 2)."""
+def _restart_vars(snap: dict, t0: float) -> dict:
+    """``restart_time`` (s) and ``restart_vector`` of one checkpoint (a streamed file's layout,
+    :mod:`rubrotor.engine.stream`)."""
     import xarray as xr
+
+    from rubrotor.engine.restart import flatten, layout
+    from rubrotor.engine.stream import restart_vector_attrs
+
+    return {
+        "restart_time": xr.Variable("checkpoint", [t0 + snap["time_s"]],
+                                    {"units": "s", "long_name": "time of the restart state"}),
+        "restart_vector": xr.Variable(("checkpoint", "restart_component"), flatten(snap)[None],
+                                      restart_vector_attrs(layout(snap))),
+    }  # fmt: skip
+
+
+def _accelerations(res, t: np.ndarray) -> dict:
+    """``v_ddot, w_ddot`` (m/s^2): central differences of the saved velocities (order 2; the
+    formula of a streamed file, :func:`rubrotor.engine.stream.central_difference`)."""
+    import xarray as xr
+
+    from rubrotor.engine.stream import ACCEL_VARS, accel_attrs, central_difference
 
     S = len(res.stations)
     out = {}
-    for k, a in ((2, "v"), (3, "w")):
-        vel = res.channels[k : 4 * S : 4]  # the v_dot / w_dot rows of every station
-        acc = np.gradient(vel, t, axis=1) if t.size > 1 else np.zeros_like(vel)
-        out[f"{a}_ddot"] = xr.Variable(("station", "time"), acc, {
-            "units": "m/s^2",
-            "long_name": f"acceleration along {'y' if a == 'v' else 'z'} (central difference of "
-            "the saved velocity)",
-        })  # fmt: skip
+    for k, (name, _, axis) in enumerate(ACCEL_VARS):
+        vel = res.channels[2 + k : 4 * S : 4]  # the v_dot / w_dot rows of every station
+        out[name] = xr.Variable(("station", "time"), central_difference(vel, t), accel_attrs(axis))
     return out
 
 
@@ -262,14 +312,20 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
         it starts.
     """
     from rubrotor.engine.driver import simulate_general
+    from rubrotor.engine.restart import fingerprint
 
-    system, run, kwargs, t0 = engine_problem(scenario, integrator)
+    system, run, kwargs, t0, snap = _problem(scenario, integrator)
+    src = scenario.engine.initial_path
+    if stream is not None and src is not None and Path(src).resolve() == Path(stream).resolve():
+        raise ScenarioError("initial.path", src, "a file other than the output, which the run "
+                            "rewrites from its start (write the continuation to a new file)")  # fmt: skip
     _check_size(scenario, run, stream)
-    attrs = None
-    if stream is not None:
-        attrs = _attrs(scenario, {}, run, t0)
-    res = simulate_general(system, run, **kwargs, progress=progress,
+    fp = json.dumps(fingerprint(system, scenario.engine.stations, run.speed))
+    attrs = {**_attrs(scenario, {}, run, t0), "model_fingerprint": fp}
+    res = simulate_general(system, run, **kwargs, progress=progress, resume=snap, t0=t0,
                            stream=None if stream is None else str(stream), attrs=attrs)  # fmt: skip
     if stream is not None:
         return Path(stream)
-    return _dataset(res, scenario, run, t0)
+    ds = _dataset(res, scenario, run, t0)
+    ds.attrs["model_fingerprint"] = fp
+    return ds

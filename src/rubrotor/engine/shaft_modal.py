@@ -14,11 +14,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg
 
 from rubrotor.errors import InputError
 from rubrotor.rotors.forces import ModalDamping
-from rubrotor.rotors.shaft import Shaft, modal_matrices
+from rubrotor.rotors.shaft import Shaft, damping_matrix, modal_matrices
 
 __all__ = ["ModalSystem", "assemble_modal", "damping_matrix", "phi_functions"]
 
@@ -77,26 +76,6 @@ def _block_diag(blocks: list[np.ndarray]) -> np.ndarray:
         out[o : o + k, o : o + k] = b
         o += k
     return out
-
-
-def damping_matrix(M: np.ndarray, K: np.ndarray, zeta: float) -> np.ndarray:
-    """``C = M Phi diag(2 zeta omega) Phi^T M`` (N s/m) from the non-rotating modes of ``(K, M)``.
-
-    Parameters
-    ----------
-    M, K : ndarray
-        Mass (kg) and stiffness (N/m) matrices of one modal block.
-    zeta : float
-        Damping ratio of every mode of the block (1).
-
-    Returns
-    -------
-    ndarray
-    """
-    if zeta == 0.0:
-        return np.zeros_like(M)
-    w2, phi = scipy.linalg.eigh(K, M)
-    return M @ phi @ np.diag(2 * zeta * np.sqrt(w2)) @ phi.T @ M
 
 
 @dataclass

@@ -829,7 +829,7 @@ def simulate(
     from rubrotor.scenario.load import as_scenario
 
     scenario = as_scenario(scenario)
-    if scenario.engine is not None:  # general rotor or general-engine keys
+    if scenario.model.general:  # a finite-element rotor or general-engine keys
         from rubrotor.engine.general import simulate_engine
 
         if track_energy:

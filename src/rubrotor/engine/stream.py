@@ -2,9 +2,16 @@
 
 :func:`check_size` refuses, before anything runs, a run whose output would not fit in memory
 (or, streamed, on disk), naming the keys to change. :class:`NetcdfSink` appends each chunk of
-samples to a netCDF-4 file with an unlimited ``time`` dimension (the variables and names of
-:meth:`rubrotor.engine.driver.EngineResult.to_dataset`), written to a temporary file and renamed
-on close, so a reader never sees a half-written result.
+samples to a netCDF-4 file with an unlimited ``time`` dimension (the variables, names and
+attributes of the in-memory results Dataset). The file is written under its final name, its
+attributes once at the start with ``status = "partial"`` (rewriting HDF5 attributes is what a
+kill can leave half done, so they are not touched again until the run ends); after every chunk
+the samples, the events and a row of the restart state (``restart_time``, ``restart_vector``,
+:mod:`rubrotor.engine.restart`) are appended and the file is flushed to disk. A run killed at
+any moment, even by ``kill -9``, leaves a readable file holding its completed chunks, from
+which a run can continue (``[initial] state = "file"``). At the end the attributes get the
+status, its message, ``end_time_s`` and ``final_state``.
+:func:`file_summary` and :func:`tail_dataset` read such a file in bounded memory.
 """
 
 from __future__ import annotations
@@ -12,22 +19,29 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
-from rubrotor.engine.output import usual_mode
 from rubrotor.errors import InputError
 
-__all__ = ["check_size", "NetcdfSink", "STATION_VARS", "CONTACT_VARS"]
+__all__ = [
+    "check_size",
+    "NetcdfSink",
+    "STATION_VARS",
+    "CONTACT_VARS",
+    "central_difference",
+    "file_summary",
+    "tail_dataset",
+    "put_attrs",
+]
 
 TIME_CHUNK = 4096
 """Samples per HDF5 chunk of every time series (32 KiB of float64)."""
 EVENT_CHUNK = 4096
 """Events per HDF5 chunk."""
-CACHE_BYTES = 1 << 20
-"""HDF5 chunk cache per variable (bytes)."""
+CACHE_BYTES = 1 << 18
+"""HDF5 chunk cache per variable (bytes): 8 chunks of a time series, enough for appending."""
 
 STATION_VARS = (("v", "m"), ("w", "m"), ("v_dot", "m/s"), ("w_dot", "m/s"))
 CONTACT_VARS = (
@@ -83,13 +97,59 @@ def check_size(n_samples: int, n_channels: int, n_state: int, stream: str | None
         )
 
 
+ACCEL_VARS = (("v_ddot", "v_dot", "y"), ("w_ddot", "w_dot", "z"))
+"""Acceleration variables, the velocity each differentiates, and its axis."""
+
+
+def accel_attrs(axis: str) -> dict:
+    """Attributes of an acceleration variable (in-memory and streamed files alike)."""
+    return {
+        "units": "m/s^2",
+        "long_name": f"acceleration along {axis} (central difference of the saved velocity)",
+    }
+
+
+def central_difference(f: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Derivative of ``f`` (``(..., T)``) against the times ``t`` (s) along the last axis.
+
+    Second-order central differences on the (possibly uneven) spacing inside, first-order
+    one-sided at both ends (as ``numpy.gradient(f, t, axis=-1)``, but always through the uneven
+    formula, so a window of a record gives the same values as the whole record); zeros for one
+    sample.
+    """
+    if t.size < 2:
+        return np.zeros_like(f)
+    out = np.empty_like(f)
+    d = np.diff(t)
+    out[..., 0] = (f[..., 1] - f[..., 0]) / d[0]
+    out[..., -1] = (f[..., -1] - f[..., -2]) / d[-1]
+    if t.size > 2:
+        d1, d2 = d[:-1], d[1:]
+        a = -d2 / (d1 * (d1 + d2))
+        b = (d2 - d1) / (d1 * d2)
+        c = d1 / (d2 * (d1 + d2))
+        out[..., 1:-1] = a * f[..., :-2] + b * f[..., 1:-1] + c * f[..., 2:]
+    return out
+
+
+def put_attrs(nc, attrs: dict) -> None:
+    """Set netCDF attributes: strings and numbers as they are, anything else as JSON."""
+    for key, val in attrs.items():
+        if isinstance(val, str | int | float | np.integer | np.floating) and not isinstance(
+            val, bool
+        ):
+            nc.setncattr(key, val)
+        else:
+            nc.setncattr(key, json.dumps(val))
+
+
 class NetcdfSink:
     """Append samples to a netCDF-4 file chunk by chunk (see the module docstring).
 
     Parameters
     ----------
     path : str or Path
-        Target ``.nc`` file.
+        Target ``.nc`` file, written in place (an existing file is replaced).
     stations : ndarray
         Output positions (m).
     n_contacts : int
@@ -97,50 +157,73 @@ class NetcdfSink:
         Sample spacing (s).
     speed : float
         Spin speed (rad/s), for ``tau``.
+    t0 : float
+        Time of the first sample (s): the start time of a restarted run.
+    tau : callable, optional
+        Spin angle (rad) at times from the run's start (s); default ``speed t``.
+    attrs : dict, optional
+        Attributes written at once (provenance); ``status`` is ``"partial"`` until
+        :meth:`close`.
+    restart_layout : dict, optional
+        :func:`rubrotor.engine.restart.layout` of the restart states (none kept without it).
     """
 
-    def __init__(self, path, stations, n_contacts: int, sample_dt: float, speed: float):
+    def __init__(self, path, stations, n_contacts: int, sample_dt: float, speed: float, *,
+                 t0: float = 0.0, tau=None, attrs: dict | None = None,
+                 restart_layout: dict | None = None):  # fmt: skip
         import netCDF4
 
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        fd, self.tmp = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".tmp",
-                                        dir=self.path.parent)  # fmt: skip
-        os.close(fd)
-        self.nc = netCDF4.Dataset(self.tmp, "w", format="NETCDF4")
-        self.S, self.nct, self.dt, self.speed, self.n = (
-            len(stations),
-            n_contacts,
-            sample_dt,
-            speed,
-            0,
-        )
-        self.nc.createDimension("time", None)
-        self.nc.createDimension("station", self.S)
-        self.nc.createDimension("contact", n_contacts)
-        self.nc.createDimension("event", None)
-        self.n_events = 0
+        try:
+            self.nc = netCDF4.Dataset(self.path, "w", format="NETCDF4")
+        except OSError as exc:
+            raise InputError("--out", str(path), f"a writable file, not in use ({exc})") from None
+        self.S, self.nct, self.dt, self.t0 = len(stations), n_contacts, sample_dt, t0
+        self.tau = tau or (lambda t: speed * t)
+        self.n = self.n_events = 0
+        self._tail = (np.empty((2 * self.S, 0)), np.empty(0))  # last 2 velocities, times
+        self._define(stations)
+        self.n_checkpoints = 0
+        if restart_layout is not None:
+            define_restart(self.nc, restart_layout)
+        put_attrs(self.nc, {**(attrs or {}), "status": "partial", "status_message":
+                            f"running (pid {os.getpid()}) or killed: the data end at the last "
+                            "completed chunk, the restart state at restart_time[-1]"})  # fmt: skip
+        self.nc.sync()
+
+    def _define(self, stations) -> None:
+        """Dimensions and variables, with the in-memory Dataset's names and units."""
+        nc = self.nc
+        nc.createDimension("time", None)
+        nc.createDimension("station", self.S)
+        nc.createDimension("contact", self.nct)
+        nc.createDimension("event", None)
         for name, typ, unit in (("event_time", "f8", "s"), ("event_contact", "i8", None),
                                 ("event_kind", "i1", None)):  # fmt: skip
-            ev = self.nc.createVariable(name, typ, ("event",), chunksizes=(EVENT_CHUNK,))
+            ev = nc.createVariable(name, typ, ("event",), chunksizes=(EVENT_CHUNK,))
             if unit:
                 ev.units = unit
-        t = self.nc.createVariable("time", "f8", ("time",), chunksizes=(TIME_CHUNK,))
-        t.units = "s"
-        tau = self.nc.createVariable("tau", "f8", ("time",), chunksizes=(TIME_CHUNK,))
-        tau.units = "rad"
-        st = self.nc.createVariable("station", "f8", ("station",))
-        st.units = "m"
+        nc["event_kind"].long_name = "+1 onset"
+        for name, long in (("time", "time"), ("tau", "spin angle")):
+            v = nc.createVariable(name, "f8", ("time",), chunksizes=(TIME_CHUNK,))
+            v.setncatts({"units": "s" if name == "time" else "rad", "long_name": long})
+        st = nc.createVariable("station", "f8", ("station",))
+        st.setncatts({"units": "m", "long_name": "axial position"})
         st[:] = stations
-        self.nc.createVariable("contact", "i8", ("contact",))[:] = np.arange(n_contacts)
+        nc.createVariable("contact", "i8", ("contact",))[:] = np.arange(self.nct)
+        nc["contact"].long_name = "contact index"
         for name, unit in STATION_VARS:
-            self.nc.createVariable(
-                name, "f8", ("station", "time"), chunksizes=(1, TIME_CHUNK)
-            ).units = unit
-        for name, unit in CONTACT_VARS:
-            v = self.nc.createVariable(name, "f8", ("contact", "time"),
-                                       chunksizes=(1, TIME_CHUNK) if n_contacts else None)  # fmt: skip
+            v = nc.createVariable(name, "f8", ("station", "time"), chunksizes=(1, TIME_CHUNK))
             v.units = unit
+        for name, _, axis in ACCEL_VARS:
+            v = nc.createVariable(name, "f8", ("station", "time"), chunksizes=(1, TIME_CHUNK))
+            v.setncatts(accel_attrs(axis))
+        chunks = (1, TIME_CHUNK) if self.nct else None
+        for name, unit in CONTACT_VARS:
+            v = nc.createVariable(name, "f8", ("contact", "time"), chunksizes=chunks)
+            v.units = unit
+        nc.createVariable("in_contact", "i1", ("contact", "time"), chunksizes=chunks)
         self._bound_caches()
 
     def _bound_caches(self) -> None:
@@ -157,15 +240,34 @@ class NetcdfSink:
         if k == 0:
             return
         a, b = self.n, self.n + k
-        times = np.arange(a, b) * self.dt
-        self.nc["time"][a:b] = times
-        self.nc["tau"][a:b] = self.speed * times
+        rel = np.arange(a, b) * self.dt
+        times = rel + self.t0
+        nc = self.nc
+        nc["time"][a:b] = times
+        nc["tau"][a:b] = self.tau(rel)
         for i, (name, _) in enumerate(STATION_VARS):
-            self.nc[name][:, a:b] = block[[4 * s + i for s in range(self.S)]]
-        for i, (name, _) in enumerate(CONTACT_VARS):
-            if self.nct:
-                self.nc[name][:, a:b] = block[[4 * self.S + 8 * c + i for c in range(self.nct)]]
+            nc[name][:, a:b] = block[i : 4 * self.S : 4]
+        self._accelerations(block, times)
+        if self.nct:
+            for i, (name, _) in enumerate(CONTACT_VARS):
+                nc[name][:, a:b] = block[4 * self.S + i :: 8]
+            nc["in_contact"][:, a:b] = (block[4 * self.S + 6 :: 8] > 0).astype(np.int8)
         self.n = b
+
+    def _accelerations(self, block: np.ndarray, times: np.ndarray) -> None:
+        """``v_ddot, w_ddot`` of the new samples, and the central value of the sample before
+        them (written one-sided with the previous chunk)."""
+        vel = np.concatenate([self._tail[0], block[np.r_[2 : 4 * self.S : 4, 3 : 4 * self.S : 4]]],
+                             axis=1)  # fmt: skip
+        t = np.concatenate([self._tail[1], times])
+        acc = central_difference(vel, t)
+        skip = max(self._tail[1].size - 1, 0)
+        a = self.n - (self._tail[1].size - skip)
+        for j, (name, _, _) in enumerate(ACCEL_VARS):
+            self.nc[name][:, a : a + acc.shape[1] - skip] = acc[
+                j * self.S : (j + 1) * self.S, skip:
+            ]
+        self._tail = (vel[:, -2:], t[-2:])
 
     def write_events(self, events: np.ndarray) -> None:
         """Append contact events (``(n, 2)``: time (s), ``+/-(contact index + 1)``)."""
@@ -173,21 +275,144 @@ class NetcdfSink:
         if k == 0:
             return
         a, b = self.n_events, self.n_events + k
-        self.nc["event_time"][a:b] = events[:, 0]
+        self.nc["event_time"][a:b] = events[:, 0] + self.t0
         self.nc["event_contact"][a:b] = np.abs(events[:, 1]).astype(np.int64) - 1
         self.nc["event_kind"][a:b] = np.sign(events[:, 1]).astype(np.int8)
         self.n_events = b
 
-    def close(self, attrs: dict, ok: bool = True) -> None:
-        """Write the attributes, close and rename onto the target (or discard)."""
+    def checkpoint(self, time_s: float | None = None, vector: np.ndarray | None = None) -> None:
+        """Append the restart state at the end of the chunk just written (time (s) and
+        :func:`rubrotor.engine.restart.flatten` vector), if any, and flush the file to disk:
+        from here on the file holds this chunk whatever happens to the process."""
+        if vector is not None:
+            k = self.n_checkpoints
+            self.nc["restart_time"][k] = time_s
+            self.nc["restart_vector"][k, :] = vector
+            self.n_checkpoints = k + 1
+        self.nc.sync()
+
+    def close(self, attrs: dict) -> None:
+        """Write the final attributes (``status`` among them) and close the file."""
         try:
-            if ok:
-                for key, val in attrs.items():
-                    self.nc.setncattr(key, val if isinstance(val, str) else json.dumps(val))
+            put_attrs(self.nc, attrs)
         finally:
             self.nc.close()
-        if ok:
-            usual_mode(self.tmp)  # mkstemp made it 0600
-            os.replace(self.tmp, self.path)
-        elif os.path.exists(self.tmp):
-            os.remove(self.tmp)
+
+
+def define_restart(nc, lay: dict) -> None:
+    """The restart variables of an open netCDF file (see the module docstring)."""
+    size = lay["x"] + sum(lay["stators"]) + lay["F"] + lay["Fp"] + lay["dprev"] + 2
+    nc.createDimension("checkpoint", None)
+    nc.createDimension("restart_component", size)
+    t = nc.createVariable("restart_time", "f8", ("checkpoint",), chunksizes=(256,))
+    t.setncatts({"units": "s", "long_name": "time of the restart state"})
+    v = nc.createVariable("restart_vector", "f8", ("checkpoint", "restart_component"),
+                          chunksizes=(1, size))  # fmt: skip
+    v.setncatts(restart_vector_attrs(lay))
+
+
+def restart_vector_attrs(lay: dict) -> dict:
+    """Attributes of ``restart_vector`` (in-memory and streamed files alike)."""
+    return {
+        "long_name": "restart state: x = [q, q'], stator [u, u'], F, F_prev, gaps, h_prev, level",
+        "units": "SI (m, rad, m/s, rad/s, N, s)",
+        "layout": json.dumps(lay),
+    }
+
+
+def _slices(n: int, step: int):
+    for a in range(0, n, step):
+        yield slice(a, min(a + step, n))
+
+
+def file_summary(path, block: int = 1 << 16) -> dict:
+    """Peak displacement, peak normal force and contact fraction of a results file, read
+    ``block`` samples at a time (memory bounded whatever the file's length).
+
+    Parameters
+    ----------
+    path : str or Path
+        A results file of the general engine (streamed or not).
+    block : int
+        Samples read at once.
+
+    Returns
+    -------
+    dict
+        ``samples``, ``duration_s`` (last time, s), ``max_displacement_m`` (largest
+        ``hypot(v, w)`` over stations, m), ``max_normal_force_N`` (N), ``contact_fraction``
+        (share of contact-time samples with a positive normal force) and the file's attributes
+        ``attrs``.
+    """
+    import netCDF4
+
+    with netCDF4.Dataset(path, "r") as nc:
+        for name in ("v", "w", "normal_force"):  # each chunk is read once: no cache needed
+            nc[name].set_var_chunk_cache(size=CACHE_BYTES, nelems=127, preemption=1.0)
+        n = nc.dimensions["time"].size
+        p_max, f_max, touching = -np.inf, -np.inf, 0
+        nct = nc.dimensions["contact"].size
+        for sl in _slices(n, block):
+            p_max = max(p_max, float(np.hypot(nc["v"][:, sl], nc["w"][:, sl]).max()))
+            if nct:
+                fn = np.asarray(nc["normal_force"][:, sl])
+                f_max = max(f_max, float(fn.max()))
+                touching += int(np.count_nonzero(fn > 0))
+        return {
+            "samples": n,
+            "duration_s": float(nc["time"][n - 1]) if n else 0.0,
+            "max_displacement_m": p_max,
+            "max_normal_force_N": f_max if nct else None,
+            "contact_fraction": touching / (n * nct) if nct and n else None,
+            "attrs": {k: nc.getncattr(k) for k in nc.ncattrs()},
+        }
+
+
+def tail_dataset(path, samples: int):
+    """The last ``samples`` samples of a results file as an in-memory Dataset (all its
+    variables and attributes; the events inside the window), for figures of long runs. Only
+    the window is read (not even the whole ``time`` coordinate).
+
+    Parameters
+    ----------
+    path : str or Path
+        A results file.
+    samples : int
+        Samples kept from the end.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    import netCDF4
+    import xarray as xr
+
+    with netCDF4.Dataset(path, "r") as nc:
+        nc.set_auto_mask(False)
+        n = nc.dimensions["time"].size
+        win = slice(max(n - samples, 0), n)
+        t_first = float(nc["time"][win.start]) if n else 0.0
+        keep = None
+        if "event_time" in nc.variables:
+            ev = _event_window(nc["event_time"], t_first)
+            keep = slice(ev, nc.dimensions["event"].size)
+        data = {}
+        for name, var in nc.variables.items():
+            dims = var.dimensions
+            key = tuple(win if d == "time" else keep if d == "event" else slice(None) for d in dims)
+            data[name] = xr.Variable(dims, var[key] if dims else var[...],
+                                     {a: var.getncattr(a) for a in var.ncattrs()})  # fmt: skip
+        attrs = {a: nc.getncattr(a) for a in nc.ncattrs()}
+    coords = {k: data.pop(k) for k in ("time", "tau", "station", "contact") if k in data}
+    return xr.Dataset(data, coords, attrs)
+
+
+def _event_window(var, t_first: float, block: int = 1 << 16) -> int:
+    """Index of the first event at or after ``t_first`` (s), scanning ``block`` at a time
+    (events are stored in time order)."""
+    n = var.shape[0]
+    for sl in _slices(n, block):
+        hit = np.flatnonzero(np.asarray(var[sl]) >= t_first)
+        if hit.size:
+            return sl.start + int(hit[0])
+    return n

@@ -78,7 +78,7 @@ def critical_speeds(scenario_or_shaft: Scenario | Shaft) -> list[CriticalSpeed]:
     return _critical_speeds(shaft)
 
 
-def linear_system(obj) -> LinearSystem:
+def linear_system(obj, stations=()) -> LinearSystem:
     """The :class:`~rubrotor.rotors.linear.LinearSystem` of a scenario, rotor, shaft or system.
 
     Parameters
@@ -86,6 +86,8 @@ def linear_system(obj) -> LinearSystem:
     obj : Scenario, Rotor, Shaft, LinearSystem or path-like
         A general rotor is meshed with a node at each of the scenario's stations (unbalance,
         load, contact and probe positions); a continuous shaft keeps its exact modal model.
+    stations : sequence of float
+        Further positions (m) a general rotor gets nodes at (e.g. the probes of a verb).
 
     Returns
     -------
@@ -98,11 +100,11 @@ def linear_system(obj) -> LinearSystem:
     if isinstance(obj, LinearSystem):
         return obj
     if isinstance(obj, Scenario):
-        if obj.rotor is not None:
-            return obj.rotor.linear_system(obj.stations)
-        return continuous_system(obj.shaft)
+        if obj.model.fe_rotor:
+            return obj.rotor.linear_system(tuple(obj.stations) + tuple(stations))
+        return continuous_system(obj.shaft, obj.damping)
     if isinstance(obj, Rotor):
-        return obj.linear_system(())
+        return obj.linear_system(tuple(stations))
     if isinstance(obj, Shaft):
         return continuous_system(obj)
     raise InputError(

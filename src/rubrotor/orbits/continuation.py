@@ -37,7 +37,6 @@ import scipy.linalg
 import scipy.optimize
 
 from rubrotor.errors import InputError
-from rubrotor.orbits.general_map import is_general
 from rubrotor.orbits.shooting import (
     STEPS_PER_REVOLUTION,
     _Map,
@@ -226,7 +225,7 @@ class _Problem:
                 bases[steps] = (prepared_map(sc, self.k, steps), sc.speed / self.sp)
             if steps in bases:
                 cache[p, steps] = bases[steps][0].at_speed(bases[steps][1] * p)
-            elif is_general(self.scenario):  # coordinates aligned with the first key value's
+            elif self.scenario.model.fe_rotor:  # coordinates aligned with the first key value's
                 first = self.__dict__.setdefault("_first", {})
                 if steps not in first:
                     first[steps] = prepared_map(self.at(self.sp), self.k, steps)
@@ -581,7 +580,7 @@ def _point(prob, z, jac, gz=None, t=None) -> BranchPoint:
     if prob.richardson:
         z, radius = _extrapolate(prob, z, jac, radius, gz, t)
         x, p = prob.unscale(z)
-    state = x.copy() if is_general(prob.scenario) else vector_state(x)
+    state = x.copy() if prob.scenario.model.fe_rotor else vector_state(x)
     return BranchPoint(float(p), state, radius, mu, bool(abs(mu[0]) < 1))
 
 
@@ -723,7 +722,7 @@ def _route(scenario, k, orbit, method) -> str:
         raise InputError("method", method, " | ".join(METHODS))
     if method == "shooting":
         return method
-    why = "a general rotor (not axisymmetric in general)" if is_general(scenario) else None
+    why = "a general rotor (not axisymmetric in general)" if scenario.model.fe_rotor else None
     why = why or unsupported(scenario, k)
     if why is None and not is_circular(scenario, state_vector(orbit.state)):
         why = "a start orbit that is not a circle (partial rub)"
@@ -737,7 +736,7 @@ def _route(scenario, k, orbit, method) -> str:
 def _problem(scenario, key, k, steps, x0, p0, kind=_Problem) -> _Problem:
     """The scaled problem: states by their largest displacement (m) and velocity (a general
     rotor's by its largest modal amplitude and force), key by p0."""
-    if is_general(scenario):
+    if scenario.model.fe_rotor:
         prob = kind(scenario, key, k, steps, np.ones(x0.size), abs(p0))
         prob.sx = prob.map_at(p0)._scales(x0)
         prob.tol, prob.h_rel = GENERAL_TOL, 1e-4
@@ -892,7 +891,7 @@ def _onset(prob, a: BranchPoint, b: BranchPoint) -> float | None:
     turns both points lie on the free side of the onset).
     """
     contact = prob.scenario.contact
-    if contact is None or prob.k != 1 or is_general(prob.scenario):
+    if contact is None or prob.k != 1 or prob.scenario.model.fe_rotor:
         return None
     g = contact.clearance
     if (a.max_radius_m > g) == (b.max_radius_m > g):

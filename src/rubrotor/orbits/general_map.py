@@ -43,11 +43,6 @@ FD_STEP = 6e-6
 """Relative increment of the central differences (balances truncation and rounding)."""
 
 
-def is_general(scenario) -> bool:
-    """Whether a scenario's rotor is a general one (``[[section]]`` tables, the general engine)."""
-    return scenario.shaft is None and scenario.engine is not None
-
-
 class GeneralMap:
     """The ``k``-revolution map of a general rotor at constant speed, prepared once.
 
@@ -71,7 +66,7 @@ class GeneralMap:
         from rubrotor.engine.general import engine_problem
 
         eng = scenario.engine
-        if eng is None or scenario.shaft is not None:
+        if not scenario.model.fe_rotor:
             raise InputError("rotor", "a [shaft] rotor", "a general rotor for GeneralMap")
         if eng.speed_end is not None or eng.speed_table:
             raise InputError(

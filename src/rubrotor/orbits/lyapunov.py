@@ -166,9 +166,7 @@ def lyapunov_exponents(
     ):
         if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
             raise InputError(name, v, f"an integer >= {lo}")
-    from rubrotor.orbits.general_map import is_general
-
-    if is_general(scenario):  # the general engine's map, differences along the vectors
+    if scenario.model.fe_rotor:  # the general engine's map, differences along the vectors
         return lyapunov_general(scenario, count=count, revolutions=revolutions,
                                 transient_revolutions=transient_revolutions,
                                 steps=steps_per_revolution, start=start, seed=seed)  # fmt: skip

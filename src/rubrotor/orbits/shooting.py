@@ -281,9 +281,8 @@ class PeriodicOrbit:
         """The orbit over its ``k`` revolutions as a results Dataset (like ``simulate``)."""
         from rubrotor.engine.result import to_dataset
         from rubrotor.engine.simulate import scenario_parameters
-        from rubrotor.orbits.general_map import is_general
 
-        if is_general(self.scenario):
+        if self.scenario.model.fe_rotor:
             from rubrotor.engine.driver import result_dataset
 
             mp = prepared_map(self.scenario, self.k, self.steps)
@@ -297,9 +296,7 @@ class PeriodicOrbit:
 
     def max_radius(self, samples_per_revolution: int = 256) -> float:
         """Largest shaft-centre distance (m) at the contact station (or midspan) on the orbit."""
-        from rubrotor.orbits.general_map import is_general
-
-        if is_general(self.scenario):
+        if self.scenario.model.fe_rotor:
             return prepared_map(self.scenario, self.k, self.steps).run(self.state)[2]
         res = simulate_scenario(
             self.scenario,
@@ -320,9 +317,9 @@ def prepared_map(scenario, k: int, steps: int, reference=None):
     """The prepared ``k``-revolution map of a scenario: ``_Map`` for the continuous rotor,
     ``rubrotor.orbits.general_map.GeneralMap`` for a general one (same ``run`` interface; its
     modes aligned with those of the map ``reference`` when given)."""
-    from rubrotor.orbits.general_map import GeneralMap, is_general
+    from rubrotor.orbits.general_map import GeneralMap
 
-    if is_general(scenario):
+    if scenario.model.fe_rotor:
         return GeneralMap(scenario, k, steps, reference=reference)
     return _Map(scenario, k, steps)
 
@@ -376,11 +373,10 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
     -------
     PeriodicOrbit
     """
-    from rubrotor.orbits.general_map import is_general
     from rubrotor.scenario.load import as_scenario
 
     scenario = as_scenario(scenario)
-    general = is_general(scenario)
+    general = scenario.model.fe_rotor
     if not general:
         scenario.require_seed_engine("periodic orbits (shooting, continuation)")
     if isinstance(k, bool) or not isinstance(k, int) or k < 1:

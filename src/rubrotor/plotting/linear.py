@@ -9,9 +9,17 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from rubrotor.linear.analysis import CampbellData, DampedMode, LinearCritical, UnbalanceResponse
+from rubrotor.linear.shapes import ModeShapes, node_whirl
+from rubrotor.linear.ucs import UCSMap
 from rubrotor.rotors.linear import LinearSystem
 
-__all__ = ["campbell_stability_figure", "unbalance_response_figure", "mode_shape_figure"]
+__all__ = [
+    "campbell_stability_figure",
+    "unbalance_response_figure",
+    "mode_shape_figure",
+    "ucs_figure",
+    "mode_shapes_3d_figure",
+]
 
 TWO_PI = 2 * np.pi
 
@@ -78,7 +86,9 @@ def campbell_stability_figure(
     return fig
 
 
-def unbalance_response_figure(resp: UnbalanceResponse, probe: int = 0) -> Figure:
+def unbalance_response_figure(
+    resp: UnbalanceResponse, probe: int = 0, clearance: float | None = None
+) -> Figure:
     """Bode (amplitude and phase of ``v`` and ``w`` against speed) and polar plot at one probe.
 
     Parameters
@@ -87,6 +97,10 @@ def unbalance_response_figure(resp: UnbalanceResponse, probe: int = 0) -> Figure
         From :func:`rubrotor.linear.analysis.unbalance_response`.
     probe : int
         Index of the probe drawn.
+    clearance : float, optional
+        Radial clearance (m) of a contact at the probe, drawn as a red line on the amplitude
+        plot and a red circle on the polar plot: where the major semi-axis crosses it, the
+        linear response reaches the stator.
 
     Returns
     -------
@@ -102,6 +116,13 @@ def unbalance_response_figure(resp: UnbalanceResponse, probe: int = 0) -> Figure
         z = resp.complex_response[:, probe, c]
         ax_pol.plot(np.angle(z), np.abs(z) * 1e6, label=name)
     ax_a.semilogy(resp.speeds, resp.major[:, probe] * 1e6, "k--", lw=1, label="major semi-axis")
+    if clearance is not None:
+        ax_a.axhline(clearance * 1e6, color="r", lw=1.5, label=f"clearance {clearance * 1e6:g} µm")
+        th = np.linspace(0, TWO_PI, 200)
+        ax_pol.plot(th, np.full_like(th, clearance * 1e6), "r", lw=1.5, label="clearance")
+        touch = resp.major[:, probe] >= clearance
+        if touch.any():
+            ax_a.axvspan(resp.speeds[touch][0], resp.speeds[touch][-1], color="r", alpha=0.08)
     ax_a.set(ylabel="amplitude (µm)", title=f"unbalance response at x = {resp.probes[probe]:g} m")
     ax_p.set(xlabel="spin speed (rad/s)", ylabel="phase (deg)")
     ax_pol.set_title("polar plot (radius in µm)", fontsize=10)
@@ -148,4 +169,91 @@ def mode_shape_figure(system: LinearSystem, mode: DampedMode, phases: int = 8) -
         f"mode {mode.index}: {mode.frequency_hz:.2f} Hz, zeta {mode.damping_ratio:.3g}, {mode.whirl}"
     )
     ax_o.set(xlabel="v", ylabel="w", aspect="equal", title="orbits at nodes (dot: t = 0)")
+    return fig
+
+
+def ucs_figure(data: UCSMap, title: str = "undamped critical speed map") -> Figure:
+    """Critical speeds against support stiffness (log-log), with the bearings' ``kyy`` and
+    ``kzz`` against spin speed over them; a crossing (gold diamond) is a critical speed on that
+    bearing.
+
+    Parameters
+    ----------
+    data : UCSMap
+        From :func:`rubrotor.linear.ucs.ucs_map`.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = Figure(figsize=(9, 6), layout="constrained")
+    ax = fig.subplots()
+    for j in range(data.critical_speeds.shape[1]):
+        ax.loglog(data.stiffness, data.critical_speeds[:, j], "k", lw=1.5)
+        ax.annotate(f"mode {j + 1}", (data.stiffness[0], data.critical_speeds[0, j]),
+                    textcoords="offset points", xytext=(4, 4), fontsize=8)  # fmt: skip
+    top = float(data.critical_speeds.max()) * 1.5
+    low = float(data.critical_speeds.min()) / 1.5
+    for i, b in enumerate(data.bearings):
+        speeds = b.speeds if b.speeds.size > 1 else np.array([low, top])
+        ky = b.kyy if b.speeds.size > 1 else np.repeat(b.kyy, 2)
+        kz = b.kzz if b.speeds.size > 1 else np.repeat(b.kzz, 2)
+        ax.loglog(ky, np.maximum(speeds, low), f"C{i}-", marker="o", ms=3, label=f"{b.name} kyy")
+        ax.loglog(kz, np.maximum(speeds, low), f"C{i}--", marker="s", ms=3, label=f"{b.name} kzz")
+    cross = data.crossings()
+    if cross:
+        ax.plot([c["stiffness_N_m"] for c in cross], [c["speed_rad_s"] for c in cross], "D",
+                mfc="gold", mec="k", ms=6, label="critical speed on a bearing")  # fmt: skip
+    ax.set(xlabel="support stiffness (N/m)", ylabel="critical speed (rad/s)", title=title,
+           xlim=(data.stiffness[0], data.stiffness[-1]), ylim=(low, top))  # fmt: skip
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, loc="upper left")
+    return fig
+
+
+def mode_shapes_3d_figure(shapes: ModeShapes, columns: int = 2, stations: int = 25) -> Figure:
+    """Each mode's whirl orbits along the rotor in 3-D: red forward, blue backward stations.
+
+    Parameters
+    ----------
+    shapes : ModeShapes
+        From :func:`rubrotor.linear.shapes.mode_shapes`.
+    columns : int
+        Subplots per row.
+    stations : int
+        Orbits drawn (evenly chosen stations; the counts in the titles are over all).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One 3-D axes per mode: axial position, ``z`` and ``y`` deflection (normalised); the
+        orbit at the chosen stations, a dot at ``t = 0`` and the shape at ``t = 0`` in black.
+    """
+    n = len(shapes.modes.modes)
+    rows = (n + columns - 1) // columns
+    fig = Figure(figsize=(6 * columns, 4.6 * rows), layout="constrained")
+    th = np.linspace(0, TWO_PI, 60)
+    colors = {"forward": "tab:red", "backward": "tab:blue", "none": "0.6"}
+    for k, m in enumerate(shapes.modes.modes):
+        ax = fig.add_subplot(rows, columns, k + 1, projection="3d")
+        v, w = shapes.v[k], shapes.w[k]
+        direction = node_whirl(v, w)
+        every = np.unique(np.linspace(0, shapes.x.size - 1, min(shapes.x.size, stations)).round())
+        for i in every.astype(int):
+            x, e = shapes.x[i], np.exp(1j * th)
+            ax.plot(np.full(th.size, x), np.real(w[i] * e), np.real(v[i] * e),
+                    color=colors[direction[i]], lw=0.9)  # fmt: skip
+        ax.plot(shapes.x, w.real, v.real, "k-", lw=1.2)
+        ax.plot(shapes.x, w.real, v.real, "k.", ms=3)
+        ax.plot(shapes.x, 0 * shapes.x, 0 * shapes.x, color="0.5", lw=0.8, ls=":")
+        counts = {d: int(np.sum(direction == d)) for d in ("forward", "backward")}
+        ax.set_title(
+            f"mode {m.index}: {m.frequency_hz:.2f} Hz, log dec {m.log_dec:.3g}, {m.whirl}\n"
+            f"stations forward {counts['forward']} (red), backward {counts['backward']} (blue)",
+            fontsize=9,
+        )
+        ax.set(xlabel="x (m)", ylabel="w", zlabel="v")
+        ax.tick_params(labelsize=7)
     return fig

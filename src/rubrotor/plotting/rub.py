@@ -27,7 +27,7 @@ def _orbit(ax, ds) -> None:
     y, z, g = _relative(ds, 0)
     n = y.size
     tail = slice(int(0.75 * n), n)
-    ax.plot(z * UM, y * UM, color="0.75", lw=0.5, label="whole run")
+    ax.plot(z * UM, y * UM, color="0.75", lw=0.5, label="whole record")
     ax.plot(z[tail] * UM, y[tail] * UM, color="C0", lw=0.8, label="last quarter")
     phi = np.linspace(0, 2 * math.pi, 361)
     ax.plot(g * UM * np.cos(phi), g * UM * np.sin(phi), "k--", lw=1, label="clearance")

@@ -228,7 +228,7 @@ def assemble_seed(shaft: Shaft, speed: float, damping=None) -> SeedModalSystem:
     -------
     SeedModalSystem
     """
-    from rubrotor.engine.shaft_modal import damping_matrix
+    from rubrotor.rotors.shaft import damping_matrix
 
     _check(shaft)
     nm = shaft.modes

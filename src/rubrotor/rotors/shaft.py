@@ -28,6 +28,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.linalg
 
 from rubrotor.errors import InputError
 
@@ -494,3 +495,23 @@ class Dimensionless:
     def unbalance_nd(self, me):
         """Dimensionless unbalance force amplitude ``m e Omega^2 L^2 / (E I)`` of ``m e`` (kg m)."""
         return me * self.speed**2 / self.force_scale
+
+
+def damping_matrix(M: np.ndarray, K: np.ndarray, zeta: float) -> np.ndarray:
+    """``C = M Phi diag(2 zeta omega) Phi^T M`` (N s/m) from the non-rotating modes of ``(K, M)``.
+
+    Parameters
+    ----------
+    M, K : ndarray
+        Mass (kg) and stiffness (N/m) matrices of one modal block.
+    zeta : float
+        Damping ratio of every mode of the block (1).
+
+    Returns
+    -------
+    ndarray
+    """
+    if zeta == 0.0:
+        return np.zeros_like(M)
+    w2, phi = scipy.linalg.eigh(K, M)
+    return M @ phi @ np.diag(2 * zeta * np.sqrt(w2)) @ phi.T @ M

@@ -34,8 +34,10 @@ Positions default to midspan and are stored resolved, in m. Keys that need the s
 General rotor: instead of ``[shaft]`` (never with it), the tables ``[materials.NAME]``,
 ``[[section]]``, ``[[disk]]``, ``[[bearing]]`` and ``[rotor]`` of
 :mod:`rubrotor.scenario.rotor` build :attr:`Scenario.rotor` (a :class:`rubrotor.rotors.fe.Rotor`).
-Then ``[speed]`` takes ``rad_per_s``, ``rpm`` or ``hz`` only (``critical_multiple`` and
-``dimensionless`` are defined for the uniform shaft), positions of ``[unbalance]``, ``[load]``
+Then ``[speed]`` takes ``rad_per_s``, ``rpm``, ``hz`` or ``critical_multiple`` (a multiple
+of the rotor's first forward critical speed,
+:func:`rubrotor.linear.critical.first_forward_critical_speed`; ``dimensionless`` is defined for
+the uniform shaft only), positions of ``[unbalance]``, ``[load]``
 and ``[contact]`` are required and lie in ``[0, L]``, ``_nd`` keys and ``[damping]`` are
 rejected, and verbs that need the continuous shaft (time simulation, sweeps, the convergence
 study) raise :class:`ScenarioError` on field ``"section"`` (:meth:`Scenario.require_shaft`).
@@ -65,6 +67,7 @@ from rubrotor.rotors.forces import (
 )
 from rubrotor.rotors.shaft import Dimensionless, Shaft
 from rubrotor.scenario.dynamics import Builders, EngineSpec, engine_spec_or_none, split_engine_keys
+from rubrotor.scenario.model import Model
 from rubrotor.scenario.rotor import build_rotor, normalise_rotor_tables, rotor_to_dict
 from rubrotor.scenario.schema import (
     ALTERNATIVES,
@@ -253,7 +256,9 @@ def _build_shaft(sec: dict) -> Shaft:
     return Shaft(**kwargs)
 
 
-def _resolve_speed(sec: dict, shaft: Shaft) -> tuple[float, tuple]:
+def _resolve_speed(sec: dict, shaft: Shaft | Rotor, stations: tuple = ()) -> tuple[float, tuple]:
+    """The spin speed (rad/s) of ``[speed]``; a general rotor's critical multiple is taken on
+    its mesh with nodes at ``stations`` (m), the mesh of :func:`rubrotor.linear_system`."""
     ((key, value),) = sec.items()
     name = f"speed.{key}"
     v = float(value)
@@ -263,6 +268,10 @@ def _resolve_speed(sec: dict, shaft: Shaft) -> tuple[float, tuple]:
         om = v * 2 * math.pi / 60
     elif key == "hz":
         om = v * 2 * math.pi
+    elif key == "critical_multiple" and isinstance(shaft, Rotor):
+        from rubrotor.linear.critical import rotor_first_forward_critical
+
+        om = v * rotor_first_forward_critical(shaft, stations) if v else 0.0
     elif key == "critical_multiple":
         om = v * first_forward_critical(shaft)
     else:
@@ -371,15 +380,33 @@ def _build_simulation(sec: dict, shaft: Shaft, speed: float) -> Integrator:
     return Integrator(**kwargs)
 
 
-def _build(spec: dict) -> dict:
-    """Build every object of a normalised spec; InputErrors become ScenarioErrors."""
+def _mapping_stations(mapping: Mapping, length: float) -> tuple[float, ...]:
+    """Positions (m, in ``[0, length]``) of every unbalance, load, contact and probe of a raw
+    scenario mapping (single tables or arrays): the stations a general rotor is meshed at."""
+    out = []
+    for section in ("unbalance", "load", "contact"):
+        body = mapping.get(section)
+        for item in [body] if isinstance(body, Mapping) else body or []:
+            if isinstance(item, Mapping):
+                out.append(item.get("position"))
+    sim = mapping.get("simulation")
+    if isinstance(sim, Mapping) and isinstance(sim.get("probes"), list):
+        out += sim["probes"]
+    ok = [float(x) for x in out if isinstance(x, int | float) and not isinstance(x, bool)]
+    return tuple(sorted({x for x in ok if 0 <= x <= length}))
+
+
+def _build(spec: dict, mapping: Mapping | None = None) -> dict:
+    """Build every object of a normalised spec; InputErrors become ScenarioErrors. ``mapping``
+    (the raw scenario) gives a general rotor's stations for ``speed.critical_multiple``."""
     rotor = build_rotor(spec) if "section" in spec else None
     if rotor is not None:
         _check_general(spec)
     try:
         shaft = _build_shaft(spec["shaft"]) if rotor is None else None
         span = shaft if rotor is None else rotor
-        speed, speed_spec = _resolve_speed(spec["speed"], span)
+        stations = () if rotor is None else _mapping_stations(mapping or spec, rotor.length)
+        speed, speed_spec = _resolve_speed(spec["speed"], span, stations)
         sec = spec.get("unbalance")
         unbalance = None if sec is None else _build_unbalance(sec, span, speed)
         sec = spec.get("load")
@@ -411,7 +438,7 @@ def _build(spec: dict) -> dict:
     )
 
 
-_GENERAL_SPEEDS = ("rad_per_s", "rpm", "hz")
+_GENERAL_SPEEDS = ("rad_per_s", "rpm", "hz", "critical_multiple")
 
 
 def _check_general(spec: dict) -> None:
@@ -421,8 +448,8 @@ def _check_general(spec: dict) -> None:
         raise _err(
             f"speed.{key}",
             value,
-            "speed.rad_per_s, speed.rpm or speed.hz for a general rotor (critical multiples "
-            "and the seed's dimensionless speed are defined for a uniform [shaft] only)",
+            "speed.rad_per_s, speed.rpm, speed.hz or speed.critical_multiple for a general "
+            "rotor (the seed's dimensionless speed is defined for a uniform [shaft] only)",
         )
     for section in ("unbalance", "load", "contact"):
         for k, v in spec.get(section, {}).items():
@@ -486,6 +513,9 @@ class Scenario:
         The general engine's contacts, stators, planes, gravity, speed profile and initial
         state (``rubrotor.scenario.dynamics``) when the scenario uses its keys or a general
         rotor; None for a scenario the seed's engine runs.
+    model : rubrotor.scenario.model.Model
+        What the scenario is (rotor kind, engine, formulation, general-engine features),
+        decided once when the scenario is built; every verb asks it.
     source : str
         TOML text the scenario was read from (provenance); not compared by ``==``.
     """
@@ -504,6 +534,10 @@ class Scenario:
     engine: EngineSpec | None = None
     source: str = field(default="", compare=False, repr=False)
     _spec: dict | None = field(default=None, compare=False, repr=False)
+    model: Model = field(init=False, compare=False, repr=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "model", Model.for_scenario(self))
 
     def with_changes(self, **dotted) -> Scenario:
         """A new validated scenario with some keys changed.
@@ -573,11 +607,45 @@ class Scenario:
 
     @property
     def stations(self) -> tuple[float, ...]:
-        """Axial positions (m) of the unbalance, load, contact and probes, in that order."""
+        """Axial positions (m) of the unbalances, loads, contacts and probes, in that order,
+        each once: every ``[[unbalance]]``, ``[[load]]`` and ``[[contact]]`` table counts (a
+        general rotor is meshed with a node at each, as the general engine meshes it)."""
         parts = (self.unbalance, self.load, self.contact)
         out = [p.position for p in parts if p is not None]
+        if self.engine is not None:
+            out += list(self.engine.positions)
         probes = self.simulation.probes if self.simulation is not None else ()
-        return tuple(float(x) for x in out + list(probes))
+        return tuple(dict.fromkeys(float(x) for x in out + list(probes)))
+
+    @property
+    def unbalances(self) -> tuple[Unbalance, ...]:
+        """Every unbalance plane (kg m, m, rad): the ``[[unbalance]]`` tables, or the single
+        ``[unbalance]``; empty when there is none."""
+        if self.engine is not None:
+            return tuple(self.engine.unbalances)
+        return () if self.unbalance is None else (self.unbalance,)
+
+    @property
+    def contacts(self) -> tuple[Contact, ...]:
+        """Every contact (SI, position in m): the ``[[contact]]`` tables, or the single
+        ``[contact]``; empty when there is none."""
+        if self.engine is not None:
+            return tuple(s.contact for s in self.engine.stations)
+        return () if self.contact is None else (self.contact,)
+
+    @property
+    def loads(self) -> tuple[RadialLoad, ...]:
+        """Every constant point load (N, m): the ``[[load]]`` tables, or the single ``[load]``."""
+        if self.engine is not None:
+            return tuple(self.engine.loads)
+        return () if self.load is None else (self.load,)
+
+    @property
+    def gravity(self) -> tuple[float, float] | None:
+        """``(g_y, g_z)`` (m/s^2) of the ``[gravity]`` table, or None when the scenario has none."""
+        if self.engine is None or self._spec is None or "gravity" not in self._spec:
+            return None
+        return tuple(float(g) for g in self.engine.gravity)
 
     def require_shaft(self, what: str) -> Shaft:
         """The uniform shaft, or a ScenarioError saying ``what`` needs one.
@@ -598,24 +666,17 @@ class Scenario:
         return self.shaft
 
     def require_seed_engine(self, what: str) -> Shaft:
-        """The uniform shaft of a scenario the seed's engine runs, or a ScenarioError saying
-        ``what`` needs one (a general rotor, or keys of the general engine such as
-        ``[[contact]]`` arrays, ``[gravity]`` or a speed profile).
+        """The uniform shaft of a scenario the seed shaft's engine runs, or a ScenarioError
+        naming the key that needs the general engine (:meth:`Model.require_shaft_engine
+        <rubrotor.scenario.model.Model.require_shaft_engine>`).
 
         Parameters
         ----------
         what : str
             The verb, e.g. ``"a parameter sweep"``.
         """
-        shaft = self.require_shaft(what)
-        if self.engine is not None:
-            raise ScenarioError(
-                "scenario",
-                "general-engine keys",
-                f"a scenario without them for {what} (it runs the seed's engine: one [contact], "
-                "[unbalance] and [load] table, no [gravity], constant speed)",
-            )
-        return shaft
+        self.model.require_shaft_engine(what)
+        return self.shaft
 
     def dimensionless(self) -> dict:
         """The seed's dimensionless groups of this scenario (seed eqs. 3-5, 10-16).
@@ -684,7 +745,7 @@ def scenario_from_dict(mapping: Mapping, source_text: str = "") -> Scenario:
     """
     base, extras = split_engine_keys(mapping)
     spec = _normalise(base)
-    parts = _build(spec)
+    parts = _build(spec, mapping)
     engine, full = engine_spec_or_none(mapping, extras, parts, Builders(_position, _build_contact))
     spec = full if extras else spec
     return Scenario(**parts, engine=engine, source=source_text, _spec=spec)

@@ -233,7 +233,8 @@ _SPEED = (
     _k("speed", "hz", "number", "Hz", "Spin speed in revolutions per second",
        _closed(1e-7, 2e6), zero=True),
     _k("speed", "critical_multiple", "number", "x first forward critical",
-       "Spin speed as a multiple of the first forward bending critical speed ([shaft] only)",
+       "Spin speed as a multiple of the first forward critical speed (general rotors: "
+       "the lowest forward crossing of damped frequency and spin)",
        _closed(1e-6, 1000.0), zero=True),
     _k("speed", "dimensionless", "number", "1",
        "The seed's speed parameter c = Omega L^2 sqrt(rho A/(E I)) ([shaft] only)",

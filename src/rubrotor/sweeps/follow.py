@@ -92,10 +92,13 @@ def run_follow_chunk(task: dict) -> dict:
     """
     from rubrotor.errors import RubrotorError
     from rubrotor.scenario.load import scenario_from_dict
-    from rubrotor.sweeps.sweep import PointScenarios, _empty_metrics, simulate_point
+    from rubrotor.sweeps.metrics import _empty_metrics
+    from rubrotor.sweeps.sweep import PointScenarios, simulate_point
 
     base = scenario_from_dict(task["scenario"])
     point_scenario = PointScenarios(base, [task["key"]])
+    if base.model.fe_rotor:
+        return _general_chunk(task, point_scenario)
     state = task["start"]
     metrics = []
     for value in task["values"]:
@@ -118,7 +121,36 @@ def run_follow_chunk(task: dict) -> dict:
     return {"chunk": task["chunk"], "metrics": metrics, "state": state}
 
 
-def _follow_template(key, values, directions, kept, n, attrs):
+def _general_chunk(task: dict, point_scenario) -> dict:
+    """:func:`run_follow_chunk` for a finite-element rotor: each point runs the general engine's
+    fixed-step map from the previous point's end vector (modal coordinates aligned with the map
+    at the lowest key value, and contact forces), the first from the steady no-contact response."""
+    from rubrotor.orbits.general_map import GeneralMap
+    from rubrotor.sweeps.general_point import window
+    from rubrotor.sweeps.metrics import _empty_metrics
+
+    steps = task["steps"]
+    reference = GeneralMap(point_scenario([task["reference"]]), 1, steps)
+    x, metrics = task["start"], []
+    kept = task["revolutions"] - task["transient"]
+    for value in task["values"]:
+        started = 0 if x is None else 1
+        one = GeneralMap(point_scenario([value]), 1, steps, reference=reference)
+        x = one.start() if x is None else x
+        try:
+            if task["transient"]:
+                x = one.repeat(task["transient"]).run(x)[0]
+            x, m = window(one.repeat(kept), x, task["samples"], task["lyapunov"])
+        except InputError:  # diverged: not classified, the next point starts afresh
+            x, m = None, _empty_metrics(kept)
+        m["started_from"] = started
+        m["final_state"] = np.full(task["n"], np.nan) if x is None else np.asarray(x, float)
+        m["final_phase"] = 0.0 if x is not None else np.nan  # whole revolutions
+        metrics.append(m)
+    return {"chunk": task["chunk"], "metrics": metrics, "state": x}
+
+
+def _follow_template(key, values, directions, kept, size, attrs):
     import xarray as xr
 
     from rubrotor.sweeps.sweep import _template
@@ -135,8 +167,11 @@ def _follow_template(key, values, directions, kept, n, attrs):
     )
     data["final_state"] = (
         ("direction", key, "state_component"),
-        np.full((len(directions), len(values), 4 * n), np.nan),
-        {"units": "SI (m, rad, m/s, rad/s)", "long_name": "final state Re q, Im q, Re q', Im q'"},
+        np.full((len(directions), len(values), size), np.nan),
+        {
+            "units": "SI (m, rad, m/s, rad/s; N)",
+            "long_name": "final state: Re q, Im q, Re q', Im q' (shaft); the map's vector (FE rotor)",
+        },
     )
     data["final_phase"] = (
         ("direction", key),
@@ -174,8 +209,11 @@ def _chains(ds, key, directions, chunk_size, definition, n) -> list[list[dict]]:
                 continue
             start = None
             if prev is not None and ds["status"].values[d, prev] == 1:
-                start = _state_from(
-                    ds["final_state"].values[d, prev], ds["final_phase"].values[d, prev]
+                vector = ds["final_state"].values[d, prev]
+                start = (
+                    np.array(vector, float)
+                    if definition.get("steps_per_revolution")
+                    else _state_from(vector, ds["final_phase"].values[d, prev])
                 )
             tasks.append(
                 {
@@ -189,6 +227,8 @@ def _chains(ds, key, directions, chunk_size, definition, n) -> list[list[dict]]:
                     "samples": definition["samples_per_revolution"],
                     "n": n,
                     "lyapunov": bool(definition.get("lyapunov", False)),
+                    "steps": definition.get("steps_per_revolution"),
+                    "reference": float(values[0]),
                 }
             )
             prev = None  # later tasks get their start from the task before them
@@ -247,6 +287,7 @@ def follow_sweep(
     chunk_size: int | None = None,
     progress: bool = False,
     lyapunov: bool = False,
+    steps_per_revolution: int | None = None,
 ):
     """State-carrying sweep of one scenario key, up, down or both (see the module docstring).
 
@@ -274,17 +315,20 @@ def follow_sweep(
         Print a progress line to stderr after every chunk.
     lyapunov : bool
         Estimate every point's largest Lyapunov exponent (as :func:`rubrotor.sweeps.sweep.sweep`).
+    steps_per_revolution : int, optional
+        A finite-element rotor's fixed steps per revolution (default 256; a multiple of
+        ``samples_per_revolution``). Its points run the general engine's map, the state carried
+        as the map's vector (modal coordinates aligned with the map at the lowest value, and the
+        contact forces), the first point of a chain from the steady no-contact response.
 
     Returns
     -------
     xarray.Dataset
         Dimensions ``direction``, the key, ``revolution``, ``peak`` and ``state_component``;
         the variables of :func:`rubrotor.sweeps.sweep.sweep` plus ``started_from``, ``final_state``,
-        ``final_phase``; attribute ``follow`` (the direction). A general rotor's sweep
-        (``rubrotor.orbits.general_map.follow_general``, in memory, 256 fixed steps per
-        revolution) holds the scalar metrics and regimes only.
+        ``final_phase``; attribute ``follow`` (the direction). A general rotor's
+        ``final_state`` holds its map's vectors.
     """
-    from rubrotor.orbits.general_map import is_general
     from rubrotor.sweeps.sweep import (
         _check_keys,
         _definition,
@@ -294,14 +338,8 @@ def follow_sweep(
     )
 
     scenario = as_scenario(scenario)
-    if is_general(scenario):
-        if store is not None:
-            raise InputError("store", store, "none for a general rotor (its sweep is held in "
-                             "memory and returned)")  # fmt: skip
-        t_rev, total = run_lengths(scenario, transient_revolutions, revolutions)
-        return follow_general(scenario, key, values, direction, t_rev, total - t_rev,
-                              samples_per_revolution, lyapunov=lyapunov)  # fmt: skip
-    scenario.require_seed_engine("a state-carrying sweep")
+    if not scenario.model.fe_rotor:
+        scenario.require_seed_engine("a state-carrying sweep")
     if direction not in DIRECTIONS:
         raise InputError("follow", direction, " | ".join(DIRECTIONS))
     directions = DIRECTIONS[direction]
@@ -315,26 +353,16 @@ def follow_sweep(
     if chunk_size is None:
         chunk_size = max(1, min(16, math.ceil(arr.size / 8)))
     chunk_size = min(_int_arg("chunk_size", chunk_size, 1), arr.size)
-    n = _follow_dimension(scenario, key, arr)
+    steps = _general_steps(scenario, steps_per_revolution, n_rev)
+    n = _follow_dimension(scenario, key, arr, steps)
     definition = _definition(scenario, [key], [arr], t_rev, revs, n_rev) | {"follow": direction}
+    if steps is not None:
+        definition["steps_per_revolution"] = steps
     if lyapunov:
         definition["lyapunov"] = True
-    attrs = {
-        "title": f"rubrotor follow sweep {scenario.name}".strip(),
-        "scenario_name": scenario.name,
-        "swept_keys": key,
-        "follow": direction,
-        "transient_revolutions": t_rev,
-        "revolutions": revs,
-        "samples_per_revolution": n_rev,
-        "regime_rules": "see rubrotor.sweeps.sweep and rubrotor.sweeps.regimes module docstrings",
-        "follow_rules": "see rubrotor.sweeps.follow module docstring",
-        "scenario": getattr(scenario, "source", ""),
-        "Conventions": "CF-1.8",
-    }
-    if scenario.contact is not None:
-        attrs["clearance_m"] = float(scenario.contact.clearance)
-    ds = _follow_template(key, arr, directions, revs - t_rev, n, attrs)
+    attrs = _follow_attrs(scenario, key, direction, t_rev, revs, n_rev)
+    size = n if steps is not None else 4 * n
+    ds = _follow_template(key, arr, directions, revs - t_rev, size, attrs)
     ds.attrs["sweep_definition"] = json.dumps(definition, sort_keys=True)
     if store is not None:
         for name in list(ds.data_vars):
@@ -355,11 +383,55 @@ def follow_sweep(
     return ds
 
 
-def _follow_dimension(scenario, key, values) -> int:
-    """Number of modal coordinates, the same at both ends of the range (else an InputError)."""
+def _follow_attrs(scenario, key, direction, t_rev, revs, n_rev) -> dict:
+    """The attributes of a follow sweep's Dataset (rules, lengths, the scenario text)."""
+    attrs = {
+        "title": f"rubrotor follow sweep {scenario.name}".strip(),
+        "scenario_name": scenario.name,
+        "rotor": scenario.model.rotor,
+        "swept_keys": key,
+        "follow": direction,
+        "transient_revolutions": t_rev,
+        "revolutions": revs,
+        "samples_per_revolution": n_rev,
+        "regime_rules": "see rubrotor.sweeps.sweep and rubrotor.sweeps.regimes module docstrings",
+        "follow_rules": "see rubrotor.sweeps.follow module docstring",
+        "scenario": getattr(scenario, "source", ""),
+        "Conventions": "CF-1.8",
+    }
+    if scenario.contact is not None:
+        attrs["clearance_m"] = float(scenario.contact.clearance)
+    return attrs
+
+
+def _general_steps(scenario, steps_per_revolution, samples_per_revolution) -> int | None:
+    """A finite-element rotor's steps per revolution, checked (None for the shaft's engine)."""
+    from rubrotor.sweeps.general_point import GENERAL_STEPS
+
+    if not scenario.model.fe_rotor:
+        if steps_per_revolution is not None:
+            raise InputError("steps_per_revolution", steps_per_revolution,
+                             "None for a [shaft] scenario (its engine is adaptive)")  # fmt: skip
+        return None
+    steps = GENERAL_STEPS if steps_per_revolution is None else steps_per_revolution
+    if not isinstance(steps, int | np.integer) or steps < 1 or steps % samples_per_revolution:
+        raise InputError("samples_per_revolution", samples_per_revolution,
+                         f"a divisor of the {steps} fixed steps per revolution")  # fmt: skip
+    return int(steps)
+
+
+def _follow_dimension(scenario, key, values, steps=None) -> int:
+    """Size of the carried state, the same at both ends of the range (else an InputError)."""
     from rubrotor.sweeps.sweep import _point_scenario
 
-    ends = [_n_coordinates(_point_scenario(scenario, [key], [v])) for v in (values[0], values[-1])]
+    if steps is not None:
+        from rubrotor.orbits.general_map import GeneralMap
+
+        def size(sc):
+            return GeneralMap(sc, 1, steps).dim
+    else:
+        size = _n_coordinates
+    ends = [size(_point_scenario(scenario, [key], [v])) for v in (values[0], values[-1])]
     if ends[0] != ends[1]:
         raise InputError(key, values.tolist(), "a key that keeps the modal coordinates (follow)")
     return ends[0]
@@ -391,43 +463,11 @@ def _run_chains(ds, store, chains, chunk_size, pool, progress) -> None:
         print(file=sys.stderr)
 
 
-SCALAR_METRICS = ("max_displacement", "contact_fraction", "impacts_per_revolution",
-                  "peak_normal_force", "amplitude_ripple", "regime", "period")  # fmt: skip
-"""Metrics of :func:`follow_general` (those of ``rubrotor.sweeps.sweep.window_metrics``)."""
-
-
-def _window(mp, x: np.ndarray, samples_per_revolution: int, lyapunov: bool):
-    """End vector and metrics of one run of ``mp`` (its ``k`` revolutions are all kept); with
-    ``lyapunov`` the largest exponent over the same revolutions (``rubrotor.orbits.lyapunov``)."""
-    from rubrotor.orbits.lyapunov import benettin
-    from rubrotor.sweeps.sweep import window_metrics
-
-    lam = np.nan
-    if lyapunov:
-        lam = benettin(mp.repeat(1), x, 1, 0, mp.k).exponents[0]
-    save = mp.steps // samples_per_revolution
-    px, out, events = mp._kernel(x, save)
-    nst = len(mp.plant.stations)
-    pw = out[0, 1:] + 1j * out[1, 1:]  # the first contact station, samples 1 .. k N
-    fn = out[4 * nst + 6, 1:]
-    mine = events[np.abs(events[:, 1]) == 1]
-    signed = mine[:, 0] * np.sign(mine[:, 1])
-    m = window_metrics(pw, fn, signed, mp.speed, 0, mp.k, samples_per_revolution, lam)
-    return px, m
-
-
 def follow_general(scenario, key: str, values, direction: str = "both",
                    transient_revolutions: int = 100, revolutions: int = 50,
                    samples_per_revolution: int = 32, steps: int = 256,
                    lyapunov: bool = False):  # fmt: skip
-    """State-carrying sweep of a general rotor in one key (its fixed-step engine, in memory).
-
-    Each value runs ``transient_revolutions`` then ``revolutions`` kept revolutions from the
-    previous value's final state (the first from the steady no-contact response), as
-    :func:`follow_sweep` does for the continuous rotor; the state is carried as modal
-    coordinates and contact forces aligned with the first value's modes
-    (``rubrotor.orbits.general_map.aligned``), so a changed key changes the model, not the motion. The kept window is
-    reduced by ``rubrotor.sweeps.sweep.window_metrics`` (same regimes as every sweep).
+    """State-carrying sweep of a general rotor in one key, in memory (:func:`follow_sweep`).
 
     Parameters
     ----------
@@ -446,70 +486,15 @@ def follow_general(scenario, key: str, values, direction: str = "both",
     steps : int
         Fixed steps per revolution.
     lyapunov : bool
-        Also the largest Lyapunov exponent of every value's kept revolutions
-        (``lyapunov_exponent``, 1/s; it decides "chaotic" in the regimes).
+        Also the largest Lyapunov exponent of every value's kept revolutions.
 
     Returns
     -------
     xarray.Dataset
-        Dimensions ``direction``, the key (ascending) and ``revolution``; :data:`SCALAR_METRICS`
-        (radius m, forces N), ``lyapunov_exponent``, ``poincare_v`` and ``poincare_w`` (m, the
-        contact station once per revolution), ``done`` and ``status`` (1 classified, 0 the run diverged: the next value starts from
-        the steady response again).
+        As :func:`follow_sweep`.
     """
-    import xarray as xr
-
-    from rubrotor.orbits.general_map import GeneralMap
-    from rubrotor.scenario.schema import key_unit
-
-    if direction not in DIRECTIONS:
-        raise InputError("follow", direction, " | ".join(DIRECTIONS))
-    if steps % samples_per_revolution:
-        raise InputError("samples_per_revolution", samples_per_revolution,
-                         f"a divisor of steps = {steps}")  # fmt: skip
-    vals = np.unique(np.asarray(values, float))
-    dirs = DIRECTIONS[direction]
-    data = {n: np.full((len(dirs), vals.size), np.nan)
-            for n in (*SCALAR_METRICS, "lyapunov_exponent")}  # fmt: skip
-    data["status"] = np.zeros((len(dirs), vals.size))
-    data["done"] = np.zeros((len(dirs), vals.size), np.int8)
-    pv, pw = (np.full((len(dirs), vals.size, revolutions), np.nan) for _ in range(2))
-    first = None
-    for i, d in enumerate(dirs):
-        x = None
-        for j in range(vals.size) if d == "up" else range(vals.size - 1, -1, -1):
-            sc = scenario.with_changes(**{key: float(vals[j])})
-            one = GeneralMap(sc, 1, steps, reference=first)  # one reduction per value
-            first = first or one
-            x = one.start() if x is None else x
-            try:
-                if transient_revolutions:
-                    x = one.repeat(transient_revolutions).run(x)[0]
-                x, m = _window(one.repeat(revolutions), x, samples_per_revolution, lyapunov)
-            except InputError:  # diverged: not classified, the next value starts afresh
-                x = None
-                continue
-            for n in (*SCALAR_METRICS, "lyapunov_exponent"):
-                data[n][i, j] = m[n]
-            data["status"][i, j] = 1
-            pv[i, j], pw[i, j] = m["poincare_v"], m["poincare_w"]
-            data["done"][i, j] = 1
-    units = {"max_displacement": "m", "peak_normal_force": "N", "impacts_per_revolution": "1/rev",
-             "lyapunov_exponent": "1/s"}  # fmt: skip
-    ds = xr.Dataset(
-        {n: (("direction", key), v, {"units": units.get(n, "1")}) for n, v in data.items()},
-        coords={"direction": list(dirs), key: (key, vals, {"units": key_unit(key)})},
-        attrs={
-            "follow": direction,
-            "rotor": "general",
-            "engine": "general",
-            "transient_revolutions": int(transient_revolutions),
-            "revolutions": int(transient_revolutions + revolutions),
-            "samples_per_revolution": int(samples_per_revolution),
-        },  # fmt: skip
-    )
-    for name, v in (("poincare_v", pv), ("poincare_w", pw)):  # once per revolution, phase 0
-        ds[name] = (("direction", key, "revolution"), v, {"units": "m"})
-    ds["regime"] = ds["regime"].fillna(-1).astype(int)
-    ds["period"] = ds["period"].fillna(0).astype(int)
-    return ds
+    return follow_sweep(scenario, key, values, direction=direction,
+                        transient_revolutions=transient_revolutions,
+                        revolutions=transient_revolutions + revolutions,
+                        samples_per_revolution=samples_per_revolution, workers=1,
+                        lyapunov=lyapunov, steps_per_revolution=steps)  # fmt: skip

@@ -1,0 +1,550 @@
+"""The API design checks that decide whether a machine rubs: API 617's close-clearance check of
+the unbalance response and API 684's Level I stability analysis.
+
+Close-clearance check (API 617, 9th edition, 6.8.2.7-6.8.2.11, as ROSS 3.1's
+``run_clearance_analysis`` applies it)
+----------------------------------------------------------------------------------------------
+1. The forward mode ``mode`` (counted over the forward modes: amplitude-weighted ratio of minor
+   to major orbit axis above 0.25) at the maximum continuous speed ``N_mc`` gives the unbalance
+   placement: the shape is projected on the major-axis direction of its largest orbit and cut
+   into lobes where that projection changes sign (stations below 2 % of the largest orbit do not
+   cut); each lobe's largest orbit is an antinode. Antinodes between the outermost bearings with
+   at least 10 % of the largest orbit take an unbalance; one outboard of them when it holds the
+   largest orbit or at least half of it.
+2. Each unbalance is ``U_a = 2 U_r`` with ``U_r = 6350 W / N_mc`` (g mm; ``W`` in kg, ``N_mc``
+   in rpm; ``W / 3.937`` from 25000 rpm), phase 0 or pi as its lobe's sign. ``W`` is the sum of
+   the journal static loads for a single antinode between the bearings, the load of the nearest
+   journal for several, and the mass outboard of the bearing for an outboard one (the nodes'
+   tributary mass of ``M``). Journal loads are the static bearing reactions under standard
+   gravity divided by ``g``.
+3. The mechanical test vibration limit is ``A_vl = min(25.4, 25.4 sqrt(12000 / N_mc))`` µm
+   peak to peak; ``A_max`` the largest peak-to-peak amplitude at the probes (along each probe's
+   direction, or the orbit's major axis) between the minimum allowable speed and ``N_mc``; the
+   scale factor ``S_cc = A_vl / A_max`` (API 617 caps it at 6).
+4. At every close clearance (a contact of the scenario) the scaled major-axis response
+   ``2 S_cc a_major`` (peak to peak) is compared with 75 % of the diametral running clearance
+   ``2 c``: the margin is ``0.75 (2 c) - max(scaled)`` over the speed range. Beyond the
+   standard, it also says where the scaled orbit reaches the clearance itself (``>= 2 c``):
+   there the rotor rubs, and the rub simulation at that speed tells how.
+
+Level I stability (API 684, API 617 6.8.5)
+-----------------------------------------
+The logarithmic decrement of the first forward mode (the lowest not whirling backward at every
+station, not critically damped: ``zeta <= 0.2``; followed along ``Q`` by continuity) at ``N_mc`` against a cross-coupled
+stiffness ``Q`` added at one station (``k_yz = Q``, ``k_zy = -Q``: a force ``i Q z`` on
+``z = v + i w``, which feeds forward whirl), ``Q0`` where it crosses zero, and the anticipated
+cross-coupling of the stages (Wachel's formula in SI)::
+
+    Q_A = B_c T / (D_c H_c) (rho_d / rho_s),   T = P / Omega  (stage torque, N m)
+
+with ``B_c = 3``, ``D_c`` the impeller diameter and ``H_c`` the smallest of diffuser and impeller
+discharge widths (m), ``rho_d / rho_s`` the discharge to suction density ratio; in US units this
+is ``63 HP B_c rho_d / (D_c H_c N rho_s)`` klbf/in. The screening passes when the log dec at
+``Q_A`` is at least 0.1 and ``Q0 / Q_A >= 2``; otherwise a Level II analysis is required.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rubrotor.errors import InputError
+from rubrotor.linear.analysis import damped_modes, unbalance_response
+from rubrotor.linear.shapes import mode_shapes
+from rubrotor.linear.static import STANDARD_GRAVITY, static_analysis
+from rubrotor.rotors.linear import LinearSystem, Support
+
+__all__ = [
+    "FORWARD_WHIRL_RATIO",
+    "residual_unbalance",
+    "vibration_limit",
+    "api617_unbalance",
+    "ClearanceCheck",
+    "clearance_check",
+    "anticipated_cross_coupling",
+    "Level1",
+    "level1",
+]
+
+FORWARD_WHIRL_RATIO = 0.25
+"""A mode is forward for API 617 when its amplitude-weighted minor/major ratio exceeds this."""
+CRITICALLY_DAMPED = 0.2
+"""Damping ratio above which API 617 calls a mode critically damped (amplification factor
+``1 / (2 zeta)`` below 2.5): not a critical speed, not used to place the unbalance."""
+RPM = 60 / (2 * math.pi)  # rpm per rad/s
+
+
+def residual_unbalance(weight_kg: float, speed_rad_s: float) -> float:
+    """API 617's maximum allowable residual unbalance ``U_r`` (kg m).
+
+    Parameters
+    ----------
+    weight_kg : float
+        Journal static load ``W`` (kg).
+    speed_rad_s : float
+        Maximum continuous speed (rad/s).
+
+    Returns
+    -------
+    float
+        ``6350 W / N`` g mm (``N`` in rpm, capped at 25000 rpm), in kg m.
+
+    Examples
+    --------
+    >>> round(residual_unbalance(100.0, 10000 / RPM) * 1e6, 6)  # g mm
+    63.5
+    """
+    rpm = speed_rad_s * RPM
+    return 6350.0 * weight_kg / min(rpm, 25000.0) * 1e-6
+
+
+def vibration_limit(speed_rad_s: float) -> float:
+    """API 617's mechanical test vibration limit (m peak to peak) at ``speed_rad_s`` (rad/s):
+    ``min(25.4, 25.4 sqrt(12000 / N))`` µm with ``N`` in rpm."""
+    return min(25.4, 25.4 * math.sqrt(12000.0 / (speed_rad_s * RPM))) * 1e-6
+
+
+def _major_angle(v: complex, w: complex) -> float:
+    """Direction (rad from +y towards +z) of the major axis of ``Re([v, w] e^{i t})``."""
+    t = -0.5 * np.angle(v * v + w * w)
+    return math.atan2(np.real(w * np.exp(1j * t)), np.real(v * np.exp(1j * t)))
+
+
+def _forward_mode(system: LinearSystem, speed: float, mode: int, count: int, max_zeta):
+    shapes = mode_shapes(system, speed, count)
+    ratio = shapes.minor.sum(axis=1) / shapes.major.sum(axis=1)
+    zeta = np.array([m.damping_ratio for m in shapes.modes.modes])
+    ok = (ratio > FORWARD_WHIRL_RATIO) & (zeta <= (np.inf if max_zeta is None else max_zeta))
+    forward = np.flatnonzero(ok)
+    if forward.size <= mode:
+        raise InputError("mode", mode, f"a forward mode index below {forward.size} "
+                         f"(forward modes among the {count} lowest at {speed:g} rad/s)")  # fmt: skip
+    return shapes, int(forward[mode])
+
+
+def _lobes(sign: np.ndarray, amplitude: np.ndarray) -> list[list[int]]:
+    """Runs of stations with one sign of the projected shape (small stations do not cut)."""
+    lobes, current, last = [], [], None
+    for i, (s, a) in enumerate(zip(sign, amplitude, strict=True)):
+        s = s if a >= 0.02 * amplitude.max() else None
+        if last is not None and s is not None and s != last:
+            lobes.append(current)
+            current = []
+        current.append(i)
+        last = s if s is not None else last
+    return lobes + [current]
+
+
+def _loads(system: LinearSystem) -> dict[float, float]:
+    """Static load (kg) of each support, by position (m): reaction under gravity / g."""
+    res = static_analysis(system, gravity=(-STANDARD_GRAVITY, 0.0), loads=())
+    return {b.position: math.hypot(b.force_y, b.force_z) / STANDARD_GRAVITY for b in res.bearings}
+
+
+def _outboard_mass(system: LinearSystem, x: np.ndarray, left: float, right: float, side: int):
+    """Tributary mass (kg) of the nodes outboard of the outermost bearing on ``side``."""
+    ones = np.zeros(len(system.M))
+    ones[0::4] = 1.0
+    tributary = (system.M @ ones)[0::4]
+    mask = x < left if side < 0 else x > right
+    return float(tributary[mask].sum())
+
+
+def api617_unbalance(
+    system: LinearSystem,
+    max_speed: float,
+    mode: int = 0,
+    modes: int = 12,
+    max_damping_ratio: float | None = CRITICALLY_DAMPED,
+):
+    """Unbalance planes of API 617 for a forward mode (see the module docstring).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        A nodal rotor (finite-element or ROSS import) with bearings.
+    max_speed : float
+        Maximum continuous speed ``N_mc`` (rad/s).
+    mode : int
+        Forward mode index (0: the first forward mode).
+    modes : int
+        Modes computed to find it.
+    max_damping_ratio : float or None
+        Modes damped beyond this ratio are not counted (API 617: amplification factor below
+        2.5, ``zeta > 0.2``, is critically damped, no critical speed); None counts every
+        forward mode (ROSS 3.1 does).
+
+    Returns
+    -------
+    planes : list of (float, float, float)
+        ``(position m, magnitude kg m, phase rad)``.
+    loads : list of float
+        The load ``W`` (kg) of each plane.
+    frequency : float
+        Damped natural frequency of the mode (rad/s).
+    """
+    shapes, k = _forward_mode(system, max_speed, mode, modes, max_damping_ratio)
+    v, w, x = shapes.v[k], shapes.w[k], shapes.x
+    amp = shapes.major[k]
+    ref = int(np.argmax(amp))
+    theta = _major_angle(v[ref], w[ref])
+    proj = v * math.cos(theta) + w * math.sin(theta)
+    sign = np.sign(np.real(proj * np.conj(proj[ref])))
+    sign[sign == 0] = 1.0
+    loads = _loads(system)
+    journals = sorted(loads)
+    left, right = journals[0], journals[-1]
+    picked = []
+    for lobe in _lobes(sign, amp):
+        i = lobe[int(np.argmax(amp[lobe]))]
+        inboard = left - 1e-12 <= x[i] <= right + 1e-12
+        if (inboard and amp[i] >= 0.1 * amp[ref]) or (
+            not inboard and (i == ref or amp[i] >= 0.5 * amp[ref])
+        ):
+            picked.append((i, inboard))
+    n_in = sum(inb for _, inb in picked)
+    planes, weights = [], []
+    for i, inboard in picked:
+        if inboard and n_in == 1:
+            weight = sum(loads.values())
+        elif inboard:
+            weight = loads[min(journals, key=lambda p: abs(p - x[i]))]
+        else:
+            weight = _outboard_mass(system, x, left, right, -1 if x[i] < left else 1)
+        phase = 0.0 if sign[i] == sign[ref] else math.pi
+        planes.append((float(x[i]), 2 * residual_unbalance(weight, max_speed), phase))
+        weights.append(weight)
+    return planes, weights, 2 * math.pi * shapes.modes.modes[k].frequency_hz
+
+
+@dataclass(frozen=True)
+class ClearanceCheck:
+    """API 617 close-clearance check (amplitudes peak to peak, clearances diametral, in m).
+
+    Attributes
+    ----------
+    speeds : ndarray, shape (S,)
+        Spin speeds (rad/s) of the unbalance response.
+    min_speed, max_speed : float
+        Minimum allowable and maximum continuous speed (rad/s).
+    planes : list of (float, float, float)
+        The unbalance ``(position m, magnitude kg m, phase rad)``.
+    probe_response : ndarray, shape (P, S)
+        Peak-to-peak amplitude at each probe (m).
+    vibration_limit, max_probe_amplitude, scale_factor : float
+        ``A_vl`` (m), ``A_max`` (m) and ``S_cc``.
+    names : list of str
+        The close clearances.
+    positions, clearances : ndarray, shape (C,)
+        Their positions (m) and diametral clearances ``2 c`` (m).
+    scaled : ndarray, shape (C, S)
+        Scaled peak-to-peak major axis ``2 S_cc a_major`` (m).
+    """
+
+    speeds: np.ndarray
+    min_speed: float
+    max_speed: float
+    planes: list
+    probe_response: np.ndarray
+    vibration_limit: float
+    max_probe_amplitude: float
+    scale_factor: float
+    names: list
+    positions: np.ndarray
+    clearances: np.ndarray
+    scaled: np.ndarray
+
+    @property
+    def margin(self) -> np.ndarray:
+        """``0.75 (2 c) - max(scaled)`` (m) per close clearance; negative fails."""
+        return 0.75 * self.clearances - self.scaled.max(axis=1)
+
+    @property
+    def worst_speed(self) -> np.ndarray:
+        """Speed (rad/s) of the largest scaled response per close clearance."""
+        return self.speeds[np.argmax(self.scaled, axis=1)]
+
+    @property
+    def touching(self) -> list:
+        """Per close clearance, the speeds (rad/s) where the scaled orbit reaches ``2 c``."""
+        return [self.speeds[row >= c] for row, c in zip(self.scaled, self.clearances, strict=True)]
+
+    def to_dict(self) -> dict:
+        """JSON form printed by ``rubrotor clearance --json``."""
+        return {
+            "min_speed_rad_s": self.min_speed,
+            "max_speed_rad_s": self.max_speed,
+            "unbalance": [
+                {"position_m": p, "magnitude_kg_m": m, "phase_rad": f} for p, m, f in self.planes
+            ],  # fmt: skip
+            "vibration_limit_m_pp": self.vibration_limit,
+            "max_probe_amplitude_m_pp": self.max_probe_amplitude,
+            "scale_factor": self.scale_factor,
+            "clearances": [
+                {
+                    "name": n,
+                    "position_m": float(x),
+                    "diametral_clearance_m": float(c),
+                    "max_scaled_response_m_pp": float(r.max()),
+                    "worst_speed_rad_s": float(ws),
+                    "margin_m": float(mg),
+                    "verdict": "pass" if mg >= 0 else "fail",
+                    "touching_speeds_rad_s": t.tolist(),
+                }
+                for n, x, c, r, ws, mg, t in zip(
+                    self.names,
+                    self.positions,
+                    self.clearances,
+                    self.scaled,
+                    self.worst_speed,
+                    self.margin,
+                    self.touching,
+                    strict=True,
+                )  # fmt: skip
+            ],
+        }
+
+
+def _probe_pp(resp: np.ndarray, angles) -> np.ndarray:
+    """Peak-to-peak amplitude (P, S) along each probe angle (rad), or of the major axis."""
+    out = []
+    for p, a in enumerate(angles):
+        v, w = resp[:, p, 0], resp[:, p, 1]
+        if a is None:
+            out.append(np.abs(v + 1j * w) + np.abs(v - 1j * w))
+        else:
+            out.append(2 * np.abs(v * math.cos(a) + w * math.sin(a)))
+    return np.array(out)
+
+
+def clearance_check(
+    system: LinearSystem,
+    speeds,
+    min_speed: float,
+    max_speed: float,
+    probes,
+    clearances,
+    mode: int = 0,
+    planes=None,
+    scale_factor_cap: float | None = 6.0,
+    max_damping_ratio: float | None = CRITICALLY_DAMPED,
+) -> ClearanceCheck:
+    """API 617 close-clearance check of the unbalance response (see the module docstring).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        A nodal rotor (finite-element or ROSS import) with bearings.
+    speeds : array_like
+        Spin speeds (rad/s); ``min_speed`` and ``max_speed`` are added.
+    min_speed, max_speed : float
+        Minimum allowable and maximum continuous speed (rad/s), ``0 <= min <= max``.
+    probes : sequence of (float, float or None)
+        Vibration probes: ``(position m, angle rad from +y towards +z)``; angle None reads the
+        orbit's major axis.
+    clearances : sequence of (str, float, float)
+        Close clearances: ``(name, position m, radial clearance m)``.
+    mode : int
+        Forward mode placing the unbalance (:func:`api617_unbalance`).
+    planes : sequence of (float, float, float), optional
+        Explicit unbalance ``(position m, kg m, rad)`` instead of API 617's placement.
+    scale_factor_cap : float or None
+        Upper limit of ``S_cc`` (API 617: 6); None for none (ROSS's default).
+    max_damping_ratio : float or None
+        See :func:`api617_unbalance`.
+
+    Returns
+    -------
+    ClearanceCheck
+    """
+    if not 0 <= min_speed <= max_speed or max_speed <= 0:
+        raise InputError("min_speed / max_speed", (min_speed, max_speed),
+                         "0 <= minimum allowable <= maximum continuous speed, > 0 (rad/s)")  # fmt: skip
+    if not clearances:
+        raise InputError("contact", 0, "close clearances (a [[contact]] with its clearance)")
+    if not probes:
+        raise InputError("probes", probes, "at least one vibration probe (position m, angle)")
+    s = np.union1d(np.asarray(speeds, float), [min_speed, max_speed])
+    s = s[s > 0]
+    if planes is None:
+        planes = api617_unbalance(system, max_speed, mode, 12, max_damping_ratio)[0]
+    points = [p for p, _ in probes] + [c[1] for c in clearances]
+    resp = unbalance_response(system, s, list(planes), points).complex_response
+    pp = _probe_pp(resp[:, : len(probes)], [a for _, a in probes])
+    band = (s >= min_speed) & (s <= max_speed)
+    amax = float(pp[:, band].max())
+    if not amax > 0:
+        raise InputError("probes", probes, "probes that see the unbalance response")
+    avl = vibration_limit(max_speed)
+    scc = avl / amax if scale_factor_cap is None else min(avl / amax, float(scale_factor_cap))
+    major = _probe_pp(resp[:, len(probes) :], [None] * len(clearances))
+    return ClearanceCheck(
+        speeds=s, min_speed=float(min_speed), max_speed=float(max_speed), planes=list(planes),
+        probe_response=pp, vibration_limit=avl, max_probe_amplitude=amax, scale_factor=scc,
+        names=[c[0] for c in clearances], positions=np.array([c[1] for c in clearances], float),
+        clearances=2 * np.array([c[2] for c in clearances], float), scaled=scc * major,
+    )  # fmt: skip
+
+
+def anticipated_cross_coupling(power, speed_rad_s, diameter, width, density_ratio=1.0, bc=3.0):
+    """Anticipated cross-coupled stiffness ``Q_A`` (N/m) of compressor stages (Wachel, API 617).
+
+    Parameters
+    ----------
+    power : float or sequence of float
+        Rated power of each stage (W).
+    speed_rad_s : float
+        Operating speed (rad/s).
+    diameter, width : float or sequence of float
+        Impeller diameter ``D_c`` and smallest of diffuser and impeller discharge width ``H_c``
+        of each stage (m).
+    density_ratio : float or sequence of float
+        Discharge to suction gas density ``rho_d / rho_s``.
+    bc : float
+        ``B_c`` (3 for centrifugal compressors).
+
+    Returns
+    -------
+    float
+        ``sum B_c (P / Omega) / (D_c H_c) (rho_d / rho_s)`` (N/m).
+
+    Examples
+    --------
+    >>> round(anticipated_cross_coupling(5e6, 1000.0, 0.4, 0.02, 1.5) / 1e6, 6)  # MN/m
+    2.8125
+    """
+    p, d, h, r = np.broadcast_arrays(*(np.asarray(a, float) for a in (power, diameter, width,
+                                                                       density_ratio)))  # fmt: skip
+    if np.any(p < 0) or np.any(d <= 0) or np.any(h <= 0) or np.any(r <= 0) or not speed_rad_s > 0:
+        raise InputError("stages", (power, diameter, width, density_ratio),
+                         "power >= 0 (W), diameter, width > 0 (m), density ratio > 0, speed > 0")  # fmt: skip
+    return float(np.sum(bc * p / speed_rad_s / (d * h) * r))
+
+
+@dataclass(frozen=True)
+class Level1:
+    """API 684 Level I stability: log dec of the first forward mode against added ``Q``.
+
+    Attributes
+    ----------
+    speed_rad_s : float
+        Maximum continuous speed (rad/s).
+    position : float
+        Station of the added cross-coupling (m).
+    stiffness : ndarray, shape (Q,)
+        Added cross-coupled stiffness ``Q`` (N/m).
+    log_dec : ndarray, shape (Q,)
+        Logarithmic decrement of the first forward mode.
+    frequency_hz : ndarray, shape (Q,)
+        Its damped natural frequency (Hz).
+    q0 : float or None
+        ``Q`` (N/m) where the log dec crosses zero (interpolated in ``log Q``), None if never.
+    qa : float or None
+        Anticipated cross-coupling ``Q_A`` (N/m), when given.
+    """
+
+    speed_rad_s: float
+    position: float
+    stiffness: np.ndarray
+    log_dec: np.ndarray
+    frequency_hz: np.ndarray
+    q0: float | None
+    qa: float | None
+
+    @property
+    def log_dec_at_qa(self) -> float | None:
+        """Log dec at ``Q_A`` (interpolated in ``log Q``), or None."""
+        if self.qa is None:
+            return None
+        return float(np.interp(math.log(self.qa), np.log(self.stiffness), self.log_dec))
+
+    @property
+    def verdict(self) -> str | None:
+        """``"pass"`` (log dec at Q_A >= 0.1 and Q0 / Q_A >= 2), ``"level II required"``, or
+        None without ``Q_A``."""
+        if self.qa is None:
+            return None
+        ratio_ok = self.q0 is None or self.q0 / self.qa >= 2.0
+        return "pass" if self.log_dec_at_qa >= 0.1 and ratio_ok else "level II required"
+
+    def to_dict(self) -> dict:
+        """JSON form printed by ``rubrotor level1 --json``."""
+        return {
+            "speed_rad_s": self.speed_rad_s,
+            "position_m": self.position,
+            "cross_coupling_N_m": self.stiffness.tolist(),
+            "log_dec": self.log_dec.tolist(),
+            "frequency_hz": self.frequency_hz.tolist(),
+            "q0_N_m": self.q0,
+            "qa_N_m": self.qa,
+            "log_dec_at_qa": self.log_dec_at_qa,
+            "verdict": self.verdict,
+        }
+
+
+def _start_mode(system: LinearSystem, speed: float, n: int) -> complex:
+    """Eigenvalue (1/s) of the lowest mode that does not whirl backward at every station
+    (forward or mixed, as ROSS's Level I takes it) and is not critically damped."""
+    for m in damped_modes(system, speed, n=n).modes:
+        if m.whirl != "backward" and m.damping_ratio <= CRITICALLY_DAMPED:
+            return m.eigenvalue
+    raise InputError(
+        "modes", n, f"a count that reaches a forward mode (zeta <= 0.2) at {speed:g} rad/s"
+    )
+
+
+def level1(system: LinearSystem, speed: float, position: float, stiffness=None, qa=None,
+           n: int = 8) -> Level1:  # fmt: skip
+    """Log dec of the first forward mode against a cross-coupled stiffness at one station.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor (a node at ``position`` is best: :func:`rubrotor.linear_system` takes
+        stations).
+    speed : float
+        Maximum continuous speed (rad/s).
+    position : float
+        Station of the added cross-coupling (m): mid-span, or the impeller.
+    stiffness : array_like, optional
+        ``Q`` values (N/m, > 0, increasing); default 1e4 ... 1e9 N/m, 41 log-spaced.
+    qa : float, optional
+        Anticipated cross-coupling (N/m), :func:`anticipated_cross_coupling`.
+    n : int
+        Modes computed at each ``Q``: the lowest mode not whirling backward everywhere (forward
+        or mixed) with ``zeta <= 0.2`` at the first ``Q`` is followed to the others by the
+        nearest eigenvalue.
+
+    Returns
+    -------
+    Level1
+    """
+    q = np.logspace(4, 9, 41) if stiffness is None else np.asarray(stiffness, float)
+    if q.ndim != 1 or q.size < 2 or np.any(q <= 0) or np.any(np.diff(q) <= 0):
+        raise InputError("stiffness", stiffness, "increasing cross-coupled stiffness > 0 (N/m)")
+    rows = system.output_rows(position)
+    dofs = tuple(int(system.free[np.argmax(np.abs(r))]) for r in rows)
+    if not np.allclose(np.abs(rows).max(axis=1), 1.0):
+        raise InputError("position", position, "a node of the rotor (give it as a station)")
+    ld, fr = np.empty(q.size), np.empty(q.size)
+    lam = None
+    for i, qi in enumerate(q):
+        k = np.array([[[0.0, qi], [-qi, 0.0]]])
+        extra = Support(dofs, k, np.zeros((1, 2, 2)), None, float(position), "cross-coupling")
+        coupled = dataclasses.replace(system, supports=(*system.supports, extra))
+        if lam is None:
+            lam = _start_mode(coupled, speed, n)
+        modes = damped_modes(coupled, speed, n=n).modes
+        m = min(modes, key=lambda md: abs(md.eigenvalue - lam))  # follow the mode along Q
+        lam = m.eigenvalue
+        ld[i], fr[i] = m.log_dec, m.frequency_hz
+    q0 = None
+    cross = np.flatnonzero((ld[:-1] > 0) & (ld[1:] <= 0))
+    if cross.size:
+        j = cross[0]
+        t = ld[j] / (ld[j] - ld[j + 1])
+        q0 = float(math.exp(math.log(q[j]) + t * (math.log(q[j + 1]) - math.log(q[j]))))
+    return Level1(float(speed), float(position), q, ld, fr, q0, None if qa is None else float(qa))

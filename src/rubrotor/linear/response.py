@@ -1,0 +1,290 @@
+"""Forced response of any linear rotor in the frequency domain: a force at a station at
+excitation frequencies independent of the spin (as ROSS's ``run_freq_response``), and the
+unbalance response of a scenario with every one of its unbalance planes.
+
+Equations
+---------
+A harmonic force at spin ``Omega`` and excitation frequency ``w`` (both rad/s) gives the steady
+response ``q = Re(Q e^{i w t})`` with
+
+    ``(K + K_s(Omega) - w^2 M + i w (C + C_s(Omega) + Omega G)) Q = B(x) F``
+
+(bearing coefficients at the spin speed, as tabulated; one banded LU solve per frequency, all
+in one compiled loop). The force ``F = [F_y, F_z]`` of amplitude ``f`` (N) at angle ``theta``
+(rad, from ``+y`` towards ``+z``) is
+
+* ``"fixed"``: ``f [cos theta, sin theta] cos(w t)``, so ``F = f [cos theta, sin theta]``;
+* ``"forward"``: ``F_y + i F_z = f e^{i (w t + theta)}`` (turning with the spin),
+  ``F = f e^{i theta} [1, -i]``;
+* ``"backward"``: ``F_y + i F_z = f e^{-i (w t - theta)}``, ``F = f e^{-i theta} [1, i]``.
+
+At a probe ``v(t) = |V| cos(w t + arg V)`` and likewise ``w(t)``; the orbit's major semi-axis
+is ``(|V + i W| + |V - i W|) / 2`` (m).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rubrotor.core.banded import OK, frequency_sweep
+from rubrotor.errors import InputError, ScenarioError
+from rubrotor.linear.analysis import UnbalanceResponse, _band_parts, unbalance_response
+from rubrotor.rotors.linear import LinearSystem
+
+__all__ = [
+    "FORCE_KINDS",
+    "FrequencyResponse",
+    "force_vector",
+    "frequency_response",
+    "scenario_unbalance_response",
+    "unbalance_to_dict",
+]
+
+FORCE_KINDS = ("fixed", "forward", "backward")
+
+
+@dataclass(frozen=True)
+class FrequencyResponse:
+    """Steady response to a harmonic force at probe positions.
+
+    Attributes
+    ----------
+    frequencies : ndarray, shape (F,)
+        Excitation frequencies ``w`` (rad/s).
+    speed_rad_s : float
+        Spin speed (rad/s).
+    position : float
+        Station of the force (m).
+    kind : str
+        ``"fixed"``, ``"forward"`` or ``"backward"``.
+    direction : float
+        Angle ``theta`` of the force (rad).
+    magnitude : float
+        Force amplitude ``f`` (N).
+    probes : ndarray, shape (P,)
+        Probe positions (m).
+    complex_response : ndarray, shape (F, P, 2), complex
+        ``V``, ``W`` (m) with ``v(t) = Re(V e^{i w t})``.
+    """
+
+    frequencies: np.ndarray
+    speed_rad_s: float
+    position: float
+    kind: str
+    direction: float
+    magnitude: float
+    probes: np.ndarray
+    complex_response: np.ndarray
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """``|V|``, ``|W|`` (m), shape (F, P, 2)."""
+        return np.abs(self.complex_response)
+
+    @property
+    def phase(self) -> np.ndarray:
+        """``arg V``, ``arg W`` (rad), shape (F, P, 2)."""
+        return np.angle(self.complex_response)
+
+    @property
+    def major(self) -> np.ndarray:
+        """Major semi-axis of the orbit (m), shape (F, P)."""
+        v, w = self.complex_response[..., 0], self.complex_response[..., 1]
+        return 0.5 * (np.abs(v + 1j * w) + np.abs(v - 1j * w))
+
+    def to_dict(self) -> dict:
+        """The JSON form printed by ``rubrotor response --json``."""
+        return {
+            "speed_rad_s": self.speed_rad_s,
+            "force": {
+                "position_m": self.position,
+                "kind": self.kind,
+                "direction_rad": self.direction,
+                "magnitude_N": self.magnitude,
+            },
+            "probes": [
+                _probe_dict(
+                    float(p), "frequency_rad_s", self.frequencies, self.complex_response[:, i]
+                )
+                for i, p in enumerate(self.probes)
+            ],
+        }
+
+
+def _probe_dict(position: float, axis: str, values: np.ndarray, resp: np.ndarray) -> dict:
+    """One probe's amplitudes (m), phases (rad) and major semi-axis (m) against ``axis``."""
+    v, w = resp[:, 0], resp[:, 1]
+    major = 0.5 * (np.abs(v + 1j * w) + np.abs(v - 1j * w))
+    return {
+        "position_m": position,
+        axis: np.asarray(values, float).tolist(),
+        "amplitude_y_m": np.abs(v).tolist(),
+        "phase_y_rad": np.angle(v).tolist(),
+        "amplitude_z_m": np.abs(w).tolist(),
+        "phase_z_rad": np.angle(w).tolist(),
+        "major_m": major.tolist(),
+    }
+
+
+def unbalance_to_dict(resp: UnbalanceResponse) -> dict:
+    """The JSON form printed by ``rubrotor unbalance --json``: per probe, speeds (rad/s),
+    amplitudes (m), phases (rad) and the orbit's major semi-axis (m)."""
+    return {
+        "probes": [
+            _probe_dict(float(p), "speed_rad_s", resp.speeds, resp.complex_response[:, i])
+            for i, p in enumerate(resp.probes)
+        ]
+    }
+
+
+def force_vector(kind: str, magnitude: float = 1.0, direction: float = 0.0) -> np.ndarray:
+    """Complex ``[F_y, F_z]`` (N) of a harmonic force (see the module docstring).
+
+    Parameters
+    ----------
+    kind : {"fixed", "forward", "backward"}
+        Fixed in direction, or rotating with or against the spin.
+    magnitude : float
+        Amplitude ``f`` (N), ``>= 0``.
+    direction : float
+        Angle ``theta`` (rad) from ``+y`` towards ``+z``.
+
+    Returns
+    -------
+    ndarray, shape (2,), complex
+
+    Examples
+    --------
+    >>> force_vector("forward", 2.0)
+    array([2.+0.j, 0.-2.j])
+    """
+    if kind not in FORCE_KINDS:
+        raise InputError("kind", kind, " or ".join(f'"{k}"' for k in FORCE_KINDS))
+    for name, value in (("magnitude", magnitude), ("direction", direction)):
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int | float)
+            or not math.isfinite(value)
+        ):
+            raise InputError(name, value, "a finite number (N for magnitude, rad for direction)")
+    if magnitude < 0:
+        raise InputError("magnitude", magnitude, "a force amplitude >= 0 (N)")
+    if kind == "fixed":
+        return magnitude * np.array([math.cos(direction), math.sin(direction)], complex)
+    if kind == "forward":
+        return magnitude * np.exp(1j * direction) * np.array([1.0, -1j])
+    return magnitude * np.exp(-1j * direction) * np.array([1.0, 1j])
+
+
+def _frequencies(values) -> np.ndarray:
+    w = np.asarray(values, dtype=float)
+    if w.ndim != 1 or w.size < 1 or not np.all(np.isfinite(w)) or np.any(w < 0):
+        raise InputError("frequencies", values, "finite excitation frequencies >= 0 (rad/s)")
+    return w
+
+
+def frequency_response(
+    system: LinearSystem,
+    frequencies,
+    position: float,
+    probes,
+    kind: str = "fixed",
+    magnitude: float = 1.0,
+    direction: float = 0.0,
+    speed: float = 0.0,
+) -> FrequencyResponse:
+    """Steady response to a harmonic force at one station, over excitation frequencies.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor (:func:`rubrotor.linear_system` makes it from a scenario).
+    frequencies : array_like
+        Excitation frequencies ``w`` (rad/s), ``>= 0``, independent of the spin.
+    position : float
+        Station of the force (m).
+    probes : sequence of float
+        Probe positions (m).
+    kind : {"fixed", "forward", "backward"}
+        Force fixed in direction, or rotating forward or backward at ``w``.
+    magnitude : float
+        Force amplitude (N).
+    direction : float
+        Force angle at ``t = 0`` (rad, from ``+y`` towards ``+z``).
+    speed : float
+        Spin speed ``Omega`` (rad/s): gyroscopic moments and speed-dependent bearings.
+
+    Returns
+    -------
+    FrequencyResponse
+
+    Raises
+    ------
+    InputError
+        A bad argument, or a frequency at which the undamped system is singular.
+    """
+    w = _frequencies(frequencies)
+    if isinstance(speed, bool) or not isinstance(speed, int | float) or not speed >= 0:
+        raise InputError("speed", speed, "a finite spin speed >= 0 (rad/s)")
+    if not math.isfinite(speed):
+        raise InputError("speed", speed, "a finite spin speed >= 0 (rad/s)")
+    force = force_vector(kind, magnitude, direction)
+    probes = np.atleast_1d(np.asarray(probes, float))
+    if probes.size == 0:
+        raise InputError("probes", probes, "at least one probe position (m)")
+    rhs = system.force_map(position) @ force
+    rows = np.concatenate([system.output_rows(float(p)) for p in probes]).astype(complex)
+    parts = _band_parts(system, np.array([float(speed)]))
+    out, status, at = frequency_sweep(parts, float(speed), w, rhs, rows)
+    if status != OK:
+        raise InputError("frequencies", float(w[at]), "frequencies off the undamped resonances")
+    return FrequencyResponse(
+        frequencies=w,
+        speed_rad_s=float(speed),
+        position=float(position),
+        kind=kind,
+        direction=float(direction),
+        magnitude=float(magnitude),
+        probes=probes,
+        complex_response=out.reshape(w.size, probes.size, 2),
+    )
+
+
+def scenario_unbalance_response(scenario, speeds, probes=None) -> UnbalanceResponse:
+    """Unbalance response of a scenario with every unbalance plane it has.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Its ``[unbalance]`` or every ``[[unbalance]]`` plane (``Scenario.unbalances``) excites the rotor.
+    speeds : array_like
+        Increasing spin speeds (rad/s), ``> 0``.
+    probes : sequence of float, optional
+        Probe positions (m); default the scenario's ``[simulation] probes``, else the planes'
+        positions.
+
+    Returns
+    -------
+    UnbalanceResponse
+        Amplitudes (m) and phases (rad) of ``v``, ``w`` at every probe and speed.
+
+    Raises
+    ------
+    ScenarioError
+        The scenario has no unbalance (field ``"unbalance"``).
+    """
+    from rubrotor.linear.verbs import linear_system
+
+    planes = scenario.unbalances
+    if not planes:
+        raise ScenarioError("unbalance", None, "an [unbalance] or [[unbalance]] table (kg m at m)")
+    if probes is None:
+        sim = scenario.simulation.probes if scenario.simulation is not None else ()
+        probes = sim or tuple(dict.fromkeys(u.position for u in planes))
+    system = linear_system(scenario, tuple(float(p) for p in probes))
+    return unbalance_response(
+        system, speeds, [(u.position, u.magnitude, u.phase) for u in planes], list(probes)
+    )
