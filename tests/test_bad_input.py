@@ -207,6 +207,19 @@ def test_modes_within_the_scale_limit_are_those_of_the_rigid_limit(tmp_path, cap
     np.testing.assert_allclose(freqs[1], freqs[0], rtol=1e-6)
 
 
+def test_stiff_bearing_simulates_as_the_rigid_limit(tmp_path, capsys):
+    """``bearing[2].kzz = 2e18`` (5e7 times the shaft's stiffness scale) was refused naming the
+    speed (``a speed off an undamped critical``: the unscaled dynamic stiffness's rcond); the
+    run now equals the one at 1e14 N/m, already rigid, to 1e-6 (measured 8e-8)."""
+    peaks = []
+    for k in (1e14, 2e18):
+        path = _seal(tmp_path, f"k{k:g}.toml", edit=lambda d, k=k: d["bearing"][1].update(kzz=k))
+        ds = rubrotor.simulate(path, progress=False)
+        assert ds.attrs["status"] == "complete"
+        peaks.append(float(ds["normal_force"].max()))
+    assert peaks[1] == pytest.approx(peaks[0], rel=1e-6)
+
+
 def test_ill_conditioned_modes_name_the_density(tmp_path, capsys):
     """``density = 0.0078`` reported ``speed = '-' is not allowed ... (cond 3.54e+10)``."""
     path = _seal(tmp_path, edit=lambda d: d["materials"]["steel"].update(density=0.0078))

@@ -116,19 +116,34 @@ def _stator_modes(st: RubStation):
     return reduce_matrices(M, C, K)
 
 
+class NearCritical(InputError):
+    """The dynamic stiffness at the spin speed is singular to rounding (reciprocal condition
+    number ``rcond`` of the equilibrated matrix)."""
+
+    def __init__(self, speed: float, rcond: float):
+        self.reason = f"the dynamic stiffness at {speed:g} rad/s is singular (rcond {rcond:.3g})"
+        super().__init__("speed", speed, "a speed off an undamped critical speed (add damping)")
+
+
 def _particular(sm, b_u: np.ndarray, speed: float) -> np.ndarray:
-    """Steady unbalance response ``(K - Omega^2 M + i Omega D)^-1 b_u`` (one LU; its condition
-    number estimated by LAPACK ``gecon`` instead of an SVD)."""
+    """Steady unbalance response ``(K - Omega^2 M + i Omega D)^-1 b_u``: one LU of the matrix
+    equilibrated by its diagonal, ``S A S`` with ``S = |diag A|^-1/2``, whose condition number
+    (LAPACK ``gecon``) tells a speed on an undamped critical from a matrix with a few large
+    entries (a bearing far stiffer than the shaft: unscaled, its rcond fell below 1e-14 at
+    any speed)."""
     import scipy.linalg
 
     if not np.any(b_u):
         return np.zeros(len(b_u), complex)
     dyn = sm.K - speed**2 * sm.M + 1j * speed * sm.damping
+    d = np.abs(np.diag(dyn))
+    s = 1.0 / np.sqrt(np.where(d > 0, d, 1.0))
+    dyn = dyn * s[:, None] * s[None, :]
     lu = scipy.linalg.lu_factor(dyn, check_finite=False)
     rcond = scipy.linalg.lapack.zgecon(lu[0], np.abs(dyn).sum(axis=0).max(), norm="1")[0]
     if not rcond > 1e-14:
-        raise InputError("speed", speed, "a speed off an undamped critical speed (add damping)")
-    return scipy.linalg.lu_solve(lu, b_u, check_finite=False)
+        raise NearCritical(speed, rcond)
+    return s * scipy.linalg.lu_solve(lu, s * b_u, check_finite=False)
 
 
 def _initial(run: Run, modes: Modes, q_s, Q, speed) -> np.ndarray:
@@ -217,7 +232,10 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
         if u.position is None:
             raise InputError("unbalance.position", None, "an axial position (m)")
         b_u += unbalance_phasor(u, speed) * (system.force_map(u.position) @ np.array([1, -1j]))
-    Q = _particular(sm, b_u, speed)
+    try:
+        Q = _particular(sm, b_u, speed)
+    except NearCritical as exc:  # name the scenario key far off the rotor's scale, if any
+        raise explain(exc, system.scales) from None
     f_s = static_load_vector(system, tuple(loads), gravity)
     q_s = np.linalg.solve(sm.K, f_s) if np.any(f_s) else np.zeros_like(f_s)
     offs = np.array([[s.offset_y, s.offset_z] for s in stations]).ravel()
