@@ -25,7 +25,11 @@ Measured 2026-11-25 on the shared 2-core machine (load 7-9; least of 3 runs each
 107x wall, 114x CPU (single runs under heavier load gave 40x-130x). Today's points equal the
 previous route's fixed points to 1.2e-9; the previous route's own points sit 1.7e-7 from its
 maps' fixed points and from today's alike (its corrector stops at 1e-6). 200 points from 600
-to 798 rad/s in 5.5 s wall (3.8 s CPU).
+to 798 rad/s in 5.5 s wall (3.8 s CPU). Today's six points cost about as much as the jitter
+of the runs' fixed part (~1 s: the first orbit, dense plant and basis), so the marginal is
+noisy on a loaded machine (a later run gave 5.7 ms CPU per point, and an 8-point run faster
+than the 2-point one in wall time); the 200-point branch, every cost included (31 ms per
+point wall in that run), is the steadier figure.
 
 Run: ``PYTHONPATH=src OPENBLAS_NUM_THREADS=1 python benchmarks/bench_continuation_general.py``.
 """
