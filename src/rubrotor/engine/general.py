@@ -295,6 +295,12 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
     from rubrotor.engine.driver import simulate_general
     from rubrotor.engine.restart import fingerprint
 
+    if scenario.engine.free_spin is not None:  # [speed] profile = "free": the spin is a state
+        from rubrotor.engine.spin import simulate_free
+
+        if stream is not None:
+            raise ScenarioError("speed.profile", "free", "a run without streaming")
+        return simulate_free(scenario, integrator=integrator)
     system, run, kwargs, t0, snap = _problem(scenario, integrator)
     src = scenario.engine.initial_path
     if stream is not None and src is not None and Path(src).resolve() == Path(stream).resolve():

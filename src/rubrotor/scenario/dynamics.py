@@ -43,6 +43,7 @@ _ENGINE_NAMES = (
     "unbalance.position", "unbalance.magnitude", "unbalance.phase", "unbalance.phase_deg",
     "load.position", "load.force_y", "load.force_z", "gravity.y", "gravity.z",
     "speed.profile", "speed.from", "speed.to", "speed.step", "speed.times", "speed.speeds",
+    "speed.drive_torque", "speed.drive_torques", "speed.drive_speeds", "speed.drag",
     "initial.state", "initial.path",
     "simulation.modes", "simulation.cutoff", "simulation.residual",
 )  # fmt: skip
@@ -60,10 +61,11 @@ class Builders(NamedTuple):
     build_contact: Callable
 
 
-PROFILES = ("constant", "linear", "table")
+PROFILES = ("constant", "linear", "table", "free")
 ENGINE_INITIAL = ("static", "file")
 _CONTACT_NEW = tuple(k.split(".", 1)[1] for k in ENGINE_KEYS if k.startswith("contact."))
 _SPEED_NEW = ("profile", "from", "to", "step", "times", "speeds")
+_FREE_KEYS = ("drive_torque", "drive_torques", "drive_speeds", "drag")
 _SIM_NEW = ("modes", "cutoff", "residual")
 
 
@@ -112,6 +114,7 @@ class EngineSpec:
     cutoff: float | None = None
     residual: bool = True
     speed_table: tuple | None = None
+    free_spin: object = None
 
     @property
     def positions(self) -> tuple[float, ...]:
@@ -197,11 +200,14 @@ def _split_speed(base: dict, extras: dict) -> None:
     sp = base.get("speed")
     if not isinstance(sp, Mapping):
         return
-    if not any(k in sp for k in _SPEED_NEW):
+    if not any(k in sp for k in _SPEED_NEW + _FREE_KEYS):
         return
     profile = _value("speed.profile", sp.get("profile", "constant"))
     if profile not in PROFILES:
-        raise _err("speed.profile", profile, '"constant", "linear" or "table"')
+        raise _err("speed.profile", profile, '"constant", "linear", "table" or "free"')
+    if profile == "free" or any(k in sp for k in _FREE_KEYS):
+        _split_free(sp, profile, base, extras)
+        return
     rest = {k: v for k, v in sp.items() if k not in _SPEED_NEW}
     owners = {"from": "linear", "to": "linear", "step": "linear or table", "times": "table",
               "speeds": "table"}  # fmt: skip
@@ -229,6 +235,26 @@ def _split_speed(base: dict, extras: dict) -> None:
         )
     base["speed"] = {"rad_per_s": sp["from"]}
     extras["speed"] = {k: sp[k] for k in _SPEED_NEW if k in sp}
+
+
+def _split_free(sp: Mapping, profile: str, base: dict, extras: dict) -> None:
+    """``[speed] profile = "free"``: the start speed stays in ``[speed]``; the drive and drag
+    keys (:data:`_FREE_KEYS`) go to the engine."""
+    for k in _FREE_KEYS:
+        if k in sp and profile != "free":
+            raise _err(f"speed.{k}", sp[k], 'to be given only with speed.profile = "free"')
+    for k in _SPEED_NEW[1:]:
+        if k in sp:
+            raise _err(f"speed.{k}", sp[k], 'no profile key with speed.profile = "free" (give '
+                       "rad_per_s, rpm or hz for the start speed)")  # fmt: skip
+    free = {k: _value(f"speed.{k}", sp[k]) for k in _FREE_KEYS if k in sp}
+    if ("drive_torques" in free) != ("drive_speeds" in free) or (
+        "drive_torques" in free and "drive_torque" in free
+    ):
+        raise _err("speed.drive_torques / speed.drive_speeds", tuple(free.values()),
+                   "both lists together (equal lengths >= 2), or drive_torque alone")  # fmt: skip
+    base["speed"] = {k: v for k, v in sp.items() if k not in _SPEED_NEW + _FREE_KEYS}
+    extras["speed"] = {"free": free}
 
 
 def _split_table(sp: Mapping, rest: dict, base: dict, extras: dict) -> None:
@@ -420,7 +446,27 @@ def build_engine(extras: dict, parts: dict, builders: Builders) -> EngineSpec:
         raise _err("simulation.modes / simulation.cutoff", (modes, cutoff), "at most one")
     residual = _value("simulation.residual", sim.get("residual", True))
     return EngineSpec(stations, unb, loads, gravity, speed_end, speed_step, state, path, modes,
-                      cutoff, residual, speed_table)  # fmt: skip
+                      cutoff, residual, speed_table, _free_spin(extras))  # fmt: skip
+
+
+def _free_spin(extras: dict):
+    """The :class:`~rubrotor.engine.spin.FreeSpin` of ``[speed] profile = "free"``, else None."""
+    free = extras.get("speed", {}).get("free")
+    if free is None:
+        return None
+    from rubrotor.engine.spin import FreeSpin
+
+    if "drive_torques" in free:
+        tq, w = tuple(map(float, free["drive_torques"])), tuple(map(float, free["drive_speeds"]))
+        if (
+            len(tq) != len(w)
+            or len(w) < 2
+            or any(b <= a for a, b in zip(w[:-1], w[1:], strict=True))
+        ):
+            raise _err("speed.drive_speeds", w, "increasing speeds (rad/s), one per "
+                       "drive_torques value, at least two")  # fmt: skip
+        return FreeSpin(tq, w, float(free.get("drag", 0.0)))
+    return FreeSpin(float(free.get("drive_torque", 0.0)), None, float(free.get("drag", 0.0)))
 
 
 def _contact_dict(contact) -> dict:

@@ -142,7 +142,12 @@ def engine_features(spec) -> tuple[str, ...]:
         ("unbalance", len(spec.unbalances) > 1),
         ("load", len(spec.loads) > 1),
         ("gravity", any(g != 0 for g in spec.gravity)),
-        ("speed.profile", spec.speed_end is not None or spec.speed_table is not None),
+        (
+            "speed.profile",
+            spec.speed_end is not None
+            or spec.speed_table is not None
+            or spec.free_spin is not None,
+        ),
         ("initial.state", spec.initial not in ("rest", "steady")),
         ("reduction", spec.modes is not None or spec.cutoff is not None or not spec.residual),
     )

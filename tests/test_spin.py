@@ -1,0 +1,196 @@
+"""The spin speed as a state (``[speed] profile = "free"``, :mod:`rubrotor.engine.spin`).
+
+References: the angular-momentum and energy balances of the rotor (derived in each test's
+docstring, the integrals taken by Simpson's rule over the saved samples, a route independent of
+the integrator's states); the closed-form spin-up under constant torque and linear drag; the
+general engine's constant-speed run (its exponential integrator, an independent code) for a
+rotor whose inertia is so large that its speed stays constant.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import simpson
+
+import rubrotor
+from rubrotor.engine.simulate import simulate
+from rubrotor.engine.spin import FreeSpin, TouchdownRing, polar_inertia, simulate_spin, spin_dataset
+from rubrotor.errors import ScenarioError
+
+ROTOR = """
+[meta]
+name = "free_coast"
+[materials.steel]
+youngs_modulus = 2.1e11
+density = 7800
+poisson_ratio = 0.3
+[[section]]
+length = 0.5
+diameter = 0.04
+material = "steel"
+elements = 4
+[[disk]]
+position = 0.25
+mass = 5.0
+polar_inertia = 0.02
+diametral_inertia = 0.01
+[[bearing]]
+position = 0.0
+kyy = 1e6
+kzz = 1e6
+cyy = 200
+czz = 200
+[[bearing]]
+position = 0.5
+kyy = 1e6
+kzz = 1e6
+cyy = 200
+czz = 200
+[contact]
+position = 0.25
+clearance = 2e-5
+stiffness = 2e7
+law = "linear"
+friction = 0.1
+radius = 0.1
+[simulation]
+duration = 0.05
+sample_rate = 20000
+rtol = 1e-8
+atol = 1e-12
+"""
+
+FREE = '[speed]\nprofile = "free"\nrad_per_s = 100.0\n[gravity]\ny = 9.81\n'
+
+
+def _load(tmp_path, text):
+    p = tmp_path / "s.toml"
+    p.write_text(text)
+    return rubrotor.load_scenario(p)
+
+
+def _pieces(s):
+    system = s.rotor.linear_system(s.engine.positions)
+    return system, s.engine.stations, polar_inertia(s.rotor)
+
+
+def test_free_coast_angular_momentum(tmp_path):
+    """A coast with rub, no drive and no drag: ``J dOmega/dt = -sum mu N R``, so
+    ``J (Omega_0 - Omega_end) = integral of the friction torque dt``. The rotor sags under
+    gravity onto the stator (sag 50 um > clearance 20 um) and rubs throughout; the torque
+    samples (``friction_torque``, from the contact law's forces) are integrated by Simpson's rule.
+    Measured: 1.9e-6 relative at 20 kHz sampling; required 1e-3."""
+    ds = simulate(_load(tmp_path, ROTOR + FREE))
+    assert ds.attrs["status"] == "complete"
+    om = ds.spin_speed.values
+    J = ds.attrs["polar_inertia_kg_m2"]
+    lost = J * (om[0] - om[-1])
+    torque = ds.friction_torque.sum("contact").values
+    assert om[0] - om[-1] > 1e-2 * om[0] / 2  # a real loss: > 0.5 % of the speed
+    assert ds.normal_force.values[0, -1] > 10.0  # still pressed at the end (N)
+    assert lost == pytest.approx(simpson(torque, x=ds.time.values), rel=1e-3)
+
+
+def test_polar_inertia_is_the_rotor_sum(tmp_path):
+    """``J`` = the disk's 0.02 kg m^2 plus the shaft's ``rho pi D^4 / 32 L`` (hand formula)."""
+    s = _load(tmp_path, ROTOR + FREE)
+    shaft = 7800 * math.pi * 0.04**4 / 32 * 0.5
+    assert polar_inertia(s.rotor) == pytest.approx(0.02 + shaft, rel=1e-12)
+
+
+def test_free_coast_energy_balance(tmp_path):
+    """Energy: ``E = J Omega^2 / 2 + eta'^T eta' / 2 + eta^T K eta / 2 - f0^T eta + k pen^2 / 2``
+    (spin, lateral kinetic in mass-normalised coordinates, elastic, gravity, linear contact
+    spring) decreases by the damping work ``integral eta'^T C eta'`` plus the friction work
+    ``integral -ft v_s`` (the gyroscopic force does no work). Both integrals by Simpson's rule on
+    the saved samples. Measured: 1.9e-6 relative at rtol 1e-9 (the quadrature's error)."""
+    s = _load(tmp_path, ROTOR + FREE)
+    system, st, J = _pieces(s)
+    c = st[0].contact
+    res = simulate_spin(system, J=J, speed=100.0, duration=0.05, spacing=2e-5, stations=st,
+                        gravity=(9.81, 0.0), rtol=1e-9, atol=1e-13)  # fmt: skip
+    r, x, red, t = res.r, res.state, res.reduced, res.time
+    eta, etd = x[:r], x[r : 2 * r]
+    p = red["Pc"] @ eta
+    pen = np.maximum(np.hypot(p[0], p[1]) - c.clearance, 0.0)
+    E = (0.5 * J * res.spin_speed**2 + 0.5 * (etd**2).sum(0)
+         + 0.5 * np.einsum("in,ij,jn->n", eta, red["K"], eta) - red["f0"] @ eta
+         + 0.5 * c.stiffness * pen**2)  # fmt: skip
+    power = np.einsum("in,ij,jn->n", etd, red["C"], etd) - res.contact[0, 1] * res.contact[0, 2]
+    lost = E[0] - E[-1]
+    assert lost > 1.0  # J is, N m: the spin lost about 3 J
+    assert lost == pytest.approx(simpson(power, x=t), rel=1e-4)
+
+
+def test_constant_torque_and_drag_closed_form(tmp_path):
+    """No contact: ``J Omega' = T - d Omega`` gives
+    ``Omega = T/d + (Omega_0 - T/d) exp(-d t / J)`` (closed form); a torque table constant at
+    the same value gives the same."""
+    s = _load(tmp_path, ROTOR + FREE)
+    system, _, J = _pieces(s)
+    T, d = 2.0, 1e-3
+    for free in (FreeSpin(T, None, d), FreeSpin((T, T), (0.0, 1e4), d)):
+        res = simulate_spin(system, J=J, speed=100.0, duration=0.5, spacing=1e-3, free=free,
+                            rtol=1e-10)  # fmt: skip
+        exact = T / d + (100.0 - T / d) * np.exp(-d * res.time / J)
+        assert res.spin_speed[-1] - 100.0 > 40.0
+        np.testing.assert_allclose(res.spin_speed, exact, rtol=1e-8)
+
+
+def test_huge_inertia_matches_constant_speed_engine(tmp_path):
+    """With ``J = 1e9 kg m^2`` the speed stays at 100 rad/s, so the free run must reproduce the
+    general engine's constant-speed run (exponential integrator, independent code) of the same
+    rotor with unbalance and rub: orbits to 1e-4 of their amplitude (measured 3e-6)."""
+    unb = "[unbalance]\nmagnitude = 5e-3\nposition = 0.25\nphase_deg = 30\n[speed]\nrad_per_s = 100.0\n"
+    s = _load(tmp_path, ROTOR + unb)
+    ref = simulate(s)
+    system, st, _ = _pieces(s)
+    res = simulate_spin(system, J=1e9, speed=100.0, duration=0.05, spacing=5e-5, stations=st,
+                        unbalances=s.engine.unbalances, rtol=1e-8, atol=1e-12)  # fmt: skip
+    ds = spin_dataset(res, system, (0.25,))
+    assert ref.normal_force.values.max() > 100.0  # it rubs (N)
+    amp = np.abs(ref.v.values).max()
+    for k in ("v", "w"):
+        np.testing.assert_allclose(ds[k].values, ref[k].values, atol=1e-4 * amp, rtol=0)
+
+
+def test_ring_takes_what_the_rotor_loses(tmp_path):
+    """A touchdown ring as the stator (friction on ``R Omega - r omega_ring``), no drags: the
+    rotor's torque is ``R ft``, the ring's ``-r ft``, so the same friction impulse
+    ``-integral ft dt`` gives ``J (Omega_0 - Omega) / R = J_ring omega_ring / r`` (measured
+    equal to 6e-13 relative) and equals the integral of the saved friction samples (Simpson)."""
+    s = _load(tmp_path, ROTOR + FREE)
+    system, st, J = _pieces(s)
+    ring = TouchdownRing(inertia=2e-3, radius=0.1 + 2e-5)
+    res = simulate_spin(system, J=J, speed=100.0, duration=0.05, spacing=5e-5, stations=st,
+                        rings=(ring,), gravity=(9.81, 0.0), rtol=1e-9, atol=1e-13)  # fmt: skip
+    rotor = J * (res.spin_speed[0] - res.spin_speed[-1]) / 0.1
+    gained = ring.inertia * res.ring_speed[0, -1] / ring.radius
+    assert gained > 0.1  # N s of tangential impulse (about 0.3)
+    assert gained == pytest.approx(rotor, rel=1e-9)
+    impulse = simpson(-res.contact[0, 1], x=res.time)
+    assert gained == pytest.approx(impulse, rel=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("speed", "key"),
+    [
+        ('profile = "free"\nrad_per_s = 100.0\nfrom = 1.0\n', "speed.from"),
+        ("rad_per_s = 100.0\ndrag = 1.0\n", "speed.drag"),
+        (
+            'profile = "free"\nrad_per_s = 100.0\ndrive_torques = [1.0, 2.0]\n',
+            "speed.drive_torques / speed.drive_speeds",
+        ),
+        (
+            'profile = "free"\nrad_per_s = 100.0\ndrive_torques = [1.0, 2.0]\n'
+            "drive_speeds = [5.0, 1.0]\n",
+            "speed.drive_speeds",
+        ),
+    ],
+)
+def test_bad_free_speed_keys(tmp_path, speed, key):
+    """Bad ``[speed]`` keys of a free profile are refused naming the key."""
+    with pytest.raises(ScenarioError) as err:
+        _load(tmp_path, ROTOR + "[speed]\n" + speed)
+    assert err.value.field == key
