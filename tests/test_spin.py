@@ -7,7 +7,9 @@ general engine's constant-speed run (its exponential integrator, an independent 
 rotor whose inertia is so large that its speed stays constant.
 """
 
+import dataclasses
 import math
+from importlib import resources
 
 import numpy as np
 import pytest
@@ -193,4 +195,50 @@ def test_bad_free_speed_keys(tmp_path, speed, key):
     """Bad ``[speed]`` keys of a free profile are refused naming the key."""
     with pytest.raises(ScenarioError) as err:
         _load(tmp_path, ROTOR + "[speed]\n" + speed)
+    assert err.value.field == key
+
+
+DROP = resources.files("rubrotor") / "scenarios" / "touchdown_drop.toml"
+
+
+def _drop(duration=0.08):
+    s = rubrotor.load_scenario(DROP)
+    return simulate(s, integrator=dataclasses.replace(s.simulation, duration=duration))
+
+
+def test_touchdown_drop_rotor_and_rings_balance():
+    """The shipped drop: both magnetic bearings fail at 0.02 s, the rotor falls onto two
+    touchdown rings (drag ``d``). Per ring ``J_r omega_r = r int(-ft) dt - d int omega_r dt``
+    and for the rotor ``J (Omega_0 - Omega) = sum R int(-ft) dt``, so
+    ``J (Omega_0 - Omega) = sum (R / r) (J_r omega_r + d int omega_r dt)`` (the ring-speed
+    integral by Simpson's rule, a smooth signal). Also: no contact before the failure, contact
+    after it. Measured: 7e-11 relative."""
+    ds = _drop()
+    t = ds.time.values
+    assert ds.attrs["status"] == "complete"
+    assert ds.normal_force.values[:, t < 0.02].max() == 0.0
+    assert ds.normal_force.values[:, t > 0.03].max(axis=1).min() > 100.0  # N, both rings hit
+    J = ds.attrs["polar_inertia_kg_m2"]
+    lost = J * (ds.spin_speed.values[0] - ds.spin_speed.values[-1])
+    R, r, Jr, d = 0.03, 0.03025, 2e-4, 1e-5
+    wr = ds.ring_speed.values
+    given = sum(R / r * (Jr * wr[i, -1] + d * simpson(wr[i], x=t)) for i in range(2))
+    assert wr[:, -1].min() > 100.0  # rad/s: the rings spun up
+    assert lost == pytest.approx(given, rel=1e-4)
+
+
+@pytest.mark.parametrize(
+    ("edit", "key"),
+    [
+        (('profile = "free"\n', ""), "bearing.fail_time"),
+        (("ring_drag = 1.0e-5        # N m s\n", "ring_drag = -1.0\n"), "contact[1].ring_drag"),
+        (("fail_time = 0.02\n", "fail_time = 0.03\n"), "bearing.fail_time"),
+    ],
+)
+def test_bad_touchdown_keys(tmp_path, edit, key):
+    """Failing bearings and rings without a free spin speed, a negative ring drag and two
+    different failure times are refused naming the key."""
+    text = DROP.read_text().replace("drag = 0.0\n", "").replace(*edit, 1)
+    with pytest.raises(ScenarioError) as err:
+        _load(tmp_path, text)
     assert err.value.field == key

@@ -374,11 +374,21 @@ def simulate_free(scenario, *, integrator=None):
         duration=integ.total_time(scenario.speed), spacing=integ.output_spacing(scenario.speed),
         stations=eng.stations, free=eng.free_spin, unbalances=eng.unbalances, loads=eng.loads,
         gravity=eng.gravity, modes=eng.modes, initial=eng.initial, rtol=integ.rtol,
-        atol=integ.atol,
+        atol=integ.atol, rings=eng.rings, **_failure(scenario.rotor),
     )  # fmt: skip
     ds = spin_dataset(res, system, positions)
     ds.attrs.update(scenario_name=scenario.name, scenario=scenario.source)
     return ds
+
+
+def _failure(rotor) -> dict:
+    """``fail_time`` (s) and ``failing`` (indices into the LinearSystem's supports: the
+    non-pinned bearings in order) of the bearings with ``fail_time``."""
+    held = [b for b in rotor.bearings if b.kind != "pinned"]
+    failing = tuple(i for i, b in enumerate(held) if b.fail_time is not None)
+    if not failing:
+        return {}
+    return {"fail_time": float(held[failing[0]].fail_time), "failing": failing}
 
 
 def spin_dataset(res: SpinResult, system, positions):

@@ -43,6 +43,7 @@ _ENGINE_NAMES = (
     "unbalance.position", "unbalance.magnitude", "unbalance.phase", "unbalance.phase_deg",
     "load.position", "load.force_y", "load.force_z", "gravity.y", "gravity.z",
     "speed.profile", "speed.from", "speed.to", "speed.step", "speed.times", "speed.speeds",
+    "contact.ring_inertia", "contact.ring_radius", "contact.ring_drag",
     "speed.drive_torque", "speed.drive_torques", "speed.drive_speeds", "speed.drag",
     "initial.state", "initial.path",
     "simulation.modes", "simulation.cutoff", "simulation.residual",
@@ -115,6 +116,7 @@ class EngineSpec:
     residual: bool = True
     speed_table: tuple | None = None
     free_spin: object = None
+    rings: tuple | None = None
 
     @property
     def positions(self) -> tuple[float, ...]:
@@ -446,7 +448,40 @@ def build_engine(extras: dict, parts: dict, builders: Builders) -> EngineSpec:
         raise _err("simulation.modes / simulation.cutoff", (modes, cutoff), "at most one")
     residual = _value("simulation.residual", sim.get("residual", True))
     return EngineSpec(stations, unb, loads, gravity, speed_end, speed_step, state, path, modes,
-                      cutoff, residual, speed_table, _free_spin(extras))  # fmt: skip
+                      cutoff, residual, speed_table, _free_spin(extras),
+                      _rings(extras, stations, parts["rotor"]))  # fmt: skip
+
+
+def _rings(extras: dict, stations, rotor):
+    """Per contact its :class:`~rubrotor.engine.spin.TouchdownRing` (None: a fixed stator), or
+    None without rings; rings and failing bearings need ``speed.profile = "free"``."""
+    free = extras.get("speed", {}).get("free") is not None
+    fails = [b.fail_time for b in getattr(rotor, "bearings", ()) if b.fail_time is not None]
+    if fails and not free:
+        raise _err("bearing.fail_time", fails[0], 'a run with speed.profile = "free"')
+    if len(set(fails)) > 1:
+        raise _err("bearing.fail_time", tuple(fails), "one time shared by the failing bearings")
+    items = extras.get("contact", [])
+    if not any("ring_inertia" in c for c in items):
+        for i, c in enumerate(items):
+            for k in ("ring_radius", "ring_drag"):
+                if k in c:
+                    raise _err(f"contact[{i + 1}].{k}", c[k], "to be given with ring_inertia")
+        return None
+    if not free:
+        raise _err("contact.ring_inertia", "set", 'a run with speed.profile = "free"')
+    from rubrotor.engine.spin import TouchdownRing
+
+    out = []
+    for i, (c, s) in enumerate(zip(items, stations, strict=True)):
+        if "ring_inertia" not in c:
+            out.append(None)
+            continue
+        vals = {k: _value(f"contact[{i + 1}].ring_{k}", c[f"ring_{k}"], f"contact.ring_{k}")
+                for k in ("inertia", "radius", "drag") if f"ring_{k}" in c}  # fmt: skip
+        vals.setdefault("radius", s.contact.radius + s.contact.clearance)
+        out.append(TouchdownRing(**{k: float(v) for k, v in vals.items()}))
+    return tuple(out)
 
 
 def _free_spin(extras: dict):
