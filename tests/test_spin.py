@@ -242,3 +242,32 @@ def test_bad_touchdown_keys(tmp_path, edit, key):
     with pytest.raises(ScenarioError) as err:
         _load(tmp_path, text)
     assert err.value.field == key
+
+
+@pytest.mark.parametrize("sense", [1.0, -1.0])
+def test_whirl_frequency_of_a_circle(sense):
+    """A circular orbit ``(a cos wt, a sin(sense w t))`` whirls at ``sense w`` (closed form)."""
+    from rubrotor.plotting.touchdown import whirl_frequency
+
+    t = np.linspace(0.0, 0.1, 2001)
+    wf = whirl_frequency(t, 1e-4 * np.cos(300 * t), 1e-4 * np.sin(sense * 300 * t), 2e-3)
+    np.testing.assert_allclose(wf, sense * 300.0, rtol=1e-9)
+
+
+def test_cli_simulates_the_drop_with_its_figure(tmp_path, capsys):
+    """``rubrotor simulate touchdown_drop.toml --figure`` writes the results (with the spin and
+    ring speeds) and the touchdown figure; the summary says complete."""
+    import json
+
+    import xarray as xr
+
+    from rubrotor.cli import main
+
+    out = tmp_path / "drop.nc"
+    assert main(["simulate", str(DROP), "--out", str(out), "--figure"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["status"] == "complete" and summary["contact_events"] > 0
+    assert (tmp_path / "drop.png").stat().st_size > 10_000
+    with xr.open_dataset(out) as ds:
+        assert ds.spin_speed.attrs["units"] == "rad/s"
+        assert ds.ring_speed.values[:, -1].min() > 100.0

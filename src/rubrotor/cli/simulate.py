@@ -191,6 +191,10 @@ def _simulate_figure(ds, path: Path) -> None:
         from rubrotor.plotting.rub import engine_figure
 
         fig = engine_figure(ds)
+    elif ds.attrs.get("engine") == "free-spin":  # [speed] profile = "free"
+        from rubrotor.plotting.touchdown import touchdown_figure
+
+        fig = touchdown_figure(ds)
     else:
         fig = response_figure(ds)
     save_atomic(fig, path)

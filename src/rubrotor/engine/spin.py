@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -317,15 +318,17 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
                            _tolerances(basis, wn, atol, rtol, speed, Pc, radius, nc)])  # fmt: skip
     out = np.zeros((x0.size + 5 * nc, n))
     ist = np.zeros(4, np.int64)
+    wall = time.perf_counter()
     mats = (grid, Kt, Ct, G, float(fail_time))
     spin_dopri(x0, t_out, mats, (f0, Pu, unb), (Pc, offs, cp, radius, ring),
                (float(J), float(free.drag), w, tq), ctrl, out, ist)  # fmt: skip
+    wall = time.perf_counter() - wall
     m = int(ist[3])
     red = dict(K=Kt[0, 0], C=Ct[0, 0], G=G, f0=f0, Pc=Pc, Kt=Kt, Ct=Ct, grid=grid)
     return SpinResult(
         time=t_out[:m], state=out[: x0.size, :m], contact=out[x0.size :, :m].reshape(nc, 5, m),
         basis=basis, reduced=red, J=float(J), radius=radius, rings=rings,
-        status=_STATUS[int(ist[0])], stats={"accepted": int(ist[1]), "rejected": int(ist[2])},
+        status=_STATUS[int(ist[0])], stats={"accepted": int(ist[1]), "rejected": int(ist[2]), "wall_s": wall},
     )  # fmt: skip
 
 
@@ -377,6 +380,10 @@ def simulate_free(scenario, *, integrator=None):
         atol=integ.atol, rings=eng.rings, **_failure(scenario.rotor),
     )  # fmt: skip
     ds = spin_dataset(res, system, positions)
+    ds["clearance"] = ("contact", [s.contact.clearance for s in eng.stations], {"units": "m"})
+    ds["contact_radius"] = ("contact", res.radius, {"units": "m", "long_name": "rotor radius R"})
+    ds["ring_radius"] = ("contact", [0.0 if g is None else g.radius for g in res.rings],
+                         {"units": "m", "long_name": "ring bore radius (0: fixed stator)"})  # fmt: skip
     ds.attrs.update(scenario_name=scenario.name, scenario=scenario.source)
     return ds
 
@@ -430,7 +437,13 @@ def spin_dataset(res: SpinResult, system, positions):
     data["friction_torque"] = (ct, -res.radius[:, None] * res.contact[:, 1], {"units": "N m"})
     coords = {"time": ("time", res.time, {"units": "s"}),
               "station": ("station", np.asarray(positions, float), m)}  # fmt: skip
-    attrs = {"status": res.status, "polar_inertia_kg_m2": res.J, "engine": "free-spin",
-             "speed_rad_s": float(res.spin_speed[0]), **{f"steps_{k}": v for k, v in
-                                                         res.stats.items()}}  # fmt: skip
+    import json
+
+    touching = res.contact[:, 0] > 0
+    events = int(np.sum(touching[:, 1:] & ~touching[:, :-1]))  # contact onsets between samples
+    stats = {**res.stats, "contact_events": events}
+    attrs = {"status": res.status, "status_message": res.status, "engine": "free-spin",
+             "polar_inertia_kg_m2": res.J, "speed_rad_s": float(res.spin_speed[0]),
+             "speed_end_rad_s": float(res.spin_speed[-1]),
+             "integrator_stats": json.dumps(stats)}  # fmt: skip
     return xr.Dataset(data, coords=coords, attrs=attrs)
