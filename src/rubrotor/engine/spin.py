@@ -31,7 +31,7 @@ import numpy as np
 from rubrotor.errors import InputError
 
 __all__ = ["FreeSpin", "TouchdownRing", "SpinResult", "polar_inertia", "simulate_spin",
-           "spin_dataset"]  # fmt: skip
+           "spin_dataset", "simulate_free", "free_problem"]  # fmt: skip
 
 _STATUS = {0: "complete", 1: "step size too small", 2: "diverged", 3: "too many steps"}
 
@@ -343,8 +343,9 @@ def _tolerances(basis, wn, atol, rtol, speed, Pc, radius, nc):
     return np.concatenate([a_eta, a_vel, [a_om, rtol], np.full(nc, a_om)])
 
 
-def simulate_free(scenario, *, integrator=None):
-    """Run a scenario with ``[speed] profile = "free"`` (see the module docstring).
+def free_problem(scenario, integrator=None) -> tuple:
+    """The rotor and the :func:`simulate_spin` arguments of a ``[speed] profile = "free"``
+    scenario: ``(system, kwargs, positions)`` (``positions``: the contacts', then the probes', m).
 
     Parameters
     ----------
@@ -352,12 +353,7 @@ def simulate_free(scenario, *, integrator=None):
         A ``[[section]]`` rotor scenario whose ``engine.free_spin`` is set.
     integrator : rubrotor.engine.settings.Integrator, optional
         Overrides ``[simulation]``: ``duration`` (s) or ``revolutions`` (at the start speed),
-        ``rtol``, ``atol`` (m), ``sample_rate`` or ``output_dtau``, ``probes``, ``modes``.
-
-    Returns
-    -------
-    xarray.Dataset
-        See :func:`spin_dataset`.
+        ``rtol``, ``atol`` (m), ``sample_rate`` or ``output_dtau``, ``probes``.
     """
     from rubrotor.errors import ScenarioError
 
@@ -372,15 +368,37 @@ def simulate_free(scenario, *, integrator=None):
                             'no fixed step with speed.profile = "free" (adaptive: rtol, atol)')  # fmt: skip
     positions = tuple(s.contact.position for s in eng.stations) + tuple(integ.probes)
     system = scenario.rotor.linear_system(tuple(sorted(set(eng.positions + tuple(integ.probes)))))
-    res = simulate_spin(
-        system, J=polar_inertia(scenario.rotor), speed=scenario.speed,
+    kwargs = dict(
+        J=polar_inertia(scenario.rotor), speed=scenario.speed,
         duration=integ.total_time(scenario.speed), spacing=integ.output_spacing(scenario.speed),
         stations=eng.stations, free=eng.free_spin, unbalances=eng.unbalances, loads=eng.loads,
         gravity=eng.gravity, modes=eng.modes, initial=eng.initial, rtol=integ.rtol,
         atol=integ.atol, rings=eng.rings, **_failure(scenario.rotor),
     )  # fmt: skip
+    return system, kwargs, positions
+
+
+def simulate_free(scenario, *, integrator=None):
+    """Run a scenario with ``[speed] profile = "free"`` (see the module docstring).
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        A ``[[section]]`` rotor scenario whose ``engine.free_spin`` is set.
+    integrator : rubrotor.engine.settings.Integrator, optional
+        Overrides ``[simulation]`` (see :func:`free_problem`).
+
+    Returns
+    -------
+    xarray.Dataset
+        See :func:`spin_dataset`; also ``clearance``, ``contact_radius``, ``ring_radius`` (m)
+        on ``contact``.
+    """
+    system, kwargs, positions = free_problem(scenario, integrator)
+    res = simulate_spin(system, **kwargs)
     ds = spin_dataset(res, system, positions)
-    ds["clearance"] = ("contact", [s.contact.clearance for s in eng.stations], {"units": "m"})
+    st = kwargs["stations"]
+    ds["clearance"] = ("contact", [s.contact.clearance for s in st], {"units": "m"})
     ds["contact_radius"] = ("contact", res.radius, {"units": "m", "long_name": "rotor radius R"})
     ds["ring_radius"] = ("contact", [0.0 if g is None else g.radius for g in res.rings],
                          {"units": "m", "long_name": "ring bore radius (0: fixed stator)"})  # fmt: skip

@@ -17,6 +17,11 @@ allowed. The new keys, their kinds, units and ranges are listed in :data:`ENGINE
     [speed]       profile = "constant" (default) | "linear" with from, to (rad/s) over the run
                   | "table" with times (s) and speeds (rad/s), linear between rows; step
                   (rad/s, largest speed change between re-diagonalisations)
+                  | "free": the speed is a state from rad_per_s (rpm, hz), with drive_torque
+                  (N m) or drive_torques (N m) against drive_speeds (rad/s), and drag (N m s)
+                  (:mod:`rubrotor.engine.spin`); then [[contact]] ring_inertia (kg m^2),
+                  ring_radius (m), ring_drag (N m s) make a stator a touchdown ring and
+                  [[bearing]] fail_time (s) switches a bearing off
     [initial]     state = "rest" | "steady" | "static" | "file" with path (a results file of
                   the general engine; the run continues from its final state)
     [simulation]  besides today's keys: modes (retained count), cutoff (rad/s), residual (bool)
