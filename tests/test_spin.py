@@ -308,3 +308,52 @@ def test_drop_against_full_dof_scipy_reference():
     np.testing.assert_allclose(ours, ref, rtol=0, atol=1e-7 * np.abs(ref).max())
     np.testing.assert_allclose(res.spin_speed, om, rtol=0, atol=1e-7 * (om[0] - om[-1]))
     np.testing.assert_allclose(res.ring_speed, wr, rtol=0, atol=1e-7 * wr.max())
+
+
+def _jeffcott_roll(x0):
+    """The dry-whirl study's Jeffcott rotor (10 kg, 1e6 N/m, 5 % damping) on a stiff rigid
+    catcher (1e8 N/m, g = 0.1 mm, R = 10 mm, mu = 0.5), free spin from 6 rad/s, J = 0.1 kg m^2."""
+    from rubrotor.engine.parts import RubStation
+    from rubrotor.rotors.forces import Contact
+    from rubrotor.studies.dry_whirl import Jeffcott
+
+    rotor = Jeffcott(10.0, 1e6, 316.0)
+    c = Contact(clearance=1e-4, stiffness=1e8, law="linear", radius=0.01, position=0.5,
+                friction=0.5, friction_regularization=1e-5)  # fmt: skip
+    res = simulate_spin(rotor.system(), J=0.1, speed=6.0, duration=0.2, spacing=2e-5,
+                        stations=(RubStation(c),), initial=x0, rtol=1e-9, atol=1e-13)  # fmt: skip
+    return rotor, c, res
+
+
+def test_backward_whirl_follows_the_rolling_law_and_spins_down():
+    """Dry whirl on a stiff catcher with high friction, the spin a state. References: the
+    rolling law with contact compliance, ``omega = -Omega R / |D|`` with ``|D|`` from the
+    impedance (:func:`rubrotor.studies.dry_whirl.rolling_whirls`, closed form), at the current
+    speed; and the spin-down rate in rolling. Rolling ties the whirl to the spin
+    (``omega' = -R Omega' / |D|``), so the rotor's tangential equation
+    ``m |D| omega' = -c |D| omega + ft`` and ``J Omega' = R ft`` give
+    ``Omega' = R c |D| omega / (J + m R^2)`` (the rolling rotor's mass adds ``m R^2``; the
+    friction torque is ``R ft``). Kicked to 1.5 g, the rotor locks into backward rolling whirl:
+    at 0.18 s its frequency is the rolling law's to 1.4e-4 (measured). Started on the rolling
+    orbit: whirl frequency to 2.6e-5 (the regularised friction's slide), spin-down rate to 9e-4
+    (measured) of the closed form."""
+    from rubrotor.plotting.touchdown import whirl_frequency
+    from rubrotor.studies.dry_whirl import DryWhirlCase, _rolling_state, rolling_whirls
+
+    def check(res, k, tol_whirl, tol_rate):
+        om, t = res.spin_speed, res.time
+        q = res.basis @ res.state[: res.r]
+        wf = whirl_frequency(t, q[0], q[1], 0.01)[k]
+        roll = rolling_whirls(DryWhirlCase(rotor, c, float(om[k])))[-1]
+        assert roll.frequency < -500.0  # backward, |omega| ~ Omega R / g = 600 rad/s
+        assert wf == pytest.approx(roll.frequency, rel=tol_whirl)
+        if tol_rate is not None:
+            rate = c.radius * roll.gap * rotor.damping * roll.frequency / (0.1 + 10 * c.radius**2)
+            assert np.gradient(om, t)[k] == pytest.approx(rate, rel=tol_rate)
+
+    rotor, c, kicked = _jeffcott_roll(np.array([1.5e-4, 0.0, 0.0, 0.0]))
+    check(kicked, 9000, 1e-3, None)
+    _, _, rolling = _jeffcott_roll(_rolling_state(DryWhirlCase(rotor, c, 6.0)))
+    for k in (1000, 5000, 9000):
+        check(rolling, k, 2e-4, 3e-3)
+    assert rolling.spin_speed[-1] < 0.95 * 6.0  # it spun down by more than 5 %

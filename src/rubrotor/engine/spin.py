@@ -279,8 +279,8 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     modes : int, optional
         Keep the lowest modes (default all: the projection is exact).
     initial : {"rest", "static"} or ndarray
-        Start state of the rotor: at rest on the axis, static under the constant loads, or a
-        modal state ``[eta, eta']``.
+        Start state of the rotor: at rest on the axis, static under the constant loads, or
+        ``[q, q']`` on the free DOFs (m, m/s; rad, rad/s for rotations).
     rtol, atol : float
         Relative tolerance and absolute tolerance (m) of the displacements; the other states'
         absolute tolerances follow from it (see :func:`_tolerances`).
@@ -307,8 +307,9 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     x0[2 * r] = speed
     if isinstance(initial, str) and initial == "static":
         x0[:r] = np.linalg.solve(basis.T @ sm.K @ basis, f0)
-    elif not isinstance(initial, str):
-        x0[: 2 * r] = np.asarray(initial, float)
+    elif not isinstance(initial, str):  # [q, q'] on the free DOFs: project (Phi^T M Phi = I)
+        q = np.asarray(initial, float).reshape(2, -1)
+        x0[: 2 * r] = (basis.T @ sm.M @ q.T).T.reshape(-1)
     elif initial != "rest":
         raise InputError("initial.state", initial, '"rest" or "static" with a free spin speed')
     n = int(math.floor(duration / spacing + 1e-9)) + 1
