@@ -129,6 +129,21 @@ def test_results_file(tmp_path, capsys):
     assert {"1F bending", "1B bending", "1F shear", "1B shear", "3F shear"} <= labels
     assert d["unit"] == "m/s^2" and d["spin_hz"] == pytest.approx(1848.38, rel=1e-4)
     assert (tmp_path / "analysis.png").is_file()
+    # a constant-speed run: one speed per tracked order (the run's), and a rub verdict from its
+    # contact data
+    speed = float(ds.attrs["speed_rad_s"])
+    assert {r["order"] for r in d["orders"]} == {0.5, 1.0, 2.0}
+    for r in d["orders"]:
+        assert r["speed_rad_s"] == pytest.approx([speed], rel=1e-9) and len(r["phase_z_rad"]) == 1
+    one = next(r for r in d["orders"] if r["order"] == 1.0)
+    assert (
+        0.1 * np.abs(ds["v"].values).max() < one["amplitude_y_m"][0] <= np.abs(ds["v"].values).max()
+    )
+    ev = d["rub"]["evidence"]
+    assert (
+        d["rub"]["rub"] == "yes" and ev["contact_time_s"] > 0 and ev["impacts_per_revolution"] > 0
+    )
+    assert "rub: yes: rotor and stator touch" in out
 
 
 def test_band_energy_and_decimate():

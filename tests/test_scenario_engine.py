@@ -324,7 +324,12 @@ def test_streamed_cli_run_and_analyze(tmp_path, capsys, monkeypatch):
     assert json.loads(a.attrs["final_state"]) == json.loads(b.attrs["final_state"])
     assert streamed.with_suffix(".png").stat().st_size > 0
     assert main(["analyze", str(streamed), "--out", str(tmp_path / "an"), "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["spin_hz"] == pytest.approx(100.0)
+    d = json.loads(capsys.readouterr().out)
+    assert d["spin_hz"] == pytest.approx(100.0)
+    # the streamed file has no in_contact: the verdict reads the normal force; two revolutions
+    # hold no Hann block of 0.5X (four), so the orders say why they are empty
+    assert d["rub"]["rub"] == "yes" and d["rub"]["evidence"]["contact_time_s"] > 0
+    assert d["orders"] == [] and "at least 4" in d["orders_note"]
 
 
 def test_seed_engine_verbs_refuse_engine_scenarios():

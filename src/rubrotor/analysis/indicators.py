@@ -19,7 +19,13 @@ from rubrotor.analysis.spectra import order_spectrum
 from rubrotor.analysis.wavelet import _check_fs, _check_signal, inner_scalogram, log_frequencies
 from rubrotor.errors import InputError
 
-__all__ = ["RubIndicators", "rub_indicators", "band_energies", "backward_whirl_share"]
+__all__ = [
+    "RubIndicators",
+    "rub_indicators",
+    "band_energies",
+    "backward_whirl_share",
+    "scalogram_peaks",
+]
 
 SUB_ORDERS = (1 / 3, 1 / 2, 2 / 3)
 SUPER_ORDERS = (2.0, 3.0)
@@ -45,7 +51,8 @@ class RubIndicators:
         Fraction of the orbit's full-spectrum energy at negative frequencies (DC excluded);
         None without w.
     scalogram_peaks_hz : numpy.ndarray
-        Frequencies (Hz) of the local maxima of the inner scalogram of v, strongest first.
+        Frequencies (Hz) of the interior local maxima of the inner scalogram of v, strongest
+        first (the grid's edges are never reported, see ``scalogram_peaks``).
     details : dict
         Parameters used (band_halfwidth_hz, window, scalogram frequency range).
     """
@@ -183,6 +190,32 @@ def backward_whirl_share(v, w, fs: float) -> float:
     return back / total if total > 0 else 0.0
 
 
+def scalogram_peaks(frequencies, inner, n_peaks: int = 5) -> np.ndarray:
+    """Frequencies of the interior local maxima of a scalogram, strongest first.
+
+    The first and last frequencies of the grid are never peaks: a scalogram still rising at an
+    edge of its range has its maximum outside it, not there.
+
+    Parameters
+    ----------
+    frequencies : array_like
+        Scalogram frequencies (Hz), ascending.
+    inner : array_like
+        Scalogram values at them (any unit).
+    n_peaks : int
+        Largest number of peaks returned.
+
+    Returns
+    -------
+    numpy.ndarray
+        Peak frequencies (Hz), at most ``n_peaks``.
+    """
+    inner = np.asarray(inner, dtype=np.float64)
+    idx, _ = find_peaks(inner)  # interior samples higher than both neighbours
+    idx = idx[np.argsort(inner[idx])[::-1]][:n_peaks]
+    return np.asarray(frequencies, dtype=np.float64)[idx]
+
+
 def rub_indicators(
     v,
     fs: float,
@@ -279,10 +312,7 @@ def rub_indicators(
     lo, hi = scalogram_range_hz if scalogram_range_hz is not None else (spin / 4, 0.45 * fs)
     freqs = log_frequencies(lo, hi, n_frequencies)
     inner = inner_scalogram(v, fs, freqs)
-    idx, _ = find_peaks(np.concatenate([[0.0], inner, [0.0]]))
-    idx = idx - 1
-    idx = idx[np.argsort(inner[idx])[::-1]][:n_peaks]
-    peaks = freqs[idx]
+    peaks = scalogram_peaks(freqs, inner, n_peaks)
     details = {
         "band_halfwidth_hz": _halfwidth(band_halfwidth_hz, fs, v.size),
         "window": "hann",

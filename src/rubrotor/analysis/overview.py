@@ -255,8 +255,9 @@ def indicators_dict(a: SignalAnalysis) -> dict:
     }
     ind = a.indicators
     if ind is None:
-        idx = np.argsort(a.inner)[::-1][:5]
-        out["inner_scalogram_peaks_hz"] = [float(f) for f in a.frequencies[idx]]
+        from rubrotor.analysis.indicators import scalogram_peaks
+
+        out["inner_scalogram_peaks_hz"] = scalogram_peaks(a.frequencies, a.inner, 5).tolist()
         return out
     out["band_energy"] = {k: _num(v) for k, v in ind.band_energy.items()}
     out["band_ratio"] = (

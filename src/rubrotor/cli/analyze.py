@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -30,19 +31,38 @@ def analyze_args(parser: argparse.ArgumentParser) -> None:
         "--out", metavar="DIR", help="output directory (default: the input file's directory)"
     )
     parser.add_argument(
-        "--fs", type=float, metavar="HZ", help="sampling frequency (Hz); required for .csv and .npy"
+        "--fs",
+        type=float,
+        metavar="HZ",
+        help="sampling frequency (Hz); required for .npy and for a .csv without a time column",
     )
     parser.add_argument(
         "--columns",
         metavar="A[,B]",
         help="column names (CSV header) or 0-based indices: one column, or two "
-        "(v,w) for the full spectrum; default the first column",
+        "(v,w) for the full spectrum; default the first column that is not time, speed, rpm "
+        "or keyphasor",
     )
     parser.add_argument(
         "--spin-hz",
         type=float,
         metavar="HZ",
         help="spin frequency (Hz) for signal files (harmonic ratios)",
+    )
+    parser.add_argument(
+        "--clearance",
+        type=float,
+        metavar="M",
+        help="radial clearance at the probe (m), for the rub verdict of a signal file",
+    )
+    parser.add_argument(
+        "--orders",
+        metavar="K[,K...]",
+        default="0.5,1,2",
+        help="orders of the spin speed to track (default 0.5,1,2)",
+    )
+    parser.add_argument(
+        "--rpm", action="store_true", help="speed axes of the order figures in rev/min"
     )
     parser.add_argument("--json", action="store_true", help="print the indicators as JSON")
 
@@ -71,33 +91,19 @@ def _read_table(path: Path, ext: str, fs):
         if data.ndim == 1:
             data = data[:, None]
         return {str(i): data[:, i] for i in range(data.shape[1])}, float(rate)
-    text = path.read_text().splitlines()
-    if not text:
-        raise InputError("input", str(path), "a CSV file with at least one row")
-    first = [c.strip() for c in text[0].split(",")]
-    try:
-        [float(c) for c in first]
-        names = [str(i) for i in range(len(first))]
-        skip = 0
-    except ValueError:
-        names = first
-        skip = 1
-    try:
-        data = np.loadtxt(path, delimiter=",", skiprows=skip, ndmin=2)
-    except ValueError as exc:
-        raise InputError("input", str(path), f"a CSV file of numbers ({exc})") from None
-    if data.shape[1] != len(names):
-        raise InputError("input", str(path), "a CSV file with the same number of columns per row")
-    out = {n: data[:, i] for i, n in enumerate(names)}
-    for i in range(len(names)):  # indices work too
-        out.setdefault(str(i), data[:, i])
-    return out, None
+    from rubrotor.analysis.measured import read_csv_table
+
+    return read_csv_table(path), None
 
 
 def _pick_columns(table: dict, spec: str | None) -> list[tuple[str, np.ndarray]]:
+    from rubrotor.analysis.measured import AUXILIARY_NAMES
+
     names = list(table)
     if spec is None:
-        return [(names[0], table[names[0]])]
+        named = [n for n in names if not n.isdigit()]
+        first = next((n for n in named if n.lower() not in AUXILIARY_NAMES), names[0])
+        return [(first, table[first])]
     wanted = [c.strip() for c in spec.split(",")]
     if not 1 <= len(wanted) <= 2 or any(not c for c in wanted):
         raise InputError("--columns", spec, "one or two column names or indices, e.g. v,w")
@@ -114,23 +120,26 @@ def load_signals(path, *, fs=None, columns=None, spin_hz=None) -> dict:
     ----------
     path : path-like
         ``.nc`` results file (the accelerations ``v_ddot``, ``w_ddot`` are analysed, the spin
-        speed and natural frequencies come from its attributes and scenario text), or a ``.csv``
-        (optional header row), ``.npy`` (1-D or 2-D, columns) or ``.wav`` signal file.
+        angle, speed and natural frequencies come from the file), or a ``.csv`` (optional header
+        row; a ``time`` column gives the sampling frequency, a ``speed_rad_s``/``rpm`` or
+        ``keyphasor`` column the spin angle, see :mod:`rubrotor.analysis.measured`), ``.npy``
+        (1-D or 2-D, columns) or ``.wav`` signal file.
     fs : float, optional
-        Sampling frequency (Hz); required for CSV and NPY, optional for WAV (default: its rate).
+        Sampling frequency (Hz); required for NPY and for a CSV without a time column, optional
+        for WAV (default: its rate).
     columns : str, optional
         ``"A"`` or ``"A,B"``: column names or indices of a signal file.
     spin_hz : float, optional
-        Spin frequency (Hz) of a signal file.
+        Spin frequency (Hz) of a signal file without a speed or keyphasor column.
 
     Returns
     -------
     dict
-        ``v``, ``w`` (or None), ``fs`` (Hz), ``spin_hz``, ``modes`` ((label, Hz, whirl) list),
-        ``unit``, ``names`` (channel names), ``source``.
+        ``v``, ``w`` (or None), ``fs`` (Hz), ``spin_hz`` (None for a varying speed), ``modes``
+        ((label, Hz, whirl) list), ``unit``, ``names`` (channel names), ``source``, ``spin``
+        (:class:`~rubrotor.analysis.orders.SpinAngle` or None), ``speed_range_rad_s``
+        ((min, max) or None), ``dataset`` (the results Dataset of a ``.nc``, else None).
     """
-    import tomllib
-
     p = Path(path)
     ext = p.suffix.lower()
     if ext not in _SIGNAL_EXTENSIONS:
@@ -142,50 +151,77 @@ def load_signals(path, *, fs=None, columns=None, spin_hz=None) -> dict:
     if spin_hz is not None and not (math.isfinite(spin_hz) and spin_hz > 0):
         raise InputError("--spin-hz", spin_hz, "a finite spin frequency > 0 (Hz)")
     if ext == ".nc":
-        from rubrotor.analysis.overview import mode_entries
-        from rubrotor.engine.result import load_dataset
-        from rubrotor.errors import ScenarioError
-        from rubrotor.linear.verbs import modes
-        from rubrotor.scenario.load import scenario_from_dict
+        return _results_signals(p)
+    return _file_signals(p, ext, fs, columns, spin_hz)
 
-        ds = load_dataset(p)
-        for var in ("v_dot", "w_dot", "time"):
-            if var not in ds.variables:
-                raise InputError("input", str(path), f"a rubrotor results file (no '{var}')")
-        t = ds["time"].values
-        dt = np.diff(t)
-        if t.size < 64 or not np.all(dt > 0) or np.ptp(dt) > 1e-6 * np.mean(dt):
-            raise InputError(
-                "input", str(path), "results saved on a uniform time grid (at least 64 samples)"
-            )
-        rate = 1.0 / float(np.mean(dt))
-        text = ds.attrs.get("scenario", "")
-        entries: list = []
-        if text:
-            try:
-                sc = scenario_from_dict(tomllib.loads(text))
-                entries = mode_entries(modes(sc, float(ds.attrs["speed_rad_s"])))
-            except (tomllib.TOMLDecodeError, ScenarioError):
-                entries = []
-        v, w = _acceleration_channels(ds)
-        for name, x in (("v_ddot", v), ("w_ddot", w)):
-            if not np.all(np.isfinite(x)):
-                raise InputError("input", f"{path}: {name}", "finite data (no NaN or inf)")
-        return {
-            "v": v,
-            "w": w,
-            "fs": rate,
-            "spin_hz": float(ds.attrs["speed_hz"]),
-            "modes": entries,
-            "unit": "m/s^2",
-            "names": ["v_ddot", "w_ddot"],
-            "source": str(p),
-            "scenario_name": ds.attrs.get("scenario_name", ""),
-        }
+
+def _speed_range(spin) -> tuple[float, float] | None:
+    if spin is None:
+        return None
+    sp = spin.speed[spin.valid]
+    return float(sp.min()), float(sp.max())
+
+
+def _varying(rng) -> bool:
+    return rng is not None and rng[1] - rng[0] > 1e-6 * rng[1]
+
+
+def _results_signals(p: Path) -> dict:
+    """The signals of a results file (see :func:`load_signals`)."""
+    import tomllib
+
+    from rubrotor.analysis.orders import spin_from_dataset
+    from rubrotor.analysis.overview import mode_entries
+    from rubrotor.engine.result import load_dataset
+    from rubrotor.errors import ScenarioError
+    from rubrotor.linear.verbs import modes
+    from rubrotor.scenario.load import scenario_from_dict
+
+    ds = load_dataset(p)
+    for var in ("v_dot", "w_dot", "time"):
+        if var not in ds.variables:
+            raise InputError("input", str(p), f"a rubrotor results file (no '{var}')")
+    t = ds["time"].values
+    dt = np.diff(t)
+    if t.size < 64 or not np.all(dt > 0) or np.ptp(dt) > 1e-6 * np.mean(dt):
+        raise InputError("input", str(p), "results saved on a uniform time grid (at least 64 samples)")  # fmt: skip
+    spin = spin_from_dataset(ds)
+    rng = _speed_range(spin)
+    text = ds.attrs.get("scenario", "")
+    entries: list = []
+    if text:
+        try:
+            sc = scenario_from_dict(tomllib.loads(text))
+            entries = mode_entries(modes(sc, float(ds.attrs["speed_rad_s"])))
+        except (tomllib.TOMLDecodeError, ScenarioError):
+            entries = []
+    v, w = _acceleration_channels(ds)
+    for name, x in (("v_ddot", v), ("w_ddot", w)):
+        if not np.all(np.isfinite(x)):
+            raise InputError("input", f"{p}: {name}", "finite data (no NaN or inf)")
+    return {
+        "v": v, "w": w, "fs": 1.0 / float(np.mean(dt)),
+        "spin_hz": None if _varying(rng) else float(ds.attrs["speed_hz"]),
+        "modes": entries, "unit": "m/s^2", "names": ["v_ddot", "w_ddot"], "source": str(p),
+        "scenario_name": ds.attrs.get("scenario_name", ""), "spin": spin,
+        "speed_range_rad_s": rng, "dataset": ds,
+    }  # fmt: skip
+
+
+def _file_signals(p: Path, ext: str, fs, columns, spin_hz) -> dict:
+    """The signals of a CSV, NPY or WAV file (see :func:`load_signals`)."""
+    from rubrotor.analysis.measured import spin_from_table, time_column
+    from rubrotor.analysis.orders import spin_from_speed
+
     table, rate = _read_table(p, ext, fs)
+    tc = time_column(table) if ext == ".csv" else None
+    if tc is not None:
+        if fs is not None and abs(fs / tc[1] - 1) > 1e-6:
+            raise InputError("--fs", fs, f"the rate of the time column {tc[0]} ({tc[1]:.9g} Hz) or no --fs")  # fmt: skip
+        fs = tc[1]
     if fs is None:
         if rate is None:
-            raise InputError("--fs", None, f"a sampling frequency (Hz) for {ext} files")
+            raise InputError("--fs", None, f"a sampling frequency (Hz) for {ext} files without a time column")  # fmt: skip
         fs = rate
     cols = _pick_columns(table, columns)
     for name, x in cols:
@@ -193,17 +229,19 @@ def load_signals(path, *, fs=None, columns=None, spin_hz=None) -> dict:
             raise InputError("input", f"column {name}: {x.size} samples", "at least 64 samples")
         if not np.all(np.isfinite(x)):
             raise InputError("input", f"column {name}", "finite data (no NaN or inf)")
+    spin = spin_from_table(table, fs) if ext == ".csv" else None
+    if spin is None and spin_hz is not None:
+        t = table[tc[0]] if tc is not None else np.arange(cols[0][1].size) / fs
+        spin = spin_from_speed(t, np.full(t.size, 2 * math.pi * spin_hz))
+    rng = _speed_range(spin)
+    if spin_hz is None and rng is not None and not _varying(rng):
+        spin_hz = rng[0] / (2 * math.pi)
     return {
-        "v": cols[0][1],
-        "w": cols[1][1] if len(cols) == 2 else None,
-        "fs": float(fs),
-        "spin_hz": spin_hz,
-        "modes": [],
-        "unit": "signal unit",
-        "names": [c[0] for c in cols],
-        "source": str(p),
-        "scenario_name": "",
-    }
+        "v": cols[0][1], "w": cols[1][1] if len(cols) == 2 else None, "fs": float(fs),
+        "spin_hz": None if _varying(rng) else spin_hz, "modes": [], "unit": "signal unit",
+        "names": [c[0] for c in cols], "source": str(p), "scenario_name": "", "spin": spin,
+        "speed_range_rad_s": rng, "dataset": None,
+    }  # fmt: skip
 
 
 def _acceleration_channels(ds) -> tuple[np.ndarray, np.ndarray]:
@@ -222,6 +260,9 @@ def _indicator_rows(d: dict) -> list[list[str]]:
     rows = [["samples", f"{d['samples']}", ""], ["sampling frequency", f"{d['fs_hz']:.6g}", "Hz"]]
     if d.get("spin_hz"):
         rows.append(["spin frequency", f"{d['spin_hz']:.6g}", "Hz"])
+    rng = d.get("speed_range_rad_s")
+    if rng and rng[1] > rng[0] * (1 + 1e-6):
+        rows.append(["spin speed range", f"{rng[0]:.6g} - {rng[1]:.6g}", "rad/s"])
     unit = d["unit"]
     freq = {m["label"]: m["frequency_hz"] for m in d.get("modes", [])}
     for label, e in (d.get("band_energy") or {}).items():
@@ -238,12 +279,139 @@ def _indicator_rows(d: dict) -> list[list[str]]:
     return rows
 
 
+def _parse_orders(text: str) -> tuple[float, ...]:
+    from rubrotor.analysis.orders import block_revolutions
+
+    try:
+        orders = tuple(float(x) for x in text.split(","))
+    except ValueError:
+        raise InputError("--orders", text, "orders separated by commas, e.g. 0.5,1,2") from None
+    try:
+        block_revolutions(orders)
+    except InputError as exc:
+        raise InputError("--orders", text, exc.allowed) from None
+    return orders
+
+
+def _signal_orders(sig: dict, orders) -> tuple[list[dict], dict]:
+    """Order rows and order tracks ({probe: track}) of a signal file with a spin angle."""
+    from rubrotor.analysis.orders import track_orders
+
+    tr = track_orders(sig["spin"], sig["v"], sig["w"], orders=orders)
+    rows = []
+    for i, k in enumerate(tr.orders):
+        row = {"probe_m": None, "order": float(k), "channels": sig["names"],
+               "speed_rad_s": tr.speed_rad_s.tolist(),
+               "amplitude_y_m": np.abs(tr.y[i]).tolist(), "phase_y_rad": np.angle(tr.y[i]).tolist()}  # fmt: skip
+        if tr.w is not None:
+            row |= {"amplitude_z_m": np.abs(tr.w[i]).tolist(),
+                    "phase_z_rad": np.angle(tr.w[i]).tolist(),
+                    "forward_m": np.abs(tr.forward[i]).tolist(),
+                    "backward_m": np.abs(tr.backward[i]).tolist()}  # fmt: skip
+        rows.append(row)
+    return rows, {" + i ".join(sig["names"]): tr}
+
+
+def _orders_and_verdict(sig: dict, orders, clearance) -> tuple[dict, dict]:
+    """``orders`` rows and the ``rub`` verdict of the analysed file, and the tracks drawn."""
+    from rubrotor.analysis.verdict import dataset_verdict, rub_evidence, rub_verdict
+
+    ds, spin = sig["dataset"], sig["spin"]
+    if spin is None:
+        why = "no spin speed: give --spin-hz, or a speed_rad_s, rpm or keyphasor column"
+        return {"orders": [], "rub": {"rub": "unknown", "reasons": [why], "evidence": {}}}, {}
+    try:
+        rows, tracks = (
+            _dataset_orders(ds, orders) if ds is not None else _signal_orders(sig, orders)
+        )
+    except InputError as exc:  # a record shorter than one block of the orders
+        note = f"no orders: {exc.field} = {exc.value} ({exc.allowed})"
+        rows, tracks = [], {}
+    else:
+        note = None
+    if ds is not None:
+        verdict = dataset_verdict(ds)
+    else:
+        verdict = rub_verdict(rub_evidence(spin, sig["v"], sig["w"], clearance=clearance))
+    out = {"orders": rows, "rub": verdict.as_dict()}
+    return (out | {"orders_note": note} if note else out), tracks
+
+
+def _dataset_orders(ds, orders) -> tuple[list[dict], dict]:
+    """Order rows of a results Dataset and, for a run with varying speed, the tracks drawn."""
+    from rubrotor.analysis.orders import dataset_orders, spin_from_dataset, track_orders
+
+    rows = dataset_orders(ds, orders)
+    sp = spin_from_dataset(ds)
+    if np.ptp(sp.speed) <= 1e-6 * np.max(sp.speed):
+        return rows, {}
+    v, w = ds["v"].values, ds["w"].values
+    if v.ndim == 2:
+        return rows, {float(x): track_orders(sp, v[j], w[j], orders=orders)
+                      for j, x in enumerate(ds["station"].values)}  # fmt: skip
+    return rows, {float(ds.attrs.get("contact_position_m", 0.0)): track_orders(sp, v, w, orders=orders)}  # fmt: skip
+
+
+def _order_figures(sig: dict, tracks: dict, args: argparse.Namespace, out: Path) -> list[Path]:
+    """``orders.png`` (transient Bode of 1X) and ``cascade.png`` of a run with varying speed."""
+    from rubrotor.analysis.diagnostics import cascade
+    from rubrotor.engine.result import atomic_write
+    from rubrotor.plotting.diagnostics import bode_figure, cascade_figure
+
+    if not tracks or not _varying(sig["speed_range_rad_s"]):
+        return []
+    ds = sig["dataset"]
+    if ds is not None:
+        v, w = ds["v"].values, ds["w"].values
+        y, z = (v[0], w[0]) if v.ndim == 2 else (v, w)
+        label = "displacement at the first station"
+    else:
+        y, z = sig["v"], sig["w"]
+        label = " + i ".join(sig["names"])
+    name = sig["scenario_name"] or Path(args.input).name
+    first = next(iter(tracks.values()))
+    ks = tuple(k for k in (1.0,) if np.any(np.abs(first.orders - k) < 1e-9)) or (
+        float(first.orders[0]),
+    )
+    figs = {"orders.png": bode_figure(tracks, orders=ks, rpm=args.rpm, title=f"{name}: tracked {ks[0]:g}X")}  # fmt: skip
+    try:  # 8 revolutions or more: two spectra of 4
+        casc = cascade(sig["spin"], y, z, revolutions=4)
+    except InputError:
+        casc = None
+    if casc is not None and casc.speed_rad_s.size >= 2:
+        figs["cascade.png"] = cascade_figure(casc, rpm=args.rpm, title=f"{name}: cascade of the {label}")  # fmt: skip
+    paths = []
+    for fname, fig in figs.items():
+        atomic_write(out / fname, lambda tmp, f=fig: f.savefig(tmp, format="png", dpi=110))
+        paths.append(out / fname)
+    return paths
+
+
+def _runup_warning(sig: dict) -> None:
+    rng = sig["speed_range_rad_s"]
+    if _varying(rng):
+        print(f"rubrotor: warning: the speed varies from {rng[0]:.6g} to {rng[1]:.6g} rad/s: "
+              "no single spin frequency; orders are tracked against the run's speed (\"orders\")",
+              file=sys.stderr)  # fmt: skip
+
+
+def _verdict_line(rub: dict) -> str:
+    return f"rub: {rub['rub']}" + (": " + "; ".join(rub["reasons"]) if rub["reasons"] else "")
+
+
 def analyze_run(args: argparse.Namespace) -> int:
     from rubrotor.analysis.overview import analyze_signal, decimate_to, indicators_dict
     from rubrotor.engine.result import atomic_write
     from rubrotor.plotting.figures import analysis_figure
 
+    orders = _parse_orders(args.orders)  # bad options fail before the analysis
+    c = args.clearance
+    if c is not None and not (math.isfinite(c) and c > 0):
+        raise InputError("--clearance", c, "a radial clearance > 0 (m)")
     sig = load_signals(args.input, fs=args.fs, columns=args.columns, spin_hz=args.spin_hz)
+    if sig["dataset"] is not None and c is not None:
+        raise InputError("--clearance", c, "only with a signal file (a results file has its clearance)")  # fmt: skip
+    _runup_warning(sig)
     chans = [sig["v"]] + ([sig["w"]] if sig["w"] is not None else [])
     chans, fs = decimate_to(chans, sig["fs"], _MAX_ANALYSIS_RATE)
     spin = sig["spin_hz"]
@@ -263,16 +431,32 @@ def analyze_run(args: argparse.Namespace) -> int:
     d = indicators_dict(a)
     d["source"] = sig["source"]
     d["channels"] = sig["names"]
+    rng = sig["speed_range_rad_s"]
+    d["speed_range_rad_s"] = None if rng is None else list(rng)
+    extra, tracks = _orders_and_verdict(sig, orders, c)
+    d |= extra
     name = sig["scenario_name"] or Path(args.input).name
     fig = analysis_figure(
         a, title=f"{name}: {' + i '.join(sig['names'])} (fs = {fs / 1e3:.4g} kHz)"
     )
+    if _varying(rng):  # the orders follow the run's speed on the map
+        from rubrotor.plotting.diagnostics import mark_orders
+
+        sp = sig["spin"]
+        sl = sp.valid
+        mark_orders(fig.axes[0], sp.time[sl] - sp.time[0], sp.speed[sl])
     atomic_write(out / "analysis.png", lambda tmp: fig.savefig(tmp, format="png", dpi=110))
     atomic_write(out / "indicators.json", lambda tmp: Path(tmp).write_text(json.dumps(d, indent=2)))
+    written = [
+        out / "analysis.png",
+        *_order_figures(sig, tracks, args, out),
+        out / "indicators.json",
+    ]
     if args.json:
         print_json(d)
     else:
         print(f"{name}: rub indicators of {', '.join(sig['names'])}")
         print(table(["quantity", "value", "unit"], _indicator_rows(d)))
-        print(f"wrote {out / 'analysis.png'} and {out / 'indicators.json'}")
+        print(_verdict_line(d["rub"]))
+        print("wrote " + ", ".join(str(p) for p in written))
     return 0

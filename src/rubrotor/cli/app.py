@@ -4,8 +4,8 @@ Each verb is a :class:`~rubrotor.cli.common.Command`: a name, a help line, a fun
 arguments to an :mod:`argparse` subparser and a function running it (``run(args) -> int``). The
 verbs live in one module per group (:mod:`rubrotor.cli.linear`, :mod:`rubrotor.cli.simulate`,
 :mod:`rubrotor.cli.sweeps`, :mod:`rubrotor.cli.analyze`, :mod:`rubrotor.cli.orbits`,
-:mod:`rubrotor.cli.studies`); to add one, write its two functions in its group's module and add
-a row to :data:`COMMANDS`, the one table.
+:mod:`rubrotor.cli.studies`, :mod:`rubrotor.cli.thermal`); to add one, write its two functions
+in its group's module and add a row to :data:`COMMANDS`, the one table.
 
 Errors the user can cause (:class:`rubrotor.errors.RubrotorError`, including scenario errors)
 print ``rubrotor: error: <message>`` on stderr and give exit status 2, with no traceback.
@@ -17,12 +17,23 @@ import argparse
 import os
 import sys
 
-from rubrotor.cli import analyze, api, linear, orbits, response, simulate, studies, sweeps
+from rubrotor import __version__
+from rubrotor.cli import (
+    analyze,
+    api,
+    linear,
+    orbits,
+    response,
+    simulate,
+    studies,
+    sweeps,
+    thermal,
+)
 from rubrotor.cli.analyze import load_signals
 from rubrotor.cli.common import Command, parse_speeds
 from rubrotor.cli.simulate import run_summary
-from rubrotor.cli.studies import shipped_scenarios
 from rubrotor.errors import RubrotorError
+from rubrotor.scenario.load import shipped_scenarios
 
 __all__ = [
     "main",
@@ -132,6 +143,12 @@ COMMANDS: list[Command] = [
         orbits.continue_run,
     ),
     Command(
+        "thermal",
+        "thermal bow (Newkirk spiral): growth rate and period against speed, slow-time runs",
+        thermal.thermal_args,
+        thermal.thermal_run,
+    ),
+    Command(
         "analyze",
         "rub indicators and CWT/spectrum figure of a results or signal file",
         analyze.analyze_args,
@@ -159,6 +176,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Rotor-stator rub on real rotors: modes, critical speeds, rub simulation, "
         "periodic orbits, sweeps and rub analysis.",
     )
+    parser.add_argument("--version", action="version", version=f"rubrotor {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for cmd in COMMANDS:
         p = sub.add_parser(cmd.name, help=cmd.help, description=cmd.help)

@@ -40,8 +40,36 @@ def _run_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def speed_profile(attrs: dict) -> dict:
+    """The speed law in a results file's attributes: ``{"kind": "constant"}``,
+    ``{"kind": "linear", "from_rad_s", "to_rad_s"}`` (run-up or coast-down over the run) or
+    ``{"kind": "table", "times_s", "speeds_rad_s"}`` (rows linear between them)."""
+    if "speed_table" in attrs:
+        rows = json.loads(attrs["speed_table"])
+        return {"kind": "table", "times_s": [r[0] for r in rows], "speeds_rad_s": [r[1] for r in rows]}  # fmt: skip
+    if "speed_end_rad_s" in attrs:
+        return {"kind": "linear", "from_rad_s": float(attrs["speed_rad_s"]),
+                "to_rad_s": float(attrs["speed_end_rad_s"])}  # fmt: skip
+    return {"kind": "constant"}
+
+
+def _speed_end(attrs: dict, duration_s: float) -> dict:
+    """``speed_end_rad_s`` (the law's speed at the last sample) and ``speed_profile`` of a run
+    whose speed varies; nothing for a constant speed."""
+    law = speed_profile(attrs)
+    if law["kind"] == "constant":
+        return {}
+    if law["kind"] == "linear":
+        end = law["to_rad_s"]
+    else:
+        end = float(np.interp(duration_s, law["times_s"], law["speeds_rad_s"]))
+    return {"speed_end_rad_s": end, "speed_profile": law}
+
+
 def run_summary(ds) -> dict:
-    """Short JSON-able summary of a results Dataset (SI units in the key names)."""
+    """Short JSON-able summary of a results Dataset (SI units in the key names); for a run-up,
+    coast-down or speed table ``speed_rad_s`` is the start speed, ``speed_end_rad_s`` the end
+    speed and ``speed_profile`` the law (:func:`speed_profile`)."""
     p = np.hypot(ds["v"].values, ds["w"].values)
     fn = ds["normal_force"].values
     stats = json.loads(ds.attrs["integrator_stats"])
@@ -50,11 +78,12 @@ def run_summary(ds) -> dict:
         "status": ds.attrs["status"],
         "status_message": ds.attrs["status_message"],
         "speed_rad_s": float(ds.attrs["speed_rad_s"]),
+        **_speed_end(ds.attrs, float(ds["time"].values[-1] - ds["time"].values[0])),
         "duration_s": float(ds["time"].values[-1]),
         "samples": int(ds.sizes["time"]),
         "max_displacement_m": float(p.max()),
-        "max_normal_force_N": float(fn.max()),
-        "contact_fraction": float(np.mean(fn > 0)),
+        "max_normal_force_N": float(fn.max()) if fn.size else 0.0,  # no contact table: none
+        "contact_fraction": float(np.mean(fn > 0)) if fn.size else 0.0,
         "contact_events": int(stats.get("contact_events", 0)),
         "wall_time_s": float(stats.get("wall_s", float("nan"))),
     }
@@ -89,6 +118,9 @@ def simulate_args(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--figure", action="store_true", help="also write FILE with .png: orbit, force, spectrum"
+    )
+    parser.add_argument(
+        "--rpm", action="store_true", help="speed axis of the figure in rev/min (default rad/s)"
     )
     _run_options(parser)
 
@@ -130,7 +162,7 @@ def simulate_run(args: argparse.Namespace) -> int:
     ds = simulate(scenario, integrator=integ, progress=args.progress)
     save_dataset(ds, out)
     if args.figure:
-        _simulate_figure(ds, out.with_suffix(".png"))
+        _simulate_figure(ds, out.with_suffix(".png"), getattr(args, "rpm", False))
     return _report(run_summary(ds), out, summary_file, False)
 
 
@@ -150,6 +182,7 @@ def streamed_summary(path: Path) -> dict:
         "status": at["status"],
         "status_message": at["status_message"],
         "speed_rad_s": float(at["speed_rad_s"]),
+        **_speed_end(at, fs["duration_s"] - float(at.get("start_time_s", 0.0))),
         "duration_s": fs["duration_s"],
         "samples": fs["samples"],
         "max_displacement_m": fs["max_displacement_m"],
@@ -184,13 +217,13 @@ def _report(summary: dict, out: Path, summary_file, figure: bool) -> int:
     return 0
 
 
-def _simulate_figure(ds, path: Path) -> None:
+def _simulate_figure(ds, path: Path, rpm: bool = False) -> None:
     from rubrotor.plotting.figures import response_figure
 
     if ds.attrs.get("engine") == "general":
         from rubrotor.plotting.rub import engine_figure
 
-        fig = engine_figure(ds)
+        fig = engine_figure(ds, rpm=rpm)
     elif ds.attrs.get("engine") == "free-spin":  # [speed] profile = "free"
         from rubrotor.plotting.touchdown import touchdown_figure
 

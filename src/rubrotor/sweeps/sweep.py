@@ -69,7 +69,9 @@ from rubrotor.sweeps.metrics import (
     window_metrics,
 )
 from rubrotor.sweeps.regimes import (
+    APERIODIC,
     CHAOTIC,
+    DEEP,
     FULL,
     NO_CONTACT,
     PARTIAL,
@@ -92,7 +94,9 @@ __all__ = [
     "find_period",
     "poincare_dimension",
     "regime_label",
+    "APERIODIC",
     "CHAOTIC",
+    "DEEP",
     "FULL",
     "NO_CONTACT",
     "PARTIAL",
@@ -299,9 +303,22 @@ def simulate_point(
     ch = r.channels
     pw = ch[0, i0:i1] + 1j * ch[1, i0:i1]
     fn = ch[6 * len(r.stations), i0:i1]
+    gap = _rigid_clearance(scenario)
     metrics = window_metrics(pw, fn, r.events, r.speed, transient_revolutions, revolutions,
-                             samples_per_revolution, lam)  # fmt: skip
+                             samples_per_revolution, lam, gap)  # fmt: skip
     return metrics, r.final_state
+
+
+def _rigid_clearance(scenario) -> float | None:
+    """Clearance (m) of a Hertz contact on the continuous shaft's path (a rigid stator centred
+    on the axis), else None. The Hertz law models the local elastic indentation of two solids:
+    an indentation beyond the clearance (millimetres for the seed rotor) lies far outside it,
+    so such a run is labelled ``"indentation > clearance"``, not a rub. A linear law stands for
+    a compliant seal or stator, whose deflection may exceed the gap: no such label."""
+    c = getattr(scenario, "contact", None)
+    if c is None or c.law != "hertz" or scenario.model.general:
+        return None
+    return c.clearance
 
 
 def run_chunk(task: dict) -> dict:
