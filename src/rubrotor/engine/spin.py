@@ -306,7 +306,7 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     x0 = np.zeros(2 * r + 2 + nc)
     x0[2 * r] = speed
     if isinstance(initial, str) and initial == "static":
-        x0[:r] = np.linalg.solve(basis.T @ sm.K @ basis, f0)
+        x0[:r] = _static(basis.T @ sm.K @ basis, f0)
     elif not isinstance(initial, str):  # [q, q'] on the free DOFs: project (Phi^T M Phi = I)
         q = np.asarray(initial, float).reshape(2, -1)
         x0[: 2 * r] = (basis.T @ sm.M @ q.T).T.reshape(-1)
@@ -331,6 +331,18 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
         basis=basis, reduced=red, J=float(J), radius=radius, rings=rings,
         status=_STATUS[int(ist[0])], stats={"accepted": int(ist[1]), "rejected": int(ist[2]), "wall_s": wall},
     )  # fmt: skip
+
+
+def _static(k: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """Static modal deflection ``k^-1 f``; a singular or overflowing stiffness is refused."""
+    try:
+        x = np.linalg.solve(k, f)
+    except np.linalg.LinAlgError:
+        x = np.full(f.shape, np.nan)
+    if not np.all(np.isfinite(x)):
+        raise InputError("initial.state", "static", "a rotor whose stiffness matrix can be "
+                         "solved (check the bearing and section values), or \"rest\"")  # fmt: skip
+    return x
 
 
 def _tolerances(basis, wn, atol, rtol, speed, Pc, radius, nc):
