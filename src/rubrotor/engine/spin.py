@@ -14,7 +14,7 @@ exact; ``modes`` keeps the lowest). In that basis the gyroscopic matrix is ``Ome
 current speed at every stage, and bearing coefficients tabulated against speed are reduced at
 each tabulated speed and interpolated linearly in the current speed, which is exactly the
 supports' own linear interpolation: no re-diagonalisation and no lag. The compiled kernel
-(:func:`rubrotor.core.spin.spin_dopri`) integrates rotor, spin, spin angle and ring speeds
+(``rubrotor.core.spin.spin_dopri``) integrates rotor, spin, spin angle and ring speeds
 together with an error-controlled Dormand-Prince 5(4) pair; the unbalance forcing follows the
 integrated spin angle ``theta`` (``m e (Omega^2 (cos, sin) + Omega' (sin, -cos))``).
 """
@@ -271,7 +271,7 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     rings : tuple of (TouchdownRing or None), optional
         Per contact, a touchdown ring as its stator (None: a fixed stator).
     unbalances, loads : tuple
-        :class:`~rubrotor.rotors.forces.Unbalance` planes (kg m, rad), radial loads (N).
+        :class:`~rubrotor.Unbalance` planes (kg m, rad), radial loads (N).
     gravity : (float, float)
         ``(g_y, g_z)`` (m/s^2).
     fail_time : float
@@ -283,7 +283,7 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
         ``[q, q']`` on the free DOFs (m, m/s; rad, rad/s for rotations).
     rtol, atol : float
         Relative tolerance and absolute tolerance (m) of the displacements; the other states'
-        absolute tolerances follow from it (see :func:`_tolerances`).
+        absolute tolerances follow from it (``_tolerances``).
 
     Returns
     -------
