@@ -392,3 +392,13 @@ def test_constant_torque_runup_matches_the_engine_runup():
         dev.append(np.abs(ref - ours).max() / np.abs(ref).max())
     assert dev[1] < 2e-5
     assert dev[0] / dev[1] > 8.0  # converging on ours as the frozen-speed segments shrink
+
+
+def test_maps_orbits_and_sweeps_refuse_a_free_speed():
+    """The general engine's fixed-speed inputs (maps, orbits, sweeps) refuse a free spin speed
+    naming ``speed.profile`` instead of silently holding the speed."""
+    from rubrotor.engine.general import engine_problem
+
+    with pytest.raises(ScenarioError) as err:
+        engine_problem(rubrotor.load_scenario(DROP))
+    assert err.value.field == "speed.profile"

@@ -243,7 +243,14 @@ def modal_state(system, speed: float, modal: tuple) -> np.ndarray:
 
 
 def engine_problem(scenario, integrator=None):
-    """The engine's inputs for a scenario (see :func:`_problem`; without the restart state)."""
+    """The engine's inputs for a scenario (see :func:`_problem`; without the restart state).
+
+    A free spin speed (``[speed] profile = "free"``) is refused naming the key: the maps,
+    orbits and sweeps built on these inputs hold the speed imposed.
+    """
+    if scenario.engine is not None and scenario.engine.free_spin is not None:
+        raise ScenarioError("speed.profile", "free", 'a "constant", "linear" or "table" speed '
+                            "here (a free spin speed runs in rubrotor simulate)")  # fmt: skip
     return _problem(scenario, integrator)[:4]
 
 
