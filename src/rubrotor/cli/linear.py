@@ -89,31 +89,40 @@ def _general_modes(scenario, speed: float, as_json: bool, station: float | None)
     """Damped modes of a general rotor and modal masses: JSON, or tables."""
     from rubrotor.linear.verbs import damped_modes
 
-    result = damped_modes(scenario, speed)
+    result = damped_modes(scenario, speed, None if as_json else 20)
     if as_json:
         out = result.to_dict()
         _modal_masses(scenario, speed, station, out)
         print_json(out)
         return 0
-    print(f"{scenario.name}: damped modes at {speed:.6g} rad/s ({speed / TWO_PI:.6g} Hz)")
+    print(
+        f"{scenario.name}: damped modes at {speed:.6g} rad/s ({speed / TWO_PI:.6g} Hz), "
+        "ranked by undamped natural frequency |lambda|"
+    )
     rows = [
         [
             str(m.index),
             f"{m.frequency_hz:.3f}",
+            f"{m.natural_frequency_hz:.3f}",
             f"{m.damping_ratio:.4g}",
             f"{m.log_dec:.4g}",
-            m.whirl,
+            m.whirl + (" (overdamped)" if m.overdamped else ""),
         ]
-        for m in result.modes[:20]
+        for m in result.modes  # the 20 lowest, then the overdamped roots up to the 20th
     ]
-    print(table(["mode", "frequency (Hz)", "damping ratio", "log dec", "whirl"], rows))
+    head = ["mode", "frequency (Hz)", "natural (Hz)", "damping ratio", "log dec", "whirl"]
+    print(table(head, rows))
     _modal_masses(scenario, speed, station, None)
     return 0
 
 
 def _general_critical(scenario, as_json: bool, max_speed: float | None) -> int:
     """Critical speeds (1X crossings) and the stability threshold of a general rotor."""
-    from rubrotor.linear.analysis import linear_critical_speeds, stability_threshold
+    from rubrotor.linear.analysis import (
+        CRITICALLY_DAMPED,
+        linear_critical_speeds,
+        stability_threshold,
+    )
     from rubrotor.linear.verbs import linear_system
 
     top = max_speed if max_speed is not None else max(3.0 * scenario.speed, 100.0)
@@ -125,15 +134,38 @@ def _general_critical(scenario, as_json: bool, max_speed: float | None) -> int:
             {
                 "max_speed_rad_s": top,
                 "critical_speeds": [
-                    {"index": c.index, "whirl": c.whirl, "speed_rad_s": c.speed_rad_s} for c in crit
+                    {
+                        "index": c.index,
+                        "whirl": c.whirl,
+                        "speed_rad_s": c.speed_rad_s,
+                        "damping_ratio": c.damping_ratio,
+                        "critically_damped": c.critically_damped,
+                    }
+                    for c in crit
                 ],
+                "critically_damped_above": CRITICALLY_DAMPED,
                 "stability_threshold_rad_s": threshold,
             }
         )
         return 0
     print(f"{scenario.name}: critical speeds up to {top:.6g} rad/s (damped frequency = spin)")
-    rows = [[str(c.index), c.whirl, f"{c.speed_rad_s:.2f}", f"{c.speed_rpm:.0f}"] for c in crit]
-    print(table(["mode", "whirl", "speed (rad/s)", "speed (rpm)"], rows))
+    rows = [
+        [
+            str(c.index),
+            c.whirl,
+            f"{c.speed_rad_s:.2f}",
+            f"{c.speed_rpm:.0f}",
+            f"{c.damping_ratio:.3g}",
+        ]
+        + (["critically damped"] if c.critically_damped else [""])
+        for c in crit
+    ]
+    print(table(["mode", "whirl", "speed (rad/s)", "speed (rpm)", "damping ratio", ""], rows))
+    if any(c.critically_damped for c in crit):
+        print(
+            f"critically damped: damping ratio > {CRITICALLY_DAMPED:g} (API 684: amplification "
+            "factor < 2.5), no resonance peak to keep a separation margin from"
+        )
     print(
         "stability threshold: "
         + (f"{threshold:.6g} rad/s" if threshold is not None else f"none up to {top:.6g} rad/s")

@@ -92,7 +92,7 @@ def modal_masses(obj, speed: float | None = None, station: float | None = None,
     Parameters
     ----------
     obj : Scenario, Rotor, Shaft or LinearSystem
-        The rotor (see :func:`rubrotor.linear.verbs.linear_system`).
+        The rotor (see :func:`rubrotor.linear_system`).
     speed : float, optional
         Speed (rad/s, >= 0) at which speed-dependent bearing coefficients are taken; default
         the scenario's, or 0. The modes themselves are those of the rotor at rest.

@@ -3,7 +3,7 @@
 The rotor is held at a static contact position ``P0 = (g + eps0) e_y`` (the force that holds it,
 e.g. a radial load, does not enter the perturbation equations) with zero whirl velocity. The
 contact force is linearised there with the engine's own Jacobian
-(:func:`rubrotor.core.contact.contact_force_jac`): radial stiffness ``1.5 k_h eps0^0.5``,
+(``rubrotor.core.contact.contact_force_jac``): radial stiffness ``1.5 k_h eps0^0.5``,
 Hunt-Crossley damping ``k_h eps0^1.5 b_h`` (N s/m), the geometric term of the normal force turning
 with the position (``F_n0 / (g + eps0)``) and the friction ``mu`` times all of these along the
 tangent; the derivative of the smoothed friction sign is neglected (the surface speed
@@ -299,7 +299,7 @@ def general_contact_stability(scenario, indentation: float, *, friction: bool = 
     contact law linearised at ``p = (g + eps) e_y`` relative to the stator centre (any offset:
     only the relative position enters), at rest relative to it, and the stator's two DOFs when
     it is flexible: ``M x'' + (D - E J_u E^T) x' + (K - E J_p E^T) x = 0`` with ``J`` the law's
-    Jacobian (:func:`rubrotor.core.contact.contact_force_jac`) and ``p = E^T x``. The force
+    Jacobian (``rubrotor.core.contact.contact_force_jac``) and ``p = E^T x``. The force
     that holds the rotor there (a load, gravity) does not enter the perturbation.
 
     Parameters
