@@ -248,7 +248,7 @@ def engine_problem(scenario, integrator=None):
     A free spin speed (``[speed] profile = "free"``) is refused naming the key: the maps,
     orbits and sweeps built on these inputs hold the speed imposed.
     """
-    if scenario.engine is not None and scenario.engine.free_spin is not None:
+    if scenario.model.spin == "free":
         raise ScenarioError("speed.profile", "free", 'a "constant", "linear" or "table" speed '
                             "here (a free spin speed runs in rubrotor simulate)")  # fmt: skip
     return _problem(scenario, integrator)[:4]
@@ -445,7 +445,7 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
     from rubrotor.engine.driver import simulate_general
     from rubrotor.engine.restart import fingerprint
 
-    if scenario.engine.free_spin is not None:  # [speed] profile = "free": the spin is a state
+    if scenario.model.spin == "free":  # [speed] profile = "free": the spin is a state
         from rubrotor.engine.spin import simulate_free
 
         if stream is not None:
