@@ -103,17 +103,20 @@ def test_polar_inertia_is_the_rotor_sum(tmp_path):
     assert polar_inertia(s.rotor) == pytest.approx(0.02 + shaft, rel=1e-12)
 
 
-def test_free_coast_energy_balance(tmp_path):
-    """Energy: ``E = J Omega^2 / 2 + eta'^T eta' / 2 + eta^T K eta / 2 - f0^T eta + k pen^2 / 2``
-    (spin, lateral kinetic in mass-normalised coordinates, elastic, gravity, linear contact
-    spring) decreases by the damping work ``integral eta'^T C eta'`` plus the friction work
-    ``integral -ft v_s`` (the gyroscopic force does no work). Both integrals by Simpson's rule on
-    the saved samples. Measured: 1.9e-6 relative at rtol 1e-9 (the quadrature's error)."""
+@pytest.mark.parametrize("ring", [None, TouchdownRing(2e-3, 0.10002, 1e-4)])
+def test_free_coast_energy_balance(tmp_path, ring):
+    """Energy: ``E = J Omega^2 / 2 + J_r omega_r^2 / 2 + eta'^T eta' / 2 + eta^T K eta / 2
+    - f0^T eta + k pen^2 / 2`` (spin, ring, lateral kinetic in mass-normalised coordinates,
+    elastic, gravity, linear contact spring) decreases by the damping work
+    ``integral eta'^T C eta'``, the friction work ``integral -ft v_s`` (``v_s`` the sliding speed
+    on the ring, if any) and the ring drag's ``integral d omega_r^2`` (the gyroscopic force does
+    no work). The integrals by Simpson's rule on the saved samples. Measured: 1.9e-6 relative
+    (fixed stator) and 4.1e-6 (ring) at rtol 1e-9: the quadrature's error."""
     s = _load(tmp_path, ROTOR + FREE)
     system, st, J = _pieces(s)
     c = st[0].contact
     res = simulate_spin(system, J=J, speed=100.0, duration=0.05, spacing=2e-5, stations=st,
-                        gravity=(9.81, 0.0), rtol=1e-9, atol=1e-13)  # fmt: skip
+                        gravity=(9.81, 0.0), rings=(ring,), rtol=1e-9, atol=1e-13)  # fmt: skip
     r, x, red, t = res.r, res.state, res.reduced, res.time
     eta, etd = x[:r], x[r : 2 * r]
     p = red["Pc"] @ eta
@@ -122,6 +125,11 @@ def test_free_coast_energy_balance(tmp_path):
          + 0.5 * np.einsum("in,ij,jn->n", eta, red["K"], eta) - red["f0"] @ eta
          + 0.5 * c.stiffness * pen**2)  # fmt: skip
     power = np.einsum("in,ij,jn->n", etd, red["C"], etd) - res.contact[0, 1] * res.contact[0, 2]
+    if ring is not None:
+        wr = res.ring_speed[0]
+        E = E + 0.5 * ring.inertia * wr**2
+        power = power + ring.drag * wr**2
+        assert wr[-1] > 1.0  # rad/s: the ring took energy
     lost = E[0] - E[-1]
     assert lost > 1.0  # J is, N m: the spin lost about 3 J
     assert lost == pytest.approx(simpson(power, x=t), rel=1e-4)
