@@ -219,6 +219,7 @@ def test_general_rotor_is_refused_by_name_not_a_traceback(tmp_path):
     from rubrotor.engine.settings import Integrator
     from rubrotor.engine.simulate import simulate_scenario
     from rubrotor.scenario import load_scenario
+
     path = resources.files("rubrotor") / "scenarios" / "seal_rub.toml"
     sc = load_scenario(path)
     calls = (

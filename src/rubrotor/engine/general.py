@@ -311,8 +311,27 @@ def _problem(scenario, integrator=None):
         speed_table=table,
         rtol=integ.rtol if adaptive else None, atol=integ.atol,
     )  # fmt: skip
+    _check_one_sample(integ, run)
     kwargs = dict(stations=eng.stations, unbalances=unb, loads=eng.loads, gravity=eng.gravity)
     return system, run, kwargs, t0, snap
+
+
+def _check_one_sample(integ, run: Run) -> None:
+    """Refuse a run shorter than one saved sample, naming the keys the file sets."""
+    sample = run.step * run.save_every
+    if run.duration >= sample * (1 - 1e-9):
+        return
+    given = [(k, getattr(integ, k)) for k in ("dt", "dtau", "output_dtau", "sample_rate")]
+    key, value = next(((f"simulation.{k}", v) for k, v in given if v is not None),
+                      ("simulation.output_dtau", None))  # fmt: skip
+    if run.step <= run.duration:  # the step fits: the saved spacing does not
+        key, value = "simulation.save_every", run.save_every
+    length = ("simulation.duration", integ.duration) if integ.duration is not None else (
+        "simulation.revolutions", integ.revolutions)  # fmt: skip
+    raise ScenarioError(
+        key, value, f"a sample spacing ({sample:.3g} s) no longer than the run "
+        f"({length[0]} = {length[1]!r} lasts {run.duration:.3g} s)"
+    )  # fmt: skip
 
 
 def _check_size(scenario, run: Run, stream) -> None:

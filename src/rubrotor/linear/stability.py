@@ -207,7 +207,9 @@ def contact_stability(
         No Hertz contact, a non-positive indentation, an unknown formulation.
     """
     from rubrotor.engine.simulate import assemble
+    from rubrotor.scenario.load import as_scenario
 
+    scenario = as_scenario(scenario)
     if scenario.model.fe_rotor:
         return general_contact_stability(scenario, indentation, friction=friction)
     c = scenario.contact

@@ -474,11 +474,21 @@ def _tests(gz, t, jac):
     a real matrix, hence real and continuous through multiplier collisions.
     """
     mu = np.linalg.eigvals(jac)
-    pd = np.sign(np.prod(mu + 1).real)
+    pd = _product_sign(mu + 1)
     i, j = np.triu_indices(mu.size, 1)
-    ns = np.sign(np.prod(mu[i] * mu[j] - 1).real)
+    ns = _product_sign(mu[i] * mu[j] - 1)
     out = np.sum(np.abs(mu) > 1)
     return np.array([np.sign(t[-1]), pd, ns, np.sign(np.linalg.det(np.vstack([gz, t]))), out])
+
+
+def _product_sign(x: np.ndarray) -> float:
+    """Sign of the real part of ``prod(x)`` (real for the symmetric functions of :func:`_tests`)
+    as the product of ``x / |x|``: the product itself overflows with large multipliers (a
+    scenario far off scale) where its sign is still defined."""
+    a = np.abs(x)
+    if np.any(a == 0):
+        return 0.0
+    return float(np.sign(np.prod(x / a).real))
 
 
 def _changed(sig, sig1):
@@ -695,8 +705,9 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     key : str
         Numeric scenario key (``"section.key"``), e.g. ``"speed.critical_multiple"``.
     start, stop : float
-        Range of the key (its units); the branch starts at ``start`` and ends when it leaves
-        the closed range or after ``points`` points.
+        Range of the key (its units); the branch starts at ``start`` and ends where it leaves
+        the closed range (its last point corrected onto the bound it crossed) or after
+        ``points`` points.
     guess : RotorState, optional
         Guess of the first orbit (default: ``transient_revolutions`` from the steady
         no-contact orbit).
@@ -731,6 +742,9 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     Branch
         With ``Branch.stopped`` saying why it ended.
     """
+    from rubrotor.scenario.load import as_scenario
+
+    scenario = as_scenario(scenario)
     if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
         raise InputError("--vary", f"{start}:{stop}", "START:STOP with finite START != STOP")
     if isinstance(points, bool) or not isinstance(points, int) or points < 2:
@@ -848,12 +862,15 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
         pts.append(new)
         bifs += [_radius(b, pts[-2], pts[-1]) for b in found]
         ds = _next_ds(ds, ds_max, t, t1, iters <= (6 if chord else 3), (hi - lo) / prob.sp)
-        z, t, sig, gz = z1, t1, sig1, gz1
+        z_in, z, t, sig, gz = z, z1, t1, sig1, gz1
         if onset is not None:
             grazings.append(onset)
         if progress is not None:
             progress(len(pts), points, pts[-1].value)
-        if not lo <= pts[-1].value <= hi:
+        if not lo <= pts[-1].value <= hi:  # the last point lands on the bound it crossed
+            pts[-1:] = _land(prob, z_in, z, hi if pts[-1].value > hi else lo, t)
+            bifs = [b for b in bifs if lo <= b.value <= hi]
+            grazings = [g for g in grazings if lo <= g <= hi]
             stopped = "range"
             break
         if born_at is not None and _meets_again(bifs, born_at):
@@ -861,6 +878,24 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
             break
     method = "synchronous" if isinstance(prob, _SyncProblem) else "shooting"
     return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings), method, stopped)
+
+
+def _land(prob, z_in, z_out, value: float, t) -> list:
+    """The branch point at key ``value`` (the range's bound) between ``z_in`` (inside the
+    range) and ``z_out`` (beyond it): Newton with the key held at ``value``, from the chord's
+    point there. A list of that point, or an empty list when Newton fails (the branch then
+    ends at its last point inside the range)."""
+    p = value / prob.sp
+    w = (p - z_in[-1]) / (z_out[-1] - z_in[-1])
+    guess = z_in + w * (z_out - z_in)
+    guess[-1] = p
+    fixed = np.zeros_like(guess)
+    fixed[-1] = 1.0
+    out = _correct(prob, guess, fixed)
+    if out is None:
+        return []
+    z, gz, jac, _ = out
+    return [_point(prob, z, jac, gz, _tangent(gz, t))]
 
 
 def _meets_again(bifs, born_at: float) -> bool:

@@ -271,6 +271,10 @@ class LinearSystem:
         One label per DOF (e.g. ``"v@0.125"``), for tables and errors.
     name : str
         Where it came from (``"fe"``, ``"continuous"``, ``"ross"``).
+    scales : tuple
+        Its inputs ranked by their distance (decades) from its own scale, ``(decades, key,
+        value, scale)`` (:func:`rubrotor.rotors.scales.rotor_scales`; empty when unknown), so
+        that a failed eigenproblem names the scenario key that likely caused it.
     """
 
     M: np.ndarray
@@ -282,6 +286,7 @@ class LinearSystem:
     fixed: tuple[int, ...] = ()
     dof_labels: tuple[str, ...] = ()
     name: str = "linear"
+    scales: tuple = ()
     free: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):

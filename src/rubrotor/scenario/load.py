@@ -48,6 +48,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
+import os
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -85,6 +86,7 @@ from rubrotor.scenario.schema import (
 
 __all__ = [
     "Scenario",
+    "as_scenario",
     "load_scenario",
     "find_scenario",
     "shipped_scenarios",
@@ -574,6 +576,7 @@ class Scenario:
         """
         spec = scenario_to_dict(self)
         schema = {**SCHEMA, "rotor": ROTOR_SCHEMA["rotor"]} if self.rotor is not None else SCHEMA
+        removed = {}  # "section.key" dropped as an alternative -> (the key that dropped it, value)
         for dotted_key, value in dotted.items():
             section, _, key = dotted_key.partition(".")
             if section not in schema:
@@ -598,10 +601,19 @@ class Scenario:
             for group, _required in ALTERNATIVES.get(section, []):
                 if key in group:
                     for other in group:
-                        if other != key:
-                            sec.pop(other, None)
+                        if other != key and other in sec:
+                            removed[f"{section}.{other}"] = (dotted_key, sec.pop(other))
             sec[key] = value
-        return scenario_from_dict(spec)
+        try:
+            return scenario_from_dict(spec)
+        except ScenarioError as exc:
+            if exc.field not in removed:
+                raise
+            key, old = removed[exc.field]
+            raise _err(
+                key, dotted[key], f"a change this scenario can take: setting it removes "
+                f"{exc.field} = {old!r}, which it needs ({exc.allowed})"
+            ) from None  # fmt: skip
 
     @property
     def stations(self) -> tuple[float, ...]:
@@ -910,7 +922,10 @@ def load_scenario(path) -> Scenario:
         text = p.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         err = _err("scenario file", str(p), "a readable UTF-8 TOML file")
-        err.args = (f"{p}: cannot read scenario file: {exc.strerror or exc}",)
+        reason = exc.strerror if isinstance(exc, OSError) else None
+        if isinstance(exc, UnicodeDecodeError):
+            reason = f"not UTF-8 text (byte {exc.object[exc.start]:#04x} at offset {exc.start})"
+        err.args = (f"{p}: cannot read scenario file: {reason or exc}",)
         raise err from None
     try:
         data = tomllib.loads(text)
@@ -928,3 +943,33 @@ def load_scenario(path) -> Scenario:
         spec.setdefault("meta", {})["name"] = p.stem
         scenario = dataclasses.replace(scenario, name=p.stem, _spec=spec)
     return scenario
+
+
+def as_scenario(obj, name: str = "scenario") -> Scenario:
+    """The scenario a public verb was given: a :class:`Scenario`, or a path to a scenario file.
+
+    Parameters
+    ----------
+    obj : Scenario or str or os.PathLike
+        A loaded scenario, or the path of a TOML scenario file (read with :func:`load_scenario`).
+    name : str
+        The argument's name, used in the error message.
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    InputError
+        ``obj`` is neither (e.g. None); a path that cannot be read raises :class:`ScenarioError`.
+    """
+    if isinstance(obj, Scenario):
+        return obj
+    if isinstance(obj, str | os.PathLike):
+        return load_scenario(obj)
+    raise InputError(
+        name,
+        obj,
+        "a Scenario (rubrotor.load_scenario) or the path of a scenario TOML file",
+    )
