@@ -1,8 +1,8 @@
 """rubrotor linear analyses vs ROSS on ROSS's own rotors, imported with ``rubrotor.from_ross``.
 
-Run: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src /work/venvs/ross3/bin/python
-benchmarks/bench_linear_vs_ross.py [example] [60] [modal]`` (``modal``: the modal analysis
-only; ROSS 3.1 on Python 3.13; ROSS 2.3 on 3.11 works too; any venv with
+Run: ``OPENBLAS_NUM_THREADS=1 PYTHONPATH=src .ci/.venv-ross3/bin/python
+benchmarks/bench_linear_vs_ross.py [example] [60] [compressor] [modal]`` (``modal``: the modal
+analysis only; ROSS 3.1 on Python 3.13; ROSS 2.3 on 3.11 works too; any venv with
 ``pip install "rubrotor[ross]"``). Ours and ROSS in one process,
 medians of 3 repetitions (ROSS's 200-speed Campbell of the 60-element rotor: one run).
 
@@ -216,15 +216,81 @@ def run_case(name, r, modal_only=False):
         numba.set_num_threads(1)
 
 
+def _lateral_wd(r, modal, lateral=True) -> np.ndarray:
+    """ROSS's damped frequencies (rad/s) of its lateral modes (eigenvectors mostly lateral), or
+    of the others with ``lateral=False``."""
+    from rubrotor.rotors.ross import ross_dof_map
+
+    idx, _ = ross_dof_map(len(r.nodes_pos), r.number_dof)
+    v = np.asarray(modal.evectors)[: r.ndof]
+    lateral = (np.linalg.norm(v[idx], axis=0) > 0.5 * np.linalg.norm(v, axis=0)) == lateral
+    lam = np.asarray(modal.evalues)[lateral]
+    return lam.imag[lam.imag > 1e-3]
+
+
+def run_compressor(reps=5):
+    """ROSS's ``compressor_example`` (56 nodes; 2 bearings and 12 seals tabulated against speed,
+    PCHIP in ROSS 3.x): one modal analysis at 838 rad/s (ROSS's default 12 eigenvalues = 6
+    modes against our 6 modes ranked by |lambda|; then 24 against 12) and a 61-speed Campbell
+    diagram of 6 modes, 0-1100 rad/s; the frequency differences on the lateral modes."""
+    r = ross.compressor_example()
+    sys = from_ross(r)
+    print(f"\n== compressor_example: {len(r.nodes_pos)} nodes, {len(r.bearing_elements)} "
+          f"bearings and seals, {sys.n_dof} lateral DOFs (ROSS {r.ndof})")  # fmt: skip
+    numba.set_num_threads(1)
+    speed, speeds = 838.0, np.linspace(0.0, 1100.0, 61)
+    damped_modes(sys, speed, n=6), campbell_data(sys, speeds[:3], n=6)  # compile outside
+
+    def ross_modal(k):
+        if hasattr(r.run_modal, "cache_clear"):
+            r.run_modal.cache_clear()
+        return r.run_modal(speed, num_modes=k)
+
+    for k in (12, 24):
+        res = interleaved(
+            {
+                "ross": lambda k=k: ross_modal(k),
+                "ours": lambda k=k: damped_modes(sys, speed, k // 2),
+            },
+            reps=reps,
+        )
+        wd = _lateral_wd(r, res["ross"][2])
+        ours = [2 * np.pi * m.frequency_hz for m in res["ours"][2].modes if not m.overdamped]
+        diff = max(np.min(np.abs(wd - f)) / f for f in ours)
+        print(f"modal @ {speed} rad/s, {k // 2} modes: max rel. freq. diff {diff:.1e}")
+        show(f"one modal analysis, damped_modes (n={k // 2}, ROSS num_modes={k})", res,
+             "ross", "ours", 30)  # fmt: skip
+    res = interleaved(
+        {
+            "ross": lambda: r.run_campbell(speeds, frequencies=6),
+            "ours": lambda: campbell_data(sys, speeds, n=6),
+        },
+        reps=max(1, reps // 2),
+    )
+    # accuracy on ROSS's lateral rows (its diagram also holds a torsional mode, 3341 rad/s at
+    # every speed: ROSS's non-lateral eigenvalues at rest tell them apart); ours with 10 branches
+    other = _lateral_wd(r, r.run_modal(0.0, num_modes=2 * r.ndof, sparse=False), lateral=False)
+    ross_wd = np.asarray(res["ross"][2].wd)
+    ours_w = 2 * np.pi * campbell_data(sys, speeds, n=10).frequency_hz
+    lateral = np.min(np.abs(ross_wd[..., None] - other), axis=-1) > 1e-6 * ross_wd
+    near = np.min(np.abs(ours_w[:, None, :] - ross_wd[:, :, None]), axis=2) / ross_wd
+    print(f"Campbell 61 speeds: max rel. diff of ROSS's {lateral.sum()} lateral points to our "
+          f"branches {near[lateral].max():.1e}")  # fmt: skip
+    show("Campbell 61 speeds, campbell_data (n=6), 1 numba thread", res, "ross", "ours", 100,
+         unit=1, suffix="s")  # fmt: skip
+
+
 def main():
     print(f"ROSS {ross.__version__}; numpy {np.__version__}")
     print("ours: plain scipy.linalg.eigvals / numpy.linalg.solve, then rubrotor.linear.analysis")
-    which = [a for a in argv[1:] if a != "modal"] or ["example", "60"]
+    which = [a for a in argv[1:] if a != "modal"] or ["example", "60", "compressor"]
     modal_only = "modal" in argv[1:]
     if "example" in which:
         run_case("rotor_example", ross.rotor_example(), modal_only)
     if "60" in which:
         run_case("60 elements, 2 disks, aniso", rotor_60(), modal_only)
+    if "compressor" in which:
+        run_compressor()
 
 
 if __name__ == "__main__":

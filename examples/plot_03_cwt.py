@@ -26,4 +26,4 @@ fig, ax = plt.subplots(figsize=(9, 4.2), layout="constrained")
 t = ds["time"].values * 1e3
 mesh = ax.pcolormesh(t[::8], freqs / 1e3, np.abs(res.coefficients)[:, ::8], shading="auto")
 ax.set(yscale="log", xlabel="time (ms)", ylabel="frequency (kHz)", title="|W| of v'' (m/s^2)")
-fig.colorbar(mesh, ax=ax, label="|W| (m/s^2)")
+cbar = fig.colorbar(mesh, ax=ax, label="|W| (m/s^2)")  # assigned: no repr in the gallery

@@ -35,4 +35,4 @@ for d, style in (("up", "o-"), ("down", "s--")):
     ax.plot(speeds, r * 1e6, style, label=f"sweep {d}")
 ax.axhline(sc.contact.clearance * 1e6, color="k", lw=0.8, ls=":", label="clearance")
 ax.set(xlabel="speed / first critical speed", ylabel="largest radius (µm)")
-ax.legend()
+legend = ax.legend()  # assigned: no repr in the gallery

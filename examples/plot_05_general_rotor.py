@@ -31,9 +31,10 @@ for c in criticals:
     print(c)
 
 # %%
-# Unbalance response at the impeller (0.45 m) from 10 to 1500 rad/s
+# Unbalance response at the impeller (0.45 m) from 10 to 1500 rad/s, sampled densely within
+# 10 % of each critical speed so that the polar plot's resonance circles are smooth curves
 u = sc.unbalance
-resp = unbalance_response(
-    system, np.linspace(10.0, 1500.0, 300), [(u.position, u.magnitude, 0.0)], [0.45]
-)
+near = [np.linspace(0.9 * c.speed_rad_s, 1.1 * c.speed_rad_s, 200) for c in criticals]
+speeds_r = np.unique(np.concatenate([np.linspace(10.0, 1500.0, 300), *near]))
+resp = unbalance_response(system, speeds_r, [(u.position, u.magnitude, 0.0)], [0.45])
 fig2 = unbalance_response_figure(resp, probe=0)

@@ -72,4 +72,4 @@ ax.plot(
 ax.axhline(60.0, color="0.5", lw=0.8, ls=":", label="seal clearance (casing at rest)")
 ax.set(xlabel="spin speed (rad/s)", ylabel="whirl amplitude at the impeller (um)",
        title="run-up 250 -> 600 rad/s in 1.5 s")  # fmt: skip
-ax.legend(fontsize=8)
+legend = ax.legend(fontsize=8)  # assigned: the gallery would print its repr

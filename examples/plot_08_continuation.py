@@ -8,9 +8,10 @@ multipliers.
 
 **Full annular rub.** On the one-mode rotor of the hysteresis example the synchronous orbits
 (no contact and full annular rub) are circles: the continuation solves them exactly, as
-equilibria of the frame turning with the spin. The branch folds twice: at contact onset, where
-the free orbit grazes the stator, and at the top of the rub branch; between the two folds the
-rub orbit is unstable, and the up and down state-carrying sweeps jump at the folds.
+equilibria of the frame turning with the spin. The branch turns twice: at contact onset, where
+the free orbit grazes the stator (a corner, reported as ``contact-onset``), and at the fold on
+top of the rub branch; between the two the rub orbit is unstable, and the up and down
+state-carrying sweeps jump there.
 """
 
 import numpy as np

@@ -33,7 +33,7 @@ def test_registry():
 def test_modes_json(capsys):
     assert main(["modes", SEED, "--json", "--speed", "0"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert set(out) == {"speed_rad_s", "modes"}
+    assert set(out) == {"speed_rad_s", "modes", "modal_masses", "modal_mass_normalisation"}
     assert out["speed_rad_s"] == 0.0
     assert len(out["modes"]) == 12
     first = out["modes"][0]
@@ -48,8 +48,9 @@ def test_modes_default_speed_and_table(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["speed_rad_s"] == pytest.approx(1.5 * 7742.494, rel=1e-6)
     assert main(["modes", SEED]) == 0
-    text = capsys.readouterr().out
+    text, masses = capsys.readouterr().out.split("modal masses", 1)  # masses: modes at rest
     assert "frequency (Hz)" in text and "shear" in text and "1193" not in text
+    assert "1193.19" in masses
 
 
 def test_critical_json_and_table(capsys):
@@ -126,7 +127,7 @@ def test_subprocess_modes_json_and_error(bad_scenario):
     ok = _run("modes", SEED, "--json")
     assert ok.returncode == 0, ok.stderr
     out = json.loads(ok.stdout)
-    assert set(out) == {"speed_rad_s", "modes"} and len(out["modes"]) == 12
+    assert set(out) >= {"speed_rad_s", "modes", "modal_masses"} and len(out["modes"]) == 12
     bad = _run("modes", bad_scenario)
     assert bad.returncode == 2
     assert bad.stderr.startswith("rubrotor: error: ") and "shaft.lenght" in bad.stderr

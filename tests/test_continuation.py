@@ -37,9 +37,11 @@ def branches():
 
 
 def _turns(branch):
-    folds = sorted(b.value for b in branch.bifurcations if b.type == "fold")
-    assert len(folds) == 2
-    return np.array(folds)
+    """Contact onset (reported as such, not as a fold) and the rub branch's fold."""
+    onset = [b.value for b in branch.bifurcations if b.type == "contact-onset"]
+    folds = [b.value for b in branch.bifurcations if b.type == "fold"]
+    assert len(onset) == 1 and len(folds) == 1
+    return np.array(onset + folds)
 
 
 def test_folds_equal_closed_form_turning_points(branches):
@@ -62,7 +64,7 @@ def test_folds_equal_closed_form_turning_points(branches):
     x = np.array([p.value for p in b.points])
     st = np.array([p.stable for p in b.points])
     assert x[0] == 1.8 and st[0] and st[-1] and not st.all()
-    assert not any(bb.type != "fold" for bb in b.bifurcations)
+    assert not any(bb.type not in ("fold", "contact-onset") for bb in b.bifurcations)
 
 
 def test_follow_sweep_jumps_at_the_continuation_folds(branches):
@@ -85,7 +87,7 @@ def test_cli_continue(tmp_path, capsys):
     args = ["continue", str(scen), "--vary", f"{KEY}=1.8:1.5", "--out", str(out), "--json"]
     assert main(args + ["--points", "30"]) == 0
     summary = json.loads(capsys.readouterr().out)
-    assert set(summary) == {"points", "bifurcations"}
+    assert set(summary) == {"points", "bifurcations", "stopped", "stopped_because", "complete"}
     p = summary["points"][0]
     assert set(p) == {"value", "max_radius_m", "stable", "multipliers_abs_max"}
     assert p["value"] == 1.8 and p["stable"] is True and p["multipliers_abs_max"] < 1
@@ -181,7 +183,7 @@ def test_richardson_branch_is_fourth_order():
         for rich in (False, True):
             b = continue_orbit(HYST, KEY, 1.8, 1.3, steps=n, points=40, ds=0.05, ds_max=0.5,
                                richardson=rich, method="shooting")  # fmt: skip
-            assert any(bb.type == "fold" for bb in b.bifurcations)
+            assert any(bb.type in ("fold", "contact-onset") for bb in b.bifurcations)
             err[n, rich] = _curve_distance(HYST, b).max()
     assert 3.0 < err[64, False] / err[128, False] < 5.0
     assert 10.0 < err[64, True] / err[128, True] < 25.0

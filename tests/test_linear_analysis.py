@@ -79,12 +79,18 @@ def test_arnoldi_route_equals_dense_route():
     sc = rubrotor.load_scenario(SCEN / "general_rotor.toml")
     system = rubrotor.linear_system(sc)
     for speed in (0.0, 700.0):
-        few = damped_modes(system, speed, n=8).modes
-        allm = damped_modes(system, speed).modes[:8]
+        found = damped_modes(system, speed, n=8).modes
+        every = damped_modes(system, speed).modes
+        few, allm = found[:8], every[:8]
         np.testing.assert_allclose(
             [m.eigenvalue for m in few], [m.eigenvalue for m in allm], rtol=1e-9
         )
         assert [m.whirl for m in few] == [m.whirl for m in allm]
+        # after the 8 modes, marked: the overdamped roots of |lambda| up to the 8th mode's
+        top = abs(few[-1].eigenvalue) * (1 + 1e-9)
+        below = [m.eigenvalue for m in every if m.overdamped and abs(m.eigenvalue) <= top]
+        assert all(m.overdamped for m in found[8:]) and not any(m.overdamped for m in few)
+        np.testing.assert_allclose([m.eigenvalue for m in found[8:]], below, rtol=1e-9)
 
 
 def test_centred_jeffcott_disk_frequency_and_critical_speed():
@@ -148,13 +154,26 @@ def test_general_rotor_modes_json(capsys):
     assert main(["modes", str(SCEN / "general_rotor.toml"), "--speed", "300", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["speed_rad_s"] == 300.0
-    freqs = [m["frequency_hz"] for m in out["modes"]]
-    assert freqs == sorted(freqs) and [m["index"] for m in out["modes"]][:3] == [1, 2, 3]
-    for m in out["modes"]:
-        assert set(m) == {"index", "frequency_hz", "damping_ratio", "log_dec", "whirl"}
+    modes = out["modes"]
+    assert [m["index"] for m in modes] == list(range(1, len(modes) + 1))
+    # ranked by |lambda| (ROSS's wn), the overdamped roots after the oscillating modes
+    over = [m["overdamped"] for m in modes]
+    assert over == sorted(over) and not over[0]
+    for part in (False, True):
+        wn = [m["natural_frequency_hz"] for m in modes if m["overdamped"] is part]
+        assert wn == sorted(wn)
+    for m in modes:
+        assert set(m) == {"index", "frequency_hz", "natural_frequency_hz", "damping_ratio",
+                          "log_dec", "whirl", "overdamped"}  # fmt: skip
         assert m["whirl"] in ("forward", "backward", "mixed")
+        if m["log_dec"] is None:  # a real root: no oscillation, no log dec
+            assert m["overdamped"] and m["frequency_hz"] == 0.0
+            continue
         assert m["log_dec"] == pytest.approx(
             2 * math.pi * m["damping_ratio"] / math.sqrt(1 - m["damping_ratio"] ** 2), rel=1e-9
+        )
+        assert m["natural_frequency_hz"] == pytest.approx(
+            m["frequency_hz"] / math.sqrt(1 - m["damping_ratio"] ** 2), rel=1e-9
         )
 
 
@@ -324,7 +343,8 @@ def test_campbell_equals_the_dense_eigen_solve(elements):
         np.testing.assert_allclose(data.frequency_hz[i], lam.imag / (2 * np.pi), rtol=1e-9)
         log_dec = -2 * np.pi * lam.real / lam.imag
         np.testing.assert_allclose(data.log_dec[i], log_dec, rtol=1e-7, atol=1e-9)
-        ref = [md.whirl for md in damped_modes(system, float(w), n=6).modes]
+        ranked = damped_modes(system, float(w), n=6).modes  # by |lambda|: sort by frequency
+        ref = [md.whirl for md in sorted(ranked, key=lambda md: md.frequency_hz)]
         assert list(data.whirl[i]) == ref
 
 
@@ -360,12 +380,18 @@ def test_newton_modal_route_equals_the_dense_eigen_solve():
     assert system.n_dof > _KRYLOV_SIZE
     for speed in (0.0, 2500.0):
         assert _newton_eig(system, speed, 8) is not None  # the route under test ran
-        few = damped_modes(system, speed, n=8).modes
-        allm = damped_modes(system, speed).modes[:8]
+        found = damped_modes(system, speed, n=8).modes
+        every = damped_modes(system, speed).modes
+        few, allm = found[:8], every[:8]
         np.testing.assert_allclose(
             [m.eigenvalue for m in few], [m.eigenvalue for m in allm], rtol=1e-9
         )
         assert [m.whirl for m in few] == [m.whirl for m in allm]
+        # after the 8 modes, marked: the overdamped roots of |lambda| up to the 8th mode's
+        top = abs(few[-1].eigenvalue) * (1 + 1e-9)
+        below = [m.eigenvalue for m in every if m.overdamped and abs(m.eigenvalue) <= top]
+        assert all(m.overdamped for m in found[8:]) and not any(m.overdamped for m in few)
+        np.testing.assert_allclose([m.eigenvalue for m in found[8:]], below, rtol=1e-9)
         for a, b in zip(few, allm, strict=True):  # equal up to a unit factor (two stations
             phase = np.vdot(a.shape, b.shape)  # may tie for the largest deflection)
             np.testing.assert_allclose(a.shape * phase / abs(phase), b.shape, atol=1e-6)
@@ -386,12 +412,18 @@ def test_eigenvalues_then_null_vectors_equal_the_dense_eigen_solve():
     for speed in (0.0, 2500.0):
         mx = system.matrices(speed)
         assert _eigvals_then_vectors(mx, mx.first_order()[0], 8) is not None  # route ran
-        few = damped_modes(system, speed, n=8).modes
-        allm = damped_modes(system, speed).modes[:8]
+        found = damped_modes(system, speed, n=8).modes
+        every = damped_modes(system, speed).modes
+        few, allm = found[:8], every[:8]
         np.testing.assert_allclose(
             [m.eigenvalue for m in few], [m.eigenvalue for m in allm], rtol=1e-9
         )
         assert [m.whirl for m in few] == [m.whirl for m in allm]
+        # after the 8 modes, marked: the overdamped roots of |lambda| up to the 8th mode's
+        top = abs(few[-1].eigenvalue) * (1 + 1e-9)
+        below = [m.eigenvalue for m in every if m.overdamped and abs(m.eigenvalue) <= top]
+        assert all(m.overdamped for m in found[8:]) and not any(m.overdamped for m in few)
+        np.testing.assert_allclose([m.eigenvalue for m in found[8:]], below, rtol=1e-9)
         for a, b in zip(few, allm, strict=True):
             phase = np.vdot(a.shape, b.shape)
             np.testing.assert_allclose(a.shape * phase / abs(phase), b.shape, atol=1e-6)

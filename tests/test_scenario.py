@@ -131,7 +131,9 @@ def test_api_default_speed():
     assert modes(sc.shaft) == modes(sc, 0.0)
     assert critical_speeds(sc) == critical_speeds(sc.shaft)
     with pytest.raises(ValueError, match="scenario_or_shaft"):
-        modes("not a rotor")
+        modes(42)
+    with pytest.raises(ValueError, match="not a rotor"):
+        modes("not a rotor")  # a string is a scenario file's path
 
 
 # ---- SI = dimensionless ------------------------------------------------------------------------

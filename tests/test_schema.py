@@ -74,7 +74,7 @@ def _object_defaults() -> dict[str, dict]:
 
     from rubrotor.engine.settings import Integrator
     from rubrotor.rotors.fe import Bearing, Disk, Rotor, Section
-    from rubrotor.rotors.forces import Contact, RadialLoad
+    from rubrotor.rotors.forces import Contact, RadialLoad, ThermalBow
     from rubrotor.rotors.shaft import Shaft
 
     classes = {
@@ -86,6 +86,7 @@ def _object_defaults() -> dict[str, dict]:
         "section": Section,
         "disk": Disk,
         "bearing": Bearing,
+        "thermal": ThermalBow,
     }
     return {
         table: {

@@ -142,8 +142,10 @@ def test_continuation_takes_the_exact_route_and_finds_the_closed_form_turns():
     _, _, w_fold, w_onset = _closed_form(HYST)
     branch = continue_orbit(HYST, KEY, 1.8, 1.3, points=120, ds=0.05, ds_max=0.5)
     assert branch.method == "synchronous"
-    folds = sorted(b.value for b in branch.bifurcations if b.type == "fold")
-    assert folds == pytest.approx([w_onset / CRIT, w_fold / CRIT], rel=1e-12)
+    folds = [b.value for b in branch.bifurcations if b.type == "fold"]
+    onsets = [b.value for b in branch.bifurcations if b.type == "contact-onset"]
+    assert folds == pytest.approx([w_fold / CRIT], rel=1e-12)
+    assert onsets == pytest.approx([w_onset / CRIT], rel=1e-12)
     assert branch.grazings == pytest.approx([w_onset / CRIT], rel=1e-12)
     g = HYST.contact.clearance
     for p in branch.points:
@@ -188,9 +190,11 @@ def test_cli_continue_method_and_richardson(tmp_path, capsys):
     base = ["continue", str(scen), "--vary", f"{KEY}=1.8:1.3", "--out", str(out)]
     assert main(base + ["--json", "--method", "synchronous", "--points", "120"]) == 0
     summary = json.loads(capsys.readouterr().out)
-    folds = sorted(b["value"] for b in summary["bifurcations"] if b["type"] == "fold")
+    turns = sorted(b["value"] for b in summary["bifurcations"]
+                   if b["type"] in ("fold", "contact-onset"))  # fmt: skip
     _, _, w_fold, w_onset = _closed_form(HYST)
-    assert folds == pytest.approx([w_onset / CRIT, w_fold / CRIT], rel=1e-12)
+    assert turns == pytest.approx([w_onset / CRIT, w_fold / CRIT], rel=1e-12)
+    assert summary["complete"] and summary["stopped"] == "range"
     assert load_dataset(out).attrs["methods"] == "synchronous"
     loaded = tmp_path / "loaded.toml"
     loaded.write_text(HYST_TOML + "\n[load]\nforce_y = 5.0\n")
@@ -207,24 +211,20 @@ def test_cli_continue_method_and_richardson(tmp_path, capsys):
 
 def test_general_rotor_is_refused_by_name_not_a_traceback(tmp_path):
     """The synchronous route and the seed engine's simulate_scenario run on the continuous
-    [shaft] rotor, and a general rotor's state-carrying sweep is held in memory (shooting,
-    continuation, sweeps and Lyapunov exponents of general rotors:
-    tests/test_shooting_general.py): a general ([[section]]) rotor gets an error naming the
-    field, not a traceback."""
+    [shaft] rotor (shooting, continuation, sweeps and Lyapunov exponents of general rotors:
+    tests/test_shooting_general.py, tests/test_sweep_general.py): a general ([[section]]) rotor
+    gets an error naming the field, not a traceback."""
     from importlib import resources
 
     from rubrotor.engine.settings import Integrator
     from rubrotor.engine.simulate import simulate_scenario
     from rubrotor.scenario import load_scenario
-    from rubrotor.sweeps.follow import follow_sweep
 
     path = resources.files("rubrotor") / "scenarios" / "seal_rub.toml"
     sc = load_scenario(path)
     calls = (
         (lambda: synchronous_orbit(sc), "section"),
         (lambda: simulate_scenario(sc, Integrator(revolutions=1.0)), "section"),
-        (lambda: follow_sweep(sc, "speed.rad_per_s", [600.0], store=tmp_path / "s.zarr"),
-         "store"),
     )  # fmt: skip
     for call, field in calls:
         with pytest.raises(InputError, match=field):

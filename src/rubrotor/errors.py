@@ -4,6 +4,8 @@ Every error a user can cause names the field, the value and what is allowed, so 
 print it and exit with status 2 instead of showing a traceback.
 """
 
+import re
+
 __all__ = ["RubrotorError", "ScenarioError", "InputError"]
 
 
@@ -28,7 +30,26 @@ class InputError(RubrotorError, ValueError):
         self.field = field
         self.value = value
         self.allowed = allowed
-        super().__init__(f"{field} = {value!r} is not allowed: expected {allowed}")
+        where = _which_table(field)
+        super().__init__(f"{field} = {value!r} is not allowed{where}: expected {allowed}")
+
+
+_ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth",
+             "ninth", "tenth")  # fmt: skip
+
+
+def _which_table(field: object) -> str:
+    """`` (contact[2]: the second [[contact]] table, counted from 1)`` for an indexed field.
+
+    Tables of which a file may hold several (``[[contact]]``, ``[[section]]``, ...) are
+    numbered from 1 in field names; the message says so, and which table it is.
+    """
+    m = re.match(r"([A-Za-z_]+)\[(\d+)\]", str(field))
+    if m is None:
+        return ""
+    name, index = m.group(1), int(m.group(2))
+    nth = _ORDINALS[index - 1] if 1 <= index <= len(_ORDINALS) else f"{index}th"
+    return f" ({name}[{index}]: the {nth} [[{name}]] table, counted from 1)"
 
 
 class ScenarioError(InputError):

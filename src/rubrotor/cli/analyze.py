@@ -398,6 +398,7 @@ def _verdict_line(rub: dict) -> str:
 
 def analyze_run(args: argparse.Namespace) -> int:
     from rubrotor.analysis.overview import analyze_signal, decimate_to, indicators_dict
+    from rubrotor.engine.output import check_output
     from rubrotor.engine.result import atomic_write
     from rubrotor.plotting.figures import analysis_figure
 
@@ -417,6 +418,8 @@ def analyze_run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else Path(args.input).resolve().parent
     if out.exists() and not out.is_dir():
         raise InputError("--out", args.out, "a directory")
+    if not args.out:  # the input's folder: checked here (a given --out is checked by main)
+        check_output(out, "--out (default: the input file's folder)", folder=True)
     a = analyze_signal(
         chans[0],
         fs,

@@ -4,8 +4,8 @@ Each verb is a :class:`~rubrotor.cli.common.Command`: a name, a help line, a fun
 arguments to an :mod:`argparse` subparser and a function running it (``run(args) -> int``). The
 verbs live in one module per group (:mod:`rubrotor.cli.linear`, :mod:`rubrotor.cli.simulate`,
 :mod:`rubrotor.cli.sweeps`, :mod:`rubrotor.cli.analyze`, :mod:`rubrotor.cli.orbits`,
-:mod:`rubrotor.cli.studies`); to add one, write its two functions in its group's module and add
-a row to :data:`COMMANDS`, the one table.
+:mod:`rubrotor.cli.studies`, :mod:`rubrotor.cli.thermal`); to add one, write its two functions
+in its group's module and add a row to :data:`COMMANDS`, the one table.
 
 Errors the user can cause (:class:`rubrotor.errors.RubrotorError`, including scenario errors)
 print ``rubrotor: error: <message>`` on stderr and give exit status 2, with no traceback.
@@ -14,15 +14,28 @@ print ``rubrotor: error: <message>`` on stderr and give exit status 2, with no t
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 
-from rubrotor.cli import analyze, api, linear, orbits, response, simulate, studies, sweeps
+from rubrotor import __version__
+from rubrotor.cli import (
+    analyze,
+    api,
+    linear,
+    orbits,
+    response,
+    simulate,
+    studies,
+    sweeps,
+    thermal,
+)
 from rubrotor.cli.analyze import load_signals
 from rubrotor.cli.common import Command, parse_speeds
 from rubrotor.cli.simulate import run_summary
-from rubrotor.cli.studies import shipped_scenarios
+from rubrotor.engine.output import claim_output
 from rubrotor.errors import RubrotorError
+from rubrotor.scenario.load import shipped_scenarios
 
 __all__ = [
     "main",
@@ -52,6 +65,7 @@ COMMANDS: list[Command] = [
         "Campbell diagram (figure, optionally JSON)",
         linear.campbell_args,
         linear.campbell_run,
+        outputs=("out",),
     ),
     Command(
         "stability",
@@ -64,54 +78,63 @@ COMMANDS: list[Command] = [
         "static deflection under gravity and loads, and the bearing reactions",
         response.static_args,
         response.static_run,
+        outputs=("figure",),
     ),
     Command(
         "response",
         "frequency response to a fixed or rotating force at a station (Bode, polar)",
         response.response_args,
         response.response_run,
+        outputs=("figure",),
     ),
     Command(
         "unbalance",
         "unbalance response of every unbalance plane at probes, over spin speed",
         response.unbalance_args,
         response.unbalance_run,
+        outputs=("figure",),
     ),
     Command(
         "ucs",
         "undamped critical speed map: critical speeds against support stiffness",
         response.ucs_args,
         response.ucs_run,
+        outputs=("figure",),
     ),
     Command(
         "shapes",
         "mode shapes along the rotor: whirl orbits, forward and backward",
         response.shapes_args,
         response.shapes_run,
+        outputs=("figure",),
     ),
     Command(
         "clearance",
         "API 617 close-clearance check of the unbalance response at every contact",
         api.clearance_args,
         api.clearance_run,
+        outputs=("figure",),
     ),
     Command(
         "level1",
         "API 684 Level I stability: log dec against added cross-coupled stiffness",
         api.level1_args,
         api.level1_run,
+        outputs=("figure",),
     ),
     Command(
         "run",
         "simulate a scenario: DIR/results.nc and a JSON summary",
         simulate.run_args,
         simulate.run_run,
+        outputs=("out/",),
     ),
     Command(
         "simulate",
         "simulate any scenario (seed or general rotor) into one results file",
         simulate.simulate_args,
         simulate.simulate_run,
+        outputs=("out",),
     ),
     Command(
         "converge",
@@ -124,18 +147,28 @@ COMMANDS: list[Command] = [
         "parameter sweep: Poincare samples, rub metrics and regimes in a zarr store",
         sweeps.sweep_args,
         sweeps.sweep_run,
+        outputs=("out", "figure"),
     ),
     Command(
         "continue",
         "pseudo-arclength continuation of a periodic orbit: branch, stability, bifurcations",
         orbits.continue_args,
         orbits.continue_run,
+        outputs=("out", "figure"),
+    ),
+    Command(
+        "thermal",
+        "thermal bow (Newkirk spiral): growth rate and period against speed, slow-time runs",
+        thermal.thermal_args,
+        thermal.thermal_run,
+        outputs=("out", "figure"),
     ),
     Command(
         "analyze",
         "rub indicators and CWT/spectrum figure of a results or signal file",
         analyze.analyze_args,
         analyze.analyze_run,
+        outputs=("out/",),
     ),
     Command(
         "scenarios",
@@ -148,6 +181,7 @@ COMMANDS: list[Command] = [
         "reproduce the seed study: figures, report.html, summary.json",
         studies.reproduce_args,
         studies.reproduce_run,
+        outputs=("out/",),
     ),
 ]
 """The verbs, in the order ``rubrotor --help`` lists them (the one table)."""
@@ -159,11 +193,12 @@ def _parser() -> argparse.ArgumentParser:
         description="Rotor-stator rub on real rotors: modes, critical speeds, rub simulation, "
         "periodic orbits, sweeps and rub analysis.",
     )
+    parser.add_argument("--version", action="version", version=f"rubrotor {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for cmd in COMMANDS:
         p = sub.add_parser(cmd.name, help=cmd.help, description=cmd.help)
         cmd.add_arguments(p)
-        p.set_defaults(_run=cmd.run)
+        p.set_defaults(_command=cmd)
     return parser
 
 
@@ -186,7 +221,7 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:  # argparse already printed its message
         return int(exc.code or 0)
     try:
-        return args._run(args)
+        return _run(args._command, args)
     except RubrotorError as exc:
         print(f"rubrotor: error: {exc}", file=sys.stderr)
         return 2
@@ -194,3 +229,15 @@ def main(argv: list[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 1
+
+
+def _run(cmd: Command, args: argparse.Namespace) -> int:
+    """Claim the verb's outputs (writable, not being written by another run), then run it."""
+    with contextlib.ExitStack() as stack:
+        for spec in cmd.outputs:
+            name = spec.rstrip("/")
+            value = getattr(args, name, None)
+            if value is not None:
+                field = f"--{name}"
+                stack.enter_context(claim_output(value, field, folder=spec.endswith("/")))
+        return cmd.run(args)

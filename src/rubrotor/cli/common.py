@@ -31,12 +31,18 @@ class Command:
         ``add_arguments(parser)`` adds the subcommand's arguments.
     run : callable
         ``run(args) -> int`` runs it and returns the exit status.
+    outputs : tuple of str
+        Options naming what the verb writes (``"out"``, ``"figure"``; ``"out/"`` for a folder).
+        Before the verb runs, each given one is checked writable and locked against other runs
+        (:func:`rubrotor.engine.output.claim_output`), so a read-only folder or a target another
+        run is writing is refused before any computation.
     """
 
     name: str
     help: str
     add_arguments: Callable[[argparse.ArgumentParser], None]
     run: Callable[[argparse.Namespace], int]
+    outputs: tuple[str, ...] = ()
 
 
 def print_json(obj) -> None:

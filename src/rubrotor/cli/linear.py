@@ -27,7 +27,31 @@ def modes_args(parser: argparse.ArgumentParser) -> None:
         metavar="RAD_PER_S",
         help="spin speed (rad/s); default: the scenario's speed",
     )
+    parser.add_argument(
+        "--station",
+        type=float,
+        metavar="M",
+        help="refer modal masses and stiffnesses to this axial position (m); default: where "
+        "each mode deflects most",
+    )
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+
+
+def _modal_masses(scenario, speed: float, station: float | None, out: dict | None) -> None:
+    """Modal masses (kg) and stiffnesses (N/m): into ``out`` (JSON) or printed as a table."""
+    from rubrotor.linear.modal_mass import NORMALISATION, modal_masses
+
+    mm = modal_masses(scenario, speed, station, n=12)
+    if out is not None:
+        out["modal_mass_normalisation"] = NORMALISATION
+        out["modal_masses"] = [m.to_dict() for m in mm]
+        return
+    print(f"\nmodal masses and stiffnesses ({NORMALISATION})")
+    rows = [[str(m.index), f"{m.frequency_hz:.2f}", f"{m.station:.4g}", f"{m.modal_mass:.4g}",
+             f"{m.modal_stiffness:.4g}", f"{round(math.degrees(m.direction)) % 180}"] for m in mm]  # fmt: skip
+    heads = ["mode", "undamped (Hz)", "station x (m)", "modal mass (kg)", "stiffness (N/m)",
+             "direction (deg from y)"]  # fmt: skip
+    print(table(heads, rows))
 
 
 def modes_run(args: argparse.Namespace) -> int:
@@ -38,18 +62,18 @@ def modes_run(args: argparse.Namespace) -> int:
     if not math.isfinite(speed) or speed < 0:
         raise InputError("--speed", args.speed, "a finite spin speed >= 0 (rad/s)")
     if scenario.model.fe_rotor:
-        return _general_modes(scenario, speed, args.json)
+        return _general_modes(scenario, speed, args.json, args.station)
     result = modes(scenario, speed)
     if args.json:
-        print_json(
-            {
-                "speed_rad_s": speed,
-                "modes": [
-                    {"n": m.n, "branch": m.branch, "whirl": m.whirl, "frequency_hz": m.frequency_hz}
-                    for m in result
-                ],
-            }
-        )
+        out = {
+            "speed_rad_s": speed,
+            "modes": [
+                {"n": m.n, "branch": m.branch, "whirl": m.whirl, "frequency_hz": m.frequency_hz}
+                for m in result
+            ],
+        }
+        _modal_masses(scenario, speed, args.station, out)
+        print_json(out)
         return 0
     print(f"{scenario.name}: whirl frequencies at {speed:.6g} rad/s ({speed / TWO_PI:.6g} Hz)")
     rows = [
@@ -57,35 +81,48 @@ def modes_run(args: argparse.Namespace) -> int:
         for m in result
     ]
     print(table(["n", "branch", "whirl", "frequency (Hz)", "frequency (rad/s)"], rows))
+    _modal_masses(scenario, speed, args.station, None)
     return 0
 
 
-def _general_modes(scenario, speed: float, as_json: bool) -> int:
-    """Damped modes of a general rotor: JSON, or a table."""
+def _general_modes(scenario, speed: float, as_json: bool, station: float | None) -> int:
+    """Damped modes of a general rotor and modal masses: JSON, or tables."""
     from rubrotor.linear.verbs import damped_modes
 
-    result = damped_modes(scenario, speed)
+    result = damped_modes(scenario, speed, None if as_json else 20)
     if as_json:
-        print_json(result.to_dict())
+        out = result.to_dict()
+        _modal_masses(scenario, speed, station, out)
+        print_json(out)
         return 0
-    print(f"{scenario.name}: damped modes at {speed:.6g} rad/s ({speed / TWO_PI:.6g} Hz)")
+    print(
+        f"{scenario.name}: damped modes at {speed:.6g} rad/s ({speed / TWO_PI:.6g} Hz), "
+        "ranked by undamped natural frequency |lambda|"
+    )
     rows = [
         [
             str(m.index),
             f"{m.frequency_hz:.3f}",
+            f"{m.natural_frequency_hz:.3f}",
             f"{m.damping_ratio:.4g}",
             f"{m.log_dec:.4g}",
-            m.whirl,
+            m.whirl + (" (overdamped)" if m.overdamped else ""),
         ]
-        for m in result.modes[:20]
+        for m in result.modes  # the 20 lowest, then the overdamped roots up to the 20th
     ]
-    print(table(["mode", "frequency (Hz)", "damping ratio", "log dec", "whirl"], rows))
+    head = ["mode", "frequency (Hz)", "natural (Hz)", "damping ratio", "log dec", "whirl"]
+    print(table(head, rows))
+    _modal_masses(scenario, speed, station, None)
     return 0
 
 
 def _general_critical(scenario, as_json: bool, max_speed: float | None) -> int:
     """Critical speeds (1X crossings) and the stability threshold of a general rotor."""
-    from rubrotor.linear.analysis import linear_critical_speeds, stability_threshold
+    from rubrotor.linear.analysis import (
+        CRITICALLY_DAMPED,
+        linear_critical_speeds,
+        stability_threshold,
+    )
     from rubrotor.linear.verbs import linear_system
 
     top = max_speed if max_speed is not None else max(3.0 * scenario.speed, 100.0)
@@ -97,15 +134,38 @@ def _general_critical(scenario, as_json: bool, max_speed: float | None) -> int:
             {
                 "max_speed_rad_s": top,
                 "critical_speeds": [
-                    {"index": c.index, "whirl": c.whirl, "speed_rad_s": c.speed_rad_s} for c in crit
+                    {
+                        "index": c.index,
+                        "whirl": c.whirl,
+                        "speed_rad_s": c.speed_rad_s,
+                        "damping_ratio": c.damping_ratio,
+                        "critically_damped": c.critically_damped,
+                    }
+                    for c in crit
                 ],
+                "critically_damped_above": CRITICALLY_DAMPED,
                 "stability_threshold_rad_s": threshold,
             }
         )
         return 0
     print(f"{scenario.name}: critical speeds up to {top:.6g} rad/s (damped frequency = spin)")
-    rows = [[str(c.index), c.whirl, f"{c.speed_rad_s:.2f}", f"{c.speed_rpm:.0f}"] for c in crit]
-    print(table(["mode", "whirl", "speed (rad/s)", "speed (rpm)"], rows))
+    rows = [
+        [
+            str(c.index),
+            c.whirl,
+            f"{c.speed_rad_s:.2f}",
+            f"{c.speed_rpm:.0f}",
+            f"{c.damping_ratio:.3g}",
+        ]
+        + (["critically damped"] if c.critically_damped else [""])
+        for c in crit
+    ]
+    print(table(["mode", "whirl", "speed (rad/s)", "speed (rpm)", "damping ratio", ""], rows))
+    if any(c.critically_damped for c in crit):
+        print(
+            f"critically damped: damping ratio > {CRITICALLY_DAMPED:g} (API 684: amplification "
+            "factor < 2.5), no resonance peak to keep a separation margin from"
+        )
     print(
         "stability threshold: "
         + (f"{threshold:.6g} rad/s" if threshold is not None else f"none up to {top:.6g} rad/s")
@@ -277,6 +337,8 @@ def stability_run(args: argparse.Namespace) -> int:
     if args.modes is not None and not 1 <= args.modes <= 200:
         raise InputError("--modes", args.modes, "an integer in 1..200")
     forms = ("two-field", "seed-eq1") if args.formulation == "both" else (args.formulation,)
+    if scenario.model.fe_rotor:
+        forms = ("general",)  # the finite-element rotor: one formulation
     res = [
         contact_stability(
             scenario,
@@ -296,18 +358,22 @@ def stability_run(args: argparse.Namespace) -> int:
     print(
         f"{scenario.name}: pressed contact, indentation {r0.indentation:.4g} m, F_n0 "
         f"{r0.normal_force:.4g} N, radial stiffness {r0.radial_stiffness:.4g} N/m, damping "
-        f"{r0.radial_damping:.4g} N s/m (b_h = {r0.contact_damping:.4g} s/m), "
-        f"{args.linearisation} linearisation"
-    )
+        f"{r0.radial_damping:.4g} N s/m"
+        + (", the first [[contact]] table of the finite-element rotor" if r0.formulation ==
+           "general" else f" (b_h = {r0.contact_damping:.4g} s/m), {args.linearisation} "
+           "linearisation")
+    )  # fmt: skip
     rows = [
         [
             r.formulation,
             f"{e.real:+.4g}",
             f"{e.imag / TWO_PI:+.2f}",
-            "unstable" if e.real > 0 else "",
+            r.verdict(e),
         ]
         for r in res
         for e in r.eigenvalues[: max(args.top, 1)]
     ]
     print(table(["formulation", "growth rate (1/s)", "whirl frequency (Hz)", ""], rows))
+    tols = ", ".join(f"{r.formulation} {r.growth_tolerance:.2g}" for r in res)
+    print(f"neutral: |growth rate| below round-off, 1e-10 x the largest |eigenvalue| ({tols} 1/s)")
     return 0

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -42,7 +43,16 @@ def continue_args(parser: argparse.ArgumentParser) -> None:
         "--steps", type=int, default=1024, help="fixed steps per revolution of the map (>= 16)"
     )
     parser.add_argument(
-        "--ds-max", type=float, default=0.2, help="largest arclength step (scaled, default 0.2)"
+        "--ds-max",
+        type=float,
+        default=None,
+        help="largest arclength step (scaled); default: the step follows the branch's turning",
+    )
+    parser.add_argument(
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="show progress (default: when stderr is a terminal)",
     )
     parser.add_argument(
         "--method",
@@ -75,20 +85,24 @@ def _parse_range(text: str) -> tuple[str, float, float]:
 
 def continue_run(args: argparse.Namespace) -> int:
     from rubrotor.engine.result import save_dataset
-    from rubrotor.orbits.continuation import branches_dataset, continue_orbit
+    from rubrotor.orbits.continuation import STOPS, branches_dataset, continue_orbit
 
     key, start, stop = _check_continue(args)
     scenario = load_scenario(args.scenario)
     scenario.with_changes(**{key: start})  # names a bad key before any work
+    show = sys.stderr.isatty() if args.progress is None else args.progress
+    progress = _Progress(key, start, stop) if show else None
     branch = continue_orbit(scenario, key, start, stop, k=args.k, points=args.points,
                             steps=args.steps, ds_max=args.ds_max, method=args.method,
-                            richardson=args.richardson)  # fmt: skip
+                            richardson=args.richardson, progress=progress)  # fmt: skip
+    if progress is not None:
+        progress.done()
     branches = [branch]
     if args.switch is not None:
         branches.append(_switch(scenario, key, branch, stop, args))
     save_dataset(branches_dataset(branches), args.out)
     if args.figure is not None:
-        from rubrotor.plotting.figures import branch_figure
+        from rubrotor.plotting.figures import branch_figure, contact_geometry
         from rubrotor.sweeps.follow import follow_sweep
 
         values = np.linspace(min(start, stop), max(start, stop), max(args.sweep_points, 2))
@@ -98,7 +112,14 @@ def continue_run(args: argparse.Namespace) -> int:
             sweep = follow_general(scenario, key, values, "both", 100, 20, steps=args.steps)
         else:
             sweep = follow_sweep(scenario, key, values, direction="both", workers=2)
-        branch_figure(branch, sweep, others=branches[1:]).savefig(args.figure, dpi=130)
+        fig = branch_figure(branch, sweep, others=branches[1:],
+                            geometry=contact_geometry(scenario))  # fmt: skip
+        fig.savefig(args.figure, dpi=130)
+    for br in branches:
+        if not br.complete:
+            print(f"rubrotor: warning: the {br.k}-revolution branch stopped at {key} = "
+                  f"{br.points[-1].value:.6g} before {stop:g}: it {STOPS[br.stopped]} "
+                  f"(--points {args.points}; raise it or --ds-max)", file=sys.stderr)  # fmt: skip
     if args.json:
         summary = branch.summary()
         for other in branches[1:]:
@@ -108,7 +129,43 @@ def continue_run(args: argparse.Namespace) -> int:
                 **other.summary(),
             }
         print_json(summary)
+    else:
+        for line in branch_summary(branches, key, args.out):
+            print(line)
     return 0
+
+
+def branch_summary(branches, key: str, out: str) -> list[str]:
+    """Short text summary of continued branches: range, points, bifurcations, why they ended."""
+    from rubrotor.orbits.continuation import STOPS
+
+    lines = []
+    for br in branches:
+        v = [p.value for p in br.points]
+        unstable = sum(not p.stable for p in br.points)
+        lines.append(f"{br.k}-revolution branch ({br.method}): {len(v)} points, {key} from "
+                     f"{v[0]:.6g} to {v[-1]:.6g}, {unstable} unstable; it {STOPS[br.stopped]}")  # fmt: skip
+        for b in br.bifurcations:
+            lines.append(f"  {b.type:<16} at {key} = {b.value:.10g}, "
+                         f"largest radius {b.max_radius_m * 1e6:.4g} um")  # fmt: skip
+    lines.append(f"wrote {out}")
+    return lines
+
+
+class _Progress:
+    """One updating stderr line: points so far and the key's value against its range."""
+
+    def __init__(self, key: str, start: float, stop: float):
+        self.key, self.start, self.stop = key, start, stop
+
+    def __call__(self, n: int, points: int, value: float) -> None:
+        frac = (value - self.start) / (self.stop - self.start)
+        print(f"\rcontinue: point {n}/{points}, {self.key} = {value:.6g} "
+              f"({100 * min(max(frac, 0.0), 1.0):.0f} % of {self.start:g} -> {self.stop:g})",
+              end="", file=sys.stderr, flush=True)  # fmt: skip
+
+    def done(self) -> None:
+        print(file=sys.stderr)
 
 
 def _check_continue(args: argparse.Namespace) -> tuple[str, float, float]:
@@ -126,7 +183,7 @@ def _check_continue(args: argparse.Namespace) -> tuple[str, float, float]:
         raise InputError("--switch", args.switch, " or ".join(SWITCHES))
     if args.steps < 16:
         raise InputError("--steps", args.steps, "an integer >= 16 (steps per revolution)")
-    if not (math.isfinite(args.ds_max) and args.ds_max > 0):
+    if args.ds_max is not None and not (math.isfinite(args.ds_max) and args.ds_max > 0):
         raise InputError("--ds-max", args.ds_max, "a finite number > 0")
     from rubrotor.orbits.continuation import METHODS
 
@@ -147,4 +204,4 @@ def _switch(scenario, key: str, branch, stop: float, args: argparse.Namespace):
             f"a branch with a period doubling in --vary {args.vary} (found: {', '.join(found)})",
         )
     return switch_period_doubling(scenario, key, branch, stop, steps=args.steps,
-                                  points=args.points, ds_max=args.ds_max)  # fmt: skip
+                                  points=args.points, ds_max=args.ds_max or 0.2)  # fmt: skip

@@ -146,7 +146,7 @@ def unbalance_args(parser: argparse.ArgumentParser) -> None:
 
 def unbalance_run(args: argparse.Namespace) -> int:
     from rubrotor.linear.response import scenario_unbalance_response, unbalance_to_dict
-    from rubrotor.plotting.linear import unbalance_response_figure
+    from rubrotor.plotting.linear import resonance_speeds, unbalance_response_figure
 
     out = figure_path(args.figure)
     speeds = parse_speeds(args.speeds)
@@ -162,10 +162,12 @@ def unbalance_run(args: argparse.Namespace) -> int:
             k = int(np.argmax(res.major[:, p]))
             rows.append([f"{x:.4g}", f"{res.major[k, p] * 1e6:.4g}", f"{speeds[k]:.6g}"])
         print(table(["probe x (m)", "peak major semi-axis (µm)", "at speed (rad/s)"], rows))
-    if out is not None:
+    if out is not None:  # the figure on a grid refined at the peaks: smooth polar circles
         x = args.probe[0]
         gaps = [c.clearance for c in scenario.contacts if abs(c.position - x) <= 1e-9]
-        fig = unbalance_response_figure(res, 0, min(gaps) if gaps else None)
+        fine = scenario_unbalance_response(
+            scenario, resonance_speeds(speeds, res.major[:, 0]), [x])  # fmt: skip
+        fig = unbalance_response_figure(fine, 0, min(gaps) if gaps else None)
         write_figure(fig, out, args.json)
     return 0
 

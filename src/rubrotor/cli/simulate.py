@@ -119,6 +119,9 @@ def simulate_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--figure", action="store_true", help="also write FILE with .png: orbit, force, spectrum"
     )
+    parser.add_argument(
+        "--rpm", action="store_true", help="speed axis of the figure in rev/min (default rad/s)"
+    )
     _run_options(parser)
 
 
@@ -159,7 +162,7 @@ def simulate_run(args: argparse.Namespace) -> int:
     ds = simulate(scenario, integrator=integ, progress=args.progress)
     save_dataset(ds, out)
     if args.figure:
-        _simulate_figure(ds, out.with_suffix(".png"))
+        _simulate_figure(ds, out.with_suffix(".png"), getattr(args, "rpm", False))
     return _report(run_summary(ds), out, summary_file, False)
 
 
@@ -214,13 +217,13 @@ def _report(summary: dict, out: Path, summary_file, figure: bool) -> int:
     return 0
 
 
-def _simulate_figure(ds, path: Path) -> None:
+def _simulate_figure(ds, path: Path, rpm: bool = False) -> None:
     from rubrotor.plotting.figures import response_figure
 
     if ds.attrs.get("engine") == "general":
         from rubrotor.plotting.rub import engine_figure
 
-        fig = engine_figure(ds)
+        fig = engine_figure(ds, rpm=rpm)
     else:
         fig = response_figure(ds)
     save_atomic(fig, path)

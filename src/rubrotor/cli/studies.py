@@ -10,37 +10,11 @@ from rubrotor.cli.common import (
     table,
 )
 from rubrotor.errors import InputError
+from rubrotor.scenario.load import shipped_scenarios
 
 
 def scenarios_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
-
-
-def shipped_scenarios() -> list[dict]:
-    """The scenario files shipped with rubrotor: name, description and path.
-
-    Returns
-    -------
-    list of dict
-        ``{"name", "description", "path"}`` sorted by file name.
-    """
-    import tomllib
-    from importlib import resources
-
-    folder = resources.files("rubrotor") / "scenarios"
-    out = []
-    for entry in sorted(folder.iterdir(), key=lambda e: e.name):
-        if not entry.name.endswith(".toml"):
-            continue
-        meta = tomllib.loads(entry.read_text()).get("meta", {})
-        out.append(
-            {
-                "name": meta.get("name", entry.name[:-5]),
-                "description": " ".join(meta.get("description", "").split()),
-                "path": str(entry),
-            }
-        )
-    return out
 
 
 def scenarios_run(args: argparse.Namespace) -> int:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from pathlib import Path
 
@@ -134,7 +135,19 @@ def sweep_run(args: argparse.Namespace) -> int:
         summary["netcdf"] = args.netcdf
     if args.figure:
         summary["figure"] = args.figure
+    lost = json.loads(ds.attrs.get("lost_points", "[]"))
+    if lost:
+        summary["lost_points"] = lost
     print_json(summary)
+    if lost:
+        print(
+            f"rubrotor: warning: {len(lost)} point(s) lost with a worker process that died twice "
+            f"(killed or out of memory): {', '.join(map(str, lost[:5]))}"
+            f"{' ...' if len(lost) > 5 else ''}; not marked done in {args.out}: run the same "
+            "command again to compute them",
+            file=sys.stderr,
+        )
+        return 1
     return 0
 
 

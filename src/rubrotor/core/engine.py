@@ -31,7 +31,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import _law
+from rubrotor.core.contact import _law, force_scale, forces_of
 
 __all__ = [
     "OK",
@@ -221,7 +221,9 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft, work):
             return 0
     scale = 0.0
     for i in range(nc):
-        scale = max(scale, cp[i, 9])
+        k = 2 * i
+        sdn = max(abs(Sd[k, k]), abs(Sd[k, k + 1]), abs(Sd[k + 1, k]), abs(Sd[k + 1, k + 1]))
+        scale = max(scale, force_scale(cp[i], sdn))
     tol = 1e-13 * scale
     for r in range(m):
         F[r] = F0[r] if start else f[r]
@@ -242,6 +244,7 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft, work):
             rprev = 1e300
             continue
         if rn <= tol:
+            _consistent(F, fn, ft)
             return it
         # J = I - Jp Sd - Ju Sv (Jp, Ju block diagonal, 2x2 per contact)
         for r in range(m):
@@ -262,8 +265,16 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft, work):
             fnorm += F[r] * F[r]
         rprev = rn
         if math.sqrt(dn) <= 1e-13 * math.sqrt(fnorm) + tol:
+            _consistent(F, fn, ft)
             return it
     return -60
+
+
+@njit(cache=True, inline="always")
+def _consistent(F, fn, ft):
+    """``fn``, ``ft`` (N) of the converged forces ``F`` (see :func:`forces_of`)."""
+    for i in range(fn.shape[0]):
+        fn[i], ft[i] = forces_of(F[2 * i], F[2 * i + 1], fn[i], ft[i])
 
 
 @njit(cache=True, inline="always")
@@ -282,7 +293,7 @@ def solve_one(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
         f0y, f0z = r[0], r[1]
     s00, s01, s10, s11 = Sd[0, 0], Sd[0, 1], Sd[1, 0], Sd[1, 1]
     v00, v01, v10, v11 = Sv[0, 0], Sv[0, 1], Sv[1, 0], Sv[1, 1]
-    tol = 1e-13 * c[9]
+    tol = 1e-13 * force_scale(c, max(abs(s00), abs(s01), abs(s10), abs(s11)))
     fy, fz = f0y, f0z
     ly, lz = 0.0, 0.0
     rprev = 1e300
@@ -307,6 +318,7 @@ def solve_one(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
         if rn <= tol:
             F[0] = fy
             F[1] = fz
+            fn[0], ft[0] = forces_of(fy, fz, fn[0], ft[0])
             return it
         a11 = 1.0 - (r[4] * s00 + r[5] * s10 + r[6] * v00 + r[7] * v10)
         a12 = -(r[4] * s01 + r[5] * s11 + r[6] * v01 + r[7] * v11)
@@ -323,6 +335,7 @@ def solve_one(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
         if math.sqrt(ly * ly + lz * lz) <= 1e-13 * math.sqrt(fy * fy + fz * fz) + tol:
             F[0] = fy
             F[1] = fz
+            fn[0], ft[0] = forces_of(fy, fz, fn[0], ft[0])
             return it
     return -60
 

@@ -42,6 +42,7 @@ from rubrotor.core.engine import (
     I_STEP,
     I_SUBSTEPS,
     N_ISTATE,
+    NEWTON_FAILED,
     OK,
     STATUS_NAMES,
     expo_fixed,
@@ -65,6 +66,7 @@ from rubrotor.engine.parts import (
     unbalance_phasor,
 )
 from rubrotor.engine.reduce import (
+    IllConditioned,
     Modes,
     RitzBasis,
     basis_from_modes,
@@ -78,6 +80,7 @@ from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
 from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Plan, Steps
 from rubrotor.errors import InputError
+from rubrotor.rotors.scales import explain
 
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "result_dataset", "STEPPERS"]
 
@@ -113,19 +116,34 @@ def _stator_modes(st: RubStation):
     return reduce_matrices(M, C, K)
 
 
+class NearCritical(InputError):
+    """The dynamic stiffness at the spin speed is singular to rounding (reciprocal condition
+    number ``rcond`` of the equilibrated matrix)."""
+
+    def __init__(self, speed: float, rcond: float):
+        self.reason = f"the dynamic stiffness at {speed:g} rad/s is singular (rcond {rcond:.3g})"
+        super().__init__("speed", speed, "a speed off an undamped critical speed (add damping)")
+
+
 def _particular(sm, b_u: np.ndarray, speed: float) -> np.ndarray:
-    """Steady unbalance response ``(K - Omega^2 M + i Omega D)^-1 b_u`` (one LU; its condition
-    number estimated by LAPACK ``gecon`` instead of an SVD)."""
+    """Steady unbalance response ``(K - Omega^2 M + i Omega D)^-1 b_u``: one LU of the matrix
+    equilibrated by its diagonal, ``S A S`` with ``S = |diag A|^-1/2``, whose condition number
+    (LAPACK ``gecon``) tells a speed on an undamped critical from a matrix with a few large
+    entries (a bearing far stiffer than the shaft: unscaled, its rcond fell below 1e-14 at
+    any speed)."""
     import scipy.linalg
 
     if not np.any(b_u):
         return np.zeros(len(b_u), complex)
     dyn = sm.K - speed**2 * sm.M + 1j * speed * sm.damping
+    d = np.abs(np.diag(dyn))
+    s = 1.0 / np.sqrt(np.where(d > 0, d, 1.0))
+    dyn = dyn * s[:, None] * s[None, :]
     lu = scipy.linalg.lu_factor(dyn, check_finite=False)
     rcond = scipy.linalg.lapack.zgecon(lu[0], np.abs(dyn).sum(axis=0).max(), norm="1")[0]
     if not rcond > 1e-14:
-        raise InputError("speed", speed, "a speed off an undamped critical speed (add damping)")
-    return scipy.linalg.lu_solve(lu, b_u, check_finite=False)
+        raise NearCritical(speed, rcond)
+    return s * scipy.linalg.lu_solve(lu, s * b_u, check_finite=False)
 
 
 def _initial(run: Run, modes: Modes, q_s, Q, speed) -> np.ndarray:
@@ -181,12 +199,15 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     m = 2 * nc
     Bc = [system.force_map(s.contact.position) for s in stations]
     Bmat = np.hstack(Bc) if nc else np.zeros((sm.M.shape[0], 0))
-    if basis is not None:
-        modes = reduce_projected(sm.M, sm.damping, sm.K, basis, run.modes, run.cutoff)
-    elif dense:
-        modes = reduce_matrices(sm.M, sm.damping, sm.K, run.modes, run.cutoff)
-    else:
-        modes = reduce_auto(sm.M, sm.damping, sm.K, run.modes, run.cutoff, fmap=Bmat)
+    try:
+        if basis is not None:
+            modes = reduce_projected(sm.M, sm.damping, sm.K, basis, run.modes, run.cutoff)
+        elif dense:
+            modes = reduce_matrices(sm.M, sm.damping, sm.K, run.modes, run.cutoff)
+        else:
+            modes = reduce_auto(sm.M, sm.damping, sm.K, run.modes, run.cutoff, fmap=Bmat)
+    except IllConditioned as exc:  # name the scenario key far off the rotor's scale, if any
+        raise explain(exc, system.scales) from None
     Rq, Rv = (modes.Rq, modes.Rv) if run.residual else (0 * modes.Rq, 0 * modes.Rv)
     st_modes = [_stator_modes(s) for s in stations]
     nsr = modes.size
@@ -211,7 +232,10 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
         if u.position is None:
             raise InputError("unbalance.position", None, "an axial position (m)")
         b_u += unbalance_phasor(u, speed) * (system.force_map(u.position) @ np.array([1, -1j]))
-    Q = _particular(sm, b_u, speed)
+    try:
+        Q = _particular(sm, b_u, speed)
+    except NearCritical as exc:  # name the scenario key far off the rotor's scale, if any
+        raise explain(exc, system.scales) from None
     f_s = static_load_vector(system, tuple(loads), gravity)
     q_s = np.linalg.solve(sm.K, f_s) if np.any(f_s) else np.zeros_like(f_s)
     offs = np.array([[s.offset_y, s.offset_z] for s in stations]).ravel()
@@ -244,7 +268,10 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     positions = np.array([s.contact.position for s in stations] + list(run.probes), float)
     orow = np.vstack([system.output_rows(x) for x in positions]) if len(positions) else None
     if orow is None:
-        raise InputError("probes", run.probes, "at least one probe or contact station (m)")
+        raise InputError(
+            "simulation.probes", list(run.probes) or None, "at least one station (m) to save "
+            "when the rotor has no [[contact]] (whose station is saved otherwise)"
+        )  # fmt: skip
     Od = np.zeros((len(orow), ns), complex)
     Od[:, :nsr] = orow @ modes.Vq
     outputs = Outputs(
@@ -256,6 +283,34 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     y0 = np.zeros(ns, complex)
     y0[:nsr] = _initial(run, modes, q_s, Q, speed)
     return Plant(lam, beta, contacts, outputs, positions, y0, modes, nsr, q_s, Q, speed, Bmat)
+
+
+def stiffness_hint(plant: Plant, h: float, status: int) -> str:
+    """Why a contact solve can fail: a contact far stiffer than the step resolves.
+
+    ``k_e |S_d|`` compares the contact's stiffness ``k_e = F(g) / g`` (N/m, its force at one
+    clearance of penetration over that clearance) with the step's compliance ``|S_d|`` (m/N,
+    the largest sensitivity of the contact displacement to its force over a step ``h``).
+    Above 1 the step cannot follow the contact's own oscillation, and far above (``> 1e6``)
+    the law's force is the penetration's round-off times ``k``. Returns ``""`` (also when the
+    kernel's ``status`` is not a failed contact solve) or a hint naming ``contact[i].stiffness``
+    and ``simulation.dt``.
+    """
+    c = plant.contacts
+    if status != NEWTON_FAILED or c.cp.shape[0] == 0:
+        return ""
+    Sd = _steps(plant, h, 1).Sd[0]
+    worst, which = 0.0, 0
+    for i in range(c.cp.shape[0]):
+        ks = c.cp[i, 9] / c.cp[i, 4] * np.max(np.abs(Sd[2 * i : 2 * i + 2, 2 * i : 2 * i + 2]))
+        if ks > worst:
+            worst, which = ks, i
+    if worst <= 1.0:
+        return ""
+    return (
+        f" (contact[{which + 1}] is {worst:.2g} times stiffer than a step of {h:.3g} s "
+        f"resolves: lower contact[{which + 1}].stiffness or simulation.dt)"
+    )
 
 
 def _steps(plant: Plant, h0: float, levels: int) -> Steps:
@@ -757,7 +812,8 @@ def _check_call(method: str | None, stations, run: Run, chunk_samples) -> str:
 
 
 def _add_counts(stats: dict, state: _Chunks, method: str, plant: Plant, run: Run, wall: float):
-    """The run's counters (named slots of the kernel's integer state) into ``stats``."""
+    """The run's counters (named slots of the kernel's integer state) into ``stats``; returns
+    the hint to add to a failed contact solve's message (:func:`stiffness_hint`), else ``""``."""
     ist = state.istate
     stats.update(
         method=method, modes=plant.n_rotor, modes_total=plant.rotor.n_total,
@@ -766,6 +822,7 @@ def _add_counts(stats: dict, state: _Chunks, method: str, plant: Plant, run: Run
         rejected_steps=int(ist[I_REJECTED]), grazing_closures=int(ist[I_GRAZE]),
         contact_events=int(ist[I_EVENTS]) + state.flushed, wall_s=wall, residual=run.residual,
     )  # fmt: skip
+    return stiffness_hint(plant, run.step, int(ist[I_STATUS]))
 
 
 def _phasor(state: _Chunks, plant: Plant) -> complex:
@@ -937,7 +994,7 @@ def _run(chunk, final, stats, state, plant, run, method, opts) -> EngineResult:
         if sink is not None:
             sink.close({"status": "partial", "status_message": f"stopped by an error: {exc!r}"})
         raise
-    _add_counts(stats, state, method, plant, run, wall[0])
+    msg += _add_counts(stats, state, method, plant, run, wall[0])
     n_out = done + 1
     events = state.events[: min(int(state.istate[I_EVENTS]), len(state.events))].copy()
     status = "complete" if not msg else "partial"

@@ -26,7 +26,7 @@ from rubrotor.engine.parts import Run, spin_angle
 from rubrotor.engine.stream import check_size
 from rubrotor.errors import InputError, ScenarioError
 
-__all__ = ["engine_problem", "simulate_engine", "STREAM_SAMPLES"]
+__all__ = ["engine_problem", "simulate_engine", "given_state", "default_step", "STREAM_SAMPLES"]
 
 STREAM_SAMPLES = 1 << 21
 """``rubrotor simulate`` streams runs with more saved samples than this to the results file."""
@@ -102,6 +102,146 @@ def _restart_from(ds, path: str, scenario, system, speed: float):
     return x, end, snap
 
 
+POINTS_PER_PERIOD = 20
+"""Steps per period of the fastest motion the default step resolves (:func:`default_step`)."""
+
+RESOLVED_BAND = 10.0
+"""With every mode kept, the default step resolves the modes up to this multiple of the
+fastest contact, stator or spin frequency (higher ones are propagated exactly by the
+exponential integrator, but their response to the contact force is not resolved)."""
+
+
+def default_step(system, eng, top_speed: float) -> float:
+    """Fixed step (s) of a run-up whose ``[simulation]`` gives neither ``dt`` nor ``dtau``.
+
+    ``dt = 2 pi / (POINTS_PER_PERIOD omega_ref)``, ``omega_ref`` (rad/s) the largest of: the
+    highest retained mode (``simulation.modes`` or ``cutoff``; with every mode kept, the
+    highest below ``RESOLVED_BAND`` times the next three), each contact's frequency
+    ``sqrt(k / m)`` (``k`` the linear stiffness, or the Hertz law's ``1.5 k_h sqrt(g)`` at an
+    indentation of one clearance ``g``; ``m`` the smallest modal mass at the contact,
+    :func:`rubrotor.linear.modal_mass.modal_masses`), each flexible stator's
+    ``sqrt((k_s + k) / m_s)`` and the top spin speed. Modes are the undamped ones at rest
+    (bearings at ``top_speed``). On ``seal_rub.toml`` (16 modes) this gives 2.1e-5 s, the
+    step the file sets by hand (2e-5 s).
+
+    Parameters
+    ----------
+    system : rubrotor.rotors.linear.LinearSystem
+        The rotor.
+    eng : rubrotor.scenario.dynamics.EngineSpec
+        Contacts, stators and the retained modes.
+    top_speed : float
+        Largest spin speed of the profile (rad/s).
+
+    Returns
+    -------
+    float
+        The step (s).
+    """
+    import scipy.linalg
+
+    from rubrotor.linear.modal_mass import modal_masses
+
+    mats = system.matrices(top_speed)
+    w2 = scipy.linalg.eigh(0.5 * (mats.K + mats.K.T), mats.M, eigvals_only=True)
+    omega = np.sqrt(w2[w2 > 1e-9 * w2.max()])
+    kept = omega.size if eng.modes is None else min(eng.modes, omega.size)
+    fast = [top_speed]
+    for st in eng.stations:
+        c = st.contact
+        k = c.stiffness if c.law == "linear" else 1.5 * c.stiffness * math.sqrt(c.clearance)
+        mm = modal_masses(system, top_speed, c.position, n=kept)
+        fast.append(math.sqrt(k / min(m.modal_mass for m in mm)))
+        if st.stator is not None:
+            s = st.stator
+            fast += [math.sqrt((s.stiffness_y + k) / s.mass_y),
+                     math.sqrt((s.stiffness_z + k) / s.mass_z)]  # fmt: skip
+    if eng.cutoff is not None:
+        modes = omega[omega <= eng.cutoff]
+    elif eng.modes is not None:
+        modes = omega[:kept]
+    else:
+        modes = omega[omega <= RESOLVED_BAND * max(fast)]
+    ref = max(fast + [float(modes[-1]) if modes.size else 0.0])
+    return 2 * math.pi / (POINTS_PER_PERIOD * ref)
+
+
+def given_state(system, speed: float, given: tuple) -> np.ndarray:
+    """The state ``[q, q']`` (SI, free DOFs) through given deflections and velocities.
+
+    Of all shapes with the deflections ``d`` at the stations, the one of least strain energy:
+    the static shape under point forces at those stations alone, ``q = F (B F)^-1 d`` with
+    ``F = K^-1 B^T`` (``B`` the rows giving ``v, w`` at the stations, ``K`` with the bearings
+    at ``speed``); the velocities take the same form. So ``B q = d`` and ``B q' = d'``
+    exactly, and a single station's deflection gives the static deflection line of a point
+    load there.
+
+    Parameters
+    ----------
+    system : rubrotor.rotors.linear.LinearSystem
+        The rotor (a node at each station).
+    speed : float
+        Spin speed (rad/s) for the bearings' coefficients.
+    given : tuple
+        ``(positions, v, w, v_dot, w_dot)`` of :class:`rubrotor.scenario.dynamics.EngineSpec`
+        (m, m, m, m/s, m/s).
+
+    Returns
+    -------
+    ndarray, shape (2 n,)
+    """
+    positions, v, w, vd, wd = (np.asarray(g, float) for g in given)
+    b = np.vstack([system.basis.rows(float(x))[:, system.free] for x in positions])  # (2P, n)
+    f = np.linalg.solve(system.matrices(speed).K, b.T)
+    bf = b @ f
+    if np.linalg.cond(bf) > 1e12:
+        raise ScenarioError("initial.positions", tuple(positions),
+                            "stations far enough apart to be deflected independently")  # fmt: skip
+    shape = f @ np.linalg.inv(bf)
+    d = np.column_stack([v, w]).ravel()
+    dd = np.column_stack([vd, wd]).ravel()
+    return np.concatenate([shape @ d, shape @ dd])
+
+
+def modal_state(system, speed: float, modal: tuple) -> np.ndarray:
+    """The state ``[q, q']`` (SI, free DOFs) made of undamped modes.
+
+    Mode ``j`` (1-based, by frequency) of ``K_s phi = omega^2 M phi`` (``K_s`` the symmetric
+    part of the stiffness with the bearings at ``speed``, as
+    :func:`rubrotor.linear.modal_mass.modal_masses`) scaled so that its largest deflection
+    ``max |(v, w)|`` over the nodes is 1 m: ``q = sum a_j phi_j``, ``q' = sum a'_j phi_j``.
+
+    Parameters
+    ----------
+    system : rubrotor.rotors.linear.LinearSystem
+        The rotor.
+    speed : float
+        Spin speed (rad/s) for the bearings' coefficients.
+    modal : tuple
+        ``(modes, amplitudes, modal_velocities)`` (1-based; m; m/s).
+
+    Returns
+    -------
+    ndarray, shape (2 n,)
+    """
+    import scipy.linalg
+
+    from rubrotor.linear.modal_mass import _grid
+
+    modes, amps, vels = modal
+    mats = system.matrices(speed)
+    w2, phi = scipy.linalg.eigh(0.5 * (mats.K + mats.K.T), mats.M)
+    if max(modes) > phi.shape[1]:
+        raise ScenarioError("initial.modes", modes, f"mode numbers 1 .. {phi.shape[1]}")
+    rows = np.stack([system.basis.rows(x)[:, system.free] for x in _grid(system)])
+    q, qd = np.zeros(phi.shape[0]), np.zeros(phi.shape[0])
+    for m, a, ad in zip(modes, amps, vels, strict=True):
+        shape = phi[:, m - 1] / np.max(np.hypot(*np.moveaxis(rows @ phi[:, m - 1], -1, 0)))
+        q += a * shape
+        qd += ad * shape
+    return np.concatenate([q, qd])
+
+
 def engine_problem(scenario, integrator=None):
     """The engine's inputs for a scenario (see :func:`_problem`; without the restart state)."""
     return _problem(scenario, integrator)[:4]
@@ -139,11 +279,10 @@ def _problem(scenario, integrator=None):
         raise ScenarioError("speed", speed, "a spin speed > 0 (rad/s) for a time simulation")
     system = _system(scenario, integ.probes)
     step = integ.step_seconds(speed)
+    if step is None and (end is not None or table):  # a profile needs a fixed step
+        top = max([speed, end or 0.0, *(w for _, w in table or ())])
+        step = default_step(system, eng, top)
     adaptive = step is None
-    if adaptive and (end is not None or table):
-        raise ScenarioError(
-            "simulation.dt", None, 'a fixed step (dt or dtau) with a "linear" or "table" profile'
-        )
     if table and integ.duration is None:
         raise ScenarioError("simulation.revolutions", integ.revolutions,
                             'simulation.duration (s) instead, with speed.profile = "table"')  # fmt: skip
@@ -152,6 +291,10 @@ def _problem(scenario, integrator=None):
         initial, t0, snap = _restart(eng.initial_path, scenario, system, speed)
         # constant speed: continuing at t0 equals starting at 0 with phases advanced by Omega t0
         unb = tuple(dataclasses.replace(u, phase=u.phase + speed * t0) for u in unb)
+    elif initial == "given" and eng.initial_modes is not None:
+        initial = modal_state(system, speed, eng.initial_modes)
+    elif initial == "given":
+        initial = given_state(system, speed, eng.initial_given)
     run = Run(
         speed=speed, duration=_duration(integ, speed, end),
         step=integ.output_spacing(speed) if adaptive else step,
@@ -161,8 +304,27 @@ def _problem(scenario, integrator=None):
         speed_table=table,
         rtol=integ.rtol if adaptive else None, atol=integ.atol,
     )  # fmt: skip
+    _check_one_sample(integ, run)
     kwargs = dict(stations=eng.stations, unbalances=unb, loads=eng.loads, gravity=eng.gravity)
     return system, run, kwargs, t0, snap
+
+
+def _check_one_sample(integ, run: Run) -> None:
+    """Refuse a run shorter than one saved sample, naming the keys the file sets."""
+    sample = run.step * run.save_every
+    if run.duration >= sample * (1 - 1e-9):
+        return
+    given = [(k, getattr(integ, k)) for k in ("dt", "dtau", "output_dtau", "sample_rate")]
+    key, value = next(((f"simulation.{k}", v) for k, v in given if v is not None),
+                      ("simulation.output_dtau", None))  # fmt: skip
+    if run.step <= run.duration:  # the step fits: the saved spacing does not
+        key, value = "simulation.save_every", run.save_every
+    length = ("simulation.duration", integ.duration) if integ.duration is not None else (
+        "simulation.revolutions", integ.revolutions)  # fmt: skip
+    raise ScenarioError(
+        key, value, f"a sample spacing ({sample:.3g} s) no longer than the run "
+        f"({length[0]} = {length[1]!r} lasts {run.duration:.3g} s)"
+    )  # fmt: skip
 
 
 def _check_size(scenario, run: Run, stream) -> None:

@@ -214,7 +214,7 @@ class Run:
         try:
             tab = np.array(self.speed_table, dtype=float)
         except (TypeError, ValueError):
-            raise InputError("speed.table", self.speed_table, allowed) from None
+            raise InputError("speed.times / speed.speeds", self.speed_table, allowed) from None
         dt = self.step * self.save_every
         ok = (tab.ndim == 2 and tab.shape[1] == 2 and tab.shape[0] >= 2
               and np.all(np.isfinite(tab)) and tab[0, 0] == 0.0 and np.all(np.diff(tab[:, 0]) > 0)
@@ -223,7 +223,7 @@ class Run:
             k = tab[:, 0] / dt
             ok = bool(np.all(np.abs(k - np.rint(k)) <= 1e-6 * np.maximum(1.0, k)))
         if not ok:
-            raise InputError("speed.table", self.speed_table, allowed)
+            raise InputError("speed.times / speed.speeds", self.speed_table, allowed)
         object.__setattr__(self, "speed_table", tuple(map(tuple, tab.tolist())))
         object.__setattr__(self, "speed", float(tab[0, 1]))
         object.__setattr__(self, "speed_end", float(np.interp(self.duration, tab[:, 0], tab[:, 1])))

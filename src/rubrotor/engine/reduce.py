@@ -61,7 +61,7 @@ from rubrotor.errors import InputError
 
 __all__ = [
     "Modes", "RitzBasis", "reduce_matrices", "reduce_auto", "reduce_projected", "ritz_basis",
-    "basis_from_modes", "reduce", "COND_LIMIT",
+    "basis_from_modes", "reduce", "COND_LIMIT", "IllConditioned",
 ]  # fmt: skip
 
 COND_LIMIT = 1e10
@@ -125,6 +125,25 @@ class Modes:
     def project(self, x: np.ndarray) -> np.ndarray:
         """Modal coordinates ``y`` of a physical state ``x = [q, q']`` (kept modes only)."""
         return self.psi @ x
+
+
+class IllConditioned(InputError):
+    """The eigenvectors of a system are not independent (condition number ``cond``): a
+    defective system at this speed, or an input far off the rotor's scale (see
+    :func:`rubrotor.rotors.scales.explain`, which names it).
+
+    Parameters
+    ----------
+    cond : float
+        1-norm condition number of the eigenvector basis.
+    """
+
+    def __init__(self, cond: float):
+        self.cond = cond
+        self.reason = f"the rotor's modes are not independent (cond {cond:.3g})"
+        super().__init__(
+            "speed", "-", f"a speed where the rotor's modes are independent (cond {cond:.3g})"
+        )
 
 
 def _select(lam: np.ndarray, keep: int | None, cutoff: float | None) -> np.ndarray:
@@ -193,9 +212,7 @@ def reduce_matrices(
         psi = kinv = np.full((1, 1), np.inf)
     cond = float(np.abs(V).sum(axis=0).max() * np.abs(psi).sum(axis=0).max())  # 1-norm
     if not cond < COND_LIMIT:
-        raise InputError(
-            "speed", "-", f"a speed where the rotor's modes are independent (cond {cond:.3g})"
-        )
+        raise IllConditioned(cond)
     kcond = np.abs(K).sum(axis=0).max() * np.abs(kinv).sum(axis=0).max()
     if not kcond < 1e15:
         raise InputError("supports", "-", "supports that hold the rotor (K is singular)")

@@ -18,6 +18,7 @@ from xarray.backends import BackendArray
 from xarray.core import indexing
 
 from rubrotor import __version__
+from rubrotor.engine.output import usual_mode
 from rubrotor.errors import InputError
 
 __all__ = ["to_dataset", "from_shaft_layout", "save_dataset", "load_dataset", "atomic_write"]
@@ -234,9 +235,7 @@ def atomic_write(path: str | os.PathLike, write) -> Path:
     os.close(fd)
     try:
         write(tmp)
-        umask = os.umask(0o022)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the usual permissions
+        usual_mode(tmp)  # mkstemp makes 0600; give the usual permissions
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
@@ -259,6 +258,10 @@ def save_dataset(ds: xr.Dataset, path: str | os.PathLike) -> Path:
     -------
     Path
     """
+    if not isinstance(ds, xr.Dataset):
+        raise InputError("ds", _short(ds), "an xarray.Dataset (a result of rubrotor.simulate)")
+    if not isinstance(path, str | os.PathLike):
+        raise InputError("path", _short(path), "a file path (str or os.PathLike) ending in .nc")
     return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4"))
 
 
@@ -312,6 +315,13 @@ def from_shaft_layout(ds: xr.Dataset) -> xr.Dataset:
         }])  # fmt: skip
     out.attrs.setdefault("contacts", "[]")
     return out
+
+
+def _short(obj):
+    """``obj`` itself when its repr is short, else its repr cut to 60 characters (a message's
+    value)."""
+    r = repr(obj)
+    return obj if len(r) <= 60 else r[:57] + "..."
 
 
 def load_dataset(path: str | os.PathLike) -> xr.Dataset:

@@ -813,8 +813,9 @@ def simulate(
 
     Parameters
     ----------
-    scenario : rubrotor.scenario.Scenario
-        Shaft, speed, unbalance, load, contact, damping and ``[simulation]`` settings.
+    scenario : rubrotor.scenario.Scenario or path-like
+        Shaft, speed, unbalance, load, contact, damping and ``[simulation]`` settings; a path is
+        read with :func:`~rubrotor.load_scenario`.
     integrator : Integrator, optional
         Overrides the scenario's ``[simulation]`` section.
     progress : bool, optional
@@ -829,7 +830,9 @@ def simulate(
         ``"partial"`` (then ``attrs["status_message"]`` says why and where it stopped).
     """
     from rubrotor.engine.result import to_dataset
+    from rubrotor.scenario.load import as_scenario
 
+    scenario = as_scenario(scenario)
     if scenario.model.general:  # a finite-element rotor or general-engine keys
         from rubrotor.engine.general import simulate_engine
 
@@ -889,6 +892,9 @@ def converge(
     """
     import dataclasses
 
+    from rubrotor.scenario.load import as_scenario
+
+    scenario = as_scenario(scenario)
     scenario.require_seed_engine("the convergence study")
     base = scenario.simulation or Integrator(revolutions=revolutions or 20)
     dtau = dtau or base.dtau or 1e-3

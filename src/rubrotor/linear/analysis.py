@@ -73,20 +73,21 @@ class DampedMode:
     Attributes
     ----------
     index : int
-        1-based rank by frequency.
+        1-based rank by undamped natural frequency ``|lambda|`` (as ROSS ranks its modes).
     frequency_hz : float
-        Damped natural frequency (Hz).
+        Damped natural frequency ``Im(lambda) / 2 pi`` (Hz; 0 for a real root).
     damping_ratio : float
         ``zeta`` (dimensionless; < 0 when the mode grows).
     log_dec : float
-        Logarithmic decrement (dimensionless; < 0 when the mode grows).
+        Logarithmic decrement (dimensionless; < 0 when the mode grows; ``inf`` for a real root).
     whirl : str
         ``"forward"``, ``"backward"`` or ``"mixed"``.
     eigenvalue : complex
         ``lambda`` (1/s).
     shape : ndarray, complex
         Mode shape on all DOFs of the system (fixed DOFs zero), normalised to unit largest
-        deflection (m per unit modal amplitude).
+        deflection (m per unit modal amplitude; a mode without deflection, of rotations or
+        housings only, to unit largest DOF).
     """
 
     index: int
@@ -98,6 +99,16 @@ class DampedMode:
     shape: np.ndarray
 
     @property
+    def natural_frequency_hz(self) -> float:
+        """Undamped natural frequency ``|lambda| / 2 pi`` (Hz), the rank key (ROSS's ``wn``)."""
+        return abs(self.eigenvalue) / TWO_PI
+
+    @property
+    def overdamped(self) -> bool:
+        """True for a root that does not oscillate: ``Im(lambda) <= OVERDAMPED |lambda|``."""
+        return self.eigenvalue.imag <= OVERDAMPED * abs(self.eigenvalue)
+
+    @property
     def stable(self) -> bool:
         """True when the mode decays (``Re(lambda) < 0``)."""
         return self.eigenvalue.real < 0
@@ -105,7 +116,7 @@ class DampedMode:
 
 @dataclass(frozen=True)
 class DampedModes:
-    """The damped modes of a rotor at one speed (``speed_rad_s``, rad/s), sorted by frequency."""
+    """The modes of a rotor at one speed (``speed_rad_s``, rad/s), ranked by ``|lambda|``."""
 
     speed_rad_s: float
     modes: tuple[DampedMode, ...]
@@ -118,9 +129,11 @@ class DampedModes:
                 {
                     "index": m.index,
                     "frequency_hz": m.frequency_hz,
+                    "natural_frequency_hz": m.natural_frequency_hz,
                     "damping_ratio": m.damping_ratio,
-                    "log_dec": m.log_dec,
+                    "log_dec": m.log_dec if math.isfinite(m.log_dec) else None,
                     "whirl": m.whirl,
+                    "overdamped": m.overdamped,
                 }
                 for m in self.modes
             ],
@@ -128,12 +141,20 @@ class DampedModes:
 
 
 OSCILLATING = 1e-4
-"""A mode oscillates when ``Im(lam) > OSCILLATING |lam|`` (damping ratio below ``1 - 5e-9``).
+"""A root is complex (a mode that oscillates) when ``Im(lam) > OSCILLATING |lam|`` (damping ratio
+below ``1 - 5e-9``), else real.
 
 A critically damped pair of real eigenvalues (heavily damped bearings make them) splits under
 rounding into a complex pair with ``Im(lam) ~ sqrt(eps cond) |lam|`` (about ``1e-6 |lam|`` on
 the shipped general rotor): without a margin such a pair would appear, or not, as a spurious
 zero-frequency mode and shift the numbering of the others."""
+
+OVERDAMPED = 1e-2
+"""A mode is marked overdamped when ``Im(lam) <= OVERDAMPED |lam|``: real roots, and complex
+ones with damping ratio ``zeta >= 0.99995`` (log dec >= 628: one would-be period shrinks the
+motion by ``e^-628``, so nothing oscillates). Heavy element damping makes such roots (ROSS's
+``rotor_example_amb_simple`` at 300 rad/s: ``|lam|`` near 1e4 rad/s with ``Im(lam)`` 1-5 rad/s);
+ranked by frequency they would come first, ranked by ``|lam|`` they fall where they belong."""
 
 
 def _check_speed(name: str, speed) -> float:
@@ -185,70 +206,120 @@ def _eig_nearest_zero(mx, k: int):
     return 1.0 / mu, vec
 
 
-def _eig(system: LinearSystem, speed: float, n: int | None = None):
-    """Eigenvalues with ``Im > 0`` (sorted) and the ``q`` part of their eigenvectors.
+def _select(lam: np.ndarray, n: int | None, natural: bool) -> np.ndarray:
+    """Indices of the modes among the roots ``lam``, in their order.
 
-    With ``n`` given on a large system, the Campbell route at one speed (:func:`_newton_eig`:
-    projection starts, Newton on the banded quadratic eigenproblem); if one of its checks fails,
-    shift-invert Arnoldi (ARPACK) finds the ``2 n + 8`` eigenvalues nearest zero (twice as many
-    if overdamped ones crowd out oscillating ones) from one sparse LU of ``K``. Both instead of
-    a dense solve of all ``2 N``; the tests check them against the dense route.
+    By frequency: the roots with ``Im > OSCILLATING |lam|``, by ``Im``, the first ``n``. By
+    natural frequency (``natural``): the roots with ``Im > OVERDAMPED |lam|`` by ``|lam|``, the
+    first ``n``; then, marked overdamped by the caller, the real roots (``|Im| <= OSCILLATING
+    |lam|``, each once) and the nearly real ones, by ``|lam|``, those up to the last mode's
+    ``|lam|`` (all when ``n`` is None)."""
+    a = np.abs(lam)
+    if not natural:
+        idx = np.flatnonzero(lam.imag > OSCILLATING * a)
+        return idx[np.argsort(lam.imag[idx], kind="stable")][:n]
+    osc = np.flatnonzero(lam.imag > OVERDAMPED * a)
+    osc = osc[np.argsort(a[osc], kind="stable")][:n]
+    over = np.flatnonzero((lam.imag > -OSCILLATING * a) & (lam.imag <= OVERDAMPED * a))
+    if n is not None:
+        over = over[a[over] <= (a[osc].max() if osc.size else np.inf)]
+    return np.concatenate([osc, over[np.argsort(a[over], kind="stable")]])
+
+
+def _real_made_real(lam: np.ndarray) -> np.ndarray:
+    """Roots with ``|Im| <= OSCILLATING |lam|`` as exactly real numbers (a rounding split)."""
+    return np.where(np.abs(lam.imag) <= OSCILLATING * np.abs(lam), lam.real + 0j, lam)
+
+
+def _eig(system: LinearSystem, speed: float, n: int | None = None, natural: bool = False):
+    """Eigenvalues of the modes (:func:`_select`) and the ``q`` part of their eigenvectors.
+
+    With ``n`` given on a large system: the Campbell route at one speed (:func:`_newton_eig`:
+    projection starts, Newton on the banded quadratic eigenproblem; it finds the oscillating
+    modes next to the lowest undamped ones). Ranked by ``|lam|`` it is taken only where the
+    projected problem has no root left out below the ``n``-th mode's ``|lam|`` (no overdamped
+    root there, the same ``n`` modes by frequency as by ``|lam|``: :func:`_ranks_alike`). Else,
+    or if one of its checks fails: shift-invert Arnoldi (ARPACK) finds the ``2 n + 8``
+    eigenvalues nearest zero, i.e. of least ``|lam|`` (twice as many while fewer than ``n``
+    modes are among them), from one sparse LU of ``K``. Both instead of a dense solve of all
+    ``2 N``; the tests check them against the dense route.
     """
     size = 2 * system.n_dof
     if n is not None and size > 16 * n:
-        found = _newton_eig(system, speed, n)
+        found = _newton_eig(system, speed, n, natural)
         if found is not None:
             return found
     mx = system.matrices(speed)
     lam = None
+    floor = OVERDAMPED if natural else OSCILLATING
     if n is not None and size > 16 * n:
         k = 2 * n + 8
         while lam is None or (
-            np.count_nonzero(lam.imag > OSCILLATING * np.abs(lam)) < n and k < size // 2
+            np.count_nonzero(lam.imag > floor * np.abs(lam)) < n and k < size // 2
         ):
             k = k if lam is None else 2 * k
             lam, vec = _eig_nearest_zero(mx, k)
     else:
         a, _ = mx.first_order()
         if n is not None:
-            found = _eigvals_then_vectors(mx, a, n)
+            found = _eigvals_then_vectors(mx, a, n, natural)
             if found is not None:
                 return found
         lam, vec = scipy.linalg.eig(a, overwrite_a=True, check_finite=False)
-    keep = lam.imag > OSCILLATING * np.abs(lam)
-    lam, vec = lam[keep], vec[: system.n_dof, keep]
-    order = np.argsort(lam.imag)
-    return lam[order], vec[:, order]
+    sel = _select(lam, n, natural)
+    return _real_made_real(lam[sel]), vec[: system.n_dof, sel]
 
 
-def _eigvals_then_vectors(mx, a: np.ndarray, n: int):
+def _eigvals_then_vectors(mx, a: np.ndarray, n: int, natural: bool = False):
     """The ``n`` lowest modes of a small dense system: all eigenvalues of the first-order matrix
     ``a`` without eigenvectors (LAPACK ``dgeev`` skips the back-transformation: about half the
     cost), then one null vector of ``lam^2 M + lam D + K`` per kept mode (one step of inverse
     iteration at the eigenvalue, compiled: :func:`rubrotor.core.banded.ritz_vectors`). ``None``
-    when equal eigenvalues (within 1e-7) reach the first ``n``: their shapes must span the
+    when equal eigenvalues (within 1e-7) reach the kept ones: their shapes must span the
     eigenspace as the dense vectors do before :func:`_circularise`, so the caller takes the
     dense route."""
     lam = scipy.linalg.eigvals(a, check_finite=False)
-    lam = lam[lam.imag > OSCILLATING * np.abs(lam)]
-    lam = lam[np.argsort(lam.imag)]
-    head = lam[: n + 1]
+    head = lam[_select(lam, n + 1, natural)]
     if np.any(np.abs(np.diff(head)) <= 1e-7 * np.abs(head[1:])):
         return None
-    lam = lam[:n]
+    lam = _real_made_real(lam[_select(lam, n, natural)])
     vec = ritz_vectors(mx.M, mx.damping[None], mx.K[None], lam[None])[0]
     return lam, vec.T
 
 
-def _newton_eig(system: LinearSystem, speed: float, n: int):
+def _ranks_alike(red: Reduced, n: int) -> bool:
+    """True when the projected problem's ``n`` lowest modes by frequency are all its roots of
+    ``|lam|`` up to theirs (with a 1e-3 margin), none overdamped: ranked by ``|lam|`` the
+    Newton route then finds the same modes."""
+    m = red.mr.shape[0]
+    a = np.zeros((2 * m, 2 * m))
+    a[:m, m:] = np.eye(m)
+    a[m:, :m] = -np.linalg.solve(red.mr, red.kr[0])
+    a[m:, m:] = -np.linalg.solve(red.mr, red.dr[0])
+    lam = np.linalg.eigvals(a)
+    size = np.abs(lam)
+    osc = lam[lam.imag > OSCILLATING * size]
+    if osc.size < n:
+        return False
+    top = np.abs(osc[np.argsort(osc.imag)][:n]).max() * (1 + 1e-3)
+    low = lam[(lam.imag > -OSCILLATING * size) & (size <= top)]
+    return low.size == n and bool(np.all(low.imag > OVERDAMPED * np.abs(low)))
+
+
+def _newton_eig(system: LinearSystem, speed: float, n: int, natural: bool = False):
     """The ``n`` lowest modes at ``speed`` (rad/s) as :func:`campbell_data` finds them, with
-    full eigenvectors on the free DOFs; ``None`` when a check fails (fewer than ``n`` projected
-    modes, Newton not converged, a start that moved by more than 1e-3 of itself, or two
-    starts that converged to one eigenvalue), so that the caller takes another route."""
+    full eigenvectors on the free DOFs, by frequency or (``natural``) by ``|lam|``; ``None``
+    when a check fails (fewer than ``n`` projected modes, with ``natural`` a projection that
+    ranks otherwise (:func:`_ranks_alike`) or an overdamped result, Newton not converged, a
+    start that moved by more than 1e-3 of itself, or two starts that converged to one
+    eigenvalue), so that the caller takes another route."""
     speeds = np.array([speed])
     parts = _band_parts(system, speeds)
     try:
-        lam0, vec0 = _ritz_starts(system, parts, speeds, n)
+        red = _reduced(system, parts, speeds, n)
+        if natural and not _ranks_alike(red, n):
+            return None
+        lam0, vec0 = _ritz_starts(system, parts, speeds, n, red)
     except np.linalg.LinAlgError:
         return None
     if not np.all(np.isfinite(lam0)):
@@ -268,10 +339,10 @@ def _newton_eig(system: LinearSystem, speed: float, n: int):
         np.any(ref.steps <= 0)
         or np.any(np.abs(lam - start) > 1e-3 * np.abs(start))
         or np.any(same & apart)
-        or not np.all(lam.imag > OSCILLATING * np.abs(lam))
+        or not np.all(lam.imag > (OVERDAMPED if natural else OSCILLATING) * np.abs(lam))
     ):
         return None
-    order = np.argsort(lam.imag)
+    order = np.argsort(np.abs(lam) if natural else lam.imag, kind="stable")
     return lam[order], ref.shapes[0].T[:, order]
 
 
@@ -290,8 +361,10 @@ def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None)
     Returns
     -------
     DampedModes
-        Frequencies (Hz), damping ratios, logarithmic decrements, whirl and shapes, sorted by
-        frequency.
+        Frequencies (Hz), damping ratios, logarithmic decrements, whirl and shapes, ranked by
+        undamped natural frequency ``|lambda|`` as ROSS ranks them; real roots and roots with
+        ``Im(lambda) <= OVERDAMPED |lambda|`` are kept in that rank and marked
+        ``DampedMode.overdamped`` (ranked by ``Im(lambda)`` they would come first).
 
     Examples
     --------
@@ -309,7 +382,13 @@ def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None)
     speed = _check_speed("speed", speed)
     if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
         raise InputError("n", n, "a number of modes >= 1")
-    lam, vec = _eig(system, speed, n)
+    return _modes(system, speed, n, natural=True)
+
+
+def _modes(system: LinearSystem, speed: float, n: int | None, natural: bool) -> DampedModes:
+    """:func:`damped_modes` ranked by ``|lambda|`` (``natural``, real roots kept) or, for the
+    Campbell rows, by ``Im(lambda)`` (oscillating modes only)."""
+    lam, vec = _eig(system, speed, n, natural)
     full = np.zeros((len(system.M), vec.shape[1]), complex)
     full[system.free] = vec
     rows = _stations(system)
@@ -321,12 +400,14 @@ def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None)
         if j - i > 1:
             full[:, i:j] = _circularise(rows, full[:, i:j])
         i = j
-    count = len(lam) if n is None else min(n, len(lam))
-    full = full[:, :count]
+    count = len(lam)
     defl = rows @ full  # V, W at the stations, (2 S, count)
     whirl = _whirl_labels(defl.T)
     big = np.argmax(np.abs(defl), axis=0)
-    full = full / defl[big, np.arange(count)]  # unit largest deflection
+    scale = defl[big, np.arange(count)]
+    flat = scale == 0  # a mode of rotations or housings only: unit largest DOF instead
+    scale[flat] = full[np.argmax(np.abs(full[:, flat]), axis=0), np.flatnonzero(flat)]
+    full = full / scale  # unit largest deflection
     modes = []
     for k in range(count):
         lk = complex(lam[k])
@@ -335,7 +416,9 @@ def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None)
                 index=k + 1,
                 frequency_hz=lk.imag / TWO_PI,
                 damping_ratio=-lk.real / abs(lk),
-                log_dec=-TWO_PI * lk.real / lk.imag,
+                log_dec=-TWO_PI * lk.real / lk.imag
+                if lk.imag
+                else math.copysign(math.inf, -lk.real),
                 whirl=whirl[k],
                 eigenvalue=lk,
                 shape=full[:, k],
@@ -400,6 +483,8 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise InputError("n", n, "a number of modes >= 1")
     lam, shapes, ok = _refined_modes(system, s, n)
+    with np.errstate(invalid="ignore"):  # Newton landed on a real root: not a mode, redo densely
+        ok = ok & (lam.imag > OSCILLATING * np.abs(lam))
     f = np.full((s.size, n), np.nan)
     ld = np.full((s.size, n), np.nan)
     wh = np.full((s.size, n), "", dtype=object)
@@ -409,7 +494,7 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     wh[good] = _whirl_labels(shapes)[good]
     for i in np.flatnonzero(~ok.all(axis=1)):  # Newton failed somewhere: the dense route
         f[i], ld[i], wh[i] = np.nan, np.nan, ""
-        for j, md in enumerate(damped_modes(system, float(s[i]), n=n).modes):
+        for j, md in enumerate(_modes(system, float(s[i]), n, natural=False).modes):
             f[i, j], ld[i, j], wh[i, j] = md.frequency_hz, md.log_dec, md.whirl
     return CampbellData(speeds=s, frequency_hz=f, log_dec=ld, whirl=wh)
 
@@ -560,7 +645,9 @@ def _projected_lam(red: Reduced, idx: np.ndarray, n: int) -> np.ndarray:
     return out
 
 
-def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int):
+def _ritz_starts(
+    system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int, red: Reduced | None = None
+):
     """Starting eigenpairs at every speed from a projection onto :func:`_ritz_basis`.
 
     The projected eigenvalues come from :func:`_projected_lam` and the projected shapes from one
@@ -568,7 +655,7 @@ def _ritz_starts(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: 
     cheaper than batched eigenvectors). Returns ``lam0`` (S, n), NaN where fewer than ``n``
     oscillating modes were found, and ``vec0`` (S, n, N) on the free DOFs.
     """
-    red = _reduced(system, parts, speeds, n)
+    red = _reduced(system, parts, speeds, n) if red is None else red
     lam0 = _projected_lam(red, np.arange(speeds.size), n)
     return lam0, ritz_vectors(red.mr, red.dr, red.kr, lam0) @ red.phi.T
 
@@ -697,6 +784,15 @@ def _whirl_labels(shapes: np.ndarray) -> np.ndarray:
     return out
 
 
+CRITICALLY_DAMPED = 0.2
+"""Damping ratio above which a critical speed is flagged as critically damped (no resonance to
+avoid). API 684 (Tutorial on the API Standard Paragraphs Covering Rotor Dynamics, 2nd ed.) and
+API 617 call a mode "critically damped" when its amplification factor ``AF < 2.5``; with the
+single-mode estimate ``AF = 1 / (2 zeta)`` that is ``zeta > 0.2``. The estimate is the
+half-power one (``AF = N_c / (N_2 - N_1)``) for a lightly damped mode; near 0.2 it is an
+approximation, so a value close to the limit deserves the unbalance response's own peak."""
+
+
 @dataclass(frozen=True)
 class LinearCritical:
     """A critical speed: mode ``index`` (by frequency) crosses ``harmonic`` times the spin.
@@ -711,12 +807,20 @@ class LinearCritical:
         The excitation order (1 for unbalance).
     speed_rad_s : float
         Spin speed (rad/s).
+    damping_ratio : float
+        Damping ratio ``zeta`` of the mode at the crossing (dimensionless).
     """
 
     index: int
     whirl: str
     harmonic: float
     speed_rad_s: float
+    damping_ratio: float = float("nan")
+
+    @property
+    def critically_damped(self) -> bool:
+        """True when ``damping_ratio > CRITICALLY_DAMPED`` (API 684's ``AF < 2.5``)."""
+        return self.damping_ratio > CRITICALLY_DAMPED
 
     @property
     def speed_rpm(self) -> float:
@@ -745,7 +849,8 @@ def linear_critical_speeds(
     Returns
     -------
     list of LinearCritical
-        Sorted by speed.
+        Sorted by speed, each with the mode's damping ratio there; those above
+        ``CRITICALLY_DAMPED`` are flagged by ``LinearCritical.critically_damped``.
     """
     max_speed = _check_speed("max_speed", max_speed)
     if max_speed <= 0 or not harmonic > 0:
@@ -759,13 +864,16 @@ def linear_critical_speeds(
 
             def h(w, j=j):  # the Campbell route itself, so the bracket's signs are g's
                 one = campbell_data(system, [w, w * (1 + 1e-12) + 1e-12], n=n)
-                return TWO_PI * one.frequency_hz[0, j] - harmonic * w, one.whirl[0, j]
+                d = one.log_dec[0, j]
+                zeta = d / math.sqrt(4 * math.pi**2 + d * d)
+                return TWO_PI * one.frequency_hz[0, j] - harmonic * w, one.whirl[0, j], zeta
 
             lo, hi = float(grid[i]), float(grid[i + 1])
             if not h(lo)[0] * h(hi)[0] < 0:  # a branch that appears or vanishes in between
                 continue
             w = scipy.optimize.brentq(lambda x: h(x)[0], lo, hi, xtol=1e-12, rtol=1e-10)
-            out.append(LinearCritical(j + 1, h(w)[1], float(harmonic), float(w)))
+            _, whirl, zeta = h(w)
+            out.append(LinearCritical(j + 1, whirl, float(harmonic), float(w), float(zeta)))
     return sorted(out, key=lambda c: c.speed_rad_s)
 
 
@@ -792,9 +900,12 @@ def stability_threshold(
         The threshold speed (rad/s); 0.0 when the rotor is already unstable at rest.
     """
     max_speed = _check_speed("max_speed", max_speed)
+    if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
+        raise InputError("n", n, "a number of modes >= 1")
 
     def least(w):
-        return min(m.damping_ratio for m in damped_modes(system, w, n=n).modes)
+        # the n lowest by frequency (the Campbell route): overdamped roots never set the least
+        return min(m.damping_ratio for m in _modes(system, w, n, natural=False).modes)
 
     if least(0.0) < 0:
         return 0.0
@@ -837,24 +948,20 @@ class UnbalanceResponse:
 
 def _support_values(system: LinearSystem, speeds: np.ndarray):
     """Support entries on the free DOFs: rows, columns and their ``k`` (N/m), ``c`` (N s/m) at
-    every speed (rad/s), interpolated as :meth:`Support.coefficients` does (clipped, linear)."""
+    every speed (rad/s), as :meth:`Support.tabulate` gives them (linked supports expanded)."""
     pos = np.full(len(system.M), -1)
     pos[system.free] = np.arange(system.free.size)
     rows, cols, kv, cv = [], [], [], []
     for sup in system.supports:
-        tab = sup.speeds if sup.speeds is not None and len(sup.speeds) > 1 else None
-        for i, di in enumerate(sup.dofs):
-            for j, dj in enumerate(sup.dofs):
+        ks, cs = (sup.block(a) for a in sup.tabulate(speeds))
+        for i, di in enumerate(sup.all_dofs):
+            for j, dj in enumerate(sup.all_dofs):
                 if pos[di] < 0 or pos[dj] < 0:
                     continue
                 rows.append(pos[di])
                 cols.append(pos[dj])
-                for out, table in ((kv, sup.k), (cv, sup.c)):
-                    out.append(
-                        np.full(speeds.size, table[0, i, j])
-                        if tab is None
-                        else np.interp(speeds, tab, table[:, i, j])
-                    )
+                kv.append(ks[:, i, j])
+                cv.append(cs[:, i, j])
     shape = (speeds.size, len(rows))
     k = np.array(kv).T.reshape(shape) if kv else np.zeros(shape)
     c = np.array(cv).T.reshape(shape) if cv else np.zeros(shape)

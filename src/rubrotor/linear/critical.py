@@ -21,7 +21,12 @@ import functools
 import math
 
 from rubrotor.errors import InputError
-from rubrotor.linear.analysis import damped_modes, linear_critical_speeds
+from rubrotor.linear.analysis import (
+    CRITICALLY_DAMPED,
+    LinearCritical,
+    damped_modes,
+    linear_critical_speeds,
+)
 from rubrotor.linear.shapes import mode_shapes
 from rubrotor.rotors.linear import LinearSystem
 
@@ -29,17 +34,25 @@ __all__ = ["first_forward_critical_speed", "rotor_first_forward_critical"]
 
 MAX_SEARCH = 1e7
 """Highest spin speed (rad/s) searched for a forward critical speed (the scenario's limit)."""
-MAX_DAMPING_RATIO = 0.2
-"""Modes damped beyond this ratio make no critical speed (API 617's amplification factor 2.5)."""
+MAX_DAMPING_RATIO = CRITICALLY_DAMPED
+"""Modes damped beyond this ratio make no critical speed (API 617's amplification factor 2.5;
+the limit :func:`rubrotor.linear.analysis.linear_critical_speeds` flags)."""
 
 
-def _counts(system: LinearSystem, speed: float, index: int) -> bool:
-    """True when mode ``index`` (1-based) at ``speed`` (rad/s) whirls predominantly forward and
-    is not critically damped."""
-    shapes = mode_shapes(system, speed, index)
-    k = index - 1
-    ratio = shapes.minor[k].sum() / shapes.major[k].sum()
-    return ratio > 0 and shapes.modes.modes[k].damping_ratio <= MAX_DAMPING_RATIO
+def _counts(system: LinearSystem, crit: LinearCritical) -> bool:
+    """True when the mode crossing at ``crit`` whirls predominantly forward and is not
+    critically damped. Modes are ranked by ``|lambda|`` and ``crit.index`` is the rank by
+    frequency, so the mode is the one whose damped frequency equals the speed."""
+    if crit.critically_damped:
+        return False
+    speed = crit.speed_rad_s
+    for n in (crit.index + 4, 3 * crit.index + 12):
+        shapes = mode_shapes(system, speed, n)
+        gap = [abs(2 * math.pi * m.frequency_hz - speed) for m in shapes.modes.modes]
+        k = min(range(len(gap)), key=gap.__getitem__)
+        if gap[k] <= 1e-6 * speed:
+            return shapes.minor[k].sum() / shapes.major[k].sum() > 0
+    return False
 
 
 def first_forward_critical_speed(system: LinearSystem, modes: int = 6) -> float:
@@ -72,7 +85,7 @@ def first_forward_critical_speed(system: LinearSystem, modes: int = 6) -> float:
         found = [
             c
             for c in linear_critical_speeds(system, top, n=modes)
-            if c.speed_rad_s <= MAX_SEARCH and _counts(system, c.speed_rad_s, c.index)
+            if c.speed_rad_s <= MAX_SEARCH and _counts(system, c)
         ]
         if found:
             return float(found[0].speed_rad_s)

@@ -3,7 +3,7 @@
 The rotor is held at a static contact position ``P0 = (g + eps0) e_y`` (the force that holds it,
 e.g. a radial load, does not enter the perturbation equations) with zero whirl velocity. The
 contact force is linearised there with the engine's own Jacobian
-(:func:`rubrotor.core.contact.contact_force_jac`): radial stiffness ``1.5 k_h eps0^0.5``,
+(``rubrotor.core.contact.contact_force_jac``): radial stiffness ``1.5 k_h eps0^0.5``,
 Hunt-Crossley damping ``k_h eps0^1.5 b_h`` (N s/m), the geometric term of the normal force turning
 with the position (``F_n0 / (g + eps0)``) and the friction ``mu`` times all of these along the
 tangent; the derivative of the smoothed friction sign is neglected (the surface speed
@@ -27,9 +27,16 @@ from rubrotor.core.contact import contact_force_jac, pack_contact
 from rubrotor.errors import InputError
 from rubrotor.rotors.shaft import FORMULATIONS
 
-__all__ = ["ContactStability", "contact_stability"]
+__all__ = ["ContactStability", "contact_stability", "general_contact_stability", "GROWTH_RTOL"]
 
 TWO_PI = 2 * math.pi
+
+#: Growth rates within this fraction of the largest eigenvalue modulus are round-off: the
+#: eigenvalues of the real ``2 ns x 2 ns`` matrix carry an absolute error of about
+#: ``eps ||A|| cond`` (``eps`` = 2.2e-16); 1e-10 leaves six decades for the eigenvector
+#: condition number. For the seed rotor (``|s|`` up to 1.7e5 rad/s) that is 1.7e-5 1/s, a time
+#: constant of 16 hours; undamped whirls computed at +3e-11 1/s are neutral, not unstable.
+GROWTH_RTOL = 1e-10
 
 
 @dataclass(frozen=True)
@@ -74,8 +81,27 @@ class ContactStability:
         return self.eigenvalues.imag / TWO_PI
 
     @property
+    def growth_tolerance(self) -> float:
+        """Growth rates of modulus below this are round-off (1/s): ``GROWTH_RTOL`` times
+        the largest eigenvalue modulus."""
+        return GROWTH_RTOL * float(np.max(np.abs(self.eigenvalues), initial=0.0))
+
+    def verdict(self, eigenvalue: complex) -> str:
+        """``"unstable"``, ``"neutral"`` (growth rate within ``growth_tolerance``) or
+        ``"stable"`` for one eigenvalue (rad/s)."""
+        tol = self.growth_tolerance
+        return "unstable" if eigenvalue.real > tol else "stable" if eigenvalue.real < -tol else (
+            "neutral")  # fmt: skip
+
+    @property
+    def unstable(self) -> bool:
+        """Whether a growth rate exceeds ``growth_tolerance`` (the contact state grows)."""
+        return self.max_growth_rate > self.growth_tolerance
+
+    @property
     def max_growth_rate(self) -> float:
-        """Largest growth rate (1/s); > 0 means the contact state is unstable."""
+        """Largest growth rate (1/s); above ``growth_tolerance`` the contact state is
+        unstable."""
         return float(self.eigenvalues[0].real)
 
     @property
@@ -93,8 +119,11 @@ class ContactStability:
             "radial_damping_N_s_per_m": self.radial_damping,
             "normal_force_N": self.normal_force,
             "max_growth_rate_per_s": self.max_growth_rate,
+            "growth_tolerance_per_s": self.growth_tolerance,
+            "unstable": self.unstable,
             "dominant_frequency_hz": self.dominant_frequency_hz,
             "eigenvalues": [[float(e.real), float(e.imag / TWO_PI)] for e in self.eigenvalues],
+            "verdicts": [self.verdict(e) for e in self.eigenvalues],
         }
 
 
@@ -148,7 +177,8 @@ def contact_stability(
     ----------
     scenario : rubrotor.scenario.Scenario
         Shaft, speed (rad/s), modal damping and a Hertz ``[contact]`` (stiffness, damping,
-        clearance, friction, sign, position).
+        clearance, friction, sign, position), or the first of its ``[[contact]]`` tables. A
+        general rotor (``[[section]]`` tables) goes to :func:`rubrotor.linear.stability.general_contact_stability`.
     indentation : float
         Static indentation ``eps0`` (m), > 0.
     formulation : {"two-field", "seed-eq1"}, optional
@@ -177,8 +207,14 @@ def contact_stability(
         No Hertz contact, a non-positive indentation, an unknown formulation.
     """
     from rubrotor.engine.simulate import assemble
+    from rubrotor.scenario.load import as_scenario
 
+    scenario = as_scenario(scenario)
+    if scenario.model.fe_rotor:
+        return general_contact_stability(scenario, indentation, friction=friction)
     c = scenario.contact
+    if c is None and scenario.model.general and scenario.engine.stations:
+        c = scenario.engine.stations[0].contact  # the first [[contact]] table
     if c is None or c.law != "hertz":
         raise InputError("contact", None if c is None else c.law, "a Hertz [contact] section")
     if isinstance(indentation, bool) or not (
@@ -226,3 +262,103 @@ def contact_stability(
         normal_force=c.stiffness * indentation**1.5,
         eigenvalues=eig,
     )
+
+
+def _pressed_jacobian(station, speed: float, indentation: float, friction: bool):
+    """``d(F_y, F_z) / d(p_y, p_z, u_y, u_z)`` (2 x 4) of a station's contact law at
+    ``p = (g + eps) e_y`` relative to its stator centre, at rest relative to it; and ``F_n0``."""
+    c = station.contact
+    cp = pack_contact(1, c.law_code, c.stiffness, c.damping or 0.0, c.clearance,
+                      c.friction if friction else 0.0, c.sign_code, c.radius * speed,
+                      c.friction_regularization)  # fmt: skip
+    jac = np.zeros((2, 4))
+    fn = contact_force_jac(c.clearance + indentation, 0.0, 0.0, 0.0, cp, jac)[2]
+    return jac, float(fn)
+
+
+def _with_stator(mats, fmap: np.ndarray, stator):
+    """``M, D, K`` (rotor, plus the stator's two DOFs when flexible) and ``E`` (``p = E^T x``:
+    rotor deflection at the contact minus stator displacement; ``fmap`` the rotor's ``(n, 2)``
+    force map at the contact)."""
+    m, d, k = mats.M, mats.C + mats.speed * mats.G, mats.K
+    if stator is None:
+        return m, d, k, fmap
+    n = m.shape[0]
+    big = [np.zeros((n + 2, n + 2)) for _ in range(3)]
+    for b, small, diag in zip(big, (m, d, k), (
+            (stator.mass_y, stator.mass_z), (stator.damping_y, stator.damping_z),
+            (stator.stiffness_y, stator.stiffness_z)), strict=True):  # fmt: skip
+        b[:n, :n] = small
+        b[n:, n:] = np.diag(diag)
+    return (*big, np.vstack([fmap, -np.eye(2)]))
+
+
+def general_contact_stability(scenario, indentation: float, *, friction: bool = True,
+                              contact: int = 0) -> ContactStability:  # fmt: skip
+    """Eigenvalues of a general rotor pressed into one of its ``[[contact]]`` stators.
+
+    The finite-element rotor (bearings at the scenario's speed, gyroscopic, damped) plus the
+    contact law linearised at ``p = (g + eps) e_y`` relative to the stator centre (any offset:
+    only the relative position enters), at rest relative to it, and the stator's two DOFs when
+    it is flexible: ``M x'' + (D - E J_u E^T) x' + (K - E J_p E^T) x = 0`` with ``J`` the law's
+    Jacobian (``rubrotor.core.contact.contact_force_jac``) and ``p = E^T x``. The force
+    that holds the rotor there (a load, gravity) does not enter the perturbation.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        A general rotor with ``[[contact]]`` tables.
+    indentation : float
+        Static indentation ``eps0`` (m), > 0.
+    friction : bool
+        Include friction (default) or set ``mu = 0``.
+    contact : int
+        Which ``[[contact]]`` table, 0-based (0: the first).
+
+    Returns
+    -------
+    ContactStability
+        ``formulation = "general"``; ``radial_stiffness`` and ``radial_damping`` are
+        ``-dF_y/dp_y`` and ``-dF_y/du_y`` (N/m, N s/m); ``contact_damping`` the table's
+        ``damping``.
+
+    Raises
+    ------
+    InputError
+        No such contact table, a non-positive indentation.
+    """
+    from rubrotor.linear.verbs import linear_system
+
+    stations = scenario.engine.stations if scenario.model.general else ()
+    if not 0 <= contact < len(stations):
+        raise InputError("contact", contact, f"0 .. {len(stations) - 1} ([[contact]] tables, "
+                         "0-based)" if stations else "a [[contact]] table")  # fmt: skip
+    if isinstance(indentation, bool) or not (
+        isinstance(indentation, int | float) and math.isfinite(indentation) and indentation > 0
+    ):
+        raise InputError("indentation", indentation, "a finite indentation > 0 (m)")
+    st = stations[contact]
+    system = linear_system(scenario)
+    jac, fn = _pressed_jacobian(st, scenario.speed, indentation, friction)
+    m, d, k, e = _with_stator(system.matrices(scenario.speed), system.force_map(
+        st.contact.position), st.stator)  # fmt: skip
+    n = m.shape[0]
+    kc, dc = k - e @ jac[:, :2] @ e.T, d - e @ jac[:, 2:] @ e.T
+    a = np.zeros((2 * n, 2 * n))
+    a[:n, n:] = np.eye(n)
+    a[n:, :n], a[n:, n:] = np.linalg.solve(m, -kc), np.linalg.solve(m, -dc)
+    lam, vec = np.linalg.eig(a)
+    rows = e.T  # (2, n): p from x
+    out = []
+    for i in np.flatnonzero(lam.imag >= 0):
+        vw = rows @ vec[:n, i]
+        fwd, bwd = abs(vw[0] + 1j * vw[1]), abs(vw[0] - 1j * vw[1])
+        out.append(complex(lam[i].real, -lam[i].imag) if lam[i].imag > 0 and bwd > fwd
+                   else complex(lam[i]))  # fmt: skip
+    eig = np.array(out)
+    return ContactStability(
+        formulation="general", indentation=float(indentation),
+        contact_damping=float(st.contact.damping or 0.0), radial_stiffness=float(-jac[0, 0]),
+        radial_damping=float(-jac[0, 2]), normal_force=fn,
+        eigenvalues=eig[np.argsort(-eig.real, kind="stable")],
+    )  # fmt: skip

@@ -5,6 +5,8 @@
 
 from __future__ import annotations
 
+import os
+
 from rubrotor.errors import InputError
 from rubrotor.linear.analysis import DampedModes
 from rubrotor.linear.analysis import damped_modes as _damped_modes
@@ -12,17 +14,23 @@ from rubrotor.linear.shaft import CriticalSpeed, Mode, natural_frequencies
 from rubrotor.linear.shaft import critical_speeds as _critical_speeds
 from rubrotor.rotors.linear import LinearSystem
 from rubrotor.rotors.shaft import Shaft
-from rubrotor.scenario.load import Scenario
+from rubrotor.scenario.load import Scenario, load_scenario
 
 __all__ = ["modes", "critical_speeds", "linear_system", "damped_modes"]
 
 
+def _loaded(obj):
+    """``obj``, or the scenario read from it when it is a path to a scenario file."""
+    return load_scenario(obj) if isinstance(obj, str | os.PathLike) else obj
+
+
 def _shaft_and_speed(obj) -> tuple[Shaft, float]:
+    obj = _loaded(obj)
     if isinstance(obj, Scenario):
         return obj.require_shaft("this analysis"), obj.speed
     if isinstance(obj, Shaft):
         return obj, 0.0
-    raise InputError("scenario_or_shaft", obj, "a Scenario or a Shaft")
+    raise InputError("scenario_or_shaft", obj, "a Scenario, a Shaft or a scenario file's path")
 
 
 def modes(scenario_or_shaft: Scenario | Shaft, speed: float | None = None) -> list[Mode]:
@@ -30,8 +38,8 @@ def modes(scenario_or_shaft: Scenario | Shaft, speed: float | None = None) -> li
 
     Parameters
     ----------
-    scenario_or_shaft : Scenario or Shaft
-        The rotor.
+    scenario_or_shaft : Scenario, Shaft or path-like
+        The rotor; a path is read with :func:`~rubrotor.load_scenario`.
     speed : float, optional
         Spin speed ``Omega`` (rad/s), ``>= 0``. Default: the scenario's speed, or 0 (at rest) for
         a bare shaft.
@@ -58,8 +66,8 @@ def critical_speeds(scenario_or_shaft: Scenario | Shaft) -> list[CriticalSpeed]:
 
     Parameters
     ----------
-    scenario_or_shaft : Scenario or Shaft
-        The rotor.
+    scenario_or_shaft : Scenario, Shaft or path-like
+        The rotor; a path is read with :func:`~rubrotor.load_scenario`.
 
     Returns
     -------
@@ -75,7 +83,7 @@ def linear_system(obj, stations=()) -> LinearSystem:
 
     Parameters
     ----------
-    obj : Scenario, Rotor, Shaft or LinearSystem
+    obj : Scenario, Rotor, Shaft, LinearSystem or path-like
         A general rotor is meshed with a node at each of the scenario's stations (unbalance,
         load, contact and probe positions); a continuous shaft keeps its exact modal model.
     stations : sequence of float
@@ -88,6 +96,7 @@ def linear_system(obj, stations=()) -> LinearSystem:
     from rubrotor.rotors.fe import Rotor
     from rubrotor.rotors.shaft_system import continuous_system
 
+    obj = _loaded(obj)
     if isinstance(obj, LinearSystem):
         return obj
     if isinstance(obj, Scenario):
@@ -98,7 +107,9 @@ def linear_system(obj, stations=()) -> LinearSystem:
         return obj.linear_system(tuple(stations))
     if isinstance(obj, Shaft):
         return continuous_system(obj)
-    raise InputError("rotor", obj, "a Scenario, Rotor, Shaft or LinearSystem")
+    raise InputError(
+        "rotor", obj, "a Scenario, Rotor, Shaft, LinearSystem or a scenario file's path"
+    )
 
 
 def damped_modes(obj, speed: float | None = None, n: int | None = None) -> DampedModes:
@@ -106,7 +117,7 @@ def damped_modes(obj, speed: float | None = None, n: int | None = None) -> Dampe
 
     Parameters
     ----------
-    obj : Scenario, Rotor, Shaft or LinearSystem
+    obj : Scenario, Rotor, Shaft, LinearSystem or path-like
         The rotor (see :func:`linear_system`).
     speed : float, optional
         Spin speed (rad/s); default the scenario's, or 0.
@@ -117,5 +128,6 @@ def damped_modes(obj, speed: float | None = None, n: int | None = None) -> Dampe
     -------
     DampedModes
     """
+    obj = _loaded(obj)
     default = obj.speed if isinstance(obj, Scenario) else 0.0
     return _damped_modes(linear_system(obj), default if speed is None else speed, n)

@@ -16,8 +16,11 @@ rotor are continued on the rotating frame's field instead (``_SyncProblem``).
 
 Bifurcations, between consecutive points, from sign changes of test functions:
 
-* fold: the parameter component of the tangent (also the non-smooth turning point at contact
-  onset, where the no-contact and rub branches meet);
+* fold: the parameter component of the tangent. At contact onset, where the no-contact and
+  rub branches meet in a corner, the branch turns too, and the multipliers jump (the map is
+  not smooth there), so other test functions may change sign at the same step: that corner is
+  reported once, as ``"contact-onset"`` at the grazing value (``grazing_value``), not as a
+  fold next to a Neimark-Sacker point;
 * period doubling: the sign of ``det(M + I)`` (a real multiplier crosses -1);
 * Neimark-Sacker: the sign of the bialternate product ``prod_{i<j} (mu_i mu_j - 1)`` (a
   complex pair crosses the unit circle);
@@ -26,6 +29,15 @@ Bifurcations, between consecutive points, from sign changes of test functions:
 Each is located on the arclength from the earlier point (predict, correct, evaluate): a fold
 as the extremum of the key value (Brent's bounded search), the others as the root of the test
 function's value by bracketing secant (Illinois) steps to :data:`LOCATE_TOL` of arclength.
+
+Step size: with ``ds_max=None`` (the default) the arclength step follows the branch's
+turning: after each point ``ds`` is scaled by ``ANGLE_TARGET / angle`` (clipped to 0.5 .. 2,
+never grown after a slow corrector), the angle being the one between successive tangents, up
+to ``AUTO_DS_MAX`` and to a key change of ``1 / RANGE_STEPS`` of the range (bifurcations
+seen only in the multipliers must not share a step); so the step grows where the branch is straight and shrinks at folds,
+and the default number of points reaches the end of the range. A given ``ds_max`` keeps the
+fixed rule (grow by 1.5 after a quick corrector, up to ``ds_max``). The branch says why it
+stopped (``Branch.stopped``).
 """
 
 from __future__ import annotations
@@ -48,7 +60,26 @@ from rubrotor.orbits.shooting import (
 )
 from rubrotor.orbits.synchronous import Field, is_circular, synchronous_orbit, unsupported
 
-BIFURCATIONS = ("fold", "period-doubling", "neimark-sacker", "branch-point")
+BIFURCATIONS = ("fold", "period-doubling", "neimark-sacker", "branch-point", "contact-onset")
+
+STOPS = {
+    "range": "reached the end of the range",
+    "points": "used its largest number of points",
+    "step": "the corrector failed down to the smallest step (1e-8)",
+    "met": "met the branch it was born from again",
+}
+"""Why a branch ended (``Branch.stopped``) and what that means."""
+
+ANGLE_TARGET = 0.1
+"""Angle (rad) between successive tangents the automatic step aims at."""
+
+AUTO_DS_MAX = 5.0
+"""Largest automatic arclength step (scaled units)."""
+
+RANGE_STEPS = 20
+"""The automatic step moves the key by at most ``1 / RANGE_STEPS`` of the range: bifurcations
+that do not bend the branch (period doubling, Neimark-Sacker) show only in the multipliers, and
+two of them inside one step would cancel in the sign tests."""
 
 
 @dataclass(frozen=True)
@@ -93,6 +124,9 @@ class Branch:
     method : str
         ``"shooting"`` or ``"synchronous"`` (rotating-frame equilibria), see
         :func:`rubrotor.orbits.continuation.continue_orbit`.
+    stopped : str
+        Why the branch ended, a key of ``STOPS``; anything but ``"range"`` (or ``"met"``
+        for a switched branch) means it stopped before the end of the asked range.
     """
 
     key: str
@@ -101,6 +135,13 @@ class Branch:
     bifurcations: tuple
     grazings: tuple = ()
     method: str = "shooting"
+    stopped: str = "range"
+
+    @property
+    def complete(self) -> bool:
+        """Whether the branch ended where it should: at the range's end (or, switched, where
+        it met its parent branch), not for lack of points or of a converging step."""
+        return self.stopped in ("range", "met")
 
     def summary(self) -> dict:
         """The JSON summary of the CLI (values in the key's units, radii in m)."""
@@ -115,6 +156,9 @@ class Branch:
                 for p in self.points
             ],
             "bifurcations": [{"type": b.type, "value": b.value} for b in self.bifurcations],
+            "stopped": self.stopped,
+            "stopped_because": STOPS[self.stopped],
+            "complete": self.complete,
         }
 
     def dataset(self):
@@ -135,7 +179,12 @@ class Branch:
                 "bifurcation_type": ("bifurcation", [b.type for b in self.bifurcations]),
                 "grazing_value": ("grazing", list(self.grazings), {"long_name": "contact onset"}),
             },
-            attrs={"key": self.key, "revolutions_per_period": self.k, "method": self.method},
+            attrs={
+                "key": self.key,
+                "revolutions_per_period": self.k,
+                "method": self.method,
+                "stopped": self.stopped,
+            },  # fmt: skip
         )
 
 
@@ -166,7 +215,8 @@ def branches_dataset(branches) -> object:
         {"units": "revolutions"},
     )  # fmt: skip
     attrs = {"key": branches[0].key, "branches": len(branches),
-             "methods": ", ".join(br.method for br in branches)}  # fmt: skip
+             "methods": ", ".join(br.method for br in branches),
+             "stopped": ", ".join(br.stopped for br in branches)}  # fmt: skip
     return xr.Dataset(data, attrs=attrs)
 
 
@@ -424,11 +474,21 @@ def _tests(gz, t, jac):
     a real matrix, hence real and continuous through multiplier collisions.
     """
     mu = np.linalg.eigvals(jac)
-    pd = np.sign(np.prod(mu + 1).real)
+    pd = _product_sign(mu + 1)
     i, j = np.triu_indices(mu.size, 1)
-    ns = np.sign(np.prod(mu[i] * mu[j] - 1).real)
+    ns = _product_sign(mu[i] * mu[j] - 1)
     out = np.sum(np.abs(mu) > 1)
     return np.array([np.sign(t[-1]), pd, ns, np.sign(np.linalg.det(np.vstack([gz, t]))), out])
+
+
+def _product_sign(x: np.ndarray) -> float:
+    """Sign of the real part of ``prod(x)`` (real for the symmetric functions of :func:`_tests`)
+    as the product of ``x / |x|``: the product itself overflows with large multipliers (a
+    scenario far off scale) where its sign is still defined."""
+    a = np.abs(x)
+    if np.any(a == 0):
+        return 0.0
+    return float(np.sign(np.prod(x / a).real))
 
 
 def _changed(sig, sig1):
@@ -633,8 +693,9 @@ def _radius(b: Bifurcation, p0: BranchPoint, p1: BranchPoint) -> Bifurcation:
 
 def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None, k: int = 1,
                    steps: int = STEPS_PER_REVOLUTION, points: int = 200, ds: float = 0.02,
-                   ds_max: float = 0.2, transient_revolutions: int = 100,
-                   richardson: bool = False, method: str = "auto") -> Branch:  # fmt: skip
+                   ds_max: float | None = None, transient_revolutions: int = 100,
+                   richardson: bool = False, method: str = "auto",
+                   progress=None) -> Branch:  # fmt: skip
     """Continue a periodic orbit of ``k`` revolutions in ``key`` from ``start`` towards ``stop``.
 
     Parameters
@@ -644,8 +705,9 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     key : str
         Numeric scenario key (``"section.key"``), e.g. ``"speed.critical_multiple"``.
     start, stop : float
-        Range of the key (its units); the branch starts at ``start`` and ends when it leaves
-        the closed range or after ``points`` points.
+        Range of the key (its units); the branch starts at ``start`` and ends where it leaves
+        the closed range (its last point corrected onto the bound it crossed) or after
+        ``points`` points.
     guess : RotorState, optional
         Guess of the first orbit (default: ``transient_revolutions`` from the steady
         no-contact orbit).
@@ -654,7 +716,8 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     points : int
         Largest number of branch points.
     ds, ds_max : float
-        First and largest arclength step (scaled units, dimensionless).
+        First and largest arclength step (scaled units, dimensionless); ``ds_max=None``
+        (default): the step follows the branch's turning (module docstring).
     transient_revolutions : int
         Revolutions from the guess before the first Newton shooting.
     richardson : bool
@@ -670,11 +733,18 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
         refused when the scenario or the start orbit does not allow it. ``"auto"`` (default):
         synchronous when allowed (``k = 1``, no load, the shot start orbit is a circle),
         otherwise shooting.
+    progress : callable, optional
+        Called after each point as ``progress(n, points, value)`` (count so far, largest
+        count, key value).
 
     Returns
     -------
     Branch
+        With ``Branch.stopped`` saying why it ended.
     """
+    from rubrotor.scenario.load import as_scenario
+
+    scenario = as_scenario(scenario)
     if not (np.isfinite(start) and np.isfinite(stop)) or start == stop:
         raise InputError("--vary", f"{start}:{stop}", "START:STOP with finite START != STOP")
     if isinstance(points, bool) or not isinstance(points, int) or points < 2:
@@ -692,7 +762,8 @@ def continue_orbit(scenario, key: str, start: float, stop: float, *, guess=None,
     t = _tangent(gz, None)
     if t[-1] * (stop - start) < 0:
         t = -t
-    return _march(prob, z, t, gz, jac, (min(start, stop), max(start, stop)), points, ds, ds_max)
+    bounds = (min(start, stop), max(start, stop))
+    return _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, progress=progress)
 
 
 GENERAL_TOL = 1e-6
@@ -733,8 +804,33 @@ def _problem(scenario, key, k, steps, x0, p0, kind=_Problem) -> _Problem:
     return kind(scenario, key, k, steps, sx, abs(p0))
 
 
+def _next_ds(ds: float, ds_max: float | None, t, t1, quick: bool, span: float) -> float:
+    """The next arclength step: fixed rule with a ``ds_max``, else angle-controlled and moving
+    the key by at most ``span / RANGE_STEPS`` (``span``: the range in scaled units)."""
+    if ds_max is not None:
+        return min(1.5 * ds, ds_max) if quick else ds
+    angle = float(np.arccos(np.clip(t @ t1, -1.0, 1.0)))
+    factor = float(np.clip(ANGLE_TARGET / max(angle, 1e-12), 0.5, 2.0))
+    cap = span / RANGE_STEPS / max(abs(float(t1[-1])), 1e-12)
+    return min(ds * (factor if quick else min(factor, 1.0)), AUTO_DS_MAX, cap)
+
+
+def _found(prob, z, t, ds, gz, hit, onset) -> list:
+    """Bifurcations of one step; a contact-onset corner is one event (module docstring)."""
+    if hit[0] and onset is not None:  # the corner: a grazing turn
+        return [Bifurcation("contact-onset", onset, prob.scenario.contact.clearance)]
+    out = []
+    for i, name in enumerate(BIFURCATIONS[:4]):
+        if hit[i]:
+            where = _locate_turn(prob, z, t, ds, gz) if i == 0 else _locate(prob, z, t, ds, i)
+            if i == 0 and prob.richardson:
+                where = _richardson_fold(prob, z, t, ds, gz, where)
+            out.append(Bifurcation(name, where))
+    return out
+
+
 def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
-           born_at=None) -> Branch:  # fmt: skip
+           born_at=None, progress=None) -> Branch:  # fmt: skip
     """Predictor-corrector steps from the converged ``z`` along ``t`` (module docstring).
 
     ``first`` replaces the first branch point (default: the point at ``z``). ``born_at`` (a
@@ -744,6 +840,7 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
     lo, hi = bounds
     pts, bifs, grazings = [first or _point(prob, z, jac, gz, t)], [], []
     sig = _tests(gz, t, jac)
+    stopped = "points"
     while len(pts) < points:
         out = _chord(prob, z + ds * t, t, gz)
         chord = out is not None
@@ -752,37 +849,53 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
         if out is None:
             ds *= 0.5
             if ds < 1e-8:
+                stopped = "step"
                 break
             continue
         z1, gz1, jac1, iters = out
         z1, gz1, jac1 = prob.polish(z1, gz1, jac1, t)
         t1 = _tangent(gz1, t)
         sig1 = _tests(gz1, t1, jac1)
-        hit = _changed(sig, sig1)
-        found = int(np.sum(hit))
         new = _point(prob, z1, jac1, gz1, t1)
         onset = _onset(prob, pts[-1], new)
-        for i, name in enumerate(BIFURCATIONS):
-            if hit[i] and i == 0 and onset is not None:  # the corner: a grazing turn
-                bifs.append(Bifurcation(name, onset, prob.scenario.contact.clearance))
-            elif hit[i]:
-                where = _locate_turn(prob, z, t, ds, gz) if i == 0 else _locate(prob, z, t, ds, i)
-                if i == 0 and prob.richardson:
-                    where = _richardson_fold(prob, z, t, ds, gz, where)
-                bifs.append(Bifurcation(name, where))
-        z, t, sig, gz = z1, t1, sig1, gz1
+        found = _found(prob, z, t, ds, gz, _changed(sig, sig1), onset)
         pts.append(new)
-        bifs[len(bifs) - found :] = [
-            _radius(b, pts[-2], pts[-1]) for b in bifs[len(bifs) - found :]
-        ]
+        bifs += [_radius(b, pts[-2], pts[-1]) for b in found]
+        ds = _next_ds(ds, ds_max, t, t1, iters <= (6 if chord else 3), (hi - lo) / prob.sp)
+        z_in, z, t, sig, gz = z, z1, t1, sig1, gz1
         if onset is not None:
             grazings.append(onset)
-        if not lo <= pts[-1].value <= hi or (born_at is not None and _meets_again(bifs, born_at)):
+        if progress is not None:
+            progress(len(pts), points, pts[-1].value)
+        if not lo <= pts[-1].value <= hi:  # the last point lands on the bound it crossed
+            pts[-1:] = _land(prob, z_in, z, hi if pts[-1].value > hi else lo, t)
+            bifs = [b for b in bifs if lo <= b.value <= hi]
+            grazings = [g for g in grazings if lo <= g <= hi]
+            stopped = "range"
             break
-        if iters <= (6 if chord else 3):
-            ds = min(1.5 * ds, ds_max)
+        if born_at is not None and _meets_again(bifs, born_at):
+            stopped = "met"
+            break
     method = "synchronous" if isinstance(prob, _SyncProblem) else "shooting"
-    return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings), method)
+    return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings), method, stopped)
+
+
+def _land(prob, z_in, z_out, value: float, t) -> list:
+    """The branch point at key ``value`` (the range's bound) between ``z_in`` (inside the
+    range) and ``z_out`` (beyond it): Newton with the key held at ``value``, from the chord's
+    point there. A list of that point, or an empty list when Newton fails (the branch then
+    ends at its last point inside the range)."""
+    p = value / prob.sp
+    w = (p - z_in[-1]) / (z_out[-1] - z_in[-1])
+    guess = z_in + w * (z_out - z_in)
+    guess[-1] = p
+    fixed = np.zeros_like(guess)
+    fixed[-1] = 1.0
+    out = _correct(prob, guess, fixed)
+    if out is None:
+        return []
+    z, gz, jac, _ = out
+    return [_point(prob, z, jac, gz, _tangent(gz, t))]
 
 
 def _meets_again(bifs, born_at: float) -> bool:
@@ -945,4 +1058,5 @@ def switch_period_doubling(scenario, key: str, branch: Branch, stop: float, *, i
     # point); beyond it the march would retrace the same orbits shifted by k revolutions, so
     # the branch ends there (a branch point at p* itself is the pitchfork it was born at)
     rest = _march(prob, z, t, gz, jac, bounds, points - 1, ds, ds_max, born_at=p_star)
-    return Branch(key, 2 * branch.k, (first, *rest.points), rest.bifurcations)
+    return Branch(key, 2 * branch.k, (first, *rest.points), rest.bifurcations,
+                  stopped=rest.stopped)  # fmt: skip

@@ -59,10 +59,13 @@ class GeneralMap:
     reference : GeneralMap, optional
         Align the modes with this map's (:func:`aligned`), so that states mean the same in
         both (continuation along a key).
+    probes : sequence of float
+        Axial stations (m) whose deflection the kernel writes after the contact stations'
+        (``_kernel``'s samples); the orbit itself does not depend on them.
     """
 
     def __init__(self, scenario, k: int, steps: int, speed: float | None = None,
-                 reference: GeneralMap | None = None):  # fmt: skip
+                 reference: GeneralMap | None = None, probes=()):  # fmt: skip
         from rubrotor.engine.general import engine_problem
 
         eng = scenario.engine
@@ -76,8 +79,10 @@ class GeneralMap:
             raise InputError("contact", None, "at least one [[contact]] station")
         self.scenario, self.k, self.steps = scenario, int(k), int(steps)
         self.speed = float(scenario.speed if speed is None else speed)
-        integ = Integrator(revolutions=float(k), dtau=2 * math.pi / steps, save_every=1)
+        integ = Integrator(revolutions=float(k), dtau=2 * math.pi / steps, save_every=1,
+                           probes=tuple(probes))  # fmt: skip
         system, run, kw, _ = engine_problem(scenario, integ)
+        self.system = system
         T = 2 * math.pi / self.speed
         run = dataclasses.replace(run, speed=self.speed, initial="steady", duration=k * T,
                                   step=T / steps, save_every=1)  # fmt: skip

@@ -129,8 +129,9 @@ def lyapunov_exponents(
 
     Parameters
     ----------
-    scenario : rubrotor.scenario.Scenario
-        Shaft, speed, unbalance, contact, load, damping.
+    scenario : rubrotor.scenario.Scenario or path-like
+        Shaft, speed, unbalance, contact, load, damping; a path is read with
+        :func:`~rubrotor.load_scenario`.
     count : int
         Number of exponents, 1 .. ``2 ns`` (``ns`` complex modal state coordinates; the real
         state dimension is ``2 ns``).
@@ -153,7 +154,9 @@ def lyapunov_exponents(
     """
     from rubrotor.core.tangent import expo_tangent, orthonormalise
     from rubrotor.engine.simulate import _start_coordinates, _start_force, _state_of
+    from rubrotor.scenario.load import as_scenario
 
+    scenario = as_scenario(scenario)
     for name, v, lo in (
         ("revolutions", revolutions, 1),
         ("transient_revolutions", transient_revolutions, 0),

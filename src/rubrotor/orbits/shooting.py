@@ -373,6 +373,9 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
     -------
     PeriodicOrbit
     """
+    from rubrotor.scenario.load import as_scenario
+
+    scenario = as_scenario(scenario)
     general = scenario.model.fe_rotor
     if not general:
         scenario.require_seed_engine("periodic orbits (shooting, continuation)")

@@ -12,6 +12,7 @@ import math
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
 from rubrotor.linear.shaft import campbell, critical_speeds
 from rubrotor.rotors.shaft import Shaft
@@ -239,6 +240,8 @@ _REGIME_COLORS = {
     "full annular rub": "tab:red",
     "quasi-periodic": "tab:green",
     "chaotic": "black",
+    "aperiodic": "darkslategray",
+    "indentation > clearance": "gold",
     "not classified": "tab:pink",
     "not computed": "white",
 }
@@ -253,7 +256,8 @@ def _regime_color(label: str) -> str:
 
 
 def _label_order(label: str) -> tuple:
-    order = ["no contact", "partial rub", "full annular rub", "quasi-periodic", "chaotic"]
+    order = ["no contact", "partial rub", "full annular rub", "quasi-periodic", "aperiodic",
+             "chaotic", "indentation > clearance"]  # fmt: skip
     for i, name in enumerate(order):
         if label.startswith(name):
             k = int(label.rsplit("-", 1)[1].rstrip(")")) if name == "partial rub" else 0
@@ -1027,7 +1031,7 @@ def envelope_figure(envelopes: dict, *, title: str | None = None) -> Figure:
 def _with_corners(branch, x, r, st):
     """Branch points (key values, radii um, stability) with the bifurcations inserted.
 
-    Contact onset (a fold at a grazing value, radius the clearance) goes where the radius
+    Contact onset (the corner at a grazing value, radius the clearance) goes where the radius
     crosses it; a bifurcation whose value lies between two points of different stability goes
     between them. Each corner takes the stability of the point it leads into, so the line
     changes style at the bifurcation, not at the next computed point.
@@ -1035,7 +1039,7 @@ def _with_corners(branch, x, r, st):
     used = set()
     for b in branch.bifurcations:
         rc = b.max_radius_m * 1e6
-        if b.type == "fold" and b.value in branch.grazings:
+        if b.type == "contact-onset":
             i = next((j for j in range(x.size - 1) if (r[j] > rc) != (r[j + 1] > rc)), None)
         else:
             i = next((j for j in range(x.size - 1) if st[j] != st[j + 1]
@@ -1083,7 +1087,51 @@ def _draw_follow(ax, sweep, key, handles) -> None:
                                   label=f"follow sweep {d}, chaotic"))  # fmt: skip
 
 
-def branch_figure(branch, sweep=None, others=()) -> Figure:
+def contact_geometry(scenario) -> dict | None:
+    """The first contact's clearance and stator offset (m) and what moves the orbit's centre.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        A scenario with a contact (seed ``[contact]`` or general ``[[contact]]``).
+
+    Returns
+    -------
+    dict or None
+        ``{"clearance", "offset"}`` (m) and ``"why"``: the reasons the radius about the
+        bearing axis differs from the radius about the stator centre (offset stator, gravity
+        sag, side load, flexible stator); None without a contact.
+    """
+    spec = scenario.engine
+    if scenario.model.general and spec.stations:
+        st = spec.stations[0]
+        g, off, flexible = st.contact.clearance, math.hypot(st.offset_y, st.offset_z), st.stator
+        why = [f"stator centre offset {off * 1e6:.3g} um"] if off > 0 else []
+        why += ["gravity sag"] if any(spec.gravity) else []
+        why += ["side load"] if spec.loads else []
+        why += ["flexible stator"] if flexible is not None else []
+        return {"clearance": g, "offset": off, "why": why}
+    if scenario.contact is None:
+        return None
+    why = ["side load"] if scenario.load is not None else []
+    return {"clearance": scenario.contact.clearance, "offset": 0.0, "why": why}
+
+
+def _draw_clearance(ax, geometry: dict, handles) -> None:
+    """The clearance line and, for an offset stator, the band ``g -+ |offset|`` of radii about
+    the bearing axis at which the orbit can first touch."""
+    g, off = geometry["clearance"] * 1e6, geometry["offset"] * 1e6
+    ax.axhline(g, color="k", lw=0.9, ls=":")
+    handles.append(Line2D([], [], color="k", lw=0.9, ls=":", label=f"clearance {g:.3g} um"))
+    if off > 0:
+        ax.axhspan(g - off, g + off, color="0.85", zorder=0)
+        handles.append(Patch(color="0.85", label="first touch possible (clearance ± offset)"))
+    if geometry["why"]:
+        ax.set_title("radius about the bearing axis; the stator centre differs by: "
+                     + ", ".join(geometry["why"]), fontsize=8, loc="left", color="0.3")  # fmt: skip
+
+
+def branch_figure(branch, sweep=None, others=(), geometry: dict | None = None) -> Figure:
     """A continued branch (stable solid, unstable dashed, bifurcations marked) over a sweep.
 
     Parameters
@@ -1099,6 +1147,10 @@ def branch_figure(branch, sweep=None, others=()) -> Figure:
         More branches of the same key (e.g. from
         :func:`rubrotor.orbits.continuation.switch_period_doubling`), one colour each, labelled by
         their period in revolutions.
+    geometry : dict, optional
+        :func:`rubrotor.plotting.figures.contact_geometry` of the scenario: draws the clearance (and, for an offset
+        stator, the band of radii where the orbit can first touch) and says why the radius
+        about the bearing axis differs from the one about the stator centre.
 
     Returns
     -------
@@ -1111,7 +1163,10 @@ def branch_figure(branch, sweep=None, others=()) -> Figure:
         _draw_branch(ax, br, f"C{[0, 1, 4, 5, 6][i % 5]}", handles, suffix=bool(others))
     if sweep is not None:
         _draw_follow(ax, sweep, branch.key, handles)
-    marks = {"fold": "s", "period-doubling": "D", "neimark-sacker": "*", "branch-point": "X"}
+    if geometry is not None:
+        _draw_clearance(ax, geometry, handles)
+    marks = {"fold": "s", "period-doubling": "D", "neimark-sacker": "*", "branch-point": "X",
+             "contact-onset": "v"}  # fmt: skip
     bifs = [b for br in (branch, *others) for b in br.bifurcations]
     for b in bifs:
         ax.plot(b.value, b.max_radius_m * 1e6, marks[b.type], color="k", ms=8)

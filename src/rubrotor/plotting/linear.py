@@ -14,6 +14,7 @@ from rubrotor.linear.ucs import UCSMap
 from rubrotor.rotors.linear import LinearSystem
 
 __all__ = [
+    "resonance_speeds",
     "campbell_stability_figure",
     "unbalance_response_figure",
     "mode_shape_figure",
@@ -32,8 +33,9 @@ def campbell_stability_figure(
 ) -> Figure:
     """Damped frequencies against spin speed, coloured by logarithmic decrement.
 
-    Stable modes are dots coloured by log dec (saturating at 1, well damped); unstable points
-    (log dec < 0) are black crosses. The 1X line is dotted, critical speeds are diamonds.
+    Stable modes are dots coloured by log dec (saturating at 1, well damped; the lightly damped
+    modes dark); unstable points (log dec < 0) are red crosses. The 1X line is dotted, critical
+    speeds are diamonds labelled in rows of their own above the highest one.
 
     Parameters
     ----------
@@ -55,22 +57,15 @@ def campbell_stability_figure(
     s = np.repeat(data.speeds[:, None], data.frequency_hz.shape[1], axis=1)
     f, ld = data.frequency_hz, data.log_dec
     stable = ld >= 0
-    # colour saturates at log dec 1 (well damped); the unstable points are drawn as crosses
-    sc = ax.scatter(s[stable], f[stable], c=np.minimum(ld[stable], 1.0), s=9, cmap="viridis_r",
+    # colour saturates at log dec 1 (well damped); lightly damped modes, the ones that matter,
+    # are dark and saturated, well damped ones light orange (never pale on white)
+    sc = ax.scatter(s[stable], f[stable], c=np.minimum(ld[stable], 1.0), s=9, cmap=_LOGDEC_CMAP,
                     vmin=0.0, vmax=1.0)  # fmt: skip
     if (~stable).any():
-        ax.scatter(s[~stable], f[~stable], marker="x", c="k", s=18, label="unstable (log dec < 0)")
+        ax.scatter(s[~stable], f[~stable], marker="x", c="r", s=18, label="unstable (log dec < 0)")
     fmax = float(np.nanmax(f)) * 1.05
     ax.plot(data.speeds, data.speeds / TWO_PI, "k:", lw=1, label="1X")
-    for i, c in enumerate(criticals):
-        ax.plot(c.speed_rad_s, c.harmonic * c.speed_rad_s / TWO_PI, "D", mfc="gold", mec="k")
-        ax.annotate(
-            f"{c.speed_rad_s:.0f} rad/s ({c.whirl})",
-            (c.speed_rad_s, c.harmonic * c.speed_rad_s / TWO_PI),
-            textcoords="offset points",
-            xytext=(8, -12 - 11 * (i % 3)),
-            fontsize=8,
-        )
+    _label_criticals(ax, criticals, fmax)
     if operating_speed:
         ax.axvline(operating_speed, color="0.5", lw=1, ls="--", label="operating speed")
     ax.set(
@@ -86,10 +81,51 @@ def campbell_stability_figure(
     return fig
 
 
+def _logdec_cmap():
+    """Log dec 0 (lightly damped) dark blue-violet, 1 (well damped) orange: ``plasma`` cut
+    before its pale yellow end, so that every point stands out on white."""
+    from matplotlib import colormaps
+    from matplotlib.colors import ListedColormap
+
+    return ListedColormap(colormaps["plasma"](np.linspace(0.0, 0.8, 256)), name="logdec")
+
+
+_LOGDEC_CMAP = _logdec_cmap()
+
+
+def _label_criticals(ax, criticals, fmax: float) -> None:
+    """Critical speeds as diamonds, labelled in a column of their own rows (never overlapping,
+    however close the speeds), each joined to its diamond by a thin leader line."""
+    crit = sorted(criticals, key=lambda c: c.speed_rad_s)
+    if not crit:
+        return
+    ys = [c.harmonic * c.speed_rad_s / TWO_PI for c in crit]
+    ax.plot([c.speed_rad_s for c in crit], ys, "D", mfc="gold", mec="k", ms=6, zorder=5,
+            label="critical speed (1X crossing)")  # fmt: skip
+    row = 0.055 * fmax  # one text row, well above an 8 pt line on a 5.5 in tall figure
+    base = max(ys) + 2.0 * row
+    for i, (c, y) in enumerate(zip(crit, ys, strict=True)):
+        ax.annotate(
+            f"{c.speed_rad_s:.0f} rad/s, {c.speed_rad_s * 60 / TWO_PI:.0f} rpm ({c.whirl})",
+            (c.speed_rad_s, y),
+            xytext=(c.speed_rad_s, base + i * row),
+            textcoords="data",
+            fontsize=8,
+            ha="left",
+            va="center",
+            bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "0.7", "lw": 0.5},
+            arrowprops={"arrowstyle": "-", "color": "0.4", "lw": 0.6},
+            zorder=6,
+        )
+
+
 def unbalance_response_figure(
     resp: UnbalanceResponse, probe: int = 0, clearance: float | None = None
 ) -> Figure:
     """Bode (amplitude and phase of ``v`` and ``w`` against speed) and polar plot at one probe.
+
+    The curves join the computed speeds with straight lines: sample a resonance densely (a few
+    hundred speeds within 10 % of a critical speed) for a smooth polar circle.
 
     Parameters
     ----------
@@ -125,11 +161,67 @@ def unbalance_response_figure(
             ax_a.axvspan(resp.speeds[touch][0], resp.speeds[touch][-1], color="r", alpha=0.08)
     ax_a.set(ylabel="amplitude (µm)", title=f"unbalance response at x = {resp.probes[probe]:g} m")
     ax_p.set(xlabel="spin speed (rad/s)", ylabel="phase (deg)")
-    ax_pol.set_title("polar plot (radius in µm)", fontsize=10)
+    _polar_axes(ax_pol, resp, probe, clearance)
     for ax in (ax_a, ax_p):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     return fig
+
+
+def resonance_speeds(speeds, amplitude, points: int = 200, width: float = 0.05) -> np.ndarray:
+    """A speed grid refined around each peak of a response, for smooth Bode and polar plots.
+
+    A resonance sampled on a uniform grid shows as a coarse polygon in the polar plot (its
+    circle spans about twice the damping ratio times the critical speed). This adds ``points``
+    speeds within ``+-width`` (relative) of every interior local maximum of ``amplitude``.
+
+    Parameters
+    ----------
+    speeds : array_like
+        Spin speeds (rad/s), increasing.
+    amplitude : array_like
+        Response amplitude at those speeds (any unit), e.g. the major semi-axis.
+    points : int
+        Speeds added around each peak.
+    width : float
+        Half-width of the refined band, relative to the peak's speed.
+
+    Returns
+    -------
+    ndarray
+        The sorted union of ``speeds`` and the added speeds (rad/s), within the original range.
+    """
+    w, a = np.asarray(speeds, float), np.asarray(amplitude, float)
+    peaks = [i for i in range(1, w.size - 1) if a[i] >= a[i - 1] and a[i] >= a[i + 1]]
+    extra = [np.linspace(w[i] * (1 - width), w[i] * (1 + width), points) for i in peaks]
+    out = np.unique(np.concatenate([w, *extra]))
+    return out[(out >= w[0]) & (out <= w[-1])]
+
+
+def _polar_axes(ax, resp: UnbalanceResponse, probe: int, clearance: float | None = None) -> None:
+    """Polar plot furniture: four clean radial ticks on a clear ray, speed marks along the
+    curves (dots every tenth of the speed range, labelled on ``v`` where its radius exceeds a
+    quarter of the largest)."""
+    from matplotlib.ticker import MaxNLocator
+
+    rmax = float(np.max(np.abs(resp.complex_response[:, probe, :]))) * 1e6
+    ax.set_rlim(0, max(rmax, (clearance or 0.0) * 1e6) * 1.08)
+    ax.yaxis.set_major_locator(MaxNLocator(4))
+    ax.set_rlabel_position(112.5)
+    ax.tick_params(axis="y", labelsize=7)
+    marks = np.linspace(resp.speeds[0], resp.speeds[-1], 11)
+    for c, color in ((0, "C0"), (1, "C1")):
+        z = np.array([np.interp(marks, resp.speeds, f(resp.complex_response[:, probe, c]))
+                      for f in (np.real, np.imag)])  # fmt: skip
+        zz = z[0] + 1j * z[1]
+        ax.plot(np.angle(zz), np.abs(zz) * 1e6, ".", color=color, ms=4)
+        if c == 0:  # labels only off the crowded centre
+            for w, p in zip(marks, zz, strict=True):
+                if abs(p) * 1e6 < 0.25 * rmax:
+                    continue
+                ax.annotate(f"{w:.0f}", (np.angle(p), abs(p) * 1e6), fontsize=6, color="0.3",
+                            xytext=(3, 3), textcoords="offset points")  # fmt: skip
+    ax.set_title("polar plot (radius µm; dots: speeds in rad/s)", fontsize=10)
 
 
 def mode_shape_figure(system: LinearSystem, mode: DampedMode, phases: int = 8) -> Figure:

@@ -1,6 +1,6 @@
 """Figure of a general-engine results Dataset (:mod:`rubrotor.engine.general`): orbit at the
 first contact relative to its stator, normal forces against time, and the full spectrum (constant
-speed) or the amplitude against speed (run-up or coast-down)."""
+speed) or the per-revolution envelope of the amplitude against speed (run-up or coast-down)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import math
 import numpy as np
 from matplotlib.figure import Figure
 
-__all__ = ["engine_figure"]
+__all__ = ["engine_figure", "per_revolution"]
 
 UM = 1e6  # m -> um
 
@@ -71,23 +71,54 @@ def _spectrum(ax, ds) -> None:
     ax.set_title("full spectrum at the contact (second half)")
 
 
-def _runup(ax, ds) -> None:
-    t = ds["time"].values
-    w = np.gradient(ds["tau"].values, t)  # the spin speed of any profile (rad/s)
-    rpm = w * 60 / (2 * math.pi)
+def per_revolution(tau: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Maximum and minimum of ``values`` over each full revolution of the rotor.
+
+    Parameters
+    ----------
+    tau : ndarray
+        Rotor angle (rad) at each sample, increasing.
+    values : ndarray
+        One value per sample.
+
+    Returns
+    -------
+    index : ndarray of int
+        First sample of each full revolution.
+    vmax, vmin : ndarray
+        Largest and smallest value within each revolution (the envelope).
+    """
+    rev = np.floor((tau - tau[0]) / (2 * math.pi)).astype(int)
+    starts = np.flatnonzero(np.diff(rev, prepend=-1))
+    if starts.size < 2:
+        return starts, values[starts], values[starts]
+    starts = starts[:-1]  # the last revolution is incomplete
+    stop = np.flatnonzero(rev == rev[starts[-1]])[-1] + 1
+    v = values[:stop]
+    return starts, np.maximum.reduceat(v, starts), np.minimum.reduceat(v, starts)
+
+
+def _runup(ax, ds, rpm: bool = False) -> None:
+    t, tau = ds["time"].values, ds["tau"].values
+    w = np.gradient(tau, t)  # the spin speed of any profile (rad/s)
     for i, x in enumerate(ds["station"].values):
         r = np.hypot(ds["v"].values[i], ds["w"].values[i])
-        ax.plot(rpm, r * UM, lw=0.7, label=f"x = {x:g} m")
-    ax.set_xlabel("spin speed (rev/min)")
+        starts, rmax, rmin = per_revolution(tau, r)
+        speed = w[starts] * (30 / math.pi if rpm else 1.0)
+        ax.plot(speed, rmax * UM, lw=1.2, color=f"C{i}", label=f"x = {x:g} m, max per rev")
+        ax.plot(speed, rmin * UM, lw=0.7, ls="--", color=f"C{i}", label="min per rev")
+    g = json.loads(ds.attrs.get("contacts", "[]"))[0]["clearance"]
+    ax.axhline(g * UM, color="k", ls=":", lw=1, label="clearance (stator centred, at rest)")
+    ax.set_xlabel("spin speed (rev/min)" if rpm else "spin speed (rad/s)")
     ax.set_ylabel("radial displacement |(v, w)| (um)")
     title = "run-up" if w[-1] > w[0] else "coast-down"
     if np.any(np.diff(w) > 1e-9 * w.max()) and np.any(np.diff(w) < -1e-9 * w.max()):
         title = "speed profile"
-    ax.set_title(f"{title}: amplitude against speed")
-    ax.legend(loc="upper left", fontsize=7)
+    ax.set_title(f"{title}: envelope per revolution")
+    ax.legend(loc="best", fontsize=7)
 
 
-def engine_figure(ds, *, title: str | None = None) -> Figure:
+def engine_figure(ds, *, title: str | None = None, rpm: bool = False) -> Figure:
     """Orbit, normal force and spectrum (or amplitude against speed) of an engine run.
 
     Parameters
@@ -96,6 +127,8 @@ def engine_figure(ds, *, title: str | None = None) -> Figure:
         Results of :func:`rubrotor.simulate` on a general-engine scenario, with a contact.
     title : str, optional
         Figure title (default: the scenario name and status).
+    rpm : bool
+        Speed axis of a run-up in rev/min instead of rad/s (the default, as elsewhere).
 
     Returns
     -------
@@ -109,7 +142,10 @@ def engine_figure(ds, *, title: str | None = None) -> Figure:
     axes = fig.subplots(1, 3)
     _orbit(axes[0], ds)
     _forces(axes[1], ds)
-    (_runup if "speed_end_rad_s" in ds.attrs else _spectrum)(axes[2], ds)
+    if "speed_end_rad_s" in ds.attrs:
+        _runup(axes[2], ds, rpm)
+    else:
+        _spectrum(axes[2], ds)
     name = ds.attrs.get("scenario_name", "")
     fig.suptitle(title or f"{name} ({ds.attrs['status']})")
     return fig

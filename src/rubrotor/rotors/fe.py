@@ -32,6 +32,7 @@ import numpy as np
 from rubrotor.errors import InputError
 from rubrotor.rotors.elements import beam_element
 from rubrotor.rotors.linear import LinearSystem, NodalBasis, Support
+from rubrotor.rotors.scales import check_scales, rotor_scales
 from rubrotor.rotors.shaft import (
     SHEAR_COEFFICIENTS,
     THEORIES,
@@ -49,6 +50,7 @@ __all__ = [
     "COEFFICIENTS",
     "DEFAULT_TOLERANCE",
     "DEFAULT_WAVENUMBER",
+    "MESH_MATRICES",
 ]
 
 BEARING_KINDS = ("bearing", "pinned")
@@ -57,6 +59,11 @@ DEFAULT_TOLERANCE = 1e-4
 """Relative frequency error the default mesh aims at for the first five frequencies."""
 DEFAULT_WAVENUMBER = 11.0
 """``k L`` of the highest bending wave the default mesh resolves (third free-free mode)."""
+MESH_MATRICES = 8
+"""Dense ``n x n`` float64 matrices a mesh of ``n`` DOFs is budgeted for (see
+:meth:`rubrotor.Rotor.check_mesh_size`): measured, the peak memory of assembly plus
+:func:`rubrotor.damped_modes` grows as 6.3 such matrices (seal_rub.toml meshed to 2032 and 4024
+DOFs: 599 and 1208 MB peak RSS)."""
 
 _TOL = 1e-9  # m: two stations closer than this are one node
 
@@ -540,6 +547,7 @@ class Rotor:
         ndarray
             Increasing positions (m), from 0 to ``L``.
         """
+        self.check_mesh_size(len(stations))
         bounds = self.boundaries
         points = [*bounds, *(d.position for d in self.disks)]
         points += [b.position for b in self.bearings] + [*self.stations, *stations]
@@ -560,6 +568,52 @@ class Rotor:
                 n = max(1, math.ceil((x1 - x0) / h - 1e-9))
                 out += list(np.linspace(x0, x1, n + 1)[1:])
         return np.array(out)
+
+    def check_mesh_size(self, extra_nodes: int = 0) -> None:
+        """Refuse, before meshing, a mesh whose dense matrices would not fit in memory.
+
+        The element count is estimated per section (``elements``, else ``ceil(length / h)``)
+        plus one per extra node. The finite-element system keeps four dense ``n x n`` matrices
+        of float64 (``n = 4 (elements + 1)`` DOFs) and its analyses factor or diagonalise them
+        (a reduction's dense eigenproblem, the damped modes' ``2n`` state space): the estimate
+        is :data:`rubrotor.rotors.fe.MESH_MATRICES` such matrices, ``8 MESH_MATRICES n^2`` bytes, against 80 % of
+        the memory available now.
+
+        Parameters
+        ----------
+        extra_nodes : int
+            Nodes added by stations (each may split an element).
+
+        Raises
+        ------
+        InputError
+            Naming the key that makes the finest part of the mesh (``section[i].elements`` or
+            ``rotor.max_element_length``), its value, the element count and the memory.
+        """
+        from rubrotor.engine.stream import _available_memory
+
+        total, worst, key, value = extra_nodes + len(self.disks) + len(self.bearings), -1, "", None
+        for i, s in enumerate(self.sections):
+            if s.elements:
+                n, k, v = s.elements, f"section[{i + 1}].elements", s.elements
+            elif self.max_element_length:
+                n = math.ceil(s.length / self.max_element_length)
+                k, v = "rotor.max_element_length", self.max_element_length
+            else:
+                n = math.ceil(s.length / self.default_element_length(i))
+                k, v = f"section[{i + 1}].elements", None
+            total += n
+            if n > worst:
+                worst, key, value = n, k, v
+        dof = 4 * (total + 1)
+        need, avail = 8.0 * MESH_MATRICES * dof**2, _available_memory()
+        if need > 0.8 * avail:
+            fewer = "larger" if key == "rotor.max_element_length" else "fewer"
+            raise InputError(
+                key, value, f"a mesh that fits in memory (about {total} elements, {dof} DOFs: "
+                f"{need / 2**30:.3g} GiB of dense matrices, {avail / 2**30:.3g} GiB available); "
+                f"give {fewer} {key.split('.')[-1]}"
+            )  # fmt: skip
 
     # ---- assembly --------------------------------------------------------------------------
     def linear_system(self, stations: Sequence[float] = ()) -> LinearSystem:
@@ -616,6 +670,8 @@ class Rotor:
             else:
                 supports.append(b.support(node, b.name or f"bearing {i + 1}"))
         labels = tuple(f"{q}@{xi:.6g}" for xi in x for q in ("v", "w", "psi_v", "psi_w"))
+        scales = rotor_scales(self, x, M, K)
+        check_scales(scales)
         return LinearSystem(
             M=M,
             K=K,
@@ -626,4 +682,5 @@ class Rotor:
             fixed=tuple(fixed),
             dof_labels=labels,
             name="fe",
+            scales=scales,
         )

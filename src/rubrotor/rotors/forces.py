@@ -39,6 +39,8 @@ __all__ = [
     "Contact",
     "ModalDamping",
     "restitution_damping",
+    "ThermalBow",
+    "BOW_SHAPES",
     "CONTACT_LAWS",
     "FRICTION_SIGNS",
     "RESTITUTION_MODELS",
@@ -47,6 +49,8 @@ __all__ = [
 CONTACT_LAWS = ("hertz", "linear")
 FRICTION_SIGNS = ("physical", "seed")
 RESTITUTION_MODELS = ("hunt-crossley", "lankarani-nikravesh", "flores")
+BOW_SHAPES = ("arc",)
+"""Bow shapes of a thermal bow along the rotor (see :class:`ThermalBow`)."""
 
 
 def _number(field: str, value, unit: str, *, minimum=None, strict=False, maximum=None) -> float:
@@ -284,3 +288,49 @@ class Contact:
     def sign_code(self) -> int:
         """Integer code of the friction sign for the kernel: 0 physical, 1 seed."""
         return FRICTION_SIGNS.index(self.friction_sign)
+
+
+@dataclass(frozen=True)
+class ThermalBow:
+    """Thermal bow of the rotor at its rubbing stations (the Newkirk effect).
+
+    Each contact station ``j`` carries a complex bow ``b_j`` (m) in the rotor-fixed frame: the
+    bow's deflection at that station, its angle measured from the unbalance reference of the
+    rotor towards the spin. It relaxes towards the bow driven by the revolution-averaged heat
+    input ``H_j`` (W, a complex vector pointing at the hot spot)::
+
+        tau db_j/dt = -b_j + beta exp(-i phi) H_j
+
+    (:mod:`rubrotor.studies.thermal` derives it and documents where the heat goes).
+
+    Parameters
+    ----------
+    time_constant : float
+        Thermal time constant ``tau`` (s), > 0.
+    bow_per_heat : float
+        ``beta`` (m/W): the steady bow at the rubbing station per watt of heat input, >= 0.
+    hot_spot_lag : float
+        ``phi`` (rad): angle by which the hot spot lags the high spot (behind it, against the
+        spin), in (-pi, pi); 0 puts the hot spot at the high spot.
+    bow_shape : {"arc"}
+        Shape along the rotor: ``"arc"`` is a uniform curvature (a circular arc, to first
+        order a parabola) through the outermost two bearings, scaled to ``b_j`` at station
+        ``j``.
+    """
+
+    time_constant: float
+    bow_per_heat: float
+    hot_spot_lag: float = 0.0
+    bow_shape: str = "arc"
+
+    def __post_init__(self):
+        tau = _number("thermal.time_constant", self.time_constant, "s", minimum=0, strict=True)
+        beta = _number("thermal.bow_per_heat", self.bow_per_heat, "m/W", minimum=0)
+        lag = _number("thermal.hot_spot_lag", self.hot_spot_lag, "rad")
+        if not -math.pi < lag < math.pi:
+            raise InputError("thermal.hot_spot_lag", lag, "an angle in (-pi, pi) rad")
+        if self.bow_shape not in BOW_SHAPES:
+            raise InputError("thermal.bow_shape", self.bow_shape, f"one of {BOW_SHAPES}")
+        object.__setattr__(self, "time_constant", tau)
+        object.__setattr__(self, "bow_per_heat", beta)
+        object.__setattr__(self, "hot_spot_lag", lag)

@@ -9,8 +9,9 @@ A linear rotor spinning at ``Omega`` (rad/s) obeys, in real physical coordinates
 * ``M`` (symmetric positive definite), ``K`` (symmetric), ``C`` (structural or modal damping) and
   ``G`` (gyroscopic matrix per unit spin, skew-symmetric) do not depend on speed;
 * ``K_s``, ``C_s`` are the supports (bearings, seals): 2x2 stiffness and damping matrices acting on
-  the two deflection DOFs of one station, possibly tabulated against speed and interpolated
-  linearly (held constant outside the table);
+  the two deflection DOFs of one station (or between two stations: a bearing and its housing),
+  possibly tabulated against speed and interpolated linearly (held constant outside the table)
+  or, as :class:`Support` options, with ROSS's PCHIP interpolant and linear extrapolation;
 * ``fixed`` DOFs are exact constraints (``pinned`` supports): they are removed, not penalised.
 
 Conventions (shared by every builder; the continuous shaft and ROSS import map onto them)
@@ -60,6 +61,9 @@ class NodalBasis:
     ----------
     nodes : ndarray, shape (N,)
         Node positions (m), strictly increasing, 4 DOFs ``[v, w, psi_v, psi_w]`` per node.
+    extra : int
+        DOFs after the ``4 N`` nodal ones that carry no shaft deflection (e.g. the ``[v, w]`` of
+        point masses that hold bearing housings); ``rows`` gives them zero weight.
 
     Notes
     -----
@@ -70,6 +74,7 @@ class NodalBasis:
     """
 
     nodes: np.ndarray
+    extra: int = 0
 
     @property
     def length(self) -> float:
@@ -77,7 +82,7 @@ class NodalBasis:
 
     @property
     def n_dof(self) -> int:
-        return 4 * len(self.nodes)
+        return 4 * len(self.nodes) + self.extra
 
     def node_at(self, position: float, tol: float = 1e-9) -> int | None:
         """Index of the node at ``position`` (m) within ``tol`` (m), else ``None``."""
@@ -111,9 +116,14 @@ class NodalBasis:
         return r
 
 
+INTERPOLATIONS = ("linear", "pchip")
+EXTRAPOLATIONS = ("hold", "linear")
+
+
 @dataclass(frozen=True)
 class Support:
-    """A bearing or seal: 2x2 stiffness and damping on the deflection DOFs of one station.
+    """A bearing or seal: 2x2 stiffness, damping and mass between one station and the ground or
+    a second station (a housing).
 
     Parameters
     ----------
@@ -129,6 +139,17 @@ class Support:
         Axial position (m), for labels and plots.
     name : str
         Label (e.g. ``"bearing 1"``).
+    interpolation : str
+        Between table speeds: ``"linear"`` (piecewise linear, the default) or ``"pchip"`` (the
+        shape-preserving piecewise cubic Hermite interpolant of each coefficient, as ROSS 3.x
+        interpolates its tables). Both pass through the table values.
+    extrapolation : str
+        Outside the table: ``"hold"`` (the end values, the default) or ``"linear"`` (continued
+        with the interpolant's end slope, as ROSS 3.x does).
+    link : tuple of int, optional
+        ``(j_v, j_w)``: the deflections of a second station (e.g. a bearing housing carried by
+        a point mass). The support then acts on the relative deflection, its matrices entering
+        as ``[[A, -A], [-A, A]]`` on ``dofs + link``. ``None``: to the ground.
     """
 
     dofs: tuple[int, int]
@@ -137,15 +158,72 @@ class Support:
     speeds: np.ndarray | None = None
     position: float = 0.0
     name: str = "support"
+    interpolation: str = "linear"
+    extrapolation: str = "hold"
+    link: tuple[int, int] | None = None
+    _pchip: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        if self.interpolation not in INTERPOLATIONS:
+            raise InputError(
+                f"{self.name}.interpolation", self.interpolation, " or ".join(INTERPOLATIONS)
+            )
+        if self.extrapolation not in EXTRAPOLATIONS:
+            raise InputError(
+                f"{self.name}.extrapolation", self.extrapolation, " or ".join(EXTRAPOLATIONS)
+            )
+
+    @property
+    def all_dofs(self) -> tuple[int, ...]:
+        """The DOFs its matrices act on: ``dofs``, then ``link`` when linked."""
+        return tuple(self.dofs) + (tuple(self.link) if self.link is not None else ())
+
+    def block(self, a: np.ndarray) -> np.ndarray:
+        """A 2x2 coefficient matrix ``a`` (or a stack ``(..., 2, 2)``) on :attr:`all_dofs`."""
+        if self.link is None:
+            return a
+        return np.concatenate(
+            [np.concatenate([a, -a], axis=-1), np.concatenate([-a, a], axis=-1)], axis=-2
+        )
+
+    def tabulate(self, speeds) -> tuple[np.ndarray, np.ndarray]:
+        """``(K, C)`` of shape ``(S, 2, 2)`` (N/m, N s/m) at each of ``speeds`` (rad/s)."""
+        s = np.atleast_1d(np.asarray(speeds, float))
+        if self.speeds is None or len(self.speeds) == 1:
+            return (np.broadcast_to(self.k[0], (s.size, 2, 2)).copy(),
+                    np.broadcast_to(self.c[0], (s.size, 2, 2)).copy())  # fmt: skip
+        return _interpolate(self, "k", s), _interpolate(self, "c", s)
 
     def coefficients(self, speed: float) -> tuple[np.ndarray, np.ndarray]:
-        """``(K, C)`` 2x2 arrays (N/m, N s/m) at ``speed`` (rad/s), interpolated linearly."""
-        if self.speeds is None or len(self.speeds) == 1:
-            return self.k[0], self.c[0]
-        w = float(np.clip(speed, self.speeds[0], self.speeds[-1]))
-        j = int(np.clip(np.searchsorted(self.speeds, w) - 1, 0, len(self.speeds) - 2))
-        t = (w - self.speeds[j]) / (self.speeds[j + 1] - self.speeds[j])
-        return (1 - t) * self.k[j] + t * self.k[j + 1], (1 - t) * self.c[j] + t * self.c[j + 1]
+        """``(K, C)`` 2x2 arrays (N/m, N s/m) at ``speed`` (rad/s), see :meth:`tabulate`."""
+        k, c = self.tabulate([speed])
+        return k[0], c[0]
+
+
+def _interpolate(sup: Support, name: str, s: np.ndarray) -> np.ndarray:
+    """``sup.k`` or ``sup.c`` (``name``; (m, 2, 2)) at speeds ``s`` (rad/s), as ``sup``
+    interpolates and extrapolates."""
+    table = getattr(sup, name)
+    x = np.asarray(sup.speeds, float)
+    w = np.clip(s, x[0], x[-1])
+    if sup.interpolation == "pchip" and len(x) > 2:
+        if name not in sup._pchip:  # SciPy's PCHIP, built once per support and table
+            from scipy.interpolate import PchipInterpolator
+
+            f = PchipInterpolator(x, table, axis=0)
+            sup._pchip[name] = (f, f.derivative()(x[[0, -1]]))
+        f, slopes = sup._pchip[name]
+        out = f(w)
+    else:
+        j = np.clip(np.searchsorted(x, w) - 1, 0, len(x) - 2)
+        t = ((w - x[j]) / (x[j + 1] - x[j]))[:, None, None]
+        out = (1 - t) * table[j] + t * table[j + 1]
+        slopes = np.array([table[1] - table[0], table[-1] - table[-2]])
+        slopes /= np.array([x[1] - x[0], x[-1] - x[-2]])[:, None, None]
+    if sup.extrapolation == "linear":
+        below, above = (s - w)[:, None, None], s > x[-1]
+        out = out + below * np.where(above[:, None, None], slopes[1], slopes[0])
+    return out
 
 
 @dataclass(frozen=True)
@@ -193,6 +271,10 @@ class LinearSystem:
         One label per DOF (e.g. ``"v@0.125"``), for tables and errors.
     name : str
         Where it came from (``"fe"``, ``"continuous"``, ``"ross"``).
+    scales : tuple
+        Its inputs ranked by their distance (decades) from its own scale, ``(decades, key,
+        value, scale)`` (:func:`rubrotor.rotors.scales.rotor_scales`; empty when unknown), so
+        that a failed eigenproblem names the scenario key that likely caused it.
     """
 
     M: np.ndarray
@@ -204,6 +286,7 @@ class LinearSystem:
     fixed: tuple[int, ...] = ()
     dof_labels: tuple[str, ...] = ()
     name: str = "linear"
+    scales: tuple = ()
     free: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
@@ -226,9 +309,9 @@ class LinearSystem:
         C = self.C.copy()
         for s in self.supports:
             ks, cs = s.coefficients(speed)
-            ix = np.ix_(s.dofs, s.dofs)
-            K[ix] += ks
-            C[ix] += cs
+            ix = np.ix_(s.all_dofs, s.all_dofs)
+            K[ix] += s.block(ks)
+            C[ix] += s.block(cs)
         f = np.ix_(self.free, self.free)
         return SystemMatrices(float(speed), self.M[f], C[f], self.G[f], K[f])
 

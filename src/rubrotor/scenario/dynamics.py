@@ -18,7 +18,12 @@ allowed. The new keys, their kinds, units and ranges are listed in :data:`ENGINE
                   | "table" with times (s) and speeds (rad/s), linear between rows; step
                   (rad/s, largest speed change between re-diagonalisations)
     [initial]     state = "rest" | "steady" | "static" | "file" with path (a results file of
-                  the general engine; the run continues from its final state)
+                  the general engine; the run continues from its final state) | "given" with
+                  positions (m) and any of v, w (m), v_dot, w_dot (m/s), one per position: the
+                  rotor starts in the least-strain-energy shape through those deflections and
+                  with that velocity shape (a drop, a kick, a whirl to start from); or with
+                  modes (1 = lowest undamped mode), amplitudes (m) and modal_velocities (m/s),
+                  each the mode's deflection (velocity) at its largest point
     [simulation]  besides today's keys: modes (retained count), cutoff (rad/s), residual (bool)
 """
 
@@ -43,7 +48,9 @@ _ENGINE_NAMES = (
     "unbalance.position", "unbalance.magnitude", "unbalance.phase", "unbalance.phase_deg",
     "load.position", "load.force_y", "load.force_z", "gravity.y", "gravity.z",
     "speed.profile", "speed.from", "speed.to", "speed.step", "speed.times", "speed.speeds",
-    "initial.state", "initial.path",
+    "initial.state", "initial.path", "initial.positions", "initial.v", "initial.w",
+    "initial.v_dot", "initial.w_dot", "initial.modes", "initial.amplitudes",
+    "initial.modal_velocities",
     "simulation.modes", "simulation.cutoff", "simulation.residual",
 )  # fmt: skip
 ENGINE_KEYS: dict[str, Key] = {n: key_row(*n.split(".")) for n in _ENGINE_NAMES}
@@ -61,7 +68,9 @@ class Builders(NamedTuple):
 
 
 PROFILES = ("constant", "linear", "table")
-ENGINE_INITIAL = ("static", "file")
+ENGINE_INITIAL = ("static", "file", "given")
+_GIVEN = ("v", "w", "v_dot", "w_dot")
+_MODAL = ("modes", "amplitudes", "modal_velocities")
 _CONTACT_NEW = tuple(k.split(".", 1)[1] for k in ENGINE_KEYS if k.startswith("contact."))
 _SPEED_NEW = ("profile", "from", "to", "step", "times", "speeds")
 _SIM_NEW = ("modes", "cutoff", "residual")
@@ -98,6 +107,12 @@ class EngineSpec:
         Static correction of the dropped modes at the contact stations.
     speed_table : tuple of (float, float) or None
         ``[speed] profile = "table"``: rows of time (s) and speed (rad/s).
+    initial_given : tuple or None
+        ``initial == "given"``: ``(positions, v, w, v_dot, w_dot)``, tuples of equal length
+        (m, m, m, m/s, m/s; absent components 0).
+    initial_modes : tuple or None
+        ``initial == "given"`` by modes: ``(modes, amplitudes, modal_velocities)`` (1-based
+        undamped mode numbers; m and m/s at each mode's largest deflection).
     """
 
     stations: tuple = ()
@@ -112,12 +127,16 @@ class EngineSpec:
     cutoff: float | None = None
     residual: bool = True
     speed_table: tuple | None = None
+    initial_given: tuple | None = None
+    initial_modes: tuple | None = None
 
     @property
     def positions(self) -> tuple[float, ...]:
-        """Axial positions (m) of contacts, unbalances and loads (mesh nodes of a general rotor)."""
+        """Axial positions (m) of contacts, unbalances, loads and given start deflections
+        (mesh nodes of a general rotor)."""
         parts = [s.contact for s in self.stations] + list(self.unbalances) + list(self.loads)
-        return tuple(float(p.position) for p in parts)
+        given = self.initial_given[0] if self.initial_given else ()
+        return tuple(float(p.position) for p in parts) + tuple(given)
 
 
 def _err(name: str, value, allowed: str) -> ScenarioError:
@@ -183,7 +202,9 @@ def split_engine_keys(mapping: Mapping) -> tuple[dict, dict]:
         extras["gravity"] = base.pop("gravity")
     _split_speed(base, extras)
     ini = base.get("initial")
-    if isinstance(ini, Mapping) and (ini.get("state") in ENGINE_INITIAL or "path" in ini):
+    engine_ini = ("path", "positions", *_GIVEN, *_MODAL)
+    if isinstance(ini, Mapping) and (ini.get("state") in ENGINE_INITIAL
+                                     or any(k in ini for k in engine_ini)):  # fmt: skip
         extras["initial"] = dict(ini)
         base["initial"] = {"state": "rest"}
     sim = base.get("simulation")
@@ -357,14 +378,55 @@ def _gravity(g) -> tuple[float, float]:
     return tuple(float(_value(f"gravity.{a}", g.get(a, 0.0))) for a in "yz")
 
 
+def _modal(ini: dict) -> tuple:
+    """``[initial] state = "given"`` by modes: mode numbers, amplitudes, modal velocities."""
+    modes = _value("initial.modes", ini["modes"])
+    if not modes or any(int(m) != m for m in modes) or len(set(modes)) != len(modes):
+        raise _err("initial.modes", modes, "a non-empty list of distinct mode numbers >= 1")
+    if "amplitudes" not in ini and "modal_velocities" not in ini:
+        raise _err("initial.amplitudes", None, "amplitudes (m) or modal_velocities (m/s)")
+    out = [tuple(int(m) for m in modes)]
+    for key in _MODAL[1:]:
+        vals = _value(f"initial.{key}", ini.get(key, [0.0] * len(modes)))
+        if len(vals) != len(modes):
+            raise _err(f"initial.{key}", vals, f"{len(modes)} values, one per initial.modes")
+        out.append(tuple(float(v) for v in vals))
+    return tuple(out)
+
+
+def _given(ini: dict) -> tuple:
+    """``[initial] state = "given"``: positions and equally long v, w, v_dot, w_dot lists."""
+    if "positions" not in ini:
+        raise _err("initial.positions", None, 'a list of stations (m) with initial.state = "given"')
+    pos = _value("initial.positions", ini["positions"])
+    if not pos or len(set(pos)) != len(pos):
+        raise _err("initial.positions", pos, "a non-empty list of distinct stations (m)")
+    if not any(k in ini for k in _GIVEN):
+        raise _err("initial.v", None, 'at least one of initial.v, w, v_dot, w_dot with "given"')
+    out = [tuple(float(p) for p in pos)]
+    for key in _GIVEN:
+        vals = _value(f"initial.{key}", ini.get(key, [0.0] * len(pos)))
+        if len(vals) != len(pos):
+            raise _err(f"initial.{key}", vals, f"{len(pos)} values, one per initial.positions")
+        out.append(tuple(float(v) for v in vals))
+    return tuple(out)
+
+
 def _initial(ini: dict) -> tuple[str, str | None]:
     for key in ini:
-        if key not in ("state", "path"):
-            raise _err(f"initial.{key}", ini[key], "one of the keys state, path of [initial]")
+        if key not in ("state", "path", "positions", *_GIVEN, *_MODAL):
+            raise _err(f"initial.{key}", ini[key], "one of the keys state, path, positions, v, "
+                       "w, v_dot, w_dot, modes, amplitudes, modal_velocities of [initial]")  # fmt: skip
     state = _value("initial.state", ini.get("state", "rest"))
     allowed = ("rest", "steady", *ENGINE_INITIAL)
     if state not in allowed:
         raise _err("initial.state", state, " or ".join(f'"{s}"' for s in allowed))
+    if state != "given":
+        for key in ("positions", *_GIVEN, *_MODAL):
+            if key in ini:
+                raise _err(
+                    f"initial.{key}", ini[key], 'to be given only with initial.state = "given"'
+                )
     if state == "file":
         if "path" not in ini:
             raise _err("initial.path", None, 'a results file (.nc) with initial.state = "file"')
@@ -410,6 +472,14 @@ def build_engine(extras: dict, parts: dict, builders: Builders) -> EngineSpec:
     speed_table = extras.get("speed", {}).get("table")
     speed_step = extras.get("speed", {}).get("step")
     state, path = _initial(extras["initial"]) if "initial" in extras else (parts["initial"], None)
+    ini = extras.get("initial", {})
+    if state == "given" and "modes" in ini and any(k in ini for k in ("positions", *_GIVEN)):
+        raise _err("initial.modes", ini["modes"], "either modes or positions, not both")
+    modal = _modal(ini) if state == "given" and "modes" in ini else None
+    given = _given(ini) if state == "given" and modal is None else None
+    if given is not None:
+        for x in given[0]:
+            _position_on(span, x)
     if (speed_end is not None or speed_table) and state not in ("rest", "static"):
         raise _err("initial.state", state,
                    '"rest" or "static" with speed.profile = "linear" or "table"')  # fmt: skip
@@ -420,7 +490,14 @@ def build_engine(extras: dict, parts: dict, builders: Builders) -> EngineSpec:
         raise _err("simulation.modes / simulation.cutoff", (modes, cutoff), "at most one")
     residual = _value("simulation.residual", sim.get("residual", True))
     return EngineSpec(stations, unb, loads, gravity, speed_end, speed_step, state, path, modes,
-                      cutoff, residual, speed_table)  # fmt: skip
+                      cutoff, residual, speed_table, given, modal)  # fmt: skip
+
+
+def _position_on(span, x: float) -> None:
+    """A given start station must lie on the rotor, ``[0, L]`` (m)."""
+    length = span.length
+    if not 0.0 <= x <= length:
+        raise _err("initial.positions", x, f"stations on the rotor, 0 to {length:g} m")
 
 
 def _contact_dict(contact) -> dict:

@@ -48,6 +48,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
+import os
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -61,6 +62,7 @@ from rubrotor.rotors.forces import (
     Contact,
     ModalDamping,
     RadialLoad,
+    ThermalBow,
     Unbalance,
     restitution_damping,
 )
@@ -84,7 +86,10 @@ from rubrotor.scenario.schema import (
 
 __all__ = [
     "Scenario",
+    "as_scenario",
     "load_scenario",
+    "find_scenario",
+    "shipped_scenarios",
     "scenario_from_dict",
     "scenario_to_dict",
     "SCHEMA",
@@ -416,6 +421,8 @@ def _build(spec: dict, mapping: Mapping | None = None) -> dict:
         sec = spec.get("simulation")
         simulation = None if sec is None else _build_simulation(sec, span, speed)
         initial = spec.get("initial", {}).get("state", _default("initial", "state"))
+        sec = spec.get("thermal")
+        thermal = None if sec is None else ThermalBow(**sec)
     except ScenarioError:
         raise
     except InputError as exc:
@@ -433,6 +440,7 @@ def _build(spec: dict, mapping: Mapping | None = None) -> dict:
         damping=damping,
         simulation=simulation,
         initial=initial,
+        thermal=thermal,
     )
 
 
@@ -511,6 +519,9 @@ class Scenario:
         The general engine's contacts, stators, planes, gravity, speed profile and initial
         state (``rubrotor.scenario.dynamics``) when the scenario uses its keys or a general
         rotor; None for a scenario the seed's engine runs.
+    thermal : rubrotor.rotors.forces.ThermalBow or None
+        The ``[thermal]`` table: the thermal bow's time constant, bow per heat input, hot-spot
+        lag and shape (``rubrotor thermal``, :mod:`rubrotor.studies.thermal`).
     model : rubrotor.scenario.model.Model
         What the scenario is (rotor kind, engine, formulation, general-engine features),
         decided once when the scenario is built; every verb asks it.
@@ -530,6 +541,7 @@ class Scenario:
     initial: str = "rest"
     rotor: Rotor | None = None
     engine: EngineSpec | None = None
+    thermal: ThermalBow | None = None
     source: str = field(default="", compare=False, repr=False)
     _spec: dict | None = field(default=None, compare=False, repr=False)
     model: Model = field(init=False, compare=False, repr=False)
@@ -564,6 +576,7 @@ class Scenario:
         """
         spec = scenario_to_dict(self)
         schema = {**SCHEMA, "rotor": ROTOR_SCHEMA["rotor"]} if self.rotor is not None else SCHEMA
+        removed = {}  # "section.key" dropped as an alternative -> (the key that dropped it, value)
         for dotted_key, value in dotted.items():
             section, _, key = dotted_key.partition(".")
             if section not in schema:
@@ -588,10 +601,19 @@ class Scenario:
             for group, _required in ALTERNATIVES.get(section, []):
                 if key in group:
                     for other in group:
-                        if other != key:
-                            sec.pop(other, None)
+                        if other != key and other in sec:
+                            removed[f"{section}.{other}"] = (dotted_key, sec.pop(other))
             sec[key] = value
-        return scenario_from_dict(spec)
+        try:
+            return scenario_from_dict(spec)
+        except ScenarioError as exc:
+            if exc.field not in removed:
+                raise
+            key, old = removed[exc.field]
+            raise _err(
+                key, dotted[key], f"a change this scenario can take: setting it removes "
+                f"{exc.field} = {old!r}, which it needs ({exc.allowed})"
+            ) from None  # fmt: skip
 
     @property
     def stations(self) -> tuple[float, ...]:
@@ -806,6 +828,8 @@ def _resolved_parts(sc: Scenario, out: dict) -> dict:
         c = dataclasses.asdict(sc.contact)
         out["contact"] = {k: v for k, v in c.items() if v is not None}
     out["initial"] = {"state": sc.initial}
+    if sc.thermal is not None:
+        out["thermal"] = dataclasses.asdict(sc.thermal)
     if sc.simulation is not None:
         sim = dataclasses.asdict(sc.simulation)
         sim["probes"] = list(sim["probes"])
@@ -813,13 +837,75 @@ def _resolved_parts(sc: Scenario, out: dict) -> dict:
     return out
 
 
-def load_scenario(path) -> Scenario:
-    """Read and validate a scenario TOML file.
+def shipped_scenarios() -> list[dict]:
+    """The scenario files shipped with rubrotor: name, description and path.
+
+    Returns
+    -------
+    list of dict
+        ``{"name", "description", "path"}`` sorted by file name.
+    """
+    from importlib import resources
+
+    folder = resources.files("rubrotor") / "scenarios"
+    out = []
+    for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+        if not entry.name.endswith(".toml"):
+            continue
+        meta = tomllib.loads(entry.read_text(encoding="utf-8")).get("meta", {})
+        description = " ".join(meta.get("description", "").split())
+        out.append({"name": meta.get("name", entry.name[:-5]), "description": description,
+                    "path": str(entry)})  # fmt: skip
+    return out
+
+
+def find_scenario(path) -> Path:
+    """The scenario file a path or a shipped scenario's name means.
+
+    A file that exists (relative to the working folder or absolute) is taken as it is, so a
+    local file named like a shipped scenario takes precedence. Otherwise a bare name, with or
+    without ``.toml`` (``"seed_case1"``, ``"seed_case1.toml"``), is looked up among the
+    scenarios shipped with rubrotor (``rubrotor scenarios`` lists them).
 
     Parameters
     ----------
     path : str or os.PathLike
-        The file. ``meta.name`` defaults to the file stem.
+        A file path or the name of a shipped scenario.
+
+    Returns
+    -------
+    pathlib.Path
+        The file to read.
+
+    Raises
+    ------
+    ScenarioError
+        Field ``"scenario file"``: neither a file nor a shipped scenario's name; the message
+        points to ``rubrotor scenarios``.
+    """
+    p = Path(path)
+    if p.exists() or p.parent != Path("."):
+        return p
+    stem = p.name[:-5] if p.name.endswith(".toml") else p.name
+    for item in shipped_scenarios():
+        if Path(item["path"]).stem == stem:
+            return Path(item["path"])
+    raise _err(
+        "scenario file", str(path),
+        "an existing TOML file or the name of a shipped scenario (`rubrotor scenarios` lists "
+        "them)",
+    )  # fmt: skip
+
+
+def load_scenario(path) -> Scenario:
+    """Read and validate a scenario TOML file, or a shipped scenario given by name.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file, or the name of a shipped scenario (``"seed_case1.toml"`` or ``"seed_case1"``,
+        looked up when no such file exists in the working folder: :func:`rubrotor.scenario.load.find_scenario`).
+        ``meta.name`` defaults to the file stem.
 
     Returns
     -------
@@ -831,12 +917,15 @@ def load_scenario(path) -> Scenario:
         The file cannot be read, is not valid TOML (the parser's message and the file name), or
         a key is invalid (the message starts with the file name and names the key).
     """
-    p = Path(path)
+    p = find_scenario(path)
     try:
         text = p.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         err = _err("scenario file", str(p), "a readable UTF-8 TOML file")
-        err.args = (f"{p}: cannot read scenario file: {exc.strerror or exc}",)
+        reason = exc.strerror if isinstance(exc, OSError) else None
+        if isinstance(exc, UnicodeDecodeError):
+            reason = f"not UTF-8 text (byte {exc.object[exc.start]:#04x} at offset {exc.start})"
+        err.args = (f"{p}: cannot read scenario file: {reason or exc}",)
         raise err from None
     try:
         data = tomllib.loads(text)
@@ -854,3 +943,33 @@ def load_scenario(path) -> Scenario:
         spec.setdefault("meta", {})["name"] = p.stem
         scenario = dataclasses.replace(scenario, name=p.stem, _spec=spec)
     return scenario
+
+
+def as_scenario(obj, name: str = "scenario") -> Scenario:
+    """The scenario a public verb was given: a :class:`Scenario`, or a path to a scenario file.
+
+    Parameters
+    ----------
+    obj : Scenario or str or os.PathLike
+        A loaded scenario, or the path of a TOML scenario file (read with :func:`load_scenario`).
+    name : str
+        The argument's name, used in the error message.
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    InputError
+        ``obj`` is neither (e.g. None); a path that cannot be read raises :class:`ScenarioError`.
+    """
+    if isinstance(obj, Scenario):
+        return obj
+    if isinstance(obj, str | os.PathLike):
+        return load_scenario(obj)
+    raise InputError(
+        name,
+        obj,
+        "a Scenario (rubrotor.load_scenario) or the path of a scenario TOML file",
+    )

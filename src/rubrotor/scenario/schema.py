@@ -52,7 +52,7 @@ import numpy as np
 from rubrotor.engine.settings import METHODS
 from rubrotor.errors import ScenarioError
 from rubrotor.rotors.fe import BEARING_KINDS, COEFFICIENTS
-from rubrotor.rotors.forces import CONTACT_LAWS, FRICTION_SIGNS, RESTITUTION_MODELS
+from rubrotor.rotors.forces import BOW_SHAPES, CONTACT_LAWS, FRICTION_SIGNS, RESTITUTION_MODELS
 from rubrotor.rotors.shaft import FORMULATIONS, PLAUSIBLE_RANGES, SHEAR_COEFFICIENTS, THEORIES
 
 __all__ = [
@@ -302,9 +302,10 @@ _DAMPING = (
 )  # fmt: skip
 _INITIAL = (
     _k("initial", "state", "str", "",
-       "Start at rest, on the steady no-contact orbit, in static equilibrium or from a results "
-       "file (static and file: general engine)",
-       choices=("rest", "steady", "static", "file"), default="rest"),
+       "Start at rest, on the steady no-contact orbit, in static equilibrium, from a results "
+       "file, or from a given deflection and velocity at stations (static, file and given: "
+       "general engine)",
+       choices=("rest", "steady", "static", "file", "given"), default="rest"),
 )  # fmt: skip
 _SIMULATION = (
     _k("simulation", "revolutions", "number", "rev", "Length of the run in revolutions",
@@ -428,6 +429,23 @@ _ENGINE = (
        _closed(1e-6, 1e7)),
     _k("initial", "path", "str", "",
        'Results file of the general engine whose final state starts the run (state = "file")'),
+    _k("initial", "positions", "list", "m",
+       'Stations where the start deflection and velocity are given (state = "given")',
+       _closed(0.0)),
+    _k("initial", "v", "list", "m", "Start deflection along y, one per initial.positions",
+       _closed(-1.0, 1.0)),
+    _k("initial", "w", "list", "m", "Start deflection along z, one per initial.positions",
+       _closed(-1.0, 1.0)),
+    _k("initial", "v_dot", "list", "m/s", "Start velocity along y, one per initial.positions",
+       _closed(-1e4, 1e4)),
+    _k("initial", "w_dot", "list", "m/s", "Start velocity along z, one per initial.positions",
+       _closed(-1e4, 1e4)),
+    _k("initial", "modes", "list", "1", 'Undamped modes (1 = lowest) the start state is made of '
+       '(state = "given", instead of positions)', _closed(1, 1e5)),
+    _k("initial", "amplitudes", "list", "m",
+       "Start deflection of each of initial.modes at its largest point", _closed(-1.0, 1.0)),
+    _k("initial", "modal_velocities", "list", "m/s",
+       "Start velocity of each of initial.modes at its largest point", _closed(-1e4, 1e4)),
     _k("simulation", "modes", "int", "1", "Retained modes of the general engine",
        _closed(1, 100000)),
     _k("simulation", "cutoff", "number", "rad/s",
@@ -436,6 +454,21 @@ _ENGINE = (
        "Static correction of the dropped modes at force and contact stations", default=True),
 )  # fmt: skip
 """Keys of the general engine (:mod:`rubrotor.scenario.dynamics` builds them)."""
+
+_THERMAL = (
+    _k("thermal", "time_constant", "number", "s", "Thermal time constant tau of the bow",
+       _positive(), required=True),
+    _k("thermal", "bow_per_heat", "number", "m/W",
+       "Steady bow at the rubbing station per watt of heat input (beta)", _closed(0.0),
+       required=True),
+    _k("thermal", "hot_spot_lag", "number", "rad",
+       "Angle by which the hot spot lags the high spot, against the spin",
+       (-math.pi, math.pi, True, True), default=0.0),
+    _k("thermal", "bow_shape", "str", "",
+       "Bow shape along the rotor: uniform curvature through the outermost bearings",
+       choices=BOW_SHAPES, default="arc"),
+)  # fmt: skip
+"""Keys of the thermal bow (:class:`rubrotor.rotors.forces.ThermalBow`)."""
 
 TABLES: tuple[Table, ...] = (
     Table("meta", "table", "any", "Name and description"),
@@ -469,13 +502,15 @@ TABLES: tuple[Table, ...] = (
     Table("disk", "array", "general", "Rigid disks"),
     Table("bearing", "array", "general", "Bearings and supports"),
     Table("rotor", "table", "general", "Settings of the general rotor"),
+    Table("thermal", "table", "any",
+          "Thermal bow at the rubbing stations (rubrotor thermal; general rotors)"),
 )  # fmt: skip
 """Every scenario table, in the order the docs list them."""
 
 _ORDER = {t.name: i for i, t in enumerate(TABLES)}
 KEYS: tuple[Key, ...] = tuple(sorted((
     *_META, *_SHAFT, *_SPEED, *_UNBALANCE, *_LOAD, *_CONTACT, *_DAMPING, *_INITIAL,
-    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_ROTOR,
+    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_ROTOR, *_THERMAL,
 ), key=lambda row: _ORDER[row.table]))  # fmt: skip
 """Every key of every scenario table, grouped by table: the one source of the schema."""
 

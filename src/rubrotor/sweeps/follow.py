@@ -42,6 +42,8 @@ from collections.abc import Iterator, Sequence
 import numpy as np
 
 from rubrotor.errors import InputError
+from rubrotor.scenario.load import as_scenario
+from rubrotor.sweeps.pool import LostTasks, local_pool
 
 __all__ = ["DIRECTIONS", "follow_general", "follow_sweep", "run_follow_chunk"]
 
@@ -250,12 +252,17 @@ def _execute_chains(chains: list[list[dict]], pool) -> Iterator[dict]:
     running = {
         pool.submit(run_follow_chunk, tasks[0]): c for c, tasks in enumerate(chains) if tasks
     }
+    from concurrent.futures.process import BrokenProcessPool
+
     try:
         while running:
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             for fut in finished:
                 c = running.pop(fut)
-                result = fut.result()
+                try:
+                    result = fut.result()
+                except BrokenProcessPool:
+                    raise LostTasks([chains[c][pos[c]]]) from None
                 pos[c] += 1
                 if pos[c] < len(chains[c]):
                     nxt = chains[c][pos[c]] | {"start": result["state"]}
@@ -326,11 +333,11 @@ def follow_sweep(
         _check_keys,
         _definition,
         _int_arg,
-        _local_pool,
         _open_or_create,
         run_lengths,
     )
 
+    scenario = as_scenario(scenario)
     if not scenario.model.fe_rotor:
         scenario.require_seed_engine("a state-carrying sweep")
     if direction not in DIRECTIONS:
@@ -367,7 +374,7 @@ def follow_sweep(
             with xr.open_zarr(store, consolidated=False) as old:
                 ds = old.load()
     chains = _chains(ds, key, directions, chunk_size, definition, n)
-    pool = _local_pool(workers, sum(1 for c in chains if c))
+    pool = local_pool(workers, sum(1 for c in chains if c))
     try:
         _run_chains(ds, store, chains, chunk_size, pool, progress)
     finally:

@@ -142,6 +142,7 @@ def window_metrics(
     revolutions: int,
     samples_per_revolution: int,
     lyapunov: float = np.nan,
+    clearance: float | None = None,
 ) -> dict:
     """:func:`point_metrics` of the kept window alone (the samples ``T N .. R N - 1``).
 
@@ -153,6 +154,9 @@ def window_metrics(
         Normal contact force (N) over the kept window.
     events, speed, transient_revolutions, revolutions, samples_per_revolution, lyapunov
         As in :func:`point_metrics` (s, rad/s, counts, 1/s).
+    clearance : float, optional
+        Clearance (m) of a rigid stator centred on the axis, for the ``"indentation >
+        clearance"`` regime (:func:`rubrotor.sweeps.regimes.classify`).
 
     Returns
     -------
@@ -185,9 +189,8 @@ def window_metrics(
     out["poincare_dimension"] = dim
     out["lyapunov_exponent"] = lyapunov
     per_rev = lyapunov * 2 * np.pi / speed
-    code, period = classify(
-        cf, ripple, z, lines, dim, lyapunov_per_rev=per_rev, scale=float(absp.max())
-    )
+    code, period = classify(cf, ripple, z, lines, dim, lyapunov_per_rev=per_rev,
+                            scale=float(absp.max()), clearance=clearance)  # fmt: skip
     out["regime"] = code
     out["period"] = period
     out["status"] = 1

@@ -15,6 +15,12 @@ contact-station deflection):
 Regime labels, decided in this order by :func:`classify`:
 
 - ``"no contact"``: ``contact_fraction == 0``.
+- ``"indentation > clearance"``: given the clearance ``g`` of a rigid, centred stator with a
+   Hertz contact (sweeps pass it for those), the largest ``|P|`` exceeds ``2 g``: the rotor
+   runs deeper into the stator than the whole clearance, far outside the local elastic
+   indentation the Hertz law models (the seed rotor's rub branch at 1.5 x critical sits at
+   4.7 mm against 1.2 mm; at higher speeds at 10 mm). Whatever the contact fraction says,
+   this is not a full annular rub of a real machine.
 - ``"full annular rub"``: ``contact_fraction >= 0.99`` and ``amplitude_ripple <= 0.05`` (in
    contact all the time with a nearly constant ``|P|``, whatever the whirl direction).
 - ``"partial rub (period-k)"``: a Poincare period ``k`` in ``1 .. min(12, K // 2)`` is found.
@@ -25,9 +31,10 @@ Regime labels, decided in this order by :func:`classify`:
    The margin stands above the finite-time estimates of the zero exponent of a torus: measured
    0.002 .. 0.015 per revolution on quasi-periodic rub motions (undamped seed case 1; a
    one-mode rotor past its annular-rub branch) averaged over 100 .. 200 revolutions. Without
-   an exponent the older spectral rule decides: quasi-periodic when
-   ``line_fraction >= 0.9`` (a line spectrum) and ``poincare_dimension <= 1.5`` (or NaN),
-   otherwise chaotic.
+   an exponent nothing is called chaotic: the motion is quasi-periodic when its data show a
+   torus, ``line_fraction >= 0.9`` (a line spectrum) and ``poincare_dimension <= 1.5`` (or
+   NaN), otherwise ``"aperiodic"`` (a broadband motion without a period, chaotic or not: the
+   exponent tells, ``--lyapunov``).
 - ``"not classified"``: the run did not complete or could not be simulated.
 """
 
@@ -45,6 +52,8 @@ __all__ = [
     "QUASI",
     "CHAOTIC",
     "UNCLASSIFIED",
+    "APERIODIC",
+    "DEEP",
     "PERIOD_RTOL",
     "CHAOS_MARGIN_PER_REV",
     "contact_fraction",
@@ -115,10 +124,13 @@ REGIMES = (
     "quasi-periodic",
     "chaotic",
     "not classified",
+    "aperiodic",
+    "indentation > clearance",
 )
-"""Regime names by code (code 1 is labelled ``"partial rub (period-k)"`` with its period)."""
+"""Regime names by code (code 1 is labelled ``"partial rub (period-k)"`` with its period); codes
+6 and 7 were added after the others, so stored sweeps keep their meaning."""
 
-NO_CONTACT, PARTIAL, FULL, QUASI, CHAOTIC, UNCLASSIFIED = range(6)
+NO_CONTACT, PARTIAL, FULL, QUASI, CHAOTIC, UNCLASSIFIED, APERIODIC, DEEP = range(8)
 
 
 def poincare_dimension(z: np.ndarray, max_points: int = 1000) -> float:
@@ -190,6 +202,7 @@ def classify(
     min_line_fraction: float = 0.9,
     max_dimension: float = 1.5,
     chaos_margin: float = CHAOS_MARGIN_PER_REV,
+    clearance: float | None = None,
 ) -> tuple[int, int]:
     """Regime code and period of one run, by the rules of the module docstring.
 
@@ -214,6 +227,9 @@ def classify(
     period_rtol, max_period, full_contact, max_ripple, min_line_fraction, max_dimension,
     chaos_margin
         Thresholds, see the module docstring.
+    clearance : float, optional
+        Radial clearance (m) of a rigid stator centred on the bearing axis; with it a
+        ``scale`` (or ``max |poincare|``) above ``2 clearance`` is ``"indentation > clearance"``.
 
     Returns
     -------
@@ -230,15 +246,21 @@ def classify(
     (1, 2)
     >>> classify(0.3, 0.5, np.exp(1j * np.arange(20)), 1.0, lyapunov_per_rev=0.3)
     (4, 0)
+    >>> classify(0.3, 0.5, np.exp(1j * np.arange(20)), 0.2)  # broadband, no exponent
+    (6, 0)
+    >>> classify(1.0, 0.0, 1e-2 * np.exp(1j * np.arange(20)), 1.0, clearance=1.2e-3)
+    (7, 0)
     """
     z = np.asarray(poincare, complex)
     if not np.isfinite(contact_fraction) or z.size == 0 or not np.all(np.isfinite(z)):
         return UNCLASSIFIED, 0
     if contact_fraction == 0:
         return NO_CONTACT, 0
+    s = float(np.max(np.abs(z))) if scale is None else scale
+    if clearance is not None and s > 2 * clearance:
+        return DEEP, 0
     if contact_fraction >= full_contact and not (amplitude_ripple > max_ripple):
         return FULL, 0
-    s = float(np.max(np.abs(z))) if scale is None else scale
     k = find_period(z, period_rtol * s, max_period)
     if k:
         return PARTIAL, k
@@ -248,11 +270,12 @@ def classify(
 
 
 def _aperiodic(line_fraction, dimension, lyapunov_per_rev, min_lines, max_dim, margin) -> int:
-    """QUASI or CHAOTIC for a contacting motion without a Poincare period (module docstring)."""
+    """QUASI, CHAOTIC or APERIODIC for a contacting motion without a Poincare period: chaotic
+    only from an exponent (module docstring)."""
     if np.isfinite(lyapunov_per_rev):
         return CHAOTIC if lyapunov_per_rev > margin else QUASI
     curve = not (dimension > max_dim)  # NaN counts as a curve
-    return QUASI if line_fraction >= min_lines and curve else CHAOTIC
+    return QUASI if line_fraction >= min_lines and curve else APERIODIC
 
 
 def case_regime(m: dict) -> str:

@@ -60,7 +60,7 @@ from pathlib import Path
 import numpy as np
 
 from rubrotor.errors import InputError
-from rubrotor.scenario.load import key_unit
+from rubrotor.scenario.load import as_scenario, key_unit
 from rubrotor.sweeps.metrics import (
     _SCALARS,
     N_PEAKS,
@@ -68,8 +68,12 @@ from rubrotor.sweeps.metrics import (
     point_metrics,
     window_metrics,
 )
+from rubrotor.sweeps.pool import local_pool as _local_pool
+from rubrotor.sweeps.pool import run_pool as _run_pool
 from rubrotor.sweeps.regimes import (
+    APERIODIC,
     CHAOTIC,
+    DEEP,
     FULL,
     NO_CONTACT,
     PARTIAL,
@@ -92,7 +96,9 @@ __all__ = [
     "find_period",
     "poincare_dimension",
     "regime_label",
+    "APERIODIC",
     "CHAOTIC",
+    "DEEP",
     "FULL",
     "NO_CONTACT",
     "PARTIAL",
@@ -299,9 +305,22 @@ def simulate_point(
     ch = r.channels
     pw = ch[0, i0:i1] + 1j * ch[1, i0:i1]
     fn = ch[6 * len(r.stations), i0:i1]
+    gap = _rigid_clearance(scenario)
     metrics = window_metrics(pw, fn, r.events, r.speed, transient_revolutions, revolutions,
-                             samples_per_revolution, lam)  # fmt: skip
+                             samples_per_revolution, lam, gap)  # fmt: skip
     return metrics, r.final_state
+
+
+def _rigid_clearance(scenario) -> float | None:
+    """Clearance (m) of a Hertz contact on the continuous shaft's path (a rigid stator centred
+    on the axis), else None. The Hertz law models the local elastic indentation of two solids:
+    an indentation beyond the clearance (millimetres for the seed rotor) lies far outside it,
+    so such a run is labelled ``"indentation > clearance"``, not a rub. A linear law stands for
+    a compliant seal or stator, whose deflection may exceed the gap: no such label."""
+    c = getattr(scenario, "contact", None)
+    if c is None or c.law != "hertz" or scenario.model.general:
+        return None
+    return c.clearance
 
 
 def run_chunk(task: dict) -> dict:
@@ -536,8 +555,26 @@ def _open_or_create(store, template, definition: dict):
             )
         return done
     template.attrs["sweep_definition"] = text
-    template.to_zarr(path, mode="w-", consolidated=True, zarr_format=2)
+    _create_atomically(template, path)
     return np.zeros(template["done"].shape, bool)
+
+
+def _create_atomically(template, path: Path) -> None:
+    """Write the empty store in a temporary folder beside ``path`` and rename it onto ``path``:
+    a run killed while creating it leaves no half-made store that a rerun would refuse."""
+    import shutil
+    import tempfile
+
+    path.absolute().parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.absolute().parent))
+    try:
+        template.to_zarr(tmp / "store", mode="w-", consolidated=True, zarr_format=2)
+        try:
+            os.rename(tmp / "store", path)
+        except OSError:  # another run created it meanwhile
+            raise InputError("store", str(path), "a store no other run is creating") from None
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _first_difference(old: dict, new: dict) -> str:
@@ -627,8 +664,11 @@ def sweep(
     xarray.Dataset
         Dimensions: the swept keys, ``revolution`` (kept revolutions) and ``peak`` (3);
         variables as listed in the module docstring, plus ``done``; attributes hold the sweep
-        definition (JSON) and the scenario text.
+        definition (JSON) and the scenario text. Points whose worker process died twice
+        (:func:`rubrotor.sweeps.pool.run_pool`) stay not ``done`` and are listed (their key
+        values) in ``attrs["lost_points"]`` (JSON).
     """
+    scenario = as_scenario(scenario)
     keys, grid = _check_keys(scenario, vary)
     t_rev, revs = run_lengths(scenario, transient_revolutions, revolutions)
     n_rev = _int_arg("samples_per_revolution", samples_per_revolution, 8)
@@ -729,7 +769,8 @@ def _run(ds, keys, grid, chunks, chunk_size, definition, store, pool, scheduler,
                 file=sys.stderr,
             )
 
-    for result in _execute(todo, pool, scheduler):
+    lost: list[dict] = []
+    for result in _execute(todo, pool, scheduler, lost):
         write(result)
         n_done += 1
         report()
@@ -737,6 +778,8 @@ def _run(ds, keys, grid, chunks, chunk_size, definition, store, pool, scheduler,
         import sys
 
         print(file=sys.stderr)
+    if lost:  # not marked done: a rerun on the store computes them
+        ds.attrs["lost_points"] = json.dumps([p for t in lost for p in t["points"]])
     return ds
 
 
@@ -771,31 +814,9 @@ def _int_arg(name: str, value, minimum: int) -> int:
     return int(value)
 
 
-def _noop() -> int:
-    return os.getpid()
-
-
-def _local_pool(workers: int, n_tasks: int):
-    """A started process pool (``None`` for in-process runs).
-
-    The pool uses the platform's default start method (``fork`` on Linux with Python < 3.14)
-    and its workers are started here, before the zarr store starts its I/O thread, so no
-    thread is forked. Scripts using ``spawn``/``forkserver`` need the usual
-    ``if __name__ == "__main__":`` guard.
-    """
-    if workers == 1 or n_tasks <= 1:
-        return None
-    from concurrent.futures import ProcessPoolExecutor
-
-    n = min(workers, n_tasks)
-    pool = ProcessPoolExecutor(max_workers=n)
-    for f in [pool.submit(_noop) for _ in range(n)]:
-        f.result()
-    return pool
-
-
-def _execute(todo: list[dict], pool, scheduler: str | None) -> Iterator[dict]:
-    """Yield chunk results as they complete: in process, in a process pool or on Dask."""
+def _execute(todo: list[dict], pool, scheduler: str | None, lost: list) -> Iterator[dict]:
+    """Yield chunk results as they complete: in process, in a process pool or on Dask (chunks
+    whose worker died twice go to ``lost``)."""
     if not todo:
         return
     if scheduler is not None:
@@ -804,35 +825,19 @@ def _execute(todo: list[dict], pool, scheduler: str | None) -> Iterator[dict]:
             run_chunk, todo, scheduler, key=lambda t: f"rubrotor-sweep-{stamp}-{t['chunk']}"
         )
         return
-    yield from _run_pool(run_chunk, todo, pool)
-
-
-def _run_pool(fn, tasks: Sequence, pool) -> Iterator:
-    """``fn(task)`` for every task, in process (``pool`` None) or on a process pool."""
-    if pool is None:
-        for t in tasks:
-            yield fn(t)
-        return
-    from concurrent.futures import FIRST_COMPLETED, wait
-
-    pending = {pool.submit(fn, t) for t in tasks}
-    try:
-        while pending:
-            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for fut in finished:
-                yield fut.result()
-    finally:
-        for fut in pending:
-            fut.cancel()
+    yield from _run_pool(run_chunk, todo, pool, lost)
 
 
 def _run_dask(fn, tasks: Sequence, scheduler: str, key=None) -> Iterator:
     """``fn(task)`` for every task on a Dask cluster, results as they complete."""
     try:
         from distributed import Client, as_completed
-    except ImportError:  # pragma: no cover - depends on the installation
+    except ImportError:  # depends on the installation (tested with the import blocked)
         raise InputError(
-            "scheduler", scheduler, "dask[distributed] installed (pip install rubrotor[sweep])"
+            "scheduler",
+            scheduler,
+            'Dask distributed installed for a cluster sweep: pip install "rubrotor[sweep]" '
+            "(without --scheduler, sweeps run on local processes)",
         ) from None
     try:
         client = Client(scheduler, timeout=20, set_as_default=False)
