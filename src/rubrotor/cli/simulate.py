@@ -152,7 +152,7 @@ def simulate_run(args: argparse.Namespace) -> int:
         if integ is None:
             raise InputError("simulation", None, "a [simulation] section in the scenario")
         integ = dataclasses.replace(integ, revolutions=args.revolutions, duration=None)
-    if scenario.model.general:
+    if scenario.model.general and scenario.model.spin != "free":
         from rubrotor.engine.general import STREAM_SAMPLES, engine_problem, simulate_engine
 
         _, run, _, _ = engine_problem(scenario, integ)
@@ -224,6 +224,10 @@ def _simulate_figure(ds, path: Path, rpm: bool = False) -> None:
         from rubrotor.plotting.rub import engine_figure
 
         fig = engine_figure(ds, rpm=rpm)
+    elif ds.attrs.get("engine") == "free-spin":  # [speed] profile = "free"
+        from rubrotor.plotting.touchdown import touchdown_figure
+
+        fig = touchdown_figure(ds)
     else:
         fig = response_figure(ds)
     save_atomic(fig, path)

@@ -21,6 +21,8 @@ __all__ = [
     "band_factor",
     "band_matmul",
     "band_solve",
+    "band_solve_transposed",
+    "newton_pairs",
     "Refined",
     "SparseRows",
     "Starts",
@@ -403,3 +405,60 @@ def _dense_solve(t, y, floor):
         for c in range(k + 1, m):
             acc -= t[k, c] * y[c]
         y[k] = acc / t[k, k]
+
+
+@njit(cache=True)
+def band_solve_transposed(ab, kl, ku, ipiv, b):
+    """Solve ``a^T x = b`` (transpose, not conjugate) in place in ``b`` from the factors of
+    :func:`band_factor` (LAPACK ``zgbtrs`` with ``'T'``): ``U^T`` forward, then ``L^T`` backward
+    with the row interchanges undone in reverse order."""
+    n = ab.shape[0]
+    kv = kl + ku
+    for j in range(n):
+        acc = b[j]
+        for i in range(1, min(kv, j) + 1):
+            acc -= ab[j, kv - i] * b[j - i]
+        b[j] = acc / ab[j, kv]
+    for j in range(n - 2, -1, -1):
+        acc = b[j]
+        for i in range(1, min(kl, n - 1 - j) + 1):
+            acc -= ab[j, kv + i] * b[j + i]
+        b[j] = acc
+        p = ipiv[j]
+        if p != j:
+            t = b[p]
+            b[p] = b[j]
+            b[j] = t
+
+
+@njit(cache=True)
+def newton_pairs(parts, parts_t, omega, lam, right, left):
+    """One Newton step of :func:`refine_eigenpairs` per mode for its right AND left vectors
+    with one banded LU: ``T(lam) u = T'(lam) x`` and ``T(lam)^T v = T'(lam)^T y`` (``parts_t``
+    the transposed problem's bands, ``omega`` the speed, rad/s). ``right``, ``left`` (k, n) are
+    overwritten by the new vectors (scaled as the Newton iteration scales them); returns the
+    new eigenvalues (1/s) of the right problem. A mode whose matrix is singular at ``lam``
+    (an eigenvalue to working precision) keeps its start."""
+    n = parts.m.shape[0]
+    kl, ku = parts.kl, parts.ku
+    ab = np.empty((n, 2 * kl + ku + 1), np.complex128)
+    ipiv = np.empty(n, np.int64)
+    w = np.empty(n, np.complex128)
+    out = lam.copy()
+    for j in range(lam.size):
+        lk = lam[j]
+        _assemble(parts, 0, omega, lk, ab)
+        if band_factor(ab, kl, ku, ipiv) != OK:
+            continue
+        x = right[j].copy()
+        _derivative_apply(parts, 0, omega, lk, x, w)
+        band_solve(ab, kl, ku, ipiv, w)
+        d = np.vdot(x, w) / np.vdot(x, x).real
+        out[j] = lk - 1.0 / d
+        right[j] = w / d
+        y = left[j].copy()
+        _derivative_apply(parts_t, 0, omega, lk, y, w)
+        band_solve_transposed(ab, kl, ku, ipiv, w)
+        d = np.vdot(y, w) / np.vdot(y, y).real
+        left[j] = w / d
+    return out

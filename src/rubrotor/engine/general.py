@@ -243,7 +243,14 @@ def modal_state(system, speed: float, modal: tuple) -> np.ndarray:
 
 
 def engine_problem(scenario, integrator=None):
-    """The engine's inputs for a scenario (see :func:`_problem`; without the restart state)."""
+    """The engine's inputs for a scenario (see :func:`_problem`; without the restart state).
+
+    A free spin speed (``[speed] profile = "free"``) is refused naming the key: the maps,
+    orbits and sweeps built on these inputs hold the speed imposed.
+    """
+    if scenario.model.spin == "free":
+        raise ScenarioError("speed.profile", "free", 'a "constant", "linear" or "table" speed '
+                            "here (a free spin speed runs in rubrotor simulate)")  # fmt: skip
     return _problem(scenario, integrator)[:4]
 
 
@@ -457,6 +464,12 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
     from rubrotor.engine.driver import simulate_general
     from rubrotor.engine.restart import fingerprint
 
+    if scenario.model.spin == "free":  # [speed] profile = "free": the spin is a state
+        from rubrotor.engine.spin import simulate_free
+
+        if stream is not None:
+            raise ScenarioError("speed.profile", "free", "a run without streaming")
+        return simulate_free(scenario, integrator=integrator)
     system, run, kwargs, t0, snap = _problem(scenario, integrator)
     src = scenario.engine.initial_path
     if stream is not None and src is not None and Path(src).resolve() == Path(stream).resolve():

@@ -8,11 +8,16 @@ coefficients are rebuilt); ``G_x`` from the map's variational equations (exact, 
 ``G_p`` by central differences in ``p``; tangent = null vector of ``[G_x s_x, G_p s_p]`` (SVD,
 oriented along the previous one); predictor ``z + ds t``; corrector = quasi-Newton (Broyden)
 on ``[G; t . (z - z_pred)] = 0`` from the previous point's Jacobian, full Newton if that
-fails; ``ds`` halves on failure and grows by 1.5 after a quick corrector. Optionally each point
+fails; ``ds`` halves on failure and grows by 1.5 after a quick corrector. On a general rotor,
+where a new key value costs a plant (a few ms) and ``G_x`` is one compiled variational run
+(1 ms), the corrector is Newton in the state at the predicted key value (``_fixed_key``: two
+plants per point with the key's forward difference), and where that fails (near a fold) the
+pseudo-arclength chord with the exact ``G_x`` at every iterate. Optionally each point
 is Richardson-extrapolated to zero step from the maps of ``N`` and ``2 N`` steps
-(``_extrapolate``). A general rotor's map (``rubrotor.orbits.general_map``) is rebuilt at every
-key value with its modes aligned to the first value's; circular orbits of the axisymmetric
-rotor are continued on the rotating frame's field instead (``_SyncProblem``).
+(``_extrapolate``). A general rotor's map (``rubrotor.orbits.general_map``) has its modes
+aligned to the first value's; in a speed key only its speed-dependent parts are updated
+(``rubrotor.orbits.speed_family``), in any other key it is rebuilt. Circular orbits of the
+axisymmetric rotor are continued on the rotating frame's field instead (``_SyncProblem``).
 
 Bifurcations, between consecutive points, from sign changes of test functions:
 
@@ -229,14 +234,16 @@ class _Problem:
     """Residual and Jacobian of the continuation in scaled unknowns.
 
     ``tol``: the corrector's relative tolerance; ``h_rel``: the relative increment of the
-    key's central difference. A general rotor's map is rebuilt (reduced and diagonalised) at
-    every key value, which carries ~2e-8 of relative noise from one build to the next
-    (eigenvector accuracy, measured on ``seal_rub.toml``): there the corrector stops at 1e-6
-    and the key's difference uses 1e-4.
+    key's central difference. A general rotor's plant at each key value (rebuilt, or updated
+    in a speed key) carries ~2e-8 of relative noise from one value to the next (its residual
+    flexibility is a small difference of two large ones, measured on ``seal_rub.toml``): there
+    the corrector stops at 1e-6 and the key's difference uses 1e-4.
     """
 
     tol = None  # set below, after CORRECTOR_TOL
     h_rel = 1e-6
+    central = True  # central differences in the key (else forward: one map fewer)
+    exact_gx = False  # the corrector takes the exact G_x at every iterate (a cheap one)
 
     def __init__(self, scenario, key, k, steps, sx, sp, richardson=False):
         self.scenario, self.key, self.k, self.steps = scenario, key, k, steps
@@ -289,6 +296,12 @@ class _Problem:
         x, p = self.unscale(z)
         return (self.map_at(p, steps).run(x)[0] - x) / self.sx
 
+    def residual_jacobian(self, z, steps=None):
+        """Scaled ``G / s_x`` and its exact scaled ``G_x`` (one variational run of the map)."""
+        x, p = self.unscale(z)
+        px, jac, _ = self.map_at(p, steps).run(x, True)
+        return (px - x) / self.sx, (jac - np.eye(x.size)) * self.sx / self.sx[:, None]
+
     def unscale(self, z):
         return z[:-1] * self.sx, z[-1] * self.sp
 
@@ -296,15 +309,19 @@ class _Problem:
         """Scaled ``G / s_x``, its Jacobian in ``z`` and the monodromy matrix at ``z``.
 
         The monodromy comes from the map's variational equations (one run); the derivative in
-        the key by central differences of the map at ``p +- 1e-6 |p|``. The largest radius of
-        the run is kept for :meth:`radius`.
+        the key by central differences of the map at ``p +- h_rel |p|`` (forward, at
+        ``p + h_rel |p|``, where ``central`` is False). The largest radius of the run is kept
+        for :meth:`radius`.
         """
         x, p = self.unscale(z)
         px, jac, rmax = self.map_at(p, steps).run(x, True)
         self._radius = {z.tobytes(): rmax}
         h = self.h_rel * abs(p)
         up = self.map_at(p + h, steps).run(x)[0]
-        gp = (up - self.map_at(p - h, steps).run(x)[0]) / (2 * h)
+        if self.central:
+            gp = (up - self.map_at(p - h, steps).run(x)[0]) / (2 * h)
+        else:
+            gp = (up - px) / h
         gx = (jac - np.eye(x.size)) * self.sx / self.sx[:, None]
         gz = np.column_stack([gx, gp * self.sp / self.sx])
         return (px - x) / self.sx, gz, jac
@@ -391,7 +408,39 @@ def _tangent(gz, previous):
     return t
 
 
-def _chord(prob, z_pred, t, gz0, tol=None, max_iter=12):
+def _fixed_key(prob, z_pred, ds, tol, max_iter=6):
+    """Newton in the state alone at the predictor's key value: ``(z, gz, jac, iterations)``
+    or None.
+
+    For a problem with a cheap exact ``G_x`` (``prob.exact_gx``: a general rotor, whose map at
+    a new key value costs a plant and a monodromy only a compiled run), where the branch is a
+    graph over the key the point at the predicted key value is found with that one map: its
+    arclength from the last point differs from ``ds`` by the predictor's error, which does not
+    matter. Refused (None) when Newton does not converge in ``max_iter`` steps or lands
+    farther than ``ds / 2`` from the predictor (near a fold, where the point at that key value
+    is far or missing): the pseudo-arclength corrector then takes over.
+    """
+    n = z_pred.size - 1
+    z = z_pred.copy()
+    for it in range(1, max_iter + 1):
+        try:
+            r, gx = prob.residual_jacobian(z)
+            dx = np.linalg.solve(gx, -r)
+        except (InputError, np.linalg.LinAlgError):
+            return None
+        z[:n] += dx
+        if not np.all(np.isfinite(z)) or np.linalg.norm(z - z_pred) > 0.5 * abs(ds):
+            return None
+        if np.linalg.norm(dx) < tol * max(1.0, np.linalg.norm(z)):
+            try:
+                g, gz, jac = prob.evaluate(z)
+            except InputError:
+                return None
+            return (z, gz, jac, it) if np.linalg.norm(g) < tol * np.linalg.norm(z) else None
+    return None
+
+
+def _chord(prob, z_pred, t, gz0, tol=None, max_iter=12, ds=None):
     """Quasi-Newton (Broyden) iterations from the previous point's Jacobian ``gz0``.
 
     One map run each: the augmented Jacobian ``[G_z; t]`` starts as the previous point's and
@@ -401,17 +450,40 @@ def _chord(prob, z_pred, t, gz0, tol=None, max_iter=12):
     evaluation are below ``tol``, else None (the caller then runs full Newton).
     """
     tol = prob.tol if tol is None else tol
+    if prob.exact_gx and ds is not None:
+        out = _fixed_key(prob, z_pred, ds, tol)
+        if out is not None:
+            return out
     a = np.vstack([gz0, t])
     z = z_pred.copy()
     g_old = dz = None
+    n = z.size - 1
     for it in range(1, max_iter + 1):
         try:
-            g = np.concatenate([prob.residual(z), [t @ (z - z_pred)]])
+            if prob.exact_gx:
+                r, gx = prob.residual_jacobian(z)
+            else:
+                r = prob.residual(z)
+            g = np.concatenate([r, [t @ (z - z_pred)]])
         except InputError:
             return None
-        if dz is not None:
+        if prob.exact_gx:  # exact G_x; the key's column by the secant along the last step
+            if dz is not None and abs(dz[n]) > 1e-3 * np.linalg.norm(dz):
+                a[:n, n] = (g[:n] - g_old[:n] - gx @ dz[:n]) / dz[n]
+            a[:n, :n] = gx
+        elif dz is not None:
             a += np.outer(g - g_old - a @ dz, dz) / (dz @ dz)
         dz = np.linalg.solve(a, -g)
+        if prob.exact_gx and np.linalg.norm(dz) < tol * max(1.0, np.linalg.norm(z)):
+            # converged: the last Newton step at this key value (its map is prepared), off the
+            # arclength plane by less than tol
+            z = z.copy()
+            z[:n] += np.linalg.solve(gx, -g[:n])
+            try:
+                g, gz, jac = prob.evaluate(z)
+            except InputError:
+                return None
+            return (z, gz, jac, it) if np.linalg.norm(g) < tol * np.linalg.norm(z) else None
         z = z + dz
         g_old = g
         if not np.all(np.isfinite(z)):
@@ -797,6 +869,10 @@ def _problem(scenario, key, k, steps, x0, p0, kind=_Problem) -> _Problem:
         prob = kind(scenario, key, k, steps, np.ones(x0.size), abs(p0))
         prob.sx = prob.map_at(p0)._scales(x0)
         prob.tol, prob.h_rel = GENERAL_TOL, 1e-4
+        # each key value costs a plant, a monodromy 1 ms: the key's derivative by a forward
+        # difference (its error ~ h ~ 1e-4, that of the central one the plants' noise / h ~
+        # 2e-4 alike), and the corrector's G_x exact at every iterate (fewer iterates)
+        prob.central, prob.exact_gx = False, True
         return prob
     speed = scenario.with_changes(**{key: float(p0)}).speed
     sx = np.full(x0.size, max(np.max(np.abs(x0[: x0.size // 2])), 1e-12))
@@ -842,7 +918,7 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
     sig = _tests(gz, t, jac)
     stopped = "points"
     while len(pts) < points:
-        out = _chord(prob, z + ds * t, t, gz)
+        out = _chord(prob, z + ds * t, t, gz, ds=ds)
         chord = out is not None
         if not chord:
             out = _correct(prob, z + ds * t, t)

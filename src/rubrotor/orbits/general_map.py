@@ -11,11 +11,14 @@ is a fixed point of the ``k``-revolution map. At the fixed point ``F`` is the co
 the orbit itself produces; its directions add multipliers near zero (a force is set by the
 state it acts on), which never decide stability.
 
-Monodromy: central differences of the map (``2 dim + 1`` runs of the compiled kernel, each
-increment ``6e-6`` of the component's scale; the map is affine outside contact, so the
-differences are exact there). The seed rotor's map (:mod:`rubrotor.orbits.shooting`) propagates the
-variational equations instead; this general map is the second route, for any rotor the
-engine runs, at constant speed.
+Monodromy: the exact derivative of the discrete map, propagated in the same compiled run
+(:func:`rubrotor.core.engine_tangent.map_tangent`: the implicit contact step differentiated by
+the implicit function theorem, as the seed rotor's map in :mod:`rubrotor.orbits.shooting`
+does); central differences of the plain map (:meth:`GeneralMap.differences`, ``2 dim + 1``
+runs, each increment ``6e-6`` of the component's scale) remain as the second route and where a
+step closed a grazing contact by its set-valued rule. A map at another speed
+(:meth:`GeneralMap.at_speed`) updates only the speed-dependent parts of the plant
+(:class:`rubrotor.orbits.speed_family.SpeedFamily`).
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ from rubrotor.core.engine import (
     OK,
     expo_fixed,
 )
+from rubrotor.core.engine_tangent import map_tangent
 from rubrotor.engine.driver import _control, _no_drive, _steps, build_plant
 from rubrotor.engine.settings import Integrator
 from rubrotor.errors import InputError
@@ -62,10 +66,13 @@ class GeneralMap:
     probes : sequence of float
         Axial stations (m) whose deflection the kernel writes after the contact stations'
         (``_kernel``'s samples); the orbit itself does not depend on them.
+    family : rubrotor.orbits.speed_family.SpeedFamily, optional
+        Take the plant from this family of the same rotor (only the speed-dependent parts
+        updated; its probes) instead of building it (:meth:`at_speed` passes it).
     """
 
     def __init__(self, scenario, k: int, steps: int, speed: float | None = None,
-                 reference: GeneralMap | None = None, probes=()):  # fmt: skip
+                 reference: GeneralMap | None = None, probes=(), family=None):  # fmt: skip
         from rubrotor.engine.general import engine_problem
 
         eng = scenario.engine
@@ -79,15 +86,21 @@ class GeneralMap:
             raise InputError("contact", None, "at least one [[contact]] station")
         self.scenario, self.k, self.steps = scenario, int(k), int(steps)
         self.speed = float(scenario.speed if speed is None else speed)
-        integ = Integrator(revolutions=float(k), dtau=2 * math.pi / steps, save_every=1,
-                           probes=tuple(probes))  # fmt: skip
-        system, run, kw, _ = engine_problem(scenario, integ)
+        if family is None:
+            integ = Integrator(revolutions=float(k), dtau=2 * math.pi / steps, save_every=1,
+                               probes=tuple(probes))  # fmt: skip
+            system, run, kw, _ = engine_problem(scenario, integ)
+        else:  # the same rotor and settings: nothing to rebuild but the speed's parts
+            system, run, kw = family.problem
         self.system = system
         T = 2 * math.pi / self.speed
         run = dataclasses.replace(run, speed=self.speed, initial="steady", duration=k * T,
                                   step=T / steps, save_every=1)  # fmt: skip
-        plant = build_plant(system, run, **kw, dense=True)  # exact modes: maps are compared
-        # across key values (ARPACK's tolerance would be noise of ~1e-10 between them)
+        if family is None:  # exact modes: maps are compared across key values (ARPACK's
+            plant = build_plant(system, run, **kw, dense=True)  # tolerance: ~1e-10 noise)
+        else:
+            plant = family.plant(self.speed)
+        self.family, self._problem = family, (system, run, kw)
         self.reference = reference
         if reference is not None:
             plant = aligned(plant, reference.plant)
@@ -100,9 +113,18 @@ class GeneralMap:
         self._nch = 4 * len(plant.stations) + CONTACT_CHANNELS * len(kw["stations"])
 
     def at_speed(self, speed: float) -> GeneralMap:
-        """The same map at another spin speed (rad/s): the plant is rebuilt and its modes
-        aligned with this map's (or its reference's), so that ``x`` means the same there."""
-        return GeneralMap(self.scenario, self.k, self.steps, speed, self.reference or self)
+        """The same map at another spin speed (rad/s), its modes aligned with this map's (or
+        its reference's), so that ``x`` means the same there. Only the speed-dependent parts
+        of the plant are updated (:class:`rubrotor.orbits.speed_family.SpeedFamily`, shared by
+        every map derived from this one): no dense eigen-decomposition per speed."""
+        from rubrotor.orbits.speed_family import SpeedFamily
+
+        if self.family is None:
+            self.family = SpeedFamily(*self._problem, self.plant)
+        family = self.family if self.family.usable else None  # else rebuilt (non-symmetric
+        # mass, stiffness or damping bands: no transposed problem to reuse)
+        return GeneralMap(self.scenario, self.k, self.steps, speed, self.reference or self,
+                          family=family)  # fmt: skip
 
     def repeat(self, k: int) -> GeneralMap:
         """The same map over ``k`` revolutions (the same plant and step coefficients)."""
@@ -156,11 +178,45 @@ class GeneralMap:
         )  # fmt: skip
 
     def run(self, x: np.ndarray, jacobian: bool = False):
-        """``(P(x), dP/dx or None, largest contact-station radius m)`` of the map from ``x``."""
+        """``(P(x), dP/dx or None, largest contact-station radius m)`` of the map from ``x``.
+
+        The Jacobian is the exact derivative of the discrete map, propagated in the same
+        compiled run (:func:`rubrotor.core.engine_tangent.map_tangent`); where a step closed a
+        grazing contact by its set-valued rule (no derivative of that form) it falls back to
+        central differences (:meth:`differences`).
+        """
+        x = np.asarray(x, float)
+        if not jacobian:
+            px, radius = self._run(x)
+            return px, None, radius
+        px, jac, radius, grazes = self.tangent(x)
+        if grazes:
+            return self.differences(x)
+        return px, jac, radius
+
+    def tangent(self, x: np.ndarray, columns: np.ndarray | None = None):
+        """``(P(x), dP/dx @ columns, radius m, grazing steps)`` by the compiled variational run;
+        ``columns`` (dim, d) tangent vectors in the units of ``x``, by default the identity
+        (the whole Jacobian)."""
+        ns = self.ns
+        y = x[:ns] + 1j * x[ns : 2 * ns]
+        F = np.array(x[2 * ns :], float)
+        V = np.eye(self.dim) if columns is None else np.asarray(columns, float)
+        Qy = np.ascontiguousarray((V[:ns] + 1j * V[ns : 2 * ns]).T)
+        QF = np.ascontiguousarray(V[2 * ns :].T)
+        out = np.zeros(3)
+        done = map_tangent(y, F, Qy, QF, self._steps, self.plant.contacts, self.plant.outputs,
+                           self.speed, self.k * self.steps, out)  # fmt: skip
+        if int(out[1]) != OK or done < self.k * self.steps:
+            raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")
+        jac = np.vstack([Qy.real.T, Qy.imag.T, QF.T])
+        return np.concatenate([y.real, y.imag, F]), jac, float(out[0]), int(out[2])
+
+    def differences(self, x: np.ndarray):
+        """``(P(x), dP/dx, radius m)`` with the Jacobian by central differences (``2 dim``
+        runs, increments :data:`FD_STEP` of each component's scale): the second route."""
         x = np.asarray(x, float)
         px, radius = self._run(x)
-        if not jacobian:
-            return px, None, radius
         scale = self._scales(x)
         jac = np.empty((x.size, x.size))
         for j in range(x.size):

@@ -166,7 +166,7 @@ def lyapunov_exponents(
     ):
         if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
             raise InputError(name, v, f"an integer >= {lo}")
-    if scenario.model.fe_rotor:  # the general engine's map, differences along the vectors
+    if scenario.model.fe_rotor:  # the general engine's map, its tangents propagated
         return lyapunov_general(scenario, count=count, revolutions=revolutions,
                                 transient_revolutions=transient_revolutions,
                                 steps=steps_per_revolution, start=start, seed=seed)  # fmt: skip
@@ -226,10 +226,10 @@ def lyapunov_general(scenario, *, count: int = 1, revolutions: int = 100,
 
     Benettin's method on the map of ``rubrotor.orbits.general_map.GeneralMap`` (:func:`benettin`):
     every revolution the ``count`` tangent vectors (in coordinates scaled by the start state's
-    modal amplitude and contact force, so that both weigh alike) are carried by central
-    differences of the compiled map along each of them (``2 count`` map runs, increment
-    ``FD_STEP`` of that module; exact outside contact, where the map is affine) and
-    re-orthonormalised (QR), their log growths summed. The exponents are those of the discrete
+    modal amplitude and contact force, so that both weigh alike) are carried exactly by the
+    map's variational equations in the same compiled run (central differences of the map along
+    each of them only in a revolution with a grazing step) and re-orthonormalised (QR), their
+    log growths summed. The exponents are those of the discrete
     map, per revolution and per second.
 
     Parameters
@@ -298,10 +298,15 @@ def benettin(mp, x, count: int, transient_revolutions: int, revolutions: int, se
 def _tangent_revolution(mp, x: np.ndarray, Q: np.ndarray, scale: np.ndarray):
     """One revolution of the state and of the orthonormal tangent vectors ``Q`` (columns, in
     the coordinates ``x / scale``, so that modal amplitudes and forces weigh alike):
-    ``(P(x), Q', log growths)`` with ``J Q = Q' R`` by central differences along each vector."""
+    ``(P(x), Q', log growths)`` with ``J Q = Q' R``, ``J Q`` propagated exactly in the compiled
+    run (``GeneralMap.tangent``), by central differences along each vector in a revolution
+    that closed a grazing contact by its set-valued rule."""
     from rubrotor.orbits.general_map import FD_STEP as _FD_STEP
 
-    px = mp.run(x)[0]
+    px, JV, _, grazes = mp.tangent(x, scale[:, None] * Q)
+    if not grazes:
+        Q, R = np.linalg.qr(JV / scale[:, None])
+        return px, Q, np.log(np.abs(np.diag(R)))
     JQ = np.column_stack([(mp.run(x + _FD_STEP * scale * q)[0]
                            - mp.run(x - _FD_STEP * scale * q)[0]) / (2 * _FD_STEP * scale)
                           for q in Q.T])  # fmt: skip

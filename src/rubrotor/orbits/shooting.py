@@ -355,8 +355,8 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
         Rotor, speed (rad/s), unbalance, contact, damping (no side load needed; with a load the
         guess must be at unbalance angle 0). A general rotor (``[[section]]`` tables, the
         general engine at constant speed) is shot on its reduced modal state (the map of
-        ``rubrotor.orbits.general_map``, difference monodromy); its states are the vectors
-        ``[Re y, Im y, F]`` of that module.
+        ``rubrotor.orbits.general_map``, its monodromy propagated in the compiled run); its
+        states are the vectors ``[Re y, Im y, F]`` of that module.
     guess : RotorState, optional
         Start of Newton (e.g. a previous orbit's state or a simulation's ``final_state``);
         default the steady no-contact orbit's state.

@@ -270,6 +270,9 @@ class Bearing:
         ``"pinned"``: both deflections are exactly zero (no coefficients allowed).
     name : str
         Label.
+    fail_time : float, optional
+        Time (s) from which the bearing no longer holds the rotor (a magnetic bearing losing
+        levitation); honoured by free-spin runs (:mod:`rubrotor.engine.spin`).
     """
 
     position: float
@@ -284,10 +287,15 @@ class Bearing:
     speeds: Sequence[float] | None = None
     kind: str = "bearing"
     name: str = ""
+    fail_time: float | None = None
     _table: tuple = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
         _number("bearing.position", self.position, "m")
+        if self.fail_time is not None:
+            _finite_positive("bearing.fail_time", self.fail_time, "s", allow_zero=True)
+            if self.kind == "pinned":
+                raise InputError("bearing.fail_time", self.fail_time, 'none with kind = "pinned"')
         if self.kind not in BEARING_KINDS:
             raise InputError(
                 "bearing.kind", self.kind, " or ".join(f'"{k}"' for k in BEARING_KINDS)

@@ -17,6 +17,11 @@ allowed. The new keys, their kinds, units and ranges are listed in :data:`ENGINE
     [speed]       profile = "constant" (default) | "linear" with from, to (rad/s) over the run
                   | "table" with times (s) and speeds (rad/s), linear between rows; step
                   (rad/s, largest speed change between re-diagonalisations)
+                  | "free": the speed is a state from rad_per_s (rpm, hz), with drive_torque
+                  (N m) or drive_torques (N m) against drive_speeds (rad/s), and drag (N m s)
+                  (:mod:`rubrotor.engine.spin`); then [[contact]] ring_inertia (kg m^2),
+                  ring_radius (m), ring_drag (N m s) make a stator a touchdown ring and
+                  [[bearing]] fail_time (s) switches a bearing off
     [initial]     state = "rest" | "steady" | "static" | "file" with path (a results file of
                   the general engine; the run continues from its final state) | "given" with
                   positions (m) and any of v, w (m), v_dot, w_dot (m/s), one per position: the
@@ -48,6 +53,8 @@ _ENGINE_NAMES = (
     "unbalance.position", "unbalance.magnitude", "unbalance.phase", "unbalance.phase_deg",
     "load.position", "load.force_y", "load.force_z", "gravity.y", "gravity.z",
     "speed.profile", "speed.from", "speed.to", "speed.step", "speed.times", "speed.speeds",
+    "contact.ring_inertia", "contact.ring_radius", "contact.ring_drag",
+    "speed.drive_torque", "speed.drive_torques", "speed.drive_speeds", "speed.drag",
     "initial.state", "initial.path", "initial.positions", "initial.v", "initial.w",
     "initial.v_dot", "initial.w_dot", "initial.modes", "initial.amplitudes",
     "initial.modal_velocities",
@@ -67,12 +74,13 @@ class Builders(NamedTuple):
     build_contact: Callable
 
 
-PROFILES = ("constant", "linear", "table")
+PROFILES = ("constant", "linear", "table", "free")
 ENGINE_INITIAL = ("static", "file", "given")
 _GIVEN = ("v", "w", "v_dot", "w_dot")
 _MODAL = ("modes", "amplitudes", "modal_velocities")
 _CONTACT_NEW = tuple(k.split(".", 1)[1] for k in ENGINE_KEYS if k.startswith("contact."))
 _SPEED_NEW = ("profile", "from", "to", "step", "times", "speeds")
+_FREE_KEYS = ("drive_torque", "drive_torques", "drive_speeds", "drag")
 _SIM_NEW = ("modes", "cutoff", "residual")
 
 
@@ -129,6 +137,8 @@ class EngineSpec:
     speed_table: tuple | None = None
     initial_given: tuple | None = None
     initial_modes: tuple | None = None
+    free_spin: object = None
+    rings: tuple | None = None
 
     @property
     def positions(self) -> tuple[float, ...]:
@@ -218,11 +228,14 @@ def _split_speed(base: dict, extras: dict) -> None:
     sp = base.get("speed")
     if not isinstance(sp, Mapping):
         return
-    if not any(k in sp for k in _SPEED_NEW):
+    if not any(k in sp for k in _SPEED_NEW + _FREE_KEYS):
         return
     profile = _value("speed.profile", sp.get("profile", "constant"))
     if profile not in PROFILES:
-        raise _err("speed.profile", profile, '"constant", "linear" or "table"')
+        raise _err("speed.profile", profile, '"constant", "linear", "table" or "free"')
+    if profile == "free" or any(k in sp for k in _FREE_KEYS):
+        _split_free(sp, profile, base, extras)
+        return
     rest = {k: v for k, v in sp.items() if k not in _SPEED_NEW}
     owners = {"from": "linear", "to": "linear", "step": "linear or table", "times": "table",
               "speeds": "table"}  # fmt: skip
@@ -250,6 +263,26 @@ def _split_speed(base: dict, extras: dict) -> None:
         )
     base["speed"] = {"rad_per_s": sp["from"]}
     extras["speed"] = {k: sp[k] for k in _SPEED_NEW if k in sp}
+
+
+def _split_free(sp: Mapping, profile: str, base: dict, extras: dict) -> None:
+    """``[speed] profile = "free"``: the start speed stays in ``[speed]``; the drive and drag
+    keys (:data:`_FREE_KEYS`) go to the engine."""
+    for k in _FREE_KEYS:
+        if k in sp and profile != "free":
+            raise _err(f"speed.{k}", sp[k], 'to be given only with speed.profile = "free"')
+    for k in _SPEED_NEW[1:]:
+        if k in sp:
+            raise _err(f"speed.{k}", sp[k], 'no profile key with speed.profile = "free" (give '
+                       "rad_per_s, rpm or hz for the start speed)")  # fmt: skip
+    free = {k: _value(f"speed.{k}", sp[k]) for k in _FREE_KEYS if k in sp}
+    if ("drive_torques" in free) != ("drive_speeds" in free) or (
+        "drive_torques" in free and "drive_torque" in free
+    ):
+        raise _err("speed.drive_torques / speed.drive_speeds", tuple(free.values()),
+                   "both lists together (equal lengths >= 2), or drive_torque alone")  # fmt: skip
+    base["speed"] = {k: v for k, v in sp.items() if k not in _SPEED_NEW + _FREE_KEYS}
+    extras["speed"] = {"free": free}
 
 
 def _split_table(sp: Mapping, rest: dict, base: dict, extras: dict) -> None:
@@ -490,7 +523,60 @@ def build_engine(extras: dict, parts: dict, builders: Builders) -> EngineSpec:
         raise _err("simulation.modes / simulation.cutoff", (modes, cutoff), "at most one")
     residual = _value("simulation.residual", sim.get("residual", True))
     return EngineSpec(stations, unb, loads, gravity, speed_end, speed_step, state, path, modes,
-                      cutoff, residual, speed_table, given, modal)  # fmt: skip
+                      cutoff, residual, speed_table, given, modal, _free_spin(extras),
+                      _rings(extras, stations, parts["rotor"]))  # fmt: skip
+
+
+def _rings(extras: dict, stations, rotor):
+    """Per contact its :class:`~rubrotor.engine.spin.TouchdownRing` (None: a fixed stator), or
+    None without rings; rings and failing bearings need ``speed.profile = "free"``."""
+    free = extras.get("speed", {}).get("free") is not None
+    fails = [b.fail_time for b in getattr(rotor, "bearings", ()) if b.fail_time is not None]
+    if fails and not free:
+        raise _err("bearing.fail_time", fails[0], 'a run with speed.profile = "free"')
+    if len(set(fails)) > 1:
+        raise _err("bearing.fail_time", tuple(fails), "one time shared by the failing bearings")
+    items = extras.get("contact", [])
+    if not any("ring_inertia" in c for c in items):
+        for i, c in enumerate(items):
+            for k in ("ring_radius", "ring_drag"):
+                if k in c:
+                    raise _err(f"contact[{i + 1}].{k}", c[k], "to be given with ring_inertia")
+        return None
+    if not free:
+        raise _err("contact.ring_inertia", "set", 'a run with speed.profile = "free"')
+    from rubrotor.engine.spin import TouchdownRing
+
+    out = []
+    for i, (c, s) in enumerate(zip(items, stations, strict=True)):
+        if "ring_inertia" not in c:
+            out.append(None)
+            continue
+        vals = {k: _value(f"contact[{i + 1}].ring_{k}", c[f"ring_{k}"], f"contact.ring_{k}")
+                for k in ("inertia", "radius", "drag") if f"ring_{k}" in c}  # fmt: skip
+        vals.setdefault("radius", s.contact.radius + s.contact.clearance)
+        out.append(TouchdownRing(**{k: float(v) for k, v in vals.items()}))
+    return tuple(out)
+
+
+def _free_spin(extras: dict):
+    """The :class:`~rubrotor.engine.spin.FreeSpin` of ``[speed] profile = "free"``, else None."""
+    free = extras.get("speed", {}).get("free")
+    if free is None:
+        return None
+    from rubrotor.engine.spin import FreeSpin
+
+    if "drive_torques" in free:
+        tq, w = tuple(map(float, free["drive_torques"])), tuple(map(float, free["drive_speeds"]))
+        if (
+            len(tq) != len(w)
+            or len(w) < 2
+            or any(b <= a for a, b in zip(w[:-1], w[1:], strict=True))
+        ):
+            raise _err("speed.drive_speeds", w, "increasing speeds (rad/s), one per "
+                       "drive_torques value, at least two")  # fmt: skip
+        return FreeSpin(tq, w, float(free.get("drag", 0.0)))
+    return FreeSpin(float(free.get("drive_torque", 0.0)), None, float(free.get("drag", 0.0)))
 
 
 def _position_on(span, x: float) -> None:

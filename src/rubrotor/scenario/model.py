@@ -49,12 +49,16 @@ class Model:
     features : tuple of str
         Scenario keys that need the general engine, in schema order (empty on the shaft's
         engine).
+    spin : {"imposed", "free"}
+        ``"free"`` when the spin speed is a state (``[speed] profile = "free"``, run by
+        :mod:`rubrotor.engine.spin`), else ``"imposed"``.
     """
 
     rotor: str
     engine: str
     formulation: str
     features: tuple[str, ...] = ()
+    spin: str = "imposed"
 
     @classmethod
     def for_scenario(cls, scenario) -> Model:
@@ -87,7 +91,9 @@ class Model:
                 "form runs only on the shaft's engine: one [contact], [unbalance] and [load] "
                 "table, no [gravity], constant speed)",
             )
-        return cls(rotor=rotor, engine=engine, formulation=formulation, features=features)
+        spin = "free" if getattr(scenario.engine, "free_spin", None) is not None else "imposed"
+        return cls(rotor=rotor, engine=engine, formulation=formulation, features=features,
+                   spin=spin)  # fmt: skip
 
     @property
     def general(self) -> bool:
@@ -142,7 +148,12 @@ def engine_features(spec) -> tuple[str, ...]:
         ("unbalance", len(spec.unbalances) > 1),
         ("load", len(spec.loads) > 1),
         ("gravity", any(g != 0 for g in spec.gravity)),
-        ("speed.profile", spec.speed_end is not None or spec.speed_table is not None),
+        (
+            "speed.profile",
+            spec.speed_end is not None
+            or spec.speed_table is not None
+            or spec.free_spin is not None,
+        ),
         ("initial.state", spec.initial not in ("rest", "steady")),
         ("reduction", spec.modes is not None or spec.cutoff is not None or not spec.residual),
     )

@@ -224,6 +224,8 @@ def rotor_to_dict(rotor: Rotor) -> dict:
             item[c] = list(v) if not isinstance(v, int | float) else v
         if b.speeds is not None:
             item["speeds"] = list(b.speeds)
+        if b.fail_time is not None:
+            item["fail_time"] = b.fail_time
         bearings.append(item)
     out = {"materials": materials, "section": sections, "bearing": bearings}
     if disks:

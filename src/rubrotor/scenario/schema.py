@@ -387,6 +387,8 @@ _BEARING = (
     _k("bearing", "kind", "str", "", "A bearing of coefficients, or a pinned support",
        choices=BEARING_KINDS, default="bearing"),
     _k("bearing", "name", "str", "", "Label", default=""),
+    _k("bearing", "fail_time", "number", "s", "Time at which the bearing stops holding the "
+       'rotor (a magnetic bearing losing levitation; speed.profile = "free")', _closed(0.0)),
 )  # fmt: skip
 _ROTOR = (
     _k("rotor", "theory", "str", "", "Beam theory", choices=THEORIES, default="timoshenko"),
@@ -415,7 +417,22 @@ _ENGINE = (
        _closed(-1e4, 1e4), default=0.0),
     _k("speed", "profile", "str", "", "Speed against time: constant, linear from ... to over "
        "the run (run-up, coast-down), or a table of times and speeds (linear between rows)",
-       choices=("constant", "linear", "table"), default="constant"),
+       choices=("constant", "linear", "table", "free"), default="constant"),
+    _k("contact", "ring_inertia", "number", "kg m^2", "Polar inertia of a touchdown bearing's "
+       'inner ring, the spinning stator of this contact (speed.profile = "free")',
+       _positive(1e6)),
+    _k("contact", "ring_radius", "number", "m", "Bore radius of the touchdown ring (default "
+       "radius + clearance)", _positive(1e3)),
+    _k("contact", "ring_drag", "number", "N m s", "Drag coefficient of the touchdown ring's "
+       "bearing: torque -ring_drag omega_ring", _closed(0.0, 1e9), default=0.0),
+    _k("speed", "drive_torque", "number", "N m", 'Constant motor torque of a free spin speed '
+       '(profile = "free")', _closed(-1e9, 1e9), default=0.0),
+    _k("speed", "drive_torques", "list", "N m", "Motor torque table of a free spin speed, one "
+       "per drive_speeds row (linear between rows, held beyond)", _closed(-1e9, 1e9)),
+    _k("speed", "drive_speeds", "list", "rad/s", "Speeds of the drive_torques table, increasing",
+       _closed(0.0, 1e7)),
+    _k("speed", "drag", "number", "N m s", 'Drag coefficient of a free spin speed: torque '
+       '-drag Omega (profile = "free")', _closed(0.0, 1e9), default=0.0),
     _k("speed", "times", "list", "s", "Times of a speed table (from 0, increasing, up to "
        "simulation.duration, on the sample grid)", _closed(0.0)),
     _k("speed", "speeds", "list", "rad/s", "Speeds of a speed table, one per time",
