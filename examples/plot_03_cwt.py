@@ -17,7 +17,7 @@ from rubrotor import Integrator
 scenarios = Path(rubrotor.__file__).parent / "scenarios"
 sc = rubrotor.load_scenario(scenarios / "seed_case1.toml")
 ds = rubrotor.simulate(sc, integrator=Integrator(revolutions=30))
-acc = ds["v_ddot"].values
+acc = ds["v_ddot"].values[0]  # station 0: the contact station
 fs = 1.0 / float(ds["time"][1] - ds["time"][0])  # Hz
 freqs = np.geomspace(500.0, 30000.0, 96)  # Hz
 res = rubrotor.cwt(acc, fs=fs, frequencies=freqs)

@@ -75,10 +75,17 @@ def test_reproduction_summary_and_sweep_point_agree_on_one_run():
         progress=False,
     )
     m = case_metrics(ds, PERIODIC.contact.clearance)
-    p = ds["v"].values + 1j * ds["w"].values
+    p = ds["v"].values[0] + 1j * ds["w"].values[0]  # the contact station
     events = ds["event_time"].values * ds["event_kind"].values
     pm = point_metrics(
-        ds["time"].values, p, ds["normal_force"].values, events, PERIODIC.speed, revs // 2, revs, n
+        ds["time"].values,
+        p,
+        ds["normal_force"].values[0],
+        events,
+        PERIODIC.speed,
+        revs // 2,
+        revs,
+        n,
     )
     label = regime_label(pm["regime"], pm["period"])
     assert label == "partial rub (period-1)"

@@ -41,12 +41,15 @@ def test_dataset_layout_units_and_provenance(short_run, case1):
         assert ds[name].attrs["units"] == unit
     assert ds["time"].attrs["units"] == "s"
     assert ds["tau"].values[-1] == pytest.approx(case1.speed * ds["time"].values[-1])
-    assert ds["probe_v"].dims == ("probe", "time")
-    np.testing.assert_allclose(ds["probe"].values, [0.1, 0.3])
+    # one layout for every rotor: the contact station, then the probes, on ``station`` (m)
+    assert ds["v"].dims == ("station", "time")
+    assert ds["normal_force"].dims == ("contact", "time") and ds.sizes["contact"] == 1
+    np.testing.assert_allclose(ds["station"].values, [0.2, 0.1, 0.3])
+    assert ds["station"].attrs["units"] == "m"
     # symmetric shaft, midspan force: probes at 0.1 and 0.3 m see the same deflection
-    np.testing.assert_allclose(
-        ds["probe_v"][0], ds["probe_v"][1], atol=1e-12 * float(abs(ds["v"]).max())
-    )
+    np.testing.assert_allclose(ds["v"][1], ds["v"][2], atol=1e-12 * float(abs(ds["v"]).max()))
+    assert json.loads(ds.attrs["contacts"])[0]["clearance"] == pytest.approx(1.2e-3)
+    assert ds.attrs["end_time_s"] == pytest.approx(float(ds["time"][-1]))
     params = json.loads(ds.attrs["parameters"])
     assert params["contact.clearance"][1] == "m"
     assert params["contact.clearance"][0] == pytest.approx(1.2e-3)
@@ -54,11 +57,12 @@ def test_dataset_layout_units_and_provenance(short_run, case1):
     stats = json.loads(ds.attrs["integrator_stats"])
     assert stats["method"] == "exponential" and stats["steps"] > 0
     # in_contact flag is consistent with the force and with the clearance
-    touching = ds["in_contact"].values == 1
+    touching = ds["in_contact"].values[0] == 1
     assert touching.any()
-    d = np.hypot(ds["v"].values, ds["w"].values)
+    d = np.hypot(ds["v"].values[0], ds["w"].values[0])
     assert np.all(d[touching] > case1.contact.clearance)
-    assert np.all(ds["normal_force"].values[~touching] == 0)
+    assert np.all(ds["normal_force"].values[0][~touching] == 0)
+    assert np.all(ds["event_contact"].values == 0)
     # events alternate onset / separation
     kinds = ds["event_kind"].values
     assert kinds[0] == 1 and np.all(kinds[1:] != kinds[:-1])
@@ -74,6 +78,64 @@ def test_netcdf_round_trip_is_identical(short_run, tmp_path):
     back = rubrotor.load_dataset(path)
     xr.testing.assert_identical(short_run, back)
     assert not list(tmp_path.glob(".*.tmp"))  # atomic write leaves no temporary behind
+
+
+def _old_shaft_layout(ds):
+    """The continuous shaft's Dataset as written before the layouts were merged (contact
+    station on ``time``, probes as ``probe_*`` on ``probe``), rebuilt by hand from ``ds``."""
+    old = xr.Dataset(coords={"time": ds["time"], "tau": ds["tau"]}, attrs=dict(ds.attrs))
+    for k in ("engine", "start_time_s", "end_time_s", "contacts"):
+        del old.attrs[k]
+    names = ("v", "w", "v_dot", "w_dot", "v_ddot", "w_ddot")
+    for k in names:
+        old[k] = ("time", ds[k].values[0], ds[k].attrs)
+        old[f"probe_{k}"] = (("probe", "time"), ds[k].values[1:], ds[k].attrs)
+    old = old.assign_coords(probe=("probe", ds["station"].values[1:], {"units": "m"}))
+    for k in ("normal_force", "friction_force", "in_contact"):
+        old[k] = ("time", ds[k].values[0], ds[k].attrs)
+    for k in ("unbalance_force_y", "unbalance_force_z", "event_time", "event_kind"):
+        old[k] = ds[k]
+    return old
+
+
+def test_old_shaft_layout_file_loads_in_the_one_layout(short_run, tmp_path):
+    """A file in the old shaft layout (built by hand from today's run: the reference is the
+    run itself) loads with the same numbers on the station and contact dimensions."""
+    path = tmp_path / "old.nc"
+    _old_shaft_layout(short_run).to_netcdf(path)
+    back = rubrotor.load_dataset(path)
+    assert "probe" not in back.dims and not any(k.startswith("probe") for k in back.variables)
+    np.testing.assert_array_equal(back["station"].values, short_run["station"].values)
+    for k in ("v", "w", "v_dot", "w_dot", "v_ddot", "w_ddot", "normal_force", "in_contact"):
+        assert back[k].dims == short_run[k].dims
+        np.testing.assert_array_equal(back[k].values, short_run[k].values)
+    np.testing.assert_array_equal(back["event_contact"].values, 0)
+    assert back.attrs["engine"] == "shaft"
+    # the analyses read it as they read a new file
+    from rubrotor.analysis.verdict import dataset_verdict
+
+    assert dataset_verdict(back).as_dict() == dataset_verdict(short_run).as_dict()
+
+
+def test_old_layout_without_contact_converts_to_no_contact_rows():
+    """An old-layout Dataset of a run without contact (parameters name no ``contact.`` key):
+    the converted one has the contact station's samples on ``station`` and no contact rows.
+    The reference is the input arrays themselves."""
+    from rubrotor.engine.result import from_shaft_layout
+
+    t = np.linspace(0.0, 1e-2, 11)
+    old = xr.Dataset(coords={"time": ("time", t)}, attrs={
+        "contact_position_m": 0.2, "parameters": json.dumps({"shaft.length": [0.4, "m"]})})  # fmt: skip
+    for k, x in zip(("v", "w", "v_dot", "w_dot", "v_ddot", "w_ddot"), range(6), strict=True):
+        old[k] = ("time", np.sin(t * (x + 1)), {"units": "m"})
+    for k in ("normal_force", "friction_force", "in_contact"):
+        old[k] = ("time", np.zeros(t.size), {})
+    new = from_shaft_layout(old)
+    assert new.sizes["station"] == 1 and new.sizes["contact"] == 0
+    np.testing.assert_array_equal(new["station"].values, [0.2])
+    np.testing.assert_array_equal(new["w_ddot"].values[0], np.sin(t * 6))
+    assert json.loads(new.attrs["contacts"]) == []
+    assert from_shaft_layout(new) is new  # the one layout is left as it is
 
 
 def test_load_dataset_errors(tmp_path):

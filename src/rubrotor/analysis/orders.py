@@ -450,8 +450,7 @@ def dataset_orders(ds, orders=DEFAULT_TRACKED) -> list[dict]:
     Parameters
     ----------
     ds : xarray.Dataset
-        Results of :func:`rubrotor.simulate` (the general engine's ``station`` dimension, or the
-        seed engine's contact station and ``probe`` dimension).
+        Results of :func:`rubrotor.simulate` (every station of its ``station`` dimension).
     orders : sequence of float
         Orders to track (default 0.5, 1, 2).
 
@@ -483,11 +482,5 @@ def dataset_orders(ds, orders=DEFAULT_TRACKED) -> list[dict]:
 
 def _station_orbits(ds):
     """``(position m, v, w)`` of every station of a results Dataset (m)."""
-    v, w = ds["v"].values, ds["w"].values
-    if v.ndim == 2:  # general engine: (station, time)
-        return [(float(x), v[j], w[j]) for j, x in enumerate(ds["station"].values)]
-    out = [(float(ds.attrs.get("contact_position_m", float("nan"))), v, w)]
-    if "probe" in ds.dims:
-        pv, pw = ds["probe_v"].values, ds["probe_w"].values
-        out += [(float(x), pv[j], pw[j]) for j, x in enumerate(ds["probe"].values)]
-    return out
+    v, w = ds["v"].values, ds["w"].values  # (station, time)
+    return [(float(x), v[j], w[j]) for j, x in enumerate(ds["station"].values)]

@@ -224,8 +224,7 @@ def _dataset_contact(ds) -> tuple[dict, float | None, tuple[float, float]]:
     ic = np.asarray(
         ds["in_contact"].values if "in_contact" in ds else ds["normal_force"].values > 0
     )
-    if ic.ndim == 2:  # general engine: (contact, time); no contact table gives no rows
-        ic = ic[0] if ic.shape[0] else np.zeros(t.size, np.int8)
+    ic = ic[0] if ic.shape[0] else np.zeros(t.size, np.int8)  # (contact, time); no contact: none
     kind = ds["event_kind"].values
     if "event_contact" in ds:
         kind = kind[ds["event_contact"].values == 0]
@@ -267,8 +266,7 @@ def dataset_verdict(ds) -> RubVerdict:
     for var in ("v", "w", "normal_force", "event_kind", "time"):
         if var not in ds.variables:
             raise InputError("results", f"no '{var}'", "a rubrotor simulation results Dataset")
-    v, w = ds["v"].values, ds["w"].values
-    v, w = (v[0], w[0]) if v.ndim == 2 else (v, w)
+    v, w = ds["v"].values[0], ds["w"].values[0]  # the first (contact) station
     if "stator_y" in ds and ds["stator_y"].shape[0]:  # relative to a flexible stator's motion
         v, w = v - ds["stator_y"].values[0], w - ds["stator_z"].values[0]
     contact, clearance, centre = _dataset_contact(ds)

@@ -245,7 +245,7 @@ def _file_signals(p: Path, ext: str, fs, columns, spin_hz) -> dict:
 
 
 def _acceleration_channels(ds) -> tuple[np.ndarray, np.ndarray]:
-    """``v_ddot, w_ddot`` (m/s^2) at the contact station: the first station of a general-engine
+    """``v_ddot, w_ddot`` (m/s^2) at the contact station: the first station of a results
     file (derived from the velocities by central differences when streamed without them)."""
     if "v_ddot" in ds.variables:
         v, w = ds["v_ddot"].values, ds["w_ddot"].values
@@ -253,7 +253,7 @@ def _acceleration_channels(ds) -> tuple[np.ndarray, np.ndarray]:
         t = ds["time"].values
         v = np.gradient(ds["v_dot"].values, t, axis=-1)
         w = np.gradient(ds["w_dot"].values, t, axis=-1)
-    return (v[0], w[0]) if v.ndim == 2 else (v, w)
+    return v[0], w[0]
 
 
 def _indicator_rows(d: dict) -> list[list[str]]:
@@ -345,11 +345,9 @@ def _dataset_orders(ds, orders) -> tuple[list[dict], dict]:
     sp = spin_from_dataset(ds)
     if np.ptp(sp.speed) <= 1e-6 * np.max(sp.speed):
         return rows, {}
-    v, w = ds["v"].values, ds["w"].values
-    if v.ndim == 2:
-        return rows, {float(x): track_orders(sp, v[j], w[j], orders=orders)
-                      for j, x in enumerate(ds["station"].values)}  # fmt: skip
-    return rows, {float(ds.attrs.get("contact_position_m", 0.0)): track_orders(sp, v, w, orders=orders)}  # fmt: skip
+    v, w = ds["v"].values, ds["w"].values  # (station, time)
+    return rows, {float(x): track_orders(sp, v[j], w[j], orders=orders)
+                  for j, x in enumerate(ds["station"].values)}  # fmt: skip
 
 
 def _order_figures(sig: dict, tracks: dict, args: argparse.Namespace, out: Path) -> list[Path]:
@@ -362,8 +360,7 @@ def _order_figures(sig: dict, tracks: dict, args: argparse.Namespace, out: Path)
         return []
     ds = sig["dataset"]
     if ds is not None:
-        v, w = ds["v"].values, ds["w"].values
-        y, z = (v[0], w[0]) if v.ndim == 2 else (v, w)
+        y, z = ds["v"].values[0], ds["w"].values[0]
         label = "displacement at the first station"
     else:
         y, z = sig["v"], sig["w"]

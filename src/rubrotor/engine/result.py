@@ -21,7 +21,7 @@ from rubrotor import __version__
 from rubrotor.engine.output import usual_mode
 from rubrotor.errors import InputError
 
-__all__ = ["to_dataset", "save_dataset", "load_dataset", "atomic_write"]
+__all__ = ["to_dataset", "from_shaft_layout", "save_dataset", "load_dataset", "atomic_write"]
 
 _STATION_VARS = (
     ("v", "m", "deflection along y (v)"),
@@ -89,13 +89,53 @@ def _var(dims, data, attrs: dict) -> xr.Variable:
     return xr.Variable(dims, data, attrs, fastpath=True)
 
 
+def _contacts_attr(result) -> str:
+    """The ``contacts`` attribute of the general layout: one rigid, centred stator or none."""
+    c = getattr(result, "contact", None)
+    if c is None:
+        return "[]"
+    return json.dumps([{
+        "position": float(result.stations[0]), "clearance": float(c.clearance),
+        "radius": None if c.radius is None else float(c.radius), "offset_y": 0.0,
+        "offset_z": 0.0, "flexible_stator": False,
+    }])  # fmt: skip
+
+
+def _contact_vars(ch: np.ndarray, row: int, nc: int) -> dict:
+    """``normal_force``, ``friction_force`` (N) and ``in_contact`` on ``(contact, time)``."""
+    fn = ch[row : row + nc]  # (nc, T) views: nc is 0 or 1
+    ft = ch[row + 1 : row + 1 + nc]
+    return {
+        "normal_force": _var(("contact", "time"), fn, {"units": "N", "long_name": "normal contact force"}),
+        "friction_force": _var(("contact", "time"), ft, {
+            "units": "N",
+            "long_name": "friction force along the tangent i*n (positive = spin direction)",
+        }),
+        "in_contact": _var(("contact", "time"), (fn > 0).view(np.int8),  # 0/1 bytes, no 2nd pass
+                           {"units": "1", "long_name": "rotor touches the stator", "flag_values": "0 1"}),
+    }  # fmt: skip
+
+
+def _event_vars(ev: np.ndarray, nc: int) -> dict:
+    """``event_time`` (s), ``event_contact`` and ``event_kind`` (+1 onset, -1 separation)."""
+    return {
+        "event_time": _var("event", np.abs(ev), {"units": "s", "long_name": "contact event time"}),
+        "event_contact": _var("event", np.zeros(len(ev), dtype=np.int64),
+                              {"long_name": "contact index"}),
+        "event_kind": _var("event", np.sign(ev).astype(np.int8),
+                           {"units": "1", "long_name": "+1 contact onset, -1 separation"}),
+    }  # fmt: skip
+
+
 def to_dataset(
     result, parameters: dict | None = None, scenario_text: str = "", name: str = ""
 ) -> xr.Dataset:
     """Build the results Dataset of a :class:`rubrotor.engine.simulate.SimulationResult`.
 
-    The sample variables are views of the result's arrays (no copy); the unbalance force is
-    computed when first read (it is a closed form of the time).
+    The layout is the general engine's (``rubrotor.engine.driver.result_dataset``): output
+    stations on a ``station`` dimension, contacts on a ``contact`` dimension. The sample
+    variables are views of the result's arrays (no copy); the unbalance force is computed when
+    first read (it is a closed form of the time).
 
     Parameters
     ----------
@@ -112,44 +152,35 @@ def to_dataset(
     Returns
     -------
     xarray.Dataset
-        Coordinates ``time`` (s) and ``tau = Omega t`` (rad); variables at the contact station
-        (midspan without contact) ``v, w`` (m), ``v_dot, w_dot`` (m/s), ``v_ddot, w_ddot``
-        (m/s^2), ``normal_force``, ``friction_force`` (along the tangent ``i n``, ``n = P/|P|``:
-        the force on the rotor is ``-(F_n + i F_t) n``),
-        ``unbalance_force_y``, ``unbalance_force_z`` (N), ``in_contact`` (0/1); probes on a
-        ``probe`` dimension (axial position, m) as ``probe_v`` etc.; contact events as
-        ``event_time`` (s) and ``event_kind`` (+1 onset, -1 separation). Attributes hold the
-        status, message, integrator statistics, work terms, parameters and scenario text.
+        Coordinates ``time`` (s), ``tau = Omega t`` (rad), ``station`` (axial position, m: the
+        contact station, midspan without contact, then the probes) and ``contact`` (index; one
+        entry with a contact, none without). Variables on ``(station, time)``: ``v, w`` (m),
+        ``v_dot, w_dot`` (m/s), ``v_ddot, w_ddot`` (m/s^2); on ``(contact, time)``:
+        ``normal_force``, ``friction_force`` (N, along the tangent ``i n``, ``n = P/|P|``: the
+        force on the rotor is ``-(F_n + i F_t) n``) and ``in_contact`` (0/1); on ``time``:
+        ``unbalance_force_y``, ``unbalance_force_z`` (N); on ``event``: ``event_time`` (s),
+        ``event_contact`` and ``event_kind`` (+1 onset, -1 separation). Attributes hold the
+        status, message, speed (rad/s, Hz), integrator statistics, the contacts (JSON), the
+        end time (s), work terms, parameters and scenario text.
     """
-    ch = result.channels
-    t = result.time
+    ch, t = result.channels, result.time
     nst = len(result.stations)
+    nc = 0 if getattr(result, "contact", None) is None else 1
     coords = {
         "time": _var("time", t, {"units": "s", "long_name": "time"}),
         "tau": _var(
             "time", result.speed * t, {"units": "rad", "long_name": "dimensionless time Omega t"}
         ),
-    }
+        "station": _var("station", np.asarray(result.stations, dtype=float),
+                        {"units": "m", "long_name": "axial position"}),
+        "contact": _var("contact", np.arange(nc), {"long_name": "contact index"}),
+    }  # fmt: skip
     data = {}
-    for i, (name_v, unit, long) in enumerate(_STATION_VARS):
+    for i, (name_v, unit, long) in enumerate(_STATION_VARS):  # rows 6 s + i: strided views
         data[name_v] = _var(
-            "time", ch[i], {"units": unit, "long_name": f"{long} at the contact station"}
+            ("station", "time"), ch[i : 6 * nst : 6], {"units": unit, "long_name": long}
         )
-    b = 6 * nst
-    data["normal_force"] = _var("time", ch[b], {"units": "N", "long_name": "normal contact force"})
-    data["friction_force"] = _var(
-        "time",
-        ch[b + 1],
-        {
-            "units": "N",
-            "long_name": "friction force along the tangent i*n (positive = spin direction)",
-        },
-    )
-    data["in_contact"] = _var(
-        "time",
-        (ch[b] > 0).view(np.int8),  # a bool array read as 0/1 bytes: no second pass
-        {"units": "1", "long_name": "rotor touches the stator", "flag_values": "0 1"},
-    )
+    data.update(_contact_vars(ch, 6 * nst, nc))
     fu = _Phasor(result.unbalance_force, result.speed, t)
     for axis, part in (("y", "real"), ("z", "imag")):
         data[f"unbalance_force_{axis}"] = _var(
@@ -157,25 +188,10 @@ def to_dataset(
             _lazy(_LazyPart(fu, part)),
             {"units": "N", "long_name": f"unbalance force, {axis}"},
         )
-    if nst > 1:
-        coords["probe"] = _var(
-            "probe", result.stations[1:], {"units": "m", "long_name": "probe axial position"}
-        )
-        for i, (name_v, unit, long) in enumerate(_STATION_VARS):
-            rows = ch[6 + i : b : 6]  # stations 1 .. S - 1: a strided view
-            data[f"probe_{name_v}"] = _var(
-                ("probe", "time"), rows, {"units": unit, "long_name": f"{long} at probe"}
-            )
-    ev = result.events
-    coords["event"] = _var("event", np.arange(len(ev)), {"long_name": "contact event index"})
-    data["event_time"] = _var(
-        "event", np.abs(ev), {"units": "s", "long_name": "contact event time"}
+    coords["event"] = _var(
+        "event", np.arange(len(result.events)), {"long_name": "contact event index"}
     )
-    data["event_kind"] = _var(
-        "event",
-        np.sign(ev).astype(np.int8),
-        {"units": "1", "long_name": "+1 contact onset, -1 separation"},
-    )
+    data.update(_event_vars(result.events, nc))
     attrs = {
         "title": f"rubrotor simulation {name}".strip(),
         "scenario_name": name,
@@ -183,7 +199,11 @@ def to_dataset(
         "status_message": result.message,
         "speed_rad_s": result.speed,
         "speed_hz": result.speed / (2 * math.pi),
+        "start_time_s": 0.0,
+        "end_time_s": float(t[-1]) if t.size else 0.0,
+        "engine": "shaft",
         "contact_position_m": float(result.stations[0]),
+        "contacts": _contacts_attr(result),
         "rubrotor_version": __version__,
         "integrator_stats": json.dumps(_jsonable(result.stats)),
         "work": json.dumps(_jsonable(result.work)),
@@ -245,6 +265,58 @@ def save_dataset(ds: xr.Dataset, path: str | os.PathLike) -> Path:
     return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4"))
 
 
+def from_shaft_layout(ds: xr.Dataset) -> xr.Dataset:
+    """A Dataset of the old continuous-shaft layout, in the one layout.
+
+    The one layout is that of :func:`~rubrotor.engine.result.to_dataset`.
+
+    Files written before the layouts were merged kept ``v, w, ...`` on ``time`` (the contact
+    station), probes as ``probe_v, ...`` on a ``probe`` dimension and the forces on ``time``.
+    Here the contact station and the probes become rows of a ``station`` dimension (axial
+    position, m) and the forces rows of a ``contact`` dimension (one entry when the file's
+    parameters name a contact, none otherwise). A Dataset already in the one layout is returned
+    as it is.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Results read from a file.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    if "station" in ds.dims or "v" not in ds or ds["v"].dims != ("time",):
+        return ds
+    probes = ds["probe"].values.tolist() if "probe" in ds.dims else []
+    stations = np.array([float(ds.attrs.get("contact_position_m", np.nan)), *probes])
+    params = json.loads(ds.attrs.get("parameters", "{}") or "{}")
+    nc = int(any(k.startswith("contact.") for k in params))
+    out = ds.drop_vars([k for k in ds.variables if k.startswith("probe")])
+    for name_v, unit, long in _STATION_VARS:
+        rows = [ds[name_v].values] + ([*ds[f"probe_{name_v}"].values] if probes else [])
+        out[name_v] = _var(("station", "time"), np.stack(rows), {"units": unit, "long_name": long})
+    for name_v in ("normal_force", "friction_force", "in_contact"):  # (nc, time): nc is 0 or 1
+        out[name_v] = _var(("contact", "time"), ds[name_v].values[None][:nc], ds[name_v].attrs)
+    out = out.assign_coords(
+        station=_var("station", stations, {"units": "m", "long_name": "axial position"}),
+        contact=_var("contact", np.arange(nc), {"long_name": "contact index"}),
+    )
+    if "event_time" in ds:
+        out["event_contact"] = _var("event", np.zeros(ds.sizes["event"], dtype=np.int64),
+                                    {"long_name": "contact index"})  # fmt: skip
+    t = ds["time"].values
+    out.attrs.update(engine="shaft", start_time_s=0.0, end_time_s=float(t[-1]) if t.size else 0.0)
+    if nc and "contacts" not in out.attrs:  # a rigid, centred stator (the only one it had)
+        radius = params.get("contact.radius", [None])[0]
+        out.attrs["contacts"] = json.dumps([{
+            "position": float(stations[0]), "clearance": float(params["contact.clearance"][0]),
+            "radius": radius, "offset_y": 0.0, "offset_z": 0.0, "flexible_stator": False,
+        }])  # fmt: skip
+    out.attrs.setdefault("contacts", "[]")
+    return out
+
+
 def _short(obj):
     """``obj`` itself when its repr is short, else its repr cut to 60 characters (a message's
     value)."""
@@ -254,6 +326,9 @@ def _short(obj):
 
 def load_dataset(path: str | os.PathLike) -> xr.Dataset:
     """Load a results Dataset saved by :func:`~rubrotor.save_dataset` (fully into memory).
+
+    A file of the old continuous-shaft layout is converted
+    (:func:`~rubrotor.engine.result.from_shaft_layout`).
 
     Parameters
     ----------
@@ -269,6 +344,6 @@ def load_dataset(path: str | os.PathLike) -> xr.Dataset:
         raise InputError("results", str(path), "an existing netCDF file written by rubrotor")
     try:
         with xr.open_dataset(p, engine="netcdf4") as ds:
-            return ds.load()
+            return from_shaft_layout(ds.load())
     except (OSError, ValueError) as exc:
         raise InputError("results", str(path), f"a readable netCDF file ({exc})") from None

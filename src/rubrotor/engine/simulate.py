@@ -138,6 +138,8 @@ class SimulationResult:
         The state at the last sample (``None`` when the run did not complete).
     work : dict
         Work (J) of each force over the run when energy tracking was on.
+    contact : Contact or None
+        The contact at station 0 (``None``: no contact; the force rows are then zero).
     """
 
     time: np.ndarray
@@ -152,6 +154,7 @@ class SimulationResult:
     unbalance_force: complex
     unbalance_position: float
     final_state: RotorState | None = None
+    contact: Contact | None = None
 
 
 def _start_coordinates(sysm: ModalSystem, start: RotorState, load) -> np.ndarray:
@@ -651,6 +654,7 @@ class PreparedRun:
             unbalance_force=plan.fu0,
             unbalance_position=plan.a_u,
             final_state=final,
+            contact=self.contact,
         )
 
 

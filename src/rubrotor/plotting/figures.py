@@ -879,11 +879,11 @@ def response_figure(ds, *, title: str | None = None, clearance: float | None = N
         params = json.loads(ds.attrs.get("parameters", "{}"))
         clearance = (params.get("contact.clearance") or [None])[0]
     t = ds["time"].values * 1e3
-    v = ds["v"].values * 1e3
-    w = ds["w"].values * 1e3
-    vd = ds["v_dot"].values
-    wd = ds["w_dot"].values
-    fn = ds["normal_force"].values * 1e-3
+    v = ds["v"].values[0] * 1e3  # station 0: the contact station (midspan without contact)
+    w = ds["w"].values[0] * 1e3
+    vd = ds["v_dot"].values[0]
+    wd = ds["w_dot"].values[0]
+    fn = ds["normal_force"].values.sum(axis=0) * 1e-3  # no contact: zeros
     fig = Figure(figsize=(12, 11), layout="constrained")
     axes = fig.subplots(3, 2)
     g = None if clearance is None else clearance * 1e3
@@ -964,8 +964,8 @@ def theory_comparison_figure(
     import numpy as np
 
     t = ds_a["time"].values * 1e3
-    a = ds_a[variable].values * 1e3
-    b = ds_b[variable].values * 1e3
+    a = ds_a[variable].values[0] * 1e3  # station 0: the contact station (midspan)
+    b = ds_b[variable].values[0] * 1e3
     n = min(a.size, b.size)
     fig = Figure(figsize=(11, 6.5), layout="constrained")
     ax1, ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1.6, 1]})

@@ -68,7 +68,7 @@ def poincare_period(ds, max_k: int = 12, tol: float = PERIOD_TOL) -> dict:
         (the k with the smallest residual), ``residuals`` (list, k = 1..max_k), ``samples``.
     """
     tau = ds["tau"].values
-    p = ds["v"].values + 1j * ds["w"].values
+    p = ds["v"].values[0] + 1j * ds["w"].values[0]  # the contact station
     half = tau[-1] / 2
     jj = np.arange(math.ceil(half / TWO_PI), math.floor(tau[-1] / TWO_PI) + 1)
     pts = np.interp(jj * TWO_PI, tau, p.real) + 1j * np.interp(jj * TWO_PI, tau, p.imag)
@@ -114,8 +114,8 @@ def case_metrics(ds, clearance: float | None) -> dict:
     """
     tau = ds["tau"].values
     late = tau >= tau[-1] / 2
-    p = np.hypot(ds["v"].values, ds["w"].values)
-    fn = ds["normal_force"].values
+    p = np.hypot(ds["v"].values[0], ds["w"].values[0])  # the contact station
+    fn = ds["normal_force"].values.sum(axis=0)  # one contact row; none: zeros
     inc = fn[late] > 0
     onsets = int(np.sum(np.diff(inc.astype(np.int8)) == 1))
     revs_late = (tau[-1] - tau[late][0]) / TWO_PI
@@ -145,8 +145,8 @@ def spectral_numbers(ds, entries, band) -> dict:
     fs = 1.0 / float(np.mean(np.diff(ds["time"].values)))
     tau = ds["tau"].values
     late = tau >= tau[-1] / 2
-    a_v = ds["v_ddot"].values[late]
-    a_w = ds["w_ddot"].values[late]
+    a_v = ds["v_ddot"].values[0, late]  # the contact station
+    a_w = ds["w_ddot"].values[0, late]
     total = float(np.mean(a_v**2 + a_w**2))
     e1 = band_energy(a_v, fs, band[2], band[3], w=a_w)
     # share of the same (Hann-windowed) periodogram: a growing record is not dominated by its

@@ -177,13 +177,13 @@ def run(st: DetectionSettings = DEFAULT) -> dict:
             )
             ds = simulate(sc, integrator=integ, progress=False)
             late = ds["tau"].values >= ds["tau"].values[-1] / 2
-            frac = float(np.mean(ds["normal_force"].values[late] > 0))
+            frac = float(np.mean(ds["normal_force"].values.sum(axis=0)[late] > 0))
             cls = "rub" if frac > 0 else "no rub"
             runs.append(
                 {"unbalance_kg_m": me0 * fac, "load_N": fy, "contact_fraction": frac, "class": cls}
             )
             fs = 1.0 / float(ds["time"].values[1] - ds["time"].values[0])
-            chans = [ds[c].values[late] for c in ("v", "w", "v_ddot", "w_ddot")]
+            chans = [ds[c].values[0, late] for c in ("v", "w", "v_ddot", "w_ddot")]  # station 0
             for snr in st.snr_db:
                 for _ in range(st.realisations if math.isfinite(snr) else 1):
                     noisy = [_noisy(x, snr, rng) if math.isfinite(snr) else x for x in chans]

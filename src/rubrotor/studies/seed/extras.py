@@ -156,7 +156,7 @@ def _cwt_maps(results: dict, spectral: dict, freqs, label: str, clip=None) -> di
 
     maps = {}
     for key, _stem, title in CASES:
-        a = results[key]["v_ddot"].values
+        a = results[key]["v_ddot"].values[0]  # the contact station
         if clip is not None:
             a = clip(key, results[key], a)
         if a.size > 64:
@@ -237,7 +237,7 @@ def _strong_part(out, scen, xs, entries, band, freqs, spin_hz, save_every, fig6)
         c = strong_scen[key].contact
         if c is None:
             return a
-        big = np.flatnonzero(np.hypot(d["v"].values, d["w"].values) > 10 * c.clearance)
+        big = np.flatnonzero(np.hypot(d["v"].values[0], d["w"].values[0]) > 10 * c.clearance)
         return a[: big[0]] if big.size else a
 
     maps = _cwt_maps(
@@ -298,7 +298,7 @@ def _last_part_peak(ds) -> dict:
 
     n = ds["time"].size
     sl = slice(n - n // 3, n)
-    av, aw = ds["v_ddot"].values[sl], ds["w_ddot"].values[sl]
+    av, aw = ds["v_ddot"].values[0, sl], ds["w_ddot"].values[0, sl]
     fs = 1.0 / float(ds["time"].values[1] - ds["time"].values[0])
     if av.size < 16:
         return {"peak_hz": math.nan, "band_share": math.nan}

@@ -262,7 +262,7 @@ def _cwt_part(cx: _Context, results: dict, spectral: dict) -> np.ndarray:
     freqs = log_frequencies(300.0, min(0.4 * fs, 2.0 * max(f for _, f, _ in entries)), 120)
     maps, curves = {}, {}
     for key, _stem, title in CASES:
-        a = results[key]["v_ddot"].values
+        a = results[key]["v_ddot"].values[0]  # the contact station
         maps[title] = cwt_binned(a, fs, freqs, 500)
         sc_, in_ = scalogram(a, fs, freqs), inner_scalogram(a, fs, freqs)
         curves[title] = (sc_, in_)
@@ -340,7 +340,7 @@ def _friction_part(cx: _Context, results: dict) -> dict:
         m_o = case_metrics(d_o, sc_o.contact.clearance)
         m_o["status_message"] = d_o.attrs["status_message"]
         m_o["max_orbit_whole_run_over_clearance"] = float(
-            np.max(np.hypot(d_o["v"].values, d_o["w"].values)) / sc_o.contact.clearance
+            np.max(np.hypot(d_o["v"].values[0], d_o["w"].values[0])) / sc_o.contact.clearance
         )
         friction[key] = m_o
         for sign, d in ((cx.main_sign, results[key]), (cx.other_sign, d_o)):
@@ -518,7 +518,7 @@ def _json_default(o):
 def _envelope(ds, clearance: float, block: int = 5) -> tuple[np.ndarray, np.ndarray]:
     """Max |P|/g per block of revolutions: (block start revolution, value)."""
     tau = ds["tau"].values
-    p = np.hypot(ds["v"].values, ds["w"].values) / clearance
+    p = np.hypot(ds["v"].values[0], ds["w"].values[0]) / clearance
     idx = np.floor(tau / (TWO_PI * block)).astype(np.int64)
     n = int(idx[-1]) + 1
     out = np.full(n, np.nan)

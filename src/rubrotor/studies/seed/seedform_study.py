@@ -63,9 +63,9 @@ def run_cases(scen: dict, revolutions: float, save_every: int, abm_revolutions: 
             ),
             progress=False,
         )
-        n = min(da["v"].size, ds["v"].size)
-        pe = ds["v"].values[:n] + 1j * ds["w"].values[:n]
-        pa = da["v"].values[:n] + 1j * da["w"].values[:n]
+        n = min(da.sizes["time"], ds.sizes["time"])
+        pe = ds["v"].values[0, :n] + 1j * ds["w"].values[0, :n]
+        pa = da["v"].values[0, :n] + 1j * da["w"].values[0, :n]
         results[key] = ds
         abm[key] = {
             "status": da.attrs["status"],
