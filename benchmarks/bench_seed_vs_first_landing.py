@@ -4,7 +4,8 @@ Run: ``python benchmarks/bench_seed_vs_first_landing.py [--pairs 5] [--old-venv 
 
 The first landing (commit cc537d9) is installed once into its own venv (``git archive cc537d9``
 unpacked and ``pip install``-ed; ``--old-venv`` reuses it), then both codes run seed case 1 at its
-default settings (adaptive steps, 200 revolutions) in fresh processes, interleaved A B A B.
+default settings (adaptive steps, 200 revolutions; ``--settings file``: the scenario file's
+fixed step over 300 revolutions) in fresh processes, interleaved A B A B.
 Each process compiles and warms up first, then times ``rubrotor.simulate`` three times (median).
 Printed per pair: seconds per simulated revolution of each and their ratio (ours / old), and the
 largest difference of the two codes' orbits at the contact station (m), so equal speed is
@@ -30,10 +31,11 @@ import numpy as np
 import rubrotor
 from pathlib import Path
 sc = rubrotor.load_scenario(Path(rubrotor.__file__).parent / "scenarios" / "seed_case1.toml")
-ds = rubrotor.simulate(sc)  # compile + warm up
+kw = {"integrator": rubrotor.Integrator(revolutions=200)} if sys.argv[2] == "adaptive" else {}
+ds = rubrotor.simulate(sc, **kw)  # compile + warm up
 times = []
 for _ in range(3):
-    t0 = time.perf_counter(); ds = rubrotor.simulate(sc); times.append(time.perf_counter() - t0)
+    t0 = time.perf_counter(); ds = rubrotor.simulate(sc, **kw); times.append(time.perf_counter() - t0)
 revs = float(ds["time"].values[-1]) * sc.speed / (2 * np.pi)
 np.save(sys.argv[1], np.stack([ds["time"].values, ds["v"].values.ravel()[: ds.sizes["time"]],
                                ds["w"].values.ravel()[: ds.sizes["time"]]]))
@@ -57,11 +59,11 @@ def old_venv(path: Path | None) -> Path:
     return py
 
 
-def run(python: str, out: Path) -> dict:
+def run(python: str, out: Path, settings: str) -> dict:
     env = {"OPENBLAS_NUM_THREADS": "1", "PATH": "/usr/bin:/bin"}
     cwd = tempfile.mkdtemp()  # not the checkout: the old venv must import its own rubrotor
     res = subprocess.run(
-        [python, "-c", CHILD, str(out)], capture_output=True, text=True, cwd=cwd, env=env
+        [python, "-c", CHILD, str(out), settings], capture_output=True, text=True, cwd=cwd, env=env
     )
     if res.returncode:
         raise SystemExit(res.stderr)
@@ -72,14 +74,21 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--pairs", type=int, default=5)
     ap.add_argument("--old-venv", type=Path)
+    ap.add_argument(
+        "--settings",
+        choices=("adaptive", "file"),
+        default="adaptive",
+        help="adaptive: Integrator(revolutions=200), the engine's defaults (the issue's case); "
+        "file: the scenario file's fixed d(tau) = 0.001 over 300 revolutions",
+    )
     args = ap.parse_args()
     old_py = str(old_venv(args.old_venv))
     tmp = Path(tempfile.mkdtemp())
     ratios = []
     print("pair  ours s/rev   old s/rev   ours/old   max |orbit difference| (m)")
     for i in range(args.pairs):
-        a = run(sys.executable, tmp / "new.npy")
-        b = run(old_py, tmp / "old.npy")
+        a = run(sys.executable, tmp / "new.npy", args.settings)
+        b = run(old_py, tmp / "old.npy", args.settings)
         new, old = (__import__("numpy").load(tmp / f) for f in ("new.npy", "old.npy"))
         diff = float(abs(new[1:] - old[1:]).max()) if new.shape == old.shape else float("nan")
         ratios.append(a["s_per_rev"] / b["s_per_rev"])
