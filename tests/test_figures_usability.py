@@ -88,10 +88,10 @@ def test_branch_figure_draws_the_clearance_and_says_why_the_radius_exceeds_it():
     """seal_rub's no-contact orbit lies at 60-65 um about the bearing axis against a 40 um
     clearance: the figure draws the clearance, the band of radii where an orbit can first touch
     a stator offset by 25 um (15 .. 65 um), and names the offset, gravity sag and the flexible
-    stator, read from the scenario (:func:`rubrotor.plotting.figures.contact_geometry`)."""
+    stator, read from the scenario (:func:`rubrotor.plotting.orbits.contact_geometry`)."""
     from matplotlib.patches import Rectangle
 
-    from rubrotor.plotting.figures import branch_figure, contact_geometry
+    from rubrotor.plotting.orbits import branch_figure, contact_geometry
 
     geometry = contact_geometry(rubrotor.load_scenario("seal_rub.toml"))
     assert geometry["clearance"] == 40e-6 and geometry["offset"] == pytest.approx(25e-6)

@@ -58,6 +58,12 @@ SPLIT_NAMES = {
         "FORWARD_WHIRL_RATIO", "residual_unbalance", "vibration_limit", "api617_unbalance",
         "ClearanceCheck", "clearance_check", "anticipated_cross_coupling", "Level1", "level1",
     ],
+    "plotting.figures": [
+        "campbell_figure", "bifurcation_figure", "regime_map_figure", "branch_figure",
+        "contact_geometry", "scalogram_map_figure", "scalogram_curves_figure",
+        "full_spectrum_figure", "analysis_figure", "response_figure",
+        "theory_comparison_figure", "envelope_figure",
+    ],
 }  # fmt: skip
 SPLIT_NAMES["linear_analysis"] = SPLIT_NAMES["linear.analysis"]
 
@@ -105,14 +111,18 @@ def test_packages_read_their_main_module():
     """``rubrotor.scenario``, ``rubrotor.plotting`` and ``rubrotor.cli`` (once modules, now
     packages) still hand out their old names, without a warning."""
     from rubrotor.cli.app import main
-    from rubrotor.plotting.figures import campbell_figure
+    from rubrotor.plotting.linear import campbell_figure
     from rubrotor.scenario.load import Scenario
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
+        import rubrotor.plotting as plotting
         from rubrotor.cli import main as cli_main
         from rubrotor.plotting import campbell_figure as fig
         from rubrotor.scenario import Scenario as Sc
+
+        for name in SPLIT_NAMES["plotting.figures"]:  # every figure of the former module
+            assert getattr(plotting, name).__name__ == name
     assert (cli_main, fig, Sc) == (main, campbell_figure, Scenario)
 
 

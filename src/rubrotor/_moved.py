@@ -75,6 +75,13 @@ SPLIT = {
     "linear.analysis": _ANALYSIS,
     "linear_analysis": _ANALYSIS,
     "linear.api": ("linear.api617", "linear.api684"),
+    "plotting.figures": (
+        "plotting.linear",
+        "plotting.sweeps",
+        "plotting.signals",
+        "plotting.runs",
+        "plotting.orbits",
+    ),
 }
 
 

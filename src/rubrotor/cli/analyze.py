@@ -400,7 +400,7 @@ def analyze_run(args: argparse.Namespace) -> int:
     from rubrotor.analysis.overview import analyze_signal, decimate_to, indicators_dict
     from rubrotor.engine.output import check_output
     from rubrotor.engine.result import atomic_write
-    from rubrotor.plotting.figures import analysis_figure
+    from rubrotor.plotting.signals import analysis_figure
 
     orders = _parse_orders(args.orders)  # bad options fail before the analysis
     c = args.clearance

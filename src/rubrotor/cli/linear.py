@@ -238,7 +238,7 @@ def campbell_args(parser: argparse.ArgumentParser) -> None:
 
 def campbell_run(args: argparse.Namespace) -> int:
     from rubrotor.linear.shaft import campbell
-    from rubrotor.plotting.figures import campbell_figure
+    from rubrotor.plotting.linear import campbell_figure
 
     speeds = parse_speeds(args.speeds)
     out = Path(args.out)

@@ -102,7 +102,7 @@ def continue_run(args: argparse.Namespace) -> int:
         branches.append(_switch(scenario, key, branch, stop, args))
     save_dataset(branches_dataset(branches), args.out)
     if args.figure is not None:
-        from rubrotor.plotting.figures import branch_figure, contact_geometry
+        from rubrotor.plotting.orbits import branch_figure, contact_geometry
         from rubrotor.sweeps.follow import follow_sweep
 
         values = np.linspace(min(start, stop), max(start, stop), max(args.sweep_points, 2))

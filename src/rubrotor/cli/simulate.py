@@ -218,7 +218,7 @@ def _report(summary: dict, out: Path, summary_file, figure: bool) -> int:
 
 
 def _simulate_figure(ds, path: Path, rpm: bool = False) -> None:
-    from rubrotor.plotting.figures import response_figure
+    from rubrotor.plotting.runs import response_figure
 
     if ds.attrs.get("engine") == "general":
         from rubrotor.plotting.rub import engine_figure

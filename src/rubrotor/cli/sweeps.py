@@ -117,7 +117,7 @@ def sweep_run(args: argparse.Namespace) -> int:
     if args.netcdf is not None:
         atomic_write(args.netcdf, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4"))
     if args.figure is not None:
-        from rubrotor.plotting.figures import bifurcation_figure, regime_map_figure
+        from rubrotor.plotting.sweeps import bifurcation_figure, regime_map_figure
 
         keys = list(vary)
         if len(keys) == 1:

@@ -333,7 +333,7 @@ def mark_orders(ax, time_s, speed_rad_s, orders=(0.5, 1.0, 2.0, 3.0), *, time_sc
     ----------
     ax : matplotlib.axes.Axes
         A map with time across (``time_scale`` units per s, ms by default) and frequency (Hz) up,
-        such as the CWT map of ``rubrotor.plotting.figures.analysis_figure``.
+        such as the CWT map of ``rubrotor.plotting.signals.analysis_figure``.
     time_s : array_like
         Times (s).
     speed_rad_s : array_like

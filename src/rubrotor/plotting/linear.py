@@ -5,18 +5,24 @@ response (Bode and polar) and mode shapes. One function per figure kind, each re
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
 from rubrotor.linear.campbell import CampbellData
 from rubrotor.linear.critical import LinearCritical
 from rubrotor.linear.modes import DampedMode
 from rubrotor.linear.response import UnbalanceResponse
+from rubrotor.linear.shaft import campbell, critical_speeds
 from rubrotor.linear.shapes import ModeShapes, node_whirl
 from rubrotor.linear.ucs import UCSMap
 from rubrotor.rotors.linear import LinearSystem
+from rubrotor.rotors.shaft import Shaft
 
 __all__ = [
+    "campbell_figure",
     "resonance_speeds",
     "campbell_stability_figure",
     "unbalance_response_figure",
@@ -352,3 +358,224 @@ def mode_shapes_3d_figure(shapes: ModeShapes, columns: int = 2, stations: int = 
         ax.set(xlabel="x (m)", ylabel="w", zlabel="v")
         ax.tick_params(labelsize=7)
     return fig
+
+
+_WHIRL_COLOR = {"forward": "tab:blue", "backward": "tab:red"}
+
+
+_BRANCH_STYLE = {"bending": "-", "shear": "--"}
+
+
+_THEORY_NAME = {
+    "timoshenko": "Timoshenko",
+    "rayleigh": "Rayleigh",
+    "euler-bernoulli": "Euler-Bernoulli",
+}
+
+
+_WHIRL_LETTER = {"forward": "F", "backward": "B"}
+
+
+def campbell_figure(shaft: Shaft, speeds, operating_speed: float | None = None) -> Figure:
+    """Campbell diagram: whirl frequencies of every mode against spin speed.
+
+    Forward whirl is blue, backward red; the bending branch is solid, the Timoshenko shear
+    (second) branch dashed. Each curve is labelled at its right end by mode number and whirl
+    (``2F`` = mode 2, forward). The 1X line (whirl frequency = spin) is black, dotted; critical
+    speeds inside the speed range (crossings with the 1X line) are marked with a diamond and
+    annotated with their speed in rad/s. For Timoshenko shafts the shear branches, an order of
+    magnitude above the bending ones, get their own panel above a broken frequency axis.
+
+    Parameters
+    ----------
+    shaft : Shaft
+        The rotor.
+    speeds : array_like, shape (S,)
+        Spin speeds ``Omega`` (rad/s), ``>= 0``, at least 2.
+    operating_speed : float, optional
+        Spin speed (rad/s) drawn as a vertical grey line and labelled.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, not shown and not registered with ``pyplot``.
+
+    Examples
+    --------
+    >>> s = Shaft(length=0.4, diameter=0.1, youngs_modulus=71e9, density=2660,
+    ...           shear_modulus=26.2e9, shear_coefficient="seed")
+    >>> fig = campbell_figure(s, [0, 30000, 60000], operating_speed=11614.0)
+    >>> len(fig.axes)
+    2
+    """
+    data = campbell(shaft, speeds)
+    sp = data["speed_rad_s"]
+    lo_sp, hi_sp = float(sp.min()), float(sp.max())
+    crits = [c for c in critical_speeds(shaft) if lo_sp <= c.speed_rad_s <= hi_sp]
+    fig, panels = _campbell_panels(shaft)
+    for branch, ax in panels.items():
+        _campbell_curves(ax, branch, data)
+        ax.set_xlim(lo_sp, hi_sp)
+        ax.grid(True, alpha=0.3)
+        ax.set_ylabel("Whirl frequency (Hz)")
+        _campbell_criticals(ax, [c for c in crits if c.branch == branch])
+        if operating_speed is not None:
+            ax.axvline(operating_speed, color="0.45", linestyle="-.", linewidth=1.3)
+    _campbell_axes(panels, operating_speed)
+    _campbell_legend(fig, panels, bool(crits), operating_speed)
+    fig.suptitle(
+        f"Campbell diagram: {_THEORY_NAME[shaft.theory]} shaft, L = {shaft.length:g} m, "
+        f"D = {shaft.diameter * 1e3:g} mm"
+        + (f", \u03ba = {shaft.kappa:.4g}" if shaft.theory == "timoshenko" else "")
+        + ("" if shaft.gyroscopic else ", no gyroscopic moments"),
+        fontsize=11,
+    )
+    return fig
+
+
+def _campbell_panels(shaft: Shaft) -> tuple[Figure, dict]:
+    """The figure and its panels: bending only, or shear above bending (Timoshenko)."""
+    two = shaft.theory == "timoshenko"
+    fig = Figure(figsize=(10, 7 if two else 5.5), layout="constrained")
+    if two:
+        ax_shear, ax_bend = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1, 1.6]})
+        return fig, {"bending": ax_bend, "shear": ax_shear}
+    return fig, {"bending": fig.subplots(1, 1)}
+
+
+def _campbell_curves(ax, branch: str, data: dict) -> None:
+    """Whirl frequencies (Hz) of one branch against spin speed (rad/s), labelled, and 1X."""
+    sp, freq, labels = data["speed_rad_s"], data["frequency_hz"], data["labels"]
+    cols = [j for j, (b, _) in enumerate(labels) if b == branch]
+    fb = freq[:, :, cols]
+    top = float(fb.max())
+    if branch == "bending":
+        ymin, ymax = 0.0, 1.1 * top
+    else:
+        bottom = float(fb.min())
+        pad = 0.08 * (top - bottom)
+        ymin, ymax = bottom - pad, top + pad
+    for j in cols:
+        branch_j, whirl = labels[j]
+        for i, n in enumerate(data["n"]):
+            f = freq[:, i, j]
+            ax.plot(
+                sp, f, color=_WHIRL_COLOR[whirl], linestyle=_BRANCH_STYLE[branch_j], linewidth=1.6
+            )
+            ax.annotate(
+                f"{n}{_WHIRL_LETTER[whirl]}",
+                (sp[-1], f[-1]),
+                xytext=(4, 0),
+                textcoords="offset points",
+                va="center",
+                fontsize=8,
+                color=_WHIRL_COLOR[whirl],
+            )
+    ax.plot(sp, sp / (2 * math.pi), color="black", linestyle=":", linewidth=1.4)
+    ax.set_ylim(ymin, ymax)
+
+
+def _campbell_criticals(ax, crits) -> None:
+    """Diamonds at the critical speeds (rad/s), annotated."""
+    for c in crits:
+        y = c.speed_hz
+        ax.plot(
+            c.speed_rad_s,
+            y,
+            marker="D",
+            markersize=7,
+            markerfacecolor=_WHIRL_COLOR[c.whirl],
+            markeredgecolor="black",
+            linestyle="none",
+            zorder=5,
+        )
+        ax.annotate(
+            f"{c.n}{_WHIRL_LETTER[c.whirl]}: {c.speed_rad_s:.0f} rad/s",
+            (c.speed_rad_s, y),
+            xytext=(-8, -14) if c.whirl == "backward" else (8, -14),
+            textcoords="offset points",
+            ha="right" if c.whirl == "backward" else "left",
+            fontsize=8,
+            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8},
+            zorder=6,
+        )
+
+
+def _campbell_axes(panels: dict, operating_speed: float | None) -> None:
+    """Speed axes (rad/s below, rev/min on top), operating-speed label, panel titles."""
+    ax_bend = panels["bending"]
+    ax_bend.set_xlabel(r"Spin speed $\Omega$ (rad/s)")
+    if operating_speed is not None:
+        ax_bend.annotate(
+            f"operating: {operating_speed:.0f} rad/s = {operating_speed / (2 * math.pi):.0f} Hz",
+            (operating_speed, 0.98),
+            xycoords=("data", "axes fraction"),
+            xytext=(4, 0),
+            textcoords="offset points",
+            fontsize=8,
+            color="0.3",
+            va="top",
+            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8},
+        )
+    top_ax = panels.get("shear", ax_bend)
+    secx = top_ax.secondary_xaxis(
+        "top", functions=(lambda x: x * 60 / (2 * math.pi), lambda r: r * 2 * math.pi / 60)
+    )
+    secx.set_xlabel("Spin speed (rev/min)")
+    if "shear" in panels:
+        _break_marks(panels["shear"], panels["bending"])
+        for branch, text in (("shear", "shear (second) branch"), ("bending", "bending branch")):
+            panels[branch].text(
+                0.01,
+                0.97,
+                text,
+                transform=panels[branch].transAxes,
+                va="top",
+                fontsize=9,
+                fontweight="bold",
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.8},
+            )
+
+
+def _campbell_legend(fig, panels: dict, crits: bool, operating_speed: float | None) -> None:
+    handles = [
+        Line2D([], [], color=_WHIRL_COLOR["forward"], label="forward whirl (F)"),
+        Line2D([], [], color=_WHIRL_COLOR["backward"], label="backward whirl (B)"),
+        Line2D([], [], color="0.3", linestyle="-", label="bending branch"),
+    ]
+    if "shear" in panels:
+        handles.append(Line2D([], [], color="0.3", linestyle="--", label="shear branch"))
+    handles.append(Line2D([], [], color="black", linestyle=":", label=r"1X (whirl = spin)"))
+    if crits:
+        handles.append(
+            Line2D(
+                [],
+                [],
+                marker="D",
+                color="0.6",
+                markeredgecolor="black",
+                linestyle="none",
+                label="critical speed",
+            )
+        )
+    if operating_speed is not None:
+        handles.append(Line2D([], [], color="0.45", linestyle="-.", label="operating speed"))
+    fig.legend(handles=handles, loc="outside right upper", fontsize=9)
+
+
+def _break_marks(ax_top, ax_bottom) -> None:
+    """Draw a broken-axis gap between two stacked panels."""
+    ax_top.spines["bottom"].set_visible(False)
+    ax_bottom.spines["top"].set_visible(False)
+    ax_top.tick_params(axis="x", which="both", bottom=False, labelbottom=False)
+    kw = {
+        "marker": [(-1, -0.5), (1, 0.5)],
+        "markersize": 10,
+        "linestyle": "none",
+        "color": "k",
+        "mec": "k",
+        "mew": 1,
+        "clip_on": False,
+    }
+    ax_top.plot([0, 1], [0, 0], transform=ax_top.transAxes, **kw)
+    ax_bottom.plot([0, 1], [1, 1], transform=ax_bottom.transAxes, **kw)

@@ -167,7 +167,7 @@ def _cwt_maps(results: dict, spectral: dict, freqs, label: str, clip=None) -> di
 
 
 def _save_maps(out: Path, maps: dict, entries, spin_hz: float, title: str, name: str) -> None:
-    from rubrotor.plotting import figures as plotting
+    from rubrotor.plotting import signals as plotting
 
     fig = plotting.scalogram_map_figure(maps, modes=entries, spin_hz=spin_hz, title=title)
     _savefig(fig, out / name)

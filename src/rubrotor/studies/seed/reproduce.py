@@ -215,7 +215,7 @@ def _case_scenarios(seed_friction: bool) -> dict:
 
 def _run_cases(cx: _Context) -> tuple[dict, dict, dict]:
     """The four cases: results, ``case_metrics`` and band numbers; ``<case>/response.png``."""
-    from rubrotor.plotting import figures as plotting
+    from rubrotor.plotting import runs as plotting
 
     st, out = cx.st, cx.out
     results, metrics, spectral = {}, {}, {}
@@ -254,7 +254,7 @@ def _inner_peaks(in_: np.ndarray, freqs: np.ndarray, n: int = 6) -> list[float]:
 
 def _cwt_part(cx: _Context, results: dict, spectral: dict) -> np.ndarray:
     """CWT maps and scalograms of the horizontal acceleration (seed Fig. 7); the frequencies."""
-    from rubrotor.plotting import figures as plotting
+    from rubrotor.plotting import signals as plotting
 
     cx.progress("CWT maps and scalograms of the acceleration")
     band, entries = cx.band, cx.entries
@@ -293,7 +293,7 @@ def _cwt_part(cx: _Context, results: dict, spectral: dict) -> np.ndarray:
 
 def _fig6_part(cx: _Context) -> dict:
     """Timoshenko against Euler-Bernoulli for the slender shaft (seed Fig. 6)."""
-    from rubrotor.plotting import figures as plotting
+    from rubrotor.plotting import runs as plotting
 
     cx.progress("Fig. 6: Timoshenko vs Euler-Bernoulli at r = 0.0013")
     out, revs = cx.out, cx.st.fig6_revolutions
@@ -316,7 +316,7 @@ def _fig6_part(cx: _Context) -> dict:
 
 
 def _campbell_part(cx: _Context) -> None:
-    from rubrotor.plotting import figures as plotting
+    from rubrotor.plotting import linear as plotting
 
     cx.progress("Campbell diagram")
     base = cx.scen["case1"]
@@ -329,7 +329,7 @@ def _campbell_part(cx: _Context) -> None:
 
 def _friction_part(cx: _Context, results: dict) -> dict:
     """Cases 1-3 with the other friction sign; ``friction_sign.png`` (orbit envelopes)."""
-    from rubrotor.plotting import figures as plotting
+    from rubrotor.plotting import runs as plotting
 
     cx.progress(f"cases 1-3 with the {cx.other_sign} friction sign")
     st, scen = cx.st, cx.scen
