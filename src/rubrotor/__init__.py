@@ -26,9 +26,8 @@ The public surface, each name defined once in its own module:
 * results files: :func:`save_dataset`, :func:`load_dataset`.
 """
 
-__version__ = "0.1.0"
-
 from rubrotor import _moved  # noqa: E402
+from rubrotor._version import __version__
 
 _moved.install()
 

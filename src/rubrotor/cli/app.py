@@ -18,7 +18,7 @@ import contextlib
 import os
 import sys
 
-from rubrotor import __version__
+from rubrotor._version import __version__
 from rubrotor.cli import (
     analyze,
     api,
