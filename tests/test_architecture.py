@@ -37,6 +37,24 @@ def test_import_linter_contract_is_kept():
     )
 
 
+def test_layers_contract_covers_every_folder():
+    """The import-linter ``layers`` contract of pyproject.toml places every folder and top-level
+    module of the package (a second check beside import-linter's own ``exhaustive`` one: the
+    files on disk against the names in the contract)."""
+    import tomllib
+
+    config = tomllib.loads((Path(rubrotor.__file__).parents[2] / "pyproject.toml").read_text())
+    layers = [c for c in config["tool"]["importlinter"]["contracts"] if c["type"] == "layers"]
+    assert len(layers) == 1, "one layers contract"
+    contract = layers[0]
+    assert contract["containers"] == ["rubrotor"] and contract["exhaustive"] is True
+    named = {n.strip(" ()") for layer in contract["layers"] for n in layer.split("|")}
+    root = Path(rubrotor.__file__).parent
+    children = {p.stem for p in root.glob("*.py") if p.stem != "__init__"}
+    children |= {p.name for p in root.iterdir() if (p / "__init__.py").is_file()}
+    assert children <= named, sorted(children - named)
+
+
 MAX_FUNCTION_LINES = 120
 
 

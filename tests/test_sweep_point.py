@@ -23,8 +23,9 @@ import pytest
 from rubrotor.engine.settings import Integrator
 from rubrotor.engine.simulate import simulate
 from rubrotor.scenario import load_scenario, scenario_to_dict
+from rubrotor.scenario.points import PointScenarios, _point_scenario
 from rubrotor.sweeps.follow import run_follow_chunk
-from rubrotor.sweeps.sweep import PointScenarios, _point_scenario, point_metrics, sweep
+from rubrotor.sweeps.sweep import point_metrics, sweep
 
 CASE1 = load_scenario(resources.files("rubrotor") / "scenarios" / "seed_case1.toml")
 T, R, N = 20, 40, 64

@@ -8,17 +8,15 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from rubrotor.studies.dry_whirl import DryWhirlCase, DryWhirlScan, rolling_whirls
-
 __all__ = ["dry_whirl_figure"]
 
 
-def _branches(case: DryWhirlCase, speeds: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Closed-form rolling frequencies (rad/s) on a dense speed grid, one curve per band."""
+def _branches(case, speeds: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Closed-form rolling frequencies (rad/s) of a
+    :class:`~rubrotor.studies.dry_whirl.DryWhirlCase` on a dense speed grid, one curve per band."""
     pts: dict[int, list] = {}
     for w in speeds:
-        c = DryWhirlCase(case.rotor, case.contact, float(w), case.stator)
-        for i, r in enumerate(rolling_whirls(c, points=801)):
+        for i, r in enumerate(case.at_speed(w).rolling_whirls(points=801)):
             pts.setdefault(i, []).append((w, r.frequency))
     return [tuple(np.array(v).T) for v in pts.values()]
 
@@ -66,13 +64,13 @@ def dry_whirl_figure(friction_scans, speed_scans, labels) -> Figure:
     return fig
 
 
-def _friction_panel(ax, scan: DryWhirlScan, col: str, lab: str) -> None:
+def _friction_panel(ax, scan, col: str, lab: str) -> None:
     back = scan.backward
     ax.plot(scan.frictions[back], scan.whirl_frequency[back], "o", color=col,
             label=f"{lab}, Omega = {scan.speeds[0]:g} rad/s: backward whirl")  # fmt: skip
     ax.plot(scan.frictions[~back], scan.whirl_frequency[~back], "o", mfc="none", color=col,
             label=f"{lab}: no sustained contact")  # fmt: skip
-    roll = rolling_whirls(scan.case)
+    roll = scan.case.rolling_whirls()
     if roll:
         r = roll[-1]
         ax.axhline(r.frequency, color=col, lw=1, label=f"{lab}: -Omega R/|D| = {r.frequency:.1f}")
@@ -83,7 +81,7 @@ def _friction_panel(ax, scan: DryWhirlScan, col: str, lab: str) -> None:
                 "*", ms=12, color=col)  # fmt: skip
 
 
-def _speed_panel(ax, scan: DryWhirlScan, col: str, lab: str) -> None:
+def _speed_panel(ax, scan, col: str, lab: str) -> None:
     back = scan.backward
     ax.plot(scan.speeds[back], scan.whirl_frequency[back], "o", color=col,
             label=f"{lab}, mu = {scan.frictions[0]:g}: simulated")  # fmt: skip

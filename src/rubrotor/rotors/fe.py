@@ -598,7 +598,7 @@ class Rotor:
             Naming the key that makes the finest part of the mesh (``section[i].elements`` or
             ``rotor.max_element_length``), its value, the element count and the memory.
         """
-        from rubrotor.engine.stream import _available_memory
+        from rubrotor._memory import available_memory
 
         total, worst, key, value = extra_nodes + len(self.disks) + len(self.bearings), -1, "", None
         for i, s in enumerate(self.sections):
@@ -614,7 +614,7 @@ class Rotor:
             if n > worst:
                 worst, key, value = n, k, v
         dof = 4 * (total + 1)
-        need, avail = 8.0 * MESH_MATRICES * dof**2, _available_memory()
+        need, avail = 8.0 * MESH_MATRICES * dof**2, available_memory()
         if need > 0.8 * avail:
             fewer = "larger" if key == "rotor.max_element_length" else "fewer"
             raise InputError(

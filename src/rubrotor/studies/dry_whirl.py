@@ -153,6 +153,14 @@ class DryWhirlCase:
                               or s.damping_y != s.damping_z):  # fmt: skip
             raise InputError("contact.stator", s, "an isotropic stator (steady whirl is circular)")
 
+    def rolling_whirls(self, points: int = 4001) -> tuple[RollingWhirl, ...]:
+        """:func:`rolling_whirls` of this case (so figures draw it without importing the study)."""
+        return rolling_whirls(self, points)
+
+    def at_speed(self, speed: float) -> DryWhirlCase:
+        """The same rotor, contact and stator at spin ``speed`` (rad/s)."""
+        return DryWhirlCase(self.rotor, self.contact, float(speed), self.stator)
+
     def impedance(self, omega):
         """Equivalent impedance ``Z = 1 / (1/Z_r + 1/Z_s)`` (N/m) at ``omega`` (rad/s)."""
         zr = self.rotor.impedance(omega)

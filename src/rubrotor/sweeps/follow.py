@@ -92,8 +92,9 @@ def run_follow_chunk(task: dict) -> dict:
     """
     from rubrotor.errors import RubrotorError
     from rubrotor.scenario.load import scenario_from_dict
+    from rubrotor.scenario.points import PointScenarios
     from rubrotor.sweeps.metrics import _empty_metrics
-    from rubrotor.sweeps.sweep import PointScenarios, simulate_point
+    from rubrotor.sweeps.sweep import simulate_point
 
     base = scenario_from_dict(task["scenario"])
     point_scenario = PointScenarios(base, [task["key"]])
