@@ -206,12 +206,13 @@ def _ranks_alike(red: Reduced, n: int) -> bool:
 
 
 def _newton_eig(system: LinearSystem, speed: float, n: int, natural: bool = False):
-    """The ``n`` lowest modes at ``speed`` (rad/s) as :func:`campbell_data` finds them, with
-    full eigenvectors on the free DOFs, by frequency or (``natural``) by ``|lam|``; ``None``
-    when a check fails (fewer than ``n`` projected modes, with ``natural`` a projection that
-    ranks otherwise (:func:`_ranks_alike`) or an overdamped result, Newton not converged, a
-    start that moved by more than 1e-3 of itself, or two starts that converged to one
-    eigenvalue), so that the caller takes another route."""
+    """The ``n`` lowest modes at ``speed`` (rad/s) as
+    :func:`~rubrotor.linear.campbell.campbell_data` finds them, with full eigenvectors on the free
+    DOFs, by frequency or (``natural``) by ``|lam|``; ``None`` when a check fails (fewer than
+    ``n`` projected modes, with ``natural`` a projection that ranks otherwise
+    (:func:`_ranks_alike`) or an overdamped result, Newton not converged, a start that moved by
+    more than 1e-3 of itself, or two starts that converged to one eigenvalue), so that the
+    caller takes another route."""
     speeds = np.array([speed])
     parts = _band_parts(system, speeds)
     try:
