@@ -82,8 +82,8 @@ def test_no_import_cycle_between_modules():
 
 def test_scenario_kind_is_decided_once():
     """No module outside ``rubrotor.scenario`` tests which tables a scenario had (``.shaft is
-    None``, ``.rotor is not None``, ``.engine is None``, ...): every verb asks
-    ``scenario.model`` (:class:`rubrotor.scenario.model.Model`)."""
+    None``, ``.rotor is not None``, ``.engine is None``, ...): every verb asks the Model
+    (:class:`rubrotor.modelling.Model`)."""
     import re
 
     root = Path(rubrotor.__file__).parent
@@ -96,3 +96,36 @@ def test_scenario_kind_is_decided_once():
         if pattern.search(line)
     ]
     assert not found, found
+
+
+# what testing the rotor's kind looks like: the old Model's flags, the kind's fields compared,
+# the scenario's own refusal of other engines, an isinstance test on a rotor builder's type
+KIND_TESTS = (
+    r"\.fe_rotor\b",
+    r"\.model\.(general|rotor|engine|spin|formulation|features)\b",
+    r"\.rotor\s*(==|!=)",
+    r"require_seed_engine\(",
+    r"isinstance\([^)]*\b(Rotor|Shaft|LinearSystem)\b",
+)
+
+
+def test_only_the_model_tests_the_rotors_kind():
+    """No module outside the Model (:mod:`rubrotor.modelling`, and the scenario package that
+    classifies a file once, :mod:`rubrotor.scenario.kind`) tests what kind of rotor it has:
+    the verbs ask the Model's decisions (``runner``, ``maps``, ``linear``) and builders
+    (``linear_system``, ``forces``, ``speed_law``). Checked line by line on the source."""
+    import re
+
+    root = Path(rubrotor.__file__).parent
+    pattern = re.compile("|".join(KIND_TESTS))
+    found = [
+        f"{path.relative_to(root)}:{i}: {line.strip()}"
+        for path in sorted(root.rglob("*.py"))
+        if not path.is_relative_to(root / "scenario") and path != root / "modelling.py"
+        for i, line in enumerate(path.read_text().splitlines(), 1)
+        if pattern.search(line)
+    ]
+    assert not found, found
+    # the pattern does catch what it is meant to (a test that can fail)
+    assert pattern.search("if scenario.model.fe_rotor:")
+    assert pattern.search("elif isinstance(obj, Shaft):")

@@ -33,12 +33,11 @@ STREAM_SAMPLES = 1 << 21
 
 
 def _system(scenario, probes):
-    from rubrotor.rotors.shaft_system import continuous_system
+    """The rotor the Model builds, meshed at the engine's stations and the probes."""
+    from rubrotor.modelling import model_of
 
-    eng = scenario.engine
-    if scenario.model.fe_rotor:
-        return scenario.rotor.linear_system(tuple(sorted(set(eng.positions + tuple(probes)))))
-    return continuous_system(scenario.shaft, scenario.damping)
+    stations = tuple(sorted(set(scenario.engine.positions + tuple(probes))))
+    return model_of(scenario).linear_system(stations, only=True)
 
 
 def _duration(integ, speed: float, speed_end: float | None) -> float:
@@ -248,7 +247,9 @@ def engine_problem(scenario, integrator=None):
     A free spin speed (``[speed] profile = "free"``) is refused naming the key: the maps,
     orbits and sweeps built on these inputs hold the speed imposed.
     """
-    if scenario.model.spin == "free":
+    from rubrotor.modelling import model_of
+
+    if model_of(scenario).runner == "free-spin":
         raise ScenarioError("speed.profile", "free", 'a "constant", "linear" or "table" speed '
                             "here (a free spin speed runs in rubrotor simulate)")  # fmt: skip
     return _problem(scenario, integrator)[:4]
@@ -463,8 +464,9 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
     """
     from rubrotor.engine.driver import simulate_general
     from rubrotor.engine.restart import fingerprint
+    from rubrotor.modelling import model_of
 
-    if scenario.model.spin == "free":  # [speed] profile = "free": the spin is a state
+    if model_of(scenario).runner == "free-spin":  # [speed] profile = "free": the spin is a state
         from rubrotor.engine.spin import simulate_free
 
         if stream is not None:

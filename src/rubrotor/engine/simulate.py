@@ -789,7 +789,11 @@ def simulate_scenario(scenario, integrator: Integrator, **kwargs) -> SimulationR
     -------
     SimulationResult
     """
-    scenario.require_seed_engine("the seed engine's time simulation (simulate_scenario)")
+    from rubrotor.modelling import model_of
+
+    model_of(scenario).require_shaft_engine(
+        "the seed engine's time simulation (simulate_scenario)"
+    )
     return simulate_system(
         scenario.shaft,
         scenario.speed,
@@ -829,17 +833,27 @@ def simulate(
         See :func:`rubrotor.engine.result.to_dataset`; ``attrs["status"]`` is ``"complete"`` or
         ``"partial"`` (then ``attrs["status_message"]`` says why and where it stopped).
     """
-    from rubrotor.engine.result import to_dataset
+    from rubrotor.modelling import model_of
     from rubrotor.scenario.load import as_scenario
 
     scenario = as_scenario(scenario)
-    if scenario.model.general:  # a finite-element rotor or general-engine keys
-        from rubrotor.engine.general import simulate_engine
+    runner = model_of(scenario).runner  # the engine the Model chose
+    if runner != "shaft" and track_energy:
+        raise InputError("track_energy", True, "False with the general engine")
+    return _RUNS[runner](scenario, integrator, progress, track_energy)
 
-        if track_energy:
-            raise InputError("track_energy", True, "False with the general engine")
-        return simulate_engine(scenario, integrator=integrator, progress=progress)
-    scenario.require_shaft("time simulation")
+
+def _simulate_general(scenario, integrator, progress, track_energy):
+    """A general-engine or free-spin scenario (:func:`rubrotor.engine.general.simulate_engine`)."""
+    from rubrotor.engine.general import simulate_engine
+
+    return simulate_engine(scenario, integrator=integrator, progress=progress)
+
+
+def _simulate_shaft(scenario, integrator, progress, track_energy):
+    """A scenario of the seed shaft's engine, as a Dataset."""
+    from rubrotor.engine.result import to_dataset
+
     integ = integrator or scenario.simulation
     if integ is None:
         raise InputError("simulation", None, "a [simulation] section (revolutions or duration)")
@@ -851,6 +865,11 @@ def simulate(
         for f in dataclasses.fields(integrator):
             params[f"simulation.{f.name}"] = [getattr(integrator, f.name), ""]
     return to_dataset(res, params, getattr(scenario, "source", ""), getattr(scenario, "name", ""))
+
+
+_RUNS = {"shaft": _simulate_shaft, "general": _simulate_general, "free-spin": _simulate_general}
+"""Runner (:attr:`rubrotor.modelling.Model.runner`) -> ``(scenario, integrator, progress,
+track_energy) -> Dataset``."""
 
 
 def converge(
@@ -892,10 +911,11 @@ def converge(
     """
     import dataclasses
 
+    from rubrotor.modelling import model_of
     from rubrotor.scenario.load import as_scenario
 
     scenario = as_scenario(scenario)
-    scenario.require_seed_engine("the convergence study")
+    model_of(scenario).require_shaft_engine("the convergence study")
     base = scenario.simulation or Integrator(revolutions=revolutions or 20)
     dtau = dtau or base.dtau or 1e-3
     revs = revolutions or base.revolutions or base.duration * scenario.speed / (2 * math.pi)

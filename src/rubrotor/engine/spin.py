@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rubrotor.errors import InputError
+from rubrotor.rotors.forces import FreeSpin, TouchdownRing  # their home; kept importable here
 
 __all__ = ["FreeSpin", "TouchdownRing", "SpinResult", "polar_inertia", "simulate_spin",
            "spin_dataset", "simulate_free", "free_problem"]  # fmt: skip
@@ -36,64 +37,8 @@ __all__ = ["FreeSpin", "TouchdownRing", "SpinResult", "polar_inertia", "simulate
 _STATUS = {0: "complete", 1: "step size too small", 2: "diverged", 3: "too many steps"}
 
 
-@dataclass(frozen=True)
-class FreeSpin:
-    """The spin equation's torques.
-
-    Parameters
-    ----------
-    drive_torque : float or tuple of float
-        Motor torque (N m): a constant, or values at ``drive_speeds`` (linear between them,
-        constant beyond).
-    drive_speeds : tuple of float, optional
-        Speeds (rad/s, increasing) of a torque table.
-    drag : float
-        Windage/bearing drag coefficient (N m s): torque ``-drag Omega``.
-    """
-
-    drive_torque: float | tuple = 0.0
-    drive_speeds: tuple | None = None
-    drag: float = 0.0
-
-    def table(self) -> tuple[np.ndarray, np.ndarray]:
-        """Speeds (rad/s) and torques (N m) of the drive as arrays (one row for a constant)."""
-        tq = np.atleast_1d(np.asarray(self.drive_torque, float))
-        if self.drive_speeds is None:
-            if tq.size != 1:
-                raise InputError("speed.drive_speeds", None, "speeds (rad/s) for a torque table")
-            return np.zeros(1), tq
-        w = np.asarray(self.drive_speeds, float)
-        if w.shape != tq.shape or w.size < 2 or np.any(np.diff(w) <= 0):
-            raise InputError("speed.drive_speeds", self.drive_speeds,
-                             "increasing speeds (rad/s), one per drive_torque value, >= 2")  # fmt: skip
-        return w, tq
-
-
-@dataclass(frozen=True)
-class TouchdownRing:
-    """The spinning inner ring of a touchdown bearing, the stator of one contact.
-
-    Parameters
-    ----------
-    inertia : float
-        Polar inertia of the ring (kg m^2), > 0.
-    radius : float
-        Radius of the ring's bore where the rotor touches it (m), > 0.
-    drag : float
-        The ring bearing's drag coefficient (N m s): torque ``-drag omega_ring``.
-    """
-
-    inertia: float
-    radius: float
-    drag: float = 0.0
-
-    def __post_init__(self):
-        for name in ("inertia", "radius"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise InputError(f"contact.ring_{name}", v, "a number > 0")
-        if not (math.isfinite(self.drag) and self.drag >= 0):
-            raise InputError("contact.ring_drag", self.drag, "a number >= 0 (N m s)")
+_NO_DRIVE = FreeSpin()
+"""No drive torque, no drag."""
 
 
 def polar_inertia(rotor) -> float:
@@ -248,7 +193,7 @@ def _forces(system, basis, unbalances, loads, gravity):
 
 
 def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: float,
-                  stations=(), free: FreeSpin = FreeSpin(), rings=None, unbalances=(), loads=(),
+                  stations=(), free: FreeSpin = _NO_DRIVE, rings=None, unbalances=(), loads=(),
                   gravity=(0.0, 0.0), fail_time: float = math.inf, failing=(), modes=None,
                   initial="rest", rtol: float = 1e-6, atol: float = 1e-10,
                   max_steps: int = 50_000_000) -> SpinResult:  # fmt: skip
@@ -369,18 +314,20 @@ def free_problem(scenario, integrator=None) -> tuple:
         ``rtol``, ``atol`` (m), ``sample_rate`` or ``output_dtau``, ``probes``.
     """
     from rubrotor.errors import ScenarioError
+    from rubrotor.modelling import model_of
 
     eng, integ = scenario.engine, integrator or scenario.simulation
-    if not scenario.model.fe_rotor:
-        raise ScenarioError("speed.profile", "free", "a [[section]] rotor (its polar inertia "
-                            "comes from its sections and disks)")  # fmt: skip
+    model = model_of(scenario)
+    model.require_general_rotor(ScenarioError(
+        "speed.profile", "free",
+        "a [[section]] rotor (its polar inertia comes from its sections and disks)"))  # fmt: skip
     if integ is None:
         raise ScenarioError("simulation", None, "a [simulation] section (duration or revolutions)")
     if integ.step_seconds(scenario.speed) is not None:
         raise ScenarioError("simulation.dt", integ.dt or integ.dtau,
                             'no fixed step with speed.profile = "free" (adaptive: rtol, atol)')  # fmt: skip
     positions = tuple(s.contact.position for s in eng.stations) + tuple(integ.probes)
-    system = scenario.rotor.linear_system(tuple(sorted(set(eng.positions + tuple(integ.probes)))))
+    system = model.linear_system(sorted(set(eng.positions + tuple(integ.probes))), only=True)
     kwargs = dict(
         J=polar_inertia(scenario.rotor), speed=scenario.speed,
         duration=integ.total_time(scenario.speed), spacing=integ.output_spacing(scenario.speed),

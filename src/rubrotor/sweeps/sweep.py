@@ -60,6 +60,7 @@ from pathlib import Path
 import numpy as np
 
 from rubrotor.errors import InputError
+from rubrotor.modelling import model_of
 from rubrotor.scenario.load import as_scenario, key_unit
 from rubrotor.sweeps.metrics import (
     _SCALARS,
@@ -218,7 +219,7 @@ class PointScenarios:
         )
         if (
             by_multiple
-            and not base.model.fe_rotor
+            and model_of(base).linear == "closed-form"
             and not any(k.startswith("shaft.") for k in keys)
         ):
             from rubrotor.linear.shaft import first_forward_critical
@@ -273,7 +274,7 @@ def simulate_point(
     from rubrotor.engine.settings import Integrator
     from rubrotor.engine.simulate import PreparedRun
 
-    if scenario.model.fe_rotor:  # the general engine's fixed-step map
+    if model_of(scenario).maps == "general":  # the general engine's fixed-step map
         from rubrotor.sweeps.general_point import simulate_point_general
 
         return simulate_point_general(
@@ -317,8 +318,8 @@ def _rigid_clearance(scenario) -> float | None:
     an indentation beyond the clearance (millimetres for the seed rotor) lies far outside it,
     so such a run is labelled ``"indentation > clearance"``, not a rub. A linear law stands for
     a compliant seal or stator, whose deflection may exceed the gap: no such label."""
-    c = getattr(scenario, "contact", None)
-    if c is None or c.law != "hertz" or scenario.model.general:
+    c = model_of(scenario).seed_contact
+    if c is None or c.law != "hertz":
         return None
     return c.clearance
 
@@ -787,8 +788,7 @@ def _check_engine(scenario, samples_per_revolution: int) -> None:
     """Refuse, naming the key, a scenario no sweep point can run: the shaft's engine runs a
     [shaft] scenario; a finite-element rotor runs on its fixed-step map (a contact, constant
     speed, kept samples dividing its steps per revolution)."""
-    if not scenario.model.fe_rotor:
-        scenario.require_seed_engine("a parameter sweep (time simulations)")
+    if model_of(scenario).require_maps("a parameter sweep (time simulations)") == "shaft":
         return
     from rubrotor.orbits.general_map import GeneralMap
     from rubrotor.sweeps.general_point import GENERAL_STEPS
