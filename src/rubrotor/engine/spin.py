@@ -34,7 +34,7 @@ from rubrotor.rotors.forces import FreeSpin, TouchdownRing  # their home; kept i
 __all__ = ["FreeSpin", "TouchdownRing", "SpinResult", "polar_inertia", "simulate_spin",
            "spin_dataset", "simulate_free", "free_problem"]  # fmt: skip
 
-_STATUS = {0: "complete", 1: "step size too small", 2: "diverged", 3: "too many steps"}
+from rubrotor.core.status import MESSAGES as _STATUS  # noqa: E402
 
 
 _NO_DRIVE = FreeSpin()
