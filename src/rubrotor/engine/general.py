@@ -26,7 +26,7 @@ from rubrotor.engine.parts import Run, spin_angle
 from rubrotor.engine.stream import check_size
 from rubrotor.errors import InputError, ScenarioError
 
-__all__ = ["engine_problem", "simulate_engine", "given_state", "default_step", "STREAM_SAMPLES"]
+__all__ = ["engine_problem", "engine_run", "simulate_engine", "given_state", "default_step", "STREAM_SAMPLES"]
 
 STREAM_SAMPLES = 1 << 21
 """``rubrotor simulate`` streams runs with more saved samples than this to the results file."""
@@ -436,6 +436,41 @@ def _accelerations(res, t: np.ndarray) -> dict:
     return out
 
 
+def engine_run(scenario, *, integrator=None, progress=None, stream=None):
+    """Run a scenario on the general engine: the run and what its Dataset needs.
+
+    Parameters
+    ----------
+    scenario, integrator, progress, stream
+        As in :func:`simulate_engine` (imposed speed only).
+
+    Returns
+    -------
+    res : rubrotor.engine.result.TimeRun
+        The run (empty samples when streamed).
+    run : rubrotor.engine.parts.Run
+        Its settings.
+    t0 : float
+        Start time (s) (a restart's).
+    fingerprint : str
+        The model fingerprint (JSON) a restart checks.
+    """
+    from rubrotor.engine.driver import simulate_general
+    from rubrotor.engine.restart import fingerprint
+
+    system, run, kwargs, t0, snap = _problem(scenario, integrator)
+    src = scenario.engine.initial_path
+    if stream is not None and src is not None and Path(src).resolve() == Path(stream).resolve():
+        raise ScenarioError("initial.path", src, "a file other than the output, which the run "
+                            "rewrites from its start (write the continuation to a new file)")  # fmt: skip
+    _check_size(scenario, run, stream)
+    fp = json.dumps(fingerprint(system, scenario.engine.stations, run.speed))
+    attrs = {**_attrs(scenario, {}, run, t0), "model_fingerprint": fp}
+    res = simulate_general(system, run, **kwargs, progress=progress, resume=snap, t0=t0,
+                           stream=None if stream is None else str(stream), attrs=attrs)  # fmt: skip
+    return res, run, t0, fp
+
+
 def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
     """Simulate a scenario with the general engine.
 
@@ -462,8 +497,6 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
         Bad input, or a run too large for memory or disk (naming the keys to change), before
         it starts.
     """
-    from rubrotor.engine.driver import simulate_general
-    from rubrotor.engine.restart import fingerprint
     from rubrotor.modelling import model_of
 
     if model_of(scenario).runner == "free-spin":  # [speed] profile = "free": the spin is a state
@@ -472,16 +505,8 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
         if stream is not None:
             raise ScenarioError("speed.profile", "free", "a run without streaming")
         return simulate_free(scenario, integrator=integrator)
-    system, run, kwargs, t0, snap = _problem(scenario, integrator)
-    src = scenario.engine.initial_path
-    if stream is not None and src is not None and Path(src).resolve() == Path(stream).resolve():
-        raise ScenarioError("initial.path", src, "a file other than the output, which the run "
-                            "rewrites from its start (write the continuation to a new file)")  # fmt: skip
-    _check_size(scenario, run, stream)
-    fp = json.dumps(fingerprint(system, scenario.engine.stations, run.speed))
-    attrs = {**_attrs(scenario, {}, run, t0), "model_fingerprint": fp}
-    res = simulate_general(system, run, **kwargs, progress=progress, resume=snap, t0=t0,
-                           stream=None if stream is None else str(stream), attrs=attrs)  # fmt: skip
+    res, run, t0, fp = engine_run(scenario, integrator=integrator, progress=progress,
+                                  stream=stream)  # fmt: skip
     if stream is not None:
         return Path(stream)
     ds = _dataset(res, scenario, run, t0)
