@@ -6,8 +6,8 @@ from pathlib import Path
 import rubrotor
 
 CORE = Path(rubrotor.__file__).parent / "core"
-# collections: namedtuples, the named structures compiled kernels take
-ALLOWED = {"math", "numpy", "numba", "rubrotor", "__future__", "collections"}
+# collections: namedtuples, the named structures compiled kernels take; enum: the status mirror
+ALLOWED = {"math", "numpy", "numba", "rubrotor", "__future__", "collections", "enum"}
 
 
 def test_core_imports_only_numpy_numba_and_core():
@@ -100,8 +100,8 @@ def test_no_import_cycle_between_modules():
 
 def test_scenario_kind_is_decided_once():
     """No module outside ``rubrotor.scenario`` tests which tables a scenario had (``.shaft is
-    None``, ``.rotor is not None``, ``.engine is None``, ...): every verb asks
-    ``scenario.model`` (:class:`rubrotor.scenario.model.Model`)."""
+    None``, ``.rotor is not None``, ``.engine is None``, ...): every verb asks the Model
+    (:class:`rubrotor.modelling.Model`)."""
     import re
 
     root = Path(rubrotor.__file__).parent
@@ -114,3 +114,68 @@ def test_scenario_kind_is_decided_once():
         if pattern.search(line)
     ]
     assert not found, found
+
+
+# what testing the rotor's kind looks like: the old Model's flags, the kind's fields compared,
+# the scenario's own refusal of other engines, an isinstance test on a rotor builder's type
+KIND_TESTS = (
+    r"\.fe_rotor\b",
+    r"\.model\.(general|rotor|engine|spin|formulation|features)\b",
+    r"\.rotor\s*(==|!=)",
+    r"require_seed_engine\(",
+    r"isinstance\([^)]*\b(Rotor|Shaft|LinearSystem)\b",
+)
+
+
+def test_only_the_model_tests_the_rotors_kind():
+    """No module outside the Model (:mod:`rubrotor.modelling`, and the scenario package that
+    classifies a file once, :mod:`rubrotor.scenario.kind`) tests what kind of rotor it has:
+    the verbs ask the Model's decisions (``runner``, ``maps``, ``linear``) and builders
+    (``linear_system``, ``forces``, ``speed_law``). Checked line by line on the source."""
+    import re
+
+    root = Path(rubrotor.__file__).parent
+    pattern = re.compile("|".join(KIND_TESTS))
+    found = [
+        f"{path.relative_to(root)}:{i}: {line.strip()}"
+        for path in sorted(root.rglob("*.py"))
+        if not path.is_relative_to(root / "scenario") and path != root / "modelling.py"
+        for i, line in enumerate(path.read_text().splitlines(), 1)
+        if pattern.search(line)
+    ]
+    assert not found, found
+    # the pattern does catch what it is meant to (a test that can fail)
+    assert pattern.search("if scenario.model.fe_rotor:")
+    assert pattern.search("elif isinstance(obj, Shaft):")
+
+
+def test_one_status_enumeration():
+    """Every compiled run reports a code of ``rubrotor.core.status``; no module defines its own.
+
+    The codes are distinct, each has a message, and no other module assigns an integer to a
+    status name (an alias imported from the enumeration is fine).
+    """
+    from rubrotor.core import status
+
+    codes = [getattr(status, name) for name in status.__all__ if name.isupper()
+             and name != "MESSAGES"]  # fmt: skip
+    assert sorted(codes) == list(range(len(status.MESSAGES)))
+    for code in codes:
+        assert status.Status(code).message == status.MESSAGES[code] == status.message(code)
+    names = set(status.Status.__members__) | {
+        "NEWTON_FAILED", "STATUS", "STATUS_NAMES", "_STATUS", "SPIN_OK", "SPIN_DIVERGED",
+        "SPIN_STEP_TOO_SMALL", "SPIN_MAX_STEPS",
+    }  # fmt: skip
+    root = Path(rubrotor.__file__).parent
+    own = []
+    for path in sorted(root.rglob("*.py")):
+        if path == CORE / "status.py":
+            continue
+        for node in ast.parse(path.read_text()).body:
+            targets = node.targets if isinstance(node, ast.Assign) else []
+            for t in targets:
+                elts = t.elts if isinstance(t, ast.Tuple) else [t]
+                bad = [e.id for e in elts if isinstance(e, ast.Name) and e.id in names]
+                if bad and not isinstance(node.value, ast.Call):
+                    own.append(f"{path.relative_to(root)}:{node.lineno} {bad}")
+    assert not own, own

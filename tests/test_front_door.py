@@ -1,4 +1,4 @@
-"""One front door: what a scenario is is decided once (:class:`rubrotor.scenario.model.Model`),
+"""One front door: what a scenario is is decided once (:class:`rubrotor.modelling.Model`),
 and ``rubrotor simulate`` runs every rotor (``rubrotor run`` is its alias for the folder
 layout)."""
 
@@ -11,8 +11,8 @@ import xarray as xr
 from rubrotor.cli import main
 from rubrotor.cli.studies import shipped_scenarios
 from rubrotor.errors import ScenarioError
+from rubrotor.modelling import Model
 from rubrotor.scenario.load import load_scenario
-from rubrotor.scenario.model import Model
 
 SHIPPED = {s["name"]: Path(s["path"]) for s in shipped_scenarios()}
 
@@ -22,12 +22,12 @@ def test_model_of_shipped_scenarios():
     general engine, with the keys that need it listed; a [shaft] with [gravity] is a shaft on the
     general engine."""
     seed = load_scenario(SHIPPED["seed_case1"])
-    assert seed.model == Model(rotor="shaft", engine="shaft", formulation="two-field")
-    seal = load_scenario(SHIPPED["seal_rub"])
-    assert (seal.model.rotor, seal.model.engine, seal.model.formulation) == ("fe", "general", "fe")
-    assert {"gravity", "contact.stator"} <= set(seal.model.features)
-    heavy = seed.with_changes(**{"gravity.y": -9.81})
-    assert (heavy.model.rotor, heavy.model.engine, heavy.model.features) == (
+    assert Model.for_scenario(seed) == Model(rotor="shaft", engine="shaft", formulation="two-field")
+    seal = Model.for_scenario(load_scenario(SHIPPED["seal_rub"]))
+    assert (seal.rotor, seal.engine, seal.formulation) == ("fe", "general", "fe")
+    assert {"gravity", "contact.stator"} <= set(seal.features)
+    heavy = Model.for_scenario(seed.with_changes(**{"gravity.y": -9.81}))
+    assert (heavy.rotor, heavy.engine, heavy.features) == (
         "shaft",
         "general",
         ("gravity",),

@@ -21,6 +21,7 @@ MOVED = {
     "schema_export": "scenario.export",
     "scenario_rotor": "scenario.rotor",
     "scenario_engine": "scenario.dynamics",
+    "scenario.model": "modelling",
     "model": "rotors.shaft",
     "elements": "rotors.elements",
     "rotor": "rotors.fe",

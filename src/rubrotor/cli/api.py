@@ -126,8 +126,11 @@ def level1_args(parser: argparse.ArgumentParser) -> None:
 
 
 def _station(scenario, system) -> float:
-    if scenario.model.fe_rotor and scenario.rotor.disks:
-        return float(max(scenario.rotor.disks, key=lambda d: d.mass).position)
+    from rubrotor.modelling import model_of
+
+    disk = model_of(scenario).heaviest_disk()
+    if disk is not None:
+        return disk
     xs = [s.position for s in system.supports] or [0.0, system.basis.length]
     return 0.5 * (min(xs) + max(xs))
 

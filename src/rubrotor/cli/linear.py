@@ -15,6 +15,7 @@ from rubrotor.cli.common import (
     table,
 )
 from rubrotor.errors import InputError
+from rubrotor.modelling import model_of
 from rubrotor.scenario.load import load_scenario
 
 
@@ -61,7 +62,7 @@ def modes_run(args: argparse.Namespace) -> int:
     speed = scenario.speed if args.speed is None else args.speed
     if not math.isfinite(speed) or speed < 0:
         raise InputError("--speed", args.speed, "a finite spin speed >= 0 (rad/s)")
-    if scenario.model.fe_rotor:
+    if model_of(scenario).linear == "matrix":
         return _general_modes(scenario, speed, args.json, args.station)
     result = modes(scenario, speed)
     if args.json:
@@ -186,7 +187,7 @@ def critical_run(args: argparse.Namespace) -> int:
     from rubrotor.linear.verbs import critical_speeds
 
     scenario = load_scenario(args.scenario)
-    if scenario.model.fe_rotor:
+    if model_of(scenario).linear == "matrix":
         if args.max_speed is not None and not (
             math.isfinite(args.max_speed) and args.max_speed > 0
         ):
@@ -246,9 +247,10 @@ def campbell_run(args: argparse.Namespace) -> int:
     if fmt not in ("png", "pdf", "svg"):
         raise InputError("--out", args.out, "a file name ending in .png, .pdf or .svg")
     scenario = load_scenario(args.scenario)
-    if scenario.model.fe_rotor:
+    model = model_of(scenario)
+    if model.linear == "matrix":
         return _general_campbell(scenario, speeds, out, args.json)
-    shaft = scenario.require_shaft("the Campbell diagram")
+    shaft = model.require_shaft("the Campbell diagram")
     fig = campbell_figure(shaft, speeds, operating_speed=scenario.speed)
     save_atomic(fig, out)
     if args.json:
@@ -335,7 +337,7 @@ def stability_run(args: argparse.Namespace) -> int:
     if args.modes is not None and not 1 <= args.modes <= 200:
         raise InputError("--modes", args.modes, "an integer in 1..200")
     forms = ("two-field", "seed-eq1") if args.formulation == "both" else (args.formulation,)
-    if scenario.model.fe_rotor:
+    if model_of(scenario).linear == "matrix":
         forms = ("general",)  # the finite-element rotor: one formulation
     res = [
         contact_stability(

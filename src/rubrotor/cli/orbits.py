@@ -106,7 +106,9 @@ def continue_run(args: argparse.Namespace) -> int:
         from rubrotor.sweeps.follow import follow_sweep
 
         values = np.linspace(min(start, stop), max(start, stop), max(args.sweep_points, 2))
-        if scenario.model.fe_rotor:
+        from rubrotor.modelling import model_of
+
+        if model_of(scenario).maps == "general":
             from rubrotor.sweeps.follow import follow_general
 
             sweep = follow_general(scenario, key, values, "both", 100, 20, steps=args.steps)

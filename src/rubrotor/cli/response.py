@@ -40,11 +40,13 @@ def speed_or_default(value: float | None, default: float, flag: str = "--speed")
 def on_rotor(scenario, values, flag: str) -> list[float]:
     """Stations (m) on the rotor: ``[0, L]`` for a finite-element rotor, ``(0, L)`` for the
     continuous shaft (pinned at its ends); an InputError naming ``flag`` otherwise."""
-    length = scenario.rotor.length if scenario.model.fe_rotor else scenario.shaft.length
-    lo = 0.0 if scenario.model.fe_rotor else 1e-12 * length
+    from rubrotor.modelling import model_of
+
+    length, closed = model_of(scenario).span()
+    lo = 0.0 if closed else 1e-12 * length
     for x in values:
         if not (math.isfinite(x) and lo <= x <= length - lo):
-            where = f"[0, {length:g}]" if scenario.model.fe_rotor else f"(0, {length:g})"
+            where = f"[0, {length:g}]" if closed else f"(0, {length:g})"
             raise InputError(flag, x, f"a position on the rotor, in {where} m")
     return [float(x) for x in values]
 

@@ -152,7 +152,9 @@ def simulate_run(args: argparse.Namespace) -> int:
         if integ is None:
             raise InputError("simulation", None, "a [simulation] section in the scenario")
         integ = dataclasses.replace(integ, revolutions=args.revolutions, duration=None)
-    if scenario.model.general and scenario.model.spin != "free":
+    from rubrotor.modelling import model_of
+
+    if model_of(scenario).runner == "general":
         from rubrotor.engine.general import STREAM_SAMPLES, engine_problem, simulate_engine
 
         _, run, _, _ = engine_problem(scenario, integ)

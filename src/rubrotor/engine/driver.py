@@ -56,6 +56,7 @@ from rubrotor.core.engine_adaptive import (
     T_TIME,
     expo_adaptive,
 )
+from rubrotor.core.status import Status
 from rubrotor.engine import restart
 from rubrotor.engine.parts import (
     RubStation,
@@ -75,9 +76,9 @@ from rubrotor.engine.reduce import (
     reduce_projected,
 )
 from rubrotor.engine.restart import physical_state
-from rubrotor.engine.result import _jsonable
+from rubrotor.engine.result import TimeRun, _jsonable, to_dataset
 from rubrotor.engine.shaft_modal import phi_functions
-from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
+from rubrotor.engine.stream import NetcdfSink, check_size
 from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Plan, Steps
 from rubrotor.errors import InputError
 from rubrotor.rotors.scales import explain
@@ -630,55 +631,11 @@ STEPPERS = {
 """Method name -> factory ``(problem, plant, run, state) -> (chunk, first_sample, stats, final)``."""
 
 
-@dataclass(frozen=True)
-class EngineResult:
-    """Output of :func:`simulate_general` (SI units, see :mod:`rubrotor.core.engine`).
-
-    Attributes
-    ----------
-    time : ndarray
-        Sample times (s).
-    stations : ndarray
-        Output positions (m): contact stations first, then probes.
-    n_contacts : int
-    channels : ndarray
-        ``(4 S + 8 n_c, T)`` saved channels.
-    events : ndarray
-        ``(n, 2)``: time (s), ``+/-(contact index + 1)`` for onset/separation.
-    states : ndarray
-        ``(T, ns)`` modal states when ``save_state`` was on, else empty.
-    status, message : str
-        ``"complete"`` or ``"partial"`` and why.
-    stats : dict
-    speed : float
-        rad/s (the start speed of a run-up).
-    final_state : ndarray
-        Rotor state ``[q, q']`` on the free DOFs (SI) at the end of the last completed chunk
-        (the last good state of a run stopped by a failure): pass it as ``Run(initial=...)`` to
-        continue the run, or ``restart`` as ``simulate_general(..., resume=...)`` to continue it
-        exactly.
-    restart : dict or None
-        The full physical state at that time (:func:`rubrotor.engine.restart.snapshot`; its
-        ``time_s`` counts from ``t0``), or ``None`` for a speed profile.
-    """
-
-    time: np.ndarray
-    stations: np.ndarray
-    n_contacts: int
-    channels: np.ndarray
-    events: np.ndarray
-    states: np.ndarray
-    status: str
-    message: str
-    stats: dict
-    speed: float
-    final_state: np.ndarray
-    restart: dict | None = None
-
-    def to_dataset(self):
-        """The results as an xarray Dataset (dims ``time``, ``station``, ``contact``, ``event``);
-        its sample variables view ``channels`` (no copy)."""
-        return result_dataset(self)
+EngineResult = TimeRun
+"""Old name of the general engine's result: the one :class:`~rubrotor.engine.result.TimeRun`
+(``engine = "general"``: per station ``v, w, v', w'`` rows, then per contact the stator's
+motion and force rows; ``final_state`` the rotor state ``[q, q']`` on the free DOFs at the end
+of the last completed chunk, ``restart`` the full restart state)."""
 
 
 class _Signals:
@@ -1008,29 +965,21 @@ def _run(chunk, final, stats, state, plant, run, method, opts) -> EngineResult:
                     "end_time_s": t0 + done * sample_dt})  # fmt: skip
         stats["stream"] = str(stream)
         n_out = 0
-    return EngineResult(
+    return TimeRun(
         time=np.arange(n_out) * sample_dt, stations=plant.stations, n_contacts=nc,
         channels=state.out[:, :n_out], events=events, states=state.ys[:n_out], status=status,
         message=msg, stats=stats, speed=plant.speed, final_state=keep.x, restart=keep.snap,
+        engine="general", code=Status(int(state.istate[I_STATUS])),
     )  # fmt: skip
 
 
-_STATION = STATION_VARS
-_CONTACT = CONTACT_VARS
-
-
-def _var(dims, data, attrs: dict):
-    import xarray as xr
-
-    return xr.Variable(dims, data, attrs, fastpath=True)
-
-
-def result_dataset(res: EngineResult, *, coords=None, data=None, attrs=None):
-    """The results as an xarray Dataset whose sample variables view ``res.channels`` (no copy).
+def result_dataset(res: TimeRun, *, coords=None, data=None, attrs=None):
+    """The results as an xarray Dataset whose sample variables view ``res.channels`` (no copy):
+    :func:`rubrotor.engine.result.to_dataset`, the one builder.
 
     Parameters
     ----------
-    res : EngineResult
+    res : TimeRun
         The run.
     coords, data : dict of str to xarray.Variable, optional
         Coordinates and variables that replace or extend the defaults (``time`` in s from 0,
@@ -1042,36 +991,4 @@ def result_dataset(res: EngineResult, *, coords=None, data=None, attrs=None):
     -------
     xarray.Dataset
     """
-    import xarray as xr
-
-    from rubrotor import __version__
-
-    ch = res.channels
-    S, nc = len(res.stations), res.n_contacts
-    crd = {
-        "time": _var("time", res.time, {"units": "s"}),
-        "tau": _var("time", res.speed * res.time, {"units": "rad", "long_name": "Omega t"}),
-        "station": _var("station", res.stations, {"units": "m", "long_name": "axial position"}),
-        "contact": _var("contact", np.arange(nc), {"long_name": "contact index"}),
-        **(coords or {}),
-    }
-    dv = {}
-    for k, (nm, unit) in enumerate(_STATION):  # rows 4 s + k: a strided view
-        dv[nm] = _var(("station", "time"), ch[k : 4 * S : 4], {"units": unit})
-    for k, (nm, unit) in enumerate(_CONTACT):  # rows 4 S + 8 i + k
-        dv[nm] = _var(("contact", "time"), ch[4 * S + k : 4 * S + 8 * nc : 8], {"units": unit})
-    dv["in_contact"] = _var(("contact", "time"), (dv["normal_force"].data > 0).view(np.int8), {})
-    ev = res.events
-    dv["event_time"] = _var("event", ev[:, 0], {"units": "s"})
-    dv["event_contact"] = _var("event", np.abs(ev[:, 1]).astype(int) - 1, {})
-    dv["event_kind"] = _var("event", np.sign(ev[:, 1]).astype(np.int8), {"long_name": "+1 onset"})
-    dv.update(data or {})
-    at = {
-        "status": res.status,
-        "status_message": res.message,
-        "speed_rad_s": res.speed,
-        "integrator_stats": json.dumps(_jsonable(res.stats)),
-        "rubrotor_version": __version__,
-        **(attrs or {}),
-    }
-    return xr.Dataset(dv, crd, at)
+    return to_dataset(res, coords=coords, data=data, attrs=attrs)

@@ -26,19 +26,18 @@ from rubrotor.engine.parts import Run, spin_angle
 from rubrotor.engine.stream import check_size
 from rubrotor.errors import InputError, ScenarioError
 
-__all__ = ["engine_problem", "simulate_engine", "given_state", "default_step", "STREAM_SAMPLES"]
+__all__ = ["engine_problem", "engine_run", "simulate_engine", "given_state", "default_step", "STREAM_SAMPLES"]
 
 STREAM_SAMPLES = 1 << 21
 """``rubrotor simulate`` streams runs with more saved samples than this to the results file."""
 
 
 def _system(scenario, probes):
-    from rubrotor.rotors.shaft_system import continuous_system
+    """The rotor the Model builds, meshed at the engine's stations and the probes."""
+    from rubrotor.modelling import model_of
 
-    eng = scenario.engine
-    if scenario.model.fe_rotor:
-        return scenario.rotor.linear_system(tuple(sorted(set(eng.positions + tuple(probes)))))
-    return continuous_system(scenario.shaft, scenario.damping)
+    stations = tuple(sorted(set(scenario.engine.positions + tuple(probes))))
+    return model_of(scenario).linear_system(stations, only=True)
 
 
 def _duration(integ, speed: float, speed_end: float | None) -> float:
@@ -248,7 +247,9 @@ def engine_problem(scenario, integrator=None):
     A free spin speed (``[speed] profile = "free"``) is refused naming the key: the maps,
     orbits and sweeps built on these inputs hold the speed imposed.
     """
-    if scenario.model.spin == "free":
+    from rubrotor.modelling import model_of
+
+    if model_of(scenario).runner == "free-spin":
         raise ScenarioError("speed.profile", "free", 'a "constant", "linear" or "table" speed '
                             "here (a free spin speed runs in rubrotor simulate)")  # fmt: skip
     return _problem(scenario, integrator)[:4]
@@ -435,6 +436,41 @@ def _accelerations(res, t: np.ndarray) -> dict:
     return out
 
 
+def engine_run(scenario, *, integrator=None, progress=None, stream=None):
+    """Run a scenario on the general engine: the run and what its Dataset needs.
+
+    Parameters
+    ----------
+    scenario, integrator, progress, stream
+        As in :func:`simulate_engine` (imposed speed only).
+
+    Returns
+    -------
+    res : rubrotor.engine.result.TimeRun
+        The run (empty samples when streamed).
+    run : rubrotor.engine.parts.Run
+        Its settings.
+    t0 : float
+        Start time (s) (a restart's).
+    fingerprint : str
+        The model fingerprint (JSON) a restart checks.
+    """
+    from rubrotor.engine.driver import simulate_general
+    from rubrotor.engine.restart import fingerprint
+
+    system, run, kwargs, t0, snap = _problem(scenario, integrator)
+    src = scenario.engine.initial_path
+    if stream is not None and src is not None and Path(src).resolve() == Path(stream).resolve():
+        raise ScenarioError("initial.path", src, "a file other than the output, which the run "
+                            "rewrites from its start (write the continuation to a new file)")  # fmt: skip
+    _check_size(scenario, run, stream)
+    fp = json.dumps(fingerprint(system, scenario.engine.stations, run.speed))
+    attrs = {**_attrs(scenario, {}, run, t0), "model_fingerprint": fp}
+    res = simulate_general(system, run, **kwargs, progress=progress, resume=snap, t0=t0,
+                           stream=None if stream is None else str(stream), attrs=attrs)  # fmt: skip
+    return res, run, t0, fp
+
+
 def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
     """Simulate a scenario with the general engine.
 
@@ -461,25 +497,16 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
         Bad input, or a run too large for memory or disk (naming the keys to change), before
         it starts.
     """
-    from rubrotor.engine.driver import simulate_general
-    from rubrotor.engine.restart import fingerprint
+    from rubrotor.modelling import model_of
 
-    if scenario.model.spin == "free":  # [speed] profile = "free": the spin is a state
+    if model_of(scenario).runner == "free-spin":  # [speed] profile = "free": the spin is a state
         from rubrotor.engine.spin import simulate_free
 
         if stream is not None:
             raise ScenarioError("speed.profile", "free", "a run without streaming")
         return simulate_free(scenario, integrator=integrator)
-    system, run, kwargs, t0, snap = _problem(scenario, integrator)
-    src = scenario.engine.initial_path
-    if stream is not None and src is not None and Path(src).resolve() == Path(stream).resolve():
-        raise ScenarioError("initial.path", src, "a file other than the output, which the run "
-                            "rewrites from its start (write the continuation to a new file)")  # fmt: skip
-    _check_size(scenario, run, stream)
-    fp = json.dumps(fingerprint(system, scenario.engine.stations, run.speed))
-    attrs = {**_attrs(scenario, {}, run, t0), "model_fingerprint": fp}
-    res = simulate_general(system, run, **kwargs, progress=progress, resume=snap, t0=t0,
-                           stream=None if stream is None else str(stream), attrs=attrs)  # fmt: skip
+    res, run, t0, fp = engine_run(scenario, integrator=integrator, progress=progress,
+                                  stream=stream)  # fmt: skip
     if stream is not None:
         return Path(stream)
     ds = _dataset(res, scenario, run, t0)

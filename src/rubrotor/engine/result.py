@@ -1,4 +1,9 @@
-"""Simulation results as an ``xarray.Dataset`` with units and provenance, and netCDF I/O.
+"""One time-run result (:class:`TimeRun`), its one Dataset builder, and netCDF I/O.
+
+Every time run (the seed shaft's engine, the general engine, the free-spin engine) returns a
+frozen :class:`TimeRun`; :func:`to_dataset` builds its ``xarray.Dataset`` from the table
+:data:`LAYOUTS`, which says where each variable sits in the run's channel buffer (the Datasets
+keep the layout and attributes each engine wrote before, so files written before still load).
 
 Files are written atomically: to a temporary file in the target directory, then renamed, so a
 reader never sees a half-written result.
@@ -10,6 +15,8 @@ import json
 import math
 import os
 import tempfile
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -18,10 +25,147 @@ from xarray.backends import BackendArray
 from xarray.core import indexing
 
 from rubrotor import __version__
+from rubrotor.core.status import Status
 from rubrotor.engine.output import usual_mode
+from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS
 from rubrotor.errors import InputError
 
-__all__ = ["to_dataset", "from_shaft_layout", "save_dataset", "load_dataset", "atomic_write"]
+__all__ = ["TimeRun", "Layout", "LAYOUTS", "STATUSES", "to_dataset", "from_shaft_layout",
+           "save_dataset", "load_dataset", "atomic_write"]  # fmt: skip
+
+STATUSES = ("complete", "partial")
+"""Status of a time run: it ran to its end, or it stopped early (``message`` says why)."""
+
+
+@dataclass(frozen=True)
+class TimeRun:
+    """The result of every time run (SI units, frozen): one type for every engine.
+
+    The sample arrays are views of the compiled kernel's output buffer (no copy); where each
+    variable sits in ``channels`` is the engine's :class:`Layout` (:data:`LAYOUTS`).
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times (s), from 0.
+    stations : ndarray
+        Axial positions (m) of the output stations: contact stations first, then probes.
+    n_contacts : int
+        Contacts.
+    channels : ndarray
+        Saved channels, ``(rows, T)`` in the engine's layout.
+    events : ndarray
+        Contact events: ``(n, 2)`` time (s) and ``+/-(contact + 1)`` (general engine), or
+        signed times (s, ``+`` onset, ``-`` separation) on the seed shaft's engine.
+    status : {"complete", "partial"}
+        The run reached its end, or stopped early.
+    message : str
+        Why a partial run stopped (empty when complete).
+    stats : dict
+        Integrator statistics.
+    speed : float
+        Spin speed (rad/s; the start speed of a run-up or of a free spin).
+    final_state : RotorState or ndarray or None
+        The state at the end (see the engine), None when unknown.
+    restart : dict or None
+        The general engine's full restart state (:mod:`rubrotor.engine.restart`).
+    states : ndarray
+        Modal states per sample when saved (general engine), else empty.
+    engine : {"shaft", "general", "free-spin"}
+        The engine that ran, which names the layout of ``channels``.
+    code : rubrotor.core.status.Status
+        How the kernel's run ended, from the one enumeration (``code.message`` says what it
+        means): ``Status.OK`` for a complete run, and for a run stopped from outside (an
+        interrupt; then ``status`` is ``"partial"`` and ``message`` says why).
+    extras : Mapping
+        What only one engine has, read as attributes: the shaft's ``work`` (J),
+        ``unbalance_force`` (N, complex), ``unbalance_position`` (m) and ``contact``; the free
+        spin's ``state``, ``contact`` (forces), ``basis``, ``reduced``, ``J`` (kg m^2),
+        ``radius`` (m) and ``rings``.
+    """
+
+    time: np.ndarray
+    stations: np.ndarray
+    n_contacts: int
+    channels: np.ndarray
+    events: np.ndarray
+    status: str
+    message: str
+    stats: dict
+    speed: float
+    final_state: object = None
+    restart: dict | None = None
+    states: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    engine: str = "general"
+    code: Status = Status.OK
+    extras: Mapping = field(default_factory=dict)
+
+    def __getattr__(self, name):
+        extras = self.__dict__.get("extras")
+        if extras is not None and name in extras:
+            return extras[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    @property
+    def r(self) -> int:
+        """Retained modal coordinates of a free-spin run."""
+        return self.basis.shape[1]
+
+    @property
+    def spin_speed(self) -> np.ndarray:
+        """Spin speed (rad/s) per sample of a free-spin run."""
+        return self.state[2 * self.r]
+
+    @property
+    def spin_angle(self) -> np.ndarray:
+        """Integrated spin angle (rad) per sample of a free-spin run."""
+        return self.state[2 * self.r + 1]
+
+    @property
+    def ring_speed(self) -> np.ndarray:
+        """Ring speeds (rad/s), ``(n_c, n)``, of a free-spin run (zero for a fixed stator)."""
+        return self.state[2 * self.r + 2 :]
+
+    def to_dataset(self, parameters: dict | None = None, scenario_text: str = "",
+                   name: str = "", **kw):  # fmt: skip
+        """The results Dataset (:func:`to_dataset`)."""
+        return to_dataset(self, parameters, scenario_text, name, **kw)
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Where an engine's variables sit in :attr:`TimeRun.channels`, and their attributes.
+
+    Attributes
+    ----------
+    station : tuple of (name, attrs)
+        Rows of each station, station ``s`` starting at row ``len(station) * s``.
+    contact : tuple of (name, attrs)
+        Rows of each contact after the stations, contact ``i`` at ``per_contact * i``.
+    per_contact : int
+        Rows per contact.
+    coords : dict
+        Attributes of the ``time`` and ``tau`` coordinates; ``"event"``: those of an
+        ``event`` coordinate (None: no such coordinate); ``"contact"``, ``"tau"`` present or not.
+    in_contact : dict
+        Attributes of ``in_contact`` (None: no such variable).
+    extra : callable
+        ``(run, time) -> dict`` of further variables (the shaft's unbalance force).
+    events : callable
+        ``(run) -> dict`` of the event variables.
+    attrs : callable
+        ``(run, parameters, scenario_text, name) -> dict`` of the Dataset's attributes.
+    """
+
+    station: tuple
+    contact: tuple
+    per_contact: int
+    coords: dict
+    in_contact: dict | None
+    extra: Callable
+    events: Callable
+    attrs: Callable
+
 
 _STATION_VARS = (
     ("v", "m", "deflection along y (v)"),
@@ -101,21 +245,6 @@ def _contacts_attr(result) -> str:
     }])  # fmt: skip
 
 
-def _contact_vars(ch: np.ndarray, row: int, nc: int) -> dict:
-    """``normal_force``, ``friction_force`` (N) and ``in_contact`` on ``(contact, time)``."""
-    fn = ch[row : row + nc]  # (nc, T) views: nc is 0 or 1
-    ft = ch[row + 1 : row + 1 + nc]
-    return {
-        "normal_force": _var(("contact", "time"), fn, {"units": "N", "long_name": "normal contact force"}),
-        "friction_force": _var(("contact", "time"), ft, {
-            "units": "N",
-            "long_name": "friction force along the tangent i*n (positive = spin direction)",
-        }),
-        "in_contact": _var(("contact", "time"), (fn > 0).view(np.int8),  # 0/1 bytes, no 2nd pass
-                           {"units": "1", "long_name": "rotor touches the stator", "flag_values": "0 1"}),
-    }  # fmt: skip
-
-
 def _event_vars(ev: np.ndarray, nc: int) -> dict:
     """``event_time`` (s), ``event_contact`` and ``event_kind`` (+1 onset, -1 separation)."""
     return {
@@ -127,91 +256,198 @@ def _event_vars(ev: np.ndarray, nc: int) -> dict:
     }  # fmt: skip
 
 
-def to_dataset(
-    result, parameters: dict | None = None, scenario_text: str = "", name: str = ""
-) -> xr.Dataset:
-    """Build the results Dataset of a :class:`rubrotor.engine.simulate.SimulationResult`.
-
-    The layout is the general engine's (``rubrotor.engine.driver.result_dataset``): output
-    stations on a ``station`` dimension, contacts on a ``contact`` dimension. The sample
-    variables are views of the result's arrays (no copy); the unbalance force is computed when
-    first read (it is a closed form of the time).
-
-    Parameters
-    ----------
-    result : SimulationResult
-        Raw output of :func:`rubrotor.engine.simulate.simulate_system`.
-    parameters : dict, optional
-        Every model parameter, as ``{"section.key": [value, "unit"]}``; stored as JSON in the
-        ``parameters`` attribute.
-    scenario_text : str
-        The scenario file text, stored for provenance.
-    name : str
-        Scenario name.
-
-    Returns
-    -------
-    xarray.Dataset
-        Coordinates ``time`` (s), ``tau = Omega t`` (rad), ``station`` (axial position, m: the
-        contact station, midspan without contact, then the probes) and ``contact`` (index; one
-        entry with a contact, none without). Variables on ``(station, time)``: ``v, w`` (m),
-        ``v_dot, w_dot`` (m/s), ``v_ddot, w_ddot`` (m/s^2); on ``(contact, time)``:
-        ``normal_force``, ``friction_force`` (N, along the tangent ``i n``, ``n = P/|P|``: the
-        force on the rotor is ``-(F_n + i F_t) n``) and ``in_contact`` (0/1); on ``time``:
-        ``unbalance_force_y``, ``unbalance_force_z`` (N); on ``event``: ``event_time`` (s),
-        ``event_contact`` and ``event_kind`` (+1 onset, -1 separation). Attributes hold the
-        status, message, speed (rad/s, Hz), integrator statistics, the contacts (JSON), the
-        end time (s), work terms, parameters and scenario text.
-    """
-    ch, t = result.channels, result.time
-    nst = len(result.stations)
-    nc = 0 if getattr(result, "contact", None) is None else 1
-    coords = {
-        "time": _var("time", t, {"units": "s", "long_name": "time"}),
-        "tau": _var(
-            "time", result.speed * t, {"units": "rad", "long_name": "dimensionless time Omega t"}
-        ),
-        "station": _var("station", np.asarray(result.stations, dtype=float),
-                        {"units": "m", "long_name": "axial position"}),
-        "contact": _var("contact", np.arange(nc), {"long_name": "contact index"}),
-    }  # fmt: skip
-    data = {}
-    for i, (name_v, unit, long) in enumerate(_STATION_VARS):  # rows 6 s + i: strided views
-        data[name_v] = _var(
-            ("station", "time"), ch[i : 6 * nst : 6], {"units": unit, "long_name": long}
+def _shaft_extra(run, t) -> dict:
+    """The unbalance force (N) on ``time``, computed when first read (a closed form of t)."""
+    fu = _Phasor(run.unbalance_force, run.speed, t)
+    return {
+        f"unbalance_force_{axis}": _var(
+            "time", _lazy(_LazyPart(fu, part)), {"units": "N", "long_name": f"unbalance force, {axis}"}
         )
-    data.update(_contact_vars(ch, 6 * nst, nc))
-    fu = _Phasor(result.unbalance_force, result.speed, t)
-    for axis, part in (("y", "real"), ("z", "imag")):
-        data[f"unbalance_force_{axis}"] = _var(
-            "time",
-            _lazy(_LazyPart(fu, part)),
-            {"units": "N", "long_name": f"unbalance force, {axis}"},
-        )
-    coords["event"] = _var(
-        "event", np.arange(len(result.events)), {"long_name": "contact event index"}
-    )
-    data.update(_event_vars(result.events, nc))
-    attrs = {
+        for axis, part in (("y", "real"), ("z", "imag"))
+    }
+
+
+def _shaft_attrs(run, parameters, scenario_text, name) -> dict:
+    t = run.time
+    return {
         "title": f"rubrotor simulation {name}".strip(),
         "scenario_name": name,
-        "status": result.status,
-        "status_message": result.message,
-        "speed_rad_s": result.speed,
-        "speed_hz": result.speed / (2 * math.pi),
+        "status": run.status,
+        "status_message": run.message,
+        "speed_rad_s": run.speed,
+        "speed_hz": run.speed / (2 * math.pi),
         "start_time_s": 0.0,
         "end_time_s": float(t[-1]) if t.size else 0.0,
         "engine": "shaft",
-        "contact_position_m": float(result.stations[0]),
-        "contacts": _contacts_attr(result),
+        "contact_position_m": float(run.stations[0]),
+        "contacts": _contacts_attr(run),
         "rubrotor_version": __version__,
-        "integrator_stats": json.dumps(_jsonable(result.stats)),
-        "work": json.dumps(_jsonable(result.work)),
+        "integrator_stats": json.dumps(_jsonable(run.stats)),
+        "work": json.dumps(_jsonable(run.work)),
         "parameters": json.dumps(_jsonable(parameters or {})),
         "scenario": scenario_text,
         "Conventions": "CF-1.8",
     }
-    return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
+
+
+def _general_events(run) -> dict:
+    ev = run.events
+    return {
+        "event_time": _var("event", ev[:, 0], {"units": "s"}),
+        "event_contact": _var("event", np.abs(ev[:, 1]).astype(int) - 1, {}),
+        "event_kind": _var("event", np.sign(ev[:, 1]).astype(np.int8), {"long_name": "+1 onset"}),
+    }
+
+
+def _general_attrs(run, parameters, scenario_text, name) -> dict:
+    return {
+        "status": run.status,
+        "status_message": run.message,
+        "speed_rad_s": run.speed,
+        "integrator_stats": json.dumps(_jsonable(run.stats)),
+        "rubrotor_version": __version__,
+    }
+
+
+def _spin_extra(run, t) -> dict:
+    return {
+        "spin_speed": _var("time", run.spin_speed, {"units": "rad/s", "long_name": "spin speed"}),
+        "spin_angle": _var("time", run.spin_angle, {"units": "rad"}),
+    }
+
+
+def _spin_attrs(run, parameters, scenario_text, name) -> dict:
+    touching = run.contact[:, 0] > 0
+    events = int(np.sum(touching[:, 1:] & ~touching[:, :-1]))  # contact onsets between samples
+    return {"status": run.status, "status_message": run.message, "engine": "free-spin",
+            "polar_inertia_kg_m2": run.J, "speed_rad_s": float(run.spin_speed[0]),
+            "speed_end_rad_s": float(run.spin_speed[-1]),
+            "integrator_stats": json.dumps({**run.stats, "contact_events": events})}  # fmt: skip
+
+
+def _units(*pairs) -> tuple:
+    return tuple((n, {"units": u}) for n, u in pairs)
+
+
+_STATION_GENERAL = _units(*STATION_VARS)
+
+LAYOUTS = {
+    "shaft": Layout(
+        station=tuple((n, {"units": u, "long_name": lg}) for n, u, lg in _STATION_VARS),
+        contact=(
+            ("normal_force", {"units": "N", "long_name": "normal contact force"}),
+            ("friction_force", {"units": "N", "long_name": "friction force along the tangent "
+                                "i*n (positive = spin direction)"}),
+        ),  # fmt: skip
+        per_contact=2,
+        coords={"time": {"units": "s", "long_name": "time"},
+                "tau": {"units": "rad", "long_name": "dimensionless time Omega t"},
+                "station": {"units": "m", "long_name": "axial position"},
+                "contact": {"long_name": "contact index"},
+                "event": {"long_name": "contact event index"}},  # fmt: skip
+        in_contact={"units": "1", "long_name": "rotor touches the stator", "flag_values": "0 1"},
+        extra=_shaft_extra,
+        events=lambda run: _event_vars(run.events, run.n_contacts),
+        attrs=_shaft_attrs,
+    ),
+    "general": Layout(
+        station=_STATION_GENERAL,
+        contact=_units(*CONTACT_VARS),
+        per_contact=len(CONTACT_VARS),
+        coords={"time": {"units": "s"}, "tau": {"units": "rad", "long_name": "Omega t"},
+                "station": {"units": "m", "long_name": "axial position"},
+                "contact": {"long_name": "contact index"}},  # fmt: skip
+        in_contact={},
+        extra=lambda run, t: {},
+        events=_general_events,
+        attrs=_general_attrs,
+    ),
+    "free-spin": Layout(
+        station=_STATION_GENERAL,
+        contact=_units(
+            ("ring_speed", "rad/s"), ("normal_force", "N"), ("friction_force", "N"),
+            ("sliding_speed", "m/s"), ("force_y", "N"), ("force_z", "N"), ("friction_torque", "N m"),
+        ),  # fmt: skip
+        per_contact=7,
+        coords={"time": {"units": "s"}, "station": {"units": "m"}},
+        in_contact=None,
+        extra=_spin_extra,
+        events=lambda run: {},
+        attrs=_spin_attrs,
+    ),
+}
+"""Engine (:attr:`TimeRun.engine`) -> :class:`Layout` of its channels and Dataset."""
+
+
+def to_dataset(
+    result, parameters: dict | None = None, scenario_text: str = "", name: str = "", *,
+    coords: dict | None = None, data: dict | None = None, attrs: dict | None = None,
+) -> xr.Dataset:  # fmt: skip
+    """Build the results Dataset of any time run (:class:`TimeRun`): the one builder.
+
+    The sample variables are views of the run's channels (no copy); the seed shaft's unbalance
+    force is computed when first read (a closed form of the time). Where each variable sits,
+    and its attributes, is the engine's :class:`Layout` (:data:`LAYOUTS`).
+
+    Parameters
+    ----------
+    result : TimeRun
+        A time run.
+    parameters : dict, optional
+        Every model parameter, as ``{"section.key": [value, "unit"]}``; stored as JSON in the
+        ``parameters`` attribute (seed shaft's engine).
+    scenario_text : str
+        The scenario file text, stored for provenance (seed shaft's engine).
+    name : str
+        Scenario name (seed shaft's engine).
+    coords, data : dict of str to xarray.Variable, optional
+        Coordinates and variables that replace or extend the layout's.
+    attrs : dict, optional
+        Attributes added to the layout's.
+
+    Returns
+    -------
+    xarray.Dataset
+        Coordinates ``time`` (s), ``tau = Omega t`` (rad), ``station`` (axial position, m:
+        contact stations first, then probes), ``contact`` (index). Variables on ``(station,
+        time)``: ``v, w`` (m), ``v_dot, w_dot`` (m/s), and ``v_ddot, w_ddot`` (m/s^2) on the
+        seed shaft's engine; on ``(contact, time)``: ``normal_force``, ``friction_force`` (N,
+        along the tangent ``i n``, ``n = P/|P|``: the force on the rotor is ``-(F_n + i F_t)
+        n``), ``in_contact`` (0/1), and the general engine's stator motion and force
+        components; on ``event``: ``event_time`` (s), ``event_contact`` and ``event_kind``
+        (+1 onset, -1 separation). The seed shaft's engine adds ``unbalance_force_y``,
+        ``unbalance_force_z`` (N) on ``time``; a free-spin run ``spin_speed`` (rad/s),
+        ``spin_angle`` (rad) on ``time`` and ``ring_speed`` (rad/s), ``sliding_speed`` (m/s),
+        ``friction_torque`` (N m) on ``(contact, time)``. Attributes hold the status,
+        message, speed (rad/s), integrator statistics and provenance.
+    """
+    lay = LAYOUTS[result.engine]
+    ch, t = result.channels, result.time
+    S, nc = len(result.stations), result.n_contacts
+    ca = lay.coords
+    crd = {"time": _var("time", t, ca["time"])}
+    if "tau" in ca:
+        crd["tau"] = _var("time", result.speed * t, ca["tau"])
+    crd["station"] = _var("station", np.asarray(result.stations, dtype=float), ca["station"])
+    if "contact" in ca:
+        crd["contact"] = _var("contact", np.arange(nc), ca["contact"])
+    if "event" in ca:
+        crd["event"] = _var("event", np.arange(len(result.events)), ca["event"])
+    crd.update(coords or {})
+    dv = {}
+    ps, pc = len(lay.station), lay.per_contact
+    for k, (nm, at) in enumerate(lay.station):  # rows ps * s + k: strided views
+        dv[nm] = _var(("station", "time"), ch[k : ps * S : ps], at)
+    for k, (nm, at) in enumerate(lay.contact):  # rows ps * S + pc * i + k
+        dv[nm] = _var(("contact", "time"), ch[ps * S + k : ps * S + pc * nc : pc], at)
+    if lay.in_contact is not None:  # 0/1 bytes, no second pass
+        dv["in_contact"] = _var(("contact", "time"), (dv["normal_force"].data > 0).view(np.int8),
+                                lay.in_contact)  # fmt: skip
+    dv.update(lay.extra(result, t))
+    dv.update(lay.events(result))
+    dv.update(data or {})
+    at = {**lay.attrs(result, parameters, scenario_text, name), **(attrs or {})}
+    return xr.Dataset(data_vars=dv, coords=crd, attrs=at)
 
 
 def atomic_write(path: str | os.PathLike, write) -> Path:

@@ -31,6 +31,8 @@ from rubrotor.core.integrate import (
     _write_sample,
     n_channels,
 )
+from rubrotor.core.status import Status
+from rubrotor.engine.result import TimeRun
 from rubrotor.engine.settings import Integrator
 from rubrotor.engine.shaft_modal import ModalSystem, assemble_modal, phi_functions
 from rubrotor.engine.shaft_steppers import STEPPERS, Plan, Rows, RunState
@@ -43,10 +45,12 @@ __all__ = [
     "PreparedRun",
     "RotorState",
     "SimulationResult",
+    "TimeRun",
     "assemble",
     "simulate_system",
     "simulate_scenario",
     "simulate",
+    "time_run",
     "converge",
     "phi_functions",
 ]
@@ -110,51 +114,11 @@ class RotorState:
     phase: float = 0.0
 
 
-@dataclass(frozen=True)
-class SimulationResult:
-    """Raw simulation output (SI units, frozen); see :func:`rubrotor.engine.result.to_dataset`.
-
-    ``channels`` is a view of the compiled kernel's output buffer (no copy).
-
-    Attributes
-    ----------
-    time : ndarray
-        Sample times (s).
-    stations : ndarray
-        Axial positions (m) of the output stations; station 0 is the contact station (midspan
-        without contact), the others are probes.
-    channels : ndarray, shape (6 S + 2, T)
-        Per station v, w (m), v', w' (m/s), v'', w'' (m/s^2); then normal force (N), friction
-        force along the tangent (N).
-    status : str
-        ``"complete"`` or ``"partial"``.
-    message : str
-        Why a partial run stopped.
-    stats : dict
-        Integrator statistics.
-    events : ndarray
-        Contact onset (+t) and separation (-t) times (s).
-    final_state : RotorState or None
-        The state at the last sample (``None`` when the run did not complete).
-    work : dict
-        Work (J) of each force over the run when energy tracking was on.
-    contact : Contact or None
-        The contact at station 0 (``None``: no contact; the force rows are then zero).
-    """
-
-    time: np.ndarray
-    stations: np.ndarray
-    channels: np.ndarray
-    status: str
-    message: str
-    stats: dict
-    events: np.ndarray
-    work: dict
-    speed: float
-    unbalance_force: complex
-    unbalance_position: float
-    final_state: RotorState | None = None
-    contact: Contact | None = None
+SimulationResult = TimeRun
+"""Old name of the seed shaft engine's result: the one :class:`~rubrotor.engine.result.TimeRun`
+(``engine = "shaft"``: per station ``v, w, v', w', v'', w''`` rows, then normal and friction
+force; ``final_state`` a :class:`RotorState`; ``work``, ``unbalance_force``,
+``unbalance_position`` and ``contact`` in its extras)."""
 
 
 def _start_coordinates(sysm: ModalSystem, start: RotorState, load) -> np.ndarray:
@@ -641,20 +605,21 @@ class PreparedRun:
         work = {}
         if stepper.e0 is not None:  # energy tracked (fixed-step exponential)
             work = _energy_balance(plan, st, stepper.e0, n_out, self.contact)
-        return SimulationResult(
+        return TimeRun(
             time=np.arange(n_out) * sample_dt,
             stations=self.stations,
+            n_contacts=0 if self.contact is None else 1,
             channels=st.out[:, :n_out],
+            events=st.events[: min(int(st.istate[I_EVENTS]), st.events.size)].copy(),
             status="complete" if complete else "partial",
             message=_status_message(code, interrupted, t_stop, sample_dt, plan.max_disp, st),
             stats=stats,
-            events=st.events[: min(int(st.istate[I_EVENTS]), st.events.size)].copy(),
-            work=work,
             speed=speed,
-            unbalance_force=plan.fu0,
-            unbalance_position=plan.a_u,
             final_state=final,
-            contact=self.contact,
+            engine="shaft",
+            code=Status(code),
+            extras={"work": work, "unbalance_force": plan.fu0,
+                    "unbalance_position": plan.a_u, "contact": self.contact},  # fmt: skip
         )
 
 
@@ -789,7 +754,11 @@ def simulate_scenario(scenario, integrator: Integrator, **kwargs) -> SimulationR
     -------
     SimulationResult
     """
-    scenario.require_seed_engine("the seed engine's time simulation (simulate_scenario)")
+    from rubrotor.modelling import model_of
+
+    model_of(scenario).require_shaft_engine(
+        "the seed engine's time simulation (simulate_scenario)"
+    )
     return simulate_system(
         scenario.shaft,
         scenario.speed,
@@ -829,21 +798,28 @@ def simulate(
         See :func:`rubrotor.engine.result.to_dataset`; ``attrs["status"]`` is ``"complete"`` or
         ``"partial"`` (then ``attrs["status_message"]`` says why and where it stopped).
     """
-    from rubrotor.engine.result import to_dataset
+    from rubrotor.modelling import model_of
     from rubrotor.scenario.load import as_scenario
 
     scenario = as_scenario(scenario)
-    if scenario.model.general:  # a finite-element rotor or general-engine keys
-        from rubrotor.engine.general import simulate_engine
+    runner = model_of(scenario).runner  # the engine the Model chose
+    if runner != "shaft" and track_energy:
+        raise InputError("track_energy", True, "False with the general engine")
+    return _RUNS[runner](scenario, integrator, progress, track_energy)
 
-        if track_energy:
-            raise InputError("track_energy", True, "False with the general engine")
-        return simulate_engine(scenario, integrator=integrator, progress=progress)
-    scenario.require_shaft("time simulation")
-    integ = integrator or scenario.simulation
-    if integ is None:
-        raise InputError("simulation", None, "a [simulation] section (revolutions or duration)")
-    res = simulate_scenario(scenario, integ, track_energy=track_energy, progress=progress)
+
+def _simulate_general(scenario, integrator, progress, track_energy):
+    """A general-engine or free-spin scenario (:func:`rubrotor.engine.general.simulate_engine`)."""
+    from rubrotor.engine.general import simulate_engine
+
+    return simulate_engine(scenario, integrator=integrator, progress=progress)
+
+
+def _simulate_shaft(scenario, integrator, progress, track_energy):
+    """A scenario of the seed shaft's engine, as a Dataset."""
+    from rubrotor.engine.result import to_dataset
+
+    res = _run_shaft(scenario, integrator, progress, track_energy)
     params = scenario_parameters(scenario)
     if integrator is not None:
         import dataclasses
@@ -851,6 +827,74 @@ def simulate(
         for f in dataclasses.fields(integrator):
             params[f"simulation.{f.name}"] = [getattr(integrator, f.name), ""]
     return to_dataset(res, params, getattr(scenario, "source", ""), getattr(scenario, "name", ""))
+
+
+_RUNS = {"shaft": _simulate_shaft, "general": _simulate_general, "free-spin": _simulate_general}
+"""Runner (:attr:`rubrotor.modelling.Model.runner`) -> ``(scenario, integrator, progress,
+track_energy) -> Dataset``."""
+
+
+def _run_shaft(scenario, integrator, progress, track_energy):
+    integ = integrator or scenario.simulation
+    if integ is None:
+        raise InputError("simulation", None, "a [simulation] section (revolutions or duration)")
+    return simulate_scenario(scenario, integ, track_energy=track_energy, progress=progress)
+
+
+def _run_general(scenario, integrator, progress, track_energy):
+    from rubrotor.engine.general import engine_run
+
+    return engine_run(scenario, integrator=integrator, progress=progress)[0]
+
+
+def _run_free(scenario, integrator, progress, track_energy):
+    from rubrotor.engine.spin import free_run
+
+    return free_run(scenario, integrator)[0]
+
+
+_TIME_RUNS = {"shaft": _run_shaft, "general": _run_general, "free-spin": _run_free}
+"""Runner -> ``(scenario, integrator, progress, track_energy) -> TimeRun``."""
+
+
+def time_run(
+    scenario,
+    *,
+    integrator: Integrator | None = None,
+    progress: bool | None = None,
+    track_energy: bool = False,
+) -> TimeRun:
+    """Run a scenario on the engine its Model chose and return the one result type.
+
+    The array-level twin of :func:`simulate`: the same run, as a frozen
+    :class:`~rubrotor.engine.result.TimeRun` (views of the kernel's buffers, no Dataset) for
+    every rotor and engine: the seed shaft's, the general one, the free-spin one.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario or path-like
+        The scenario; a path is read with :func:`~rubrotor.load_scenario`.
+    integrator : Integrator, optional
+        Overrides the scenario's ``[simulation]`` section.
+    progress : bool, optional
+        Print progress on long runs (default: when stderr is a terminal).
+    track_energy : bool
+        Accumulate the work of every force (the seed shaft's fixed-step exponential only).
+
+    Returns
+    -------
+    TimeRun
+        ``status`` ``"complete"`` or ``"partial"``, ``code`` from
+        :class:`rubrotor.core.status.Status`, ``message``; ``to_dataset()`` gives a Dataset.
+    """
+    from rubrotor.modelling import model_of
+    from rubrotor.scenario.load import as_scenario
+
+    scenario = as_scenario(scenario)
+    runner = model_of(scenario).runner
+    if runner != "shaft" and track_energy:
+        raise InputError("track_energy", True, "False with the general engine")
+    return _TIME_RUNS[runner](scenario, integrator, progress, track_energy)
 
 
 def converge(
@@ -892,10 +936,11 @@ def converge(
     """
     import dataclasses
 
+    from rubrotor.modelling import model_of
     from rubrotor.scenario.load import as_scenario
 
     scenario = as_scenario(scenario)
-    scenario.require_seed_engine("the convergence study")
+    model_of(scenario).require_shaft_engine("the convergence study")
     base = scenario.simulation or Integrator(revolutions=revolutions or 20)
     dtau = dtau or base.dtau or 1e-3
     revs = revolutions or base.revolutions or base.duration * scenario.speed / (2 * math.pi)

@@ -24,76 +24,21 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
+from rubrotor.core.status import Status
+from rubrotor.engine.result import TimeRun, to_dataset
 from rubrotor.errors import InputError
+from rubrotor.rotors.forces import FreeSpin, TouchdownRing  # their home; kept importable here
 
 __all__ = ["FreeSpin", "TouchdownRing", "SpinResult", "polar_inertia", "simulate_spin",
-           "spin_dataset", "simulate_free", "free_problem"]  # fmt: skip
-
-_STATUS = {0: "complete", 1: "step size too small", 2: "diverged", 3: "too many steps"}
+           "spin_dataset", "simulate_free", "free_problem", "free_run"]  # fmt: skip
 
 
-@dataclass(frozen=True)
-class FreeSpin:
-    """The spin equation's torques.
 
-    Parameters
-    ----------
-    drive_torque : float or tuple of float
-        Motor torque (N m): a constant, or values at ``drive_speeds`` (linear between them,
-        constant beyond).
-    drive_speeds : tuple of float, optional
-        Speeds (rad/s, increasing) of a torque table.
-    drag : float
-        Windage/bearing drag coefficient (N m s): torque ``-drag Omega``.
-    """
-
-    drive_torque: float | tuple = 0.0
-    drive_speeds: tuple | None = None
-    drag: float = 0.0
-
-    def table(self) -> tuple[np.ndarray, np.ndarray]:
-        """Speeds (rad/s) and torques (N m) of the drive as arrays (one row for a constant)."""
-        tq = np.atleast_1d(np.asarray(self.drive_torque, float))
-        if self.drive_speeds is None:
-            if tq.size != 1:
-                raise InputError("speed.drive_speeds", None, "speeds (rad/s) for a torque table")
-            return np.zeros(1), tq
-        w = np.asarray(self.drive_speeds, float)
-        if w.shape != tq.shape or w.size < 2 or np.any(np.diff(w) <= 0):
-            raise InputError("speed.drive_speeds", self.drive_speeds,
-                             "increasing speeds (rad/s), one per drive_torque value, >= 2")  # fmt: skip
-        return w, tq
-
-
-@dataclass(frozen=True)
-class TouchdownRing:
-    """The spinning inner ring of a touchdown bearing, the stator of one contact.
-
-    Parameters
-    ----------
-    inertia : float
-        Polar inertia of the ring (kg m^2), > 0.
-    radius : float
-        Radius of the ring's bore where the rotor touches it (m), > 0.
-    drag : float
-        The ring bearing's drag coefficient (N m s): torque ``-drag omega_ring``.
-    """
-
-    inertia: float
-    radius: float
-    drag: float = 0.0
-
-    def __post_init__(self):
-        for name in ("inertia", "radius"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise InputError(f"contact.ring_{name}", v, "a number > 0")
-        if not (math.isfinite(self.drag) and self.drag >= 0):
-            raise InputError("contact.ring_drag", self.drag, "a number >= 0 (N m s)")
+_NO_DRIVE = FreeSpin()
+"""No drive torque, no drag."""
 
 
 def polar_inertia(rotor) -> float:
@@ -116,58 +61,14 @@ def polar_inertia(rotor) -> float:
     return float(shaft + sum(d.polar_inertia for d in rotor.disks))
 
 
-@dataclass
-class SpinResult:
-    """A free-spin run.
-
-    Attributes
-    ----------
-    time : ndarray (n,)
-        Sample times (s).
-    state : ndarray (n_x, n)
-        ``[eta, eta', Omega, theta, omega_ring]`` (modal m sqrt(kg), m sqrt(kg)/s, rad/s, rad,
-        rad/s) per sample.
-    contact : ndarray (n_c, 5, n)
-        Normal force (N), friction force ``ft`` (N, along ``i n`` on the rotor), sliding speed
-        (m/s), ``F_y``, ``F_z`` (N, on the rotor).
-    basis : ndarray (n_free, r)
-        Mass-normalised basis: ``q = basis eta``.
-    reduced : dict
-        ``K``, ``C`` (before a failure, at the start speed), ``G``, ``f0``, ``Pc``, ``Pout``.
-    J, radius, rings, status, stats
-        Polar inertia (kg m^2), contact radii (m), rings, status text, integrator counts.
-    """
-
-    time: np.ndarray
-    state: np.ndarray
-    contact: np.ndarray
-    basis: np.ndarray
-    reduced: dict
-    J: float
-    radius: np.ndarray
-    rings: tuple
-    status: str
-    stats: dict
-
-    @property
-    def r(self) -> int:
-        """Retained coordinates."""
-        return self.basis.shape[1]
-
-    @property
-    def spin_speed(self) -> np.ndarray:
-        """Spin speed (rad/s) per sample."""
-        return self.state[2 * self.r]
-
-    @property
-    def spin_angle(self) -> np.ndarray:
-        """Integrated spin angle (rad) per sample."""
-        return self.state[2 * self.r + 1]
-
-    @property
-    def ring_speed(self) -> np.ndarray:
-        """Ring speeds (rad/s), ``(n_c, n)`` (zero for a fixed stator)."""
-        return self.state[2 * self.r + 2 :]
+SpinResult = TimeRun
+"""Old name of a free-spin run's result: the one :class:`~rubrotor.engine.result.TimeRun`
+(``engine = "free-spin"``). Its channels are per contact the ring speed (rad/s), normal and
+friction force (N), sliding speed (m/s), ``F_y, F_z`` (N) and friction torque (N m); its extras:
+``state`` ``[eta, eta', Omega, theta, omega_ring]`` (modal m sqrt(kg), m sqrt(kg)/s, rad/s, rad,
+rad/s) per sample, ``contact`` ``(n_c, 5, n)`` (normal force, friction force, sliding speed,
+``F_y``, ``F_z``), ``basis`` (``q = basis eta``), ``reduced``, ``J`` (kg m^2), ``radius`` (m)
+and ``rings``; ``spin_speed``, ``spin_angle``, ``ring_speed`` read the state."""
 
 
 def _grid(system, failing) -> np.ndarray:
@@ -248,7 +149,7 @@ def _forces(system, basis, unbalances, loads, gravity):
 
 
 def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: float,
-                  stations=(), free: FreeSpin = FreeSpin(), rings=None, unbalances=(), loads=(),
+                  stations=(), free: FreeSpin = _NO_DRIVE, rings=None, unbalances=(), loads=(),
                   gravity=(0.0, 0.0), fail_time: float = math.inf, failing=(), modes=None,
                   initial="rest", rtol: float = 1e-6, atol: float = 1e-10,
                   max_steps: int = 50_000_000) -> SpinResult:  # fmt: skip
@@ -326,10 +227,18 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     wall = time.perf_counter() - wall
     m = int(ist[3])
     red = dict(K=Kt[0, 0], C=Ct[0, 0], G=G, f0=f0, Pc=Pc, Kt=Kt, Ct=Ct, grid=grid)
-    return SpinResult(
-        time=t_out[:m], state=out[: x0.size, :m], contact=out[x0.size :, :m].reshape(nc, 5, m),
-        basis=basis, reduced=red, J=float(J), radius=radius, rings=rings,
-        status=_STATUS[int(ist[0])], stats={"accepted": int(ist[1]), "rejected": int(ist[2]), "wall_s": wall},
+    state, contact = out[: x0.size, :m], out[x0.size :, :m].reshape(nc, 5, m)
+    per_contact = np.concatenate([state[2 * r + 2 :, None], contact,
+                                  -radius[:, None, None] * contact[:, 1:2]], axis=1)  # fmt: skip
+    code = Status(int(ist[0]))
+    return TimeRun(
+        time=t_out[:m], stations=np.zeros(0), n_contacts=nc,
+        channels=per_contact.reshape(7 * nc, m), events=np.zeros((0, 2)),
+        status="complete" if code == Status.OK else "partial", message=code.message,
+        stats={"accepted": int(ist[1]), "rejected": int(ist[2]), "wall_s": wall},
+        speed=float(speed), engine="free-spin", code=code,
+        extras={"state": state, "contact": contact, "basis": basis, "reduced": red, "J": float(J),
+                "radius": radius, "rings": rings},
     )  # fmt: skip
 
 
@@ -369,18 +278,20 @@ def free_problem(scenario, integrator=None) -> tuple:
         ``rtol``, ``atol`` (m), ``sample_rate`` or ``output_dtau``, ``probes``.
     """
     from rubrotor.errors import ScenarioError
+    from rubrotor.modelling import model_of
 
     eng, integ = scenario.engine, integrator or scenario.simulation
-    if not scenario.model.fe_rotor:
-        raise ScenarioError("speed.profile", "free", "a [[section]] rotor (its polar inertia "
-                            "comes from its sections and disks)")  # fmt: skip
+    model = model_of(scenario)
+    model.require_general_rotor(ScenarioError(
+        "speed.profile", "free",
+        "a [[section]] rotor (its polar inertia comes from its sections and disks)"))  # fmt: skip
     if integ is None:
         raise ScenarioError("simulation", None, "a [simulation] section (duration or revolutions)")
     if integ.step_seconds(scenario.speed) is not None:
         raise ScenarioError("simulation.dt", integ.dt or integ.dtau,
                             'no fixed step with speed.profile = "free" (adaptive: rtol, atol)')  # fmt: skip
     positions = tuple(s.contact.position for s in eng.stations) + tuple(integ.probes)
-    system = scenario.rotor.linear_system(tuple(sorted(set(eng.positions + tuple(integ.probes)))))
+    system = model.linear_system(sorted(set(eng.positions + tuple(integ.probes))), only=True)
     kwargs = dict(
         J=polar_inertia(scenario.rotor), speed=scenario.speed,
         duration=integ.total_time(scenario.speed), spacing=integ.output_spacing(scenario.speed),
@@ -389,6 +300,13 @@ def free_problem(scenario, integrator=None) -> tuple:
         atol=integ.atol, rings=eng.rings, **_failure(scenario.rotor),
     )  # fmt: skip
     return system, kwargs, positions
+
+
+def free_run(scenario, integrator=None):
+    """Run a ``[speed] profile = "free"`` scenario: ``(run, system, kwargs, positions)``, the
+    :class:`~rubrotor.engine.result.TimeRun` and the :func:`free_problem` it was run from."""
+    system, kwargs, positions = free_problem(scenario, integrator)
+    return simulate_spin(system, **kwargs), system, kwargs, positions
 
 
 def simulate_free(scenario, *, integrator=None):
@@ -407,8 +325,7 @@ def simulate_free(scenario, *, integrator=None):
         See :func:`spin_dataset`; also ``clearance``, ``contact_radius``, ``ring_radius`` (m)
         on ``contact``.
     """
-    system, kwargs, positions = free_problem(scenario, integrator)
-    res = simulate_spin(system, **kwargs)
+    res, system, kwargs, positions = free_run(scenario, integrator)
     ds = spin_dataset(res, system, positions)
     st = kwargs["stations"]
     ds["clearance"] = ("contact", [s.contact.clearance for s in st], {"units": "m"})
@@ -429,12 +346,14 @@ def _failure(rotor) -> dict:
     return {"fail_time": float(held[failing[0]].fail_time), "failing": failing}
 
 
-def spin_dataset(res: SpinResult, system, positions):
-    """The results of a free-spin run as an xarray Dataset.
+def spin_dataset(res: TimeRun, system, positions):
+    """The results of a free-spin run as an xarray Dataset (the one builder,
+    :func:`rubrotor.engine.result.to_dataset`, on the run's outputs at ``positions``).
 
     Parameters
     ----------
-    res : SpinResult
+    res : TimeRun
+        A free-spin run (:func:`simulate_spin`).
     system : rubrotor.rotors.linear.LinearSystem
         The rotor the run used.
     positions : sequence of float
@@ -449,32 +368,12 @@ def spin_dataset(res: SpinResult, system, positions):
         ``friction_torque`` (N m, ``-R ft``, braking the rotor) and ``ring_speed`` (rad/s) on
         ``(contact, time)``; attributes ``status``, ``polar_inertia_kg_m2``, ``engine``.
     """
-    import xarray as xr
-
-    r = res.r
+    r, n = res.r, res.time.size
     rows = (np.vstack([system.output_rows(x) for x in positions]) @ res.basis
             if len(positions) else np.zeros((0, r)))  # fmt: skip
     q, qd = rows @ res.state[:r], rows @ res.state[r : 2 * r]
-    st, ct = ("station", "time"), ("contact", "time")
-    m, v = {"units": "m"}, {"units": "m/s"}
-    data = {"v": (st, q[0::2], m), "w": (st, q[1::2], m), "v_dot": (st, qd[0::2], v),
-            "w_dot": (st, qd[1::2], v),
-            "spin_speed": ("time", res.spin_speed, {"units": "rad/s", "long_name": "spin speed"}),
-            "spin_angle": ("time", res.spin_angle, {"units": "rad"}),
-            "ring_speed": (ct, res.ring_speed, {"units": "rad/s"})}  # fmt: skip
-    names = ("normal_force", "friction_force", "sliding_speed", "force_y", "force_z")
-    for k, name in enumerate(names):
-        data[name] = (ct, res.contact[:, k], v if name == "sliding_speed" else {"units": "N"})
-    data["friction_torque"] = (ct, -res.radius[:, None] * res.contact[:, 1], {"units": "N m"})
-    coords = {"time": ("time", res.time, {"units": "s"}),
-              "station": ("station", np.asarray(positions, float), m)}  # fmt: skip
-    import json
-
-    touching = res.contact[:, 0] > 0
-    events = int(np.sum(touching[:, 1:] & ~touching[:, :-1]))  # contact onsets between samples
-    stats = {**res.stats, "contact_events": events}
-    attrs = {"status": res.status, "status_message": res.status, "engine": "free-spin",
-             "polar_inertia_kg_m2": res.J, "speed_rad_s": float(res.spin_speed[0]),
-             "speed_end_rad_s": float(res.spin_speed[-1]),
-             "integrator_stats": json.dumps(stats)}  # fmt: skip
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    S = len(positions)
+    per_station = np.stack([q[0::2], q[1::2], qd[0::2], qd[1::2]], axis=1).reshape(4 * S, n)
+    out = dataclasses.replace(res, stations=np.asarray(positions, float),
+                              channels=np.concatenate([per_station, res.channels]))  # fmt: skip
+    return to_dataset(out)

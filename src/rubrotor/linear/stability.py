@@ -217,14 +217,14 @@ def contact_stability(
         No Hertz contact, a non-positive indentation, an unknown formulation.
     """
     from rubrotor.engine.simulate import assemble
+    from rubrotor.modelling import model_of
     from rubrotor.scenario.load import as_scenario
 
     scenario = as_scenario(scenario)
-    if scenario.model.fe_rotor:
+    model = model_of(scenario)
+    if model.linear == "matrix":
         return general_contact_stability(scenario, indentation, friction=friction)
-    c = scenario.contact
-    if c is None and scenario.model.general and scenario.engine.stations:
-        c = scenario.engine.stations[0].contact  # the first [[contact]] table
+    c = model.first_contact  # [contact], or the first [[contact]] table
     if c is None or c.law != "hertz":
         raise InputError("contact", None if c is None else c.law, "a Hertz [contact] section")
     if isinstance(indentation, bool) or not (
@@ -338,8 +338,9 @@ def general_contact_stability(scenario, indentation: float, *, friction: bool = 
         No such contact table, a non-positive indentation.
     """
     from rubrotor.linear.verbs import linear_system
+    from rubrotor.modelling import model_of
 
-    stations = scenario.engine.stations if scenario.model.general else ()
+    stations = model_of(scenario).contact_stations
     if not 0 <= contact < len(stations):
         raise InputError("contact", contact, f"0 .. {len(stations) - 1} ([[contact]] tables, "
                          "0-based)" if stations else "a [[contact]] table")  # fmt: skip

@@ -191,19 +191,18 @@ def _check_gravity(gravity) -> np.ndarray:
 
 def _inputs(obj, speed, gravity, loads):
     """The system, the continuous shaft (or None), speed, gravity and loads of any rotor."""
-    from rubrotor.linear.verbs import linear_system
-    from rubrotor.rotors.shaft import Shaft
+    import os
+
+    from rubrotor.modelling import Model
     from rubrotor.scenario.load import Scenario
 
-    shaft = None
+    model = Model.of(obj)
+    shaft = None if isinstance(obj, str | os.PathLike) else model.shaft
     if isinstance(obj, Scenario):
-        shaft = None if obj.model.fe_rotor else obj.shaft
         speed = obj.speed if speed is None else speed
         if gravity is None:
             gravity = obj.gravity
         loads = obj.loads if loads is None else loads
-    elif isinstance(obj, Shaft):
-        shaft = obj
     if gravity is None:
         gravity = (-STANDARD_GRAVITY, 0.0)
     speed = 0.0 if speed is None else speed
@@ -211,7 +210,7 @@ def _inputs(obj, speed, gravity, loads):
         raise InputError("speed", speed, "a finite spin speed >= 0 (rad/s)")
     if speed < 0:
         raise InputError("speed", speed, "a finite spin speed >= 0 (rad/s)")
-    return linear_system(obj), shaft, float(speed), _check_gravity(gravity), tuple(loads or ())
+    return model.linear_system(), shaft, float(speed), _check_gravity(gravity), tuple(loads or ())
 
 
 def static_analysis(obj, speed: float | None = None, gravity=None, loads=None) -> StaticResult:

@@ -5,8 +5,6 @@
 
 from __future__ import annotations
 
-import os
-
 from rubrotor.errors import InputError
 from rubrotor.linear.modes import DampedModes
 from rubrotor.linear.modes import damped_modes as _damped_modes
@@ -14,23 +12,31 @@ from rubrotor.linear.shaft import CriticalSpeed, Mode, natural_frequencies
 from rubrotor.linear.shaft import critical_speeds as _critical_speeds
 from rubrotor.rotors.linear import LinearSystem
 from rubrotor.rotors.shaft import Shaft
-from rubrotor.scenario.load import Scenario, load_scenario
+from rubrotor.scenario.load import Scenario
 
 __all__ = ["modes", "critical_speeds", "linear_system", "damped_modes"]
 
 
-def _loaded(obj):
-    """``obj``, or the scenario read from it when it is a path to a scenario file."""
-    return load_scenario(obj) if isinstance(obj, str | os.PathLike) else obj
+def _model(obj, name: str = "rotor"):
+    """The :class:`~rubrotor.modelling.Model` of ``obj`` (a path is read as a scenario)."""
+    from rubrotor.modelling import Model
+
+    return Model.of(obj, name)
 
 
 def _shaft_and_speed(obj) -> tuple[Shaft, float]:
-    obj = _loaded(obj)
-    if isinstance(obj, Scenario):
-        return obj.require_shaft("this analysis"), obj.speed
-    if isinstance(obj, Shaft):
-        return obj, 0.0
-    raise InputError("scenario_or_shaft", obj, "a Scenario, a Shaft or a scenario file's path")
+    try:
+        model = _model(obj)
+    except InputError:
+        model = None
+    if model is not None and model.scenario is not None:
+        return model.require_shaft("this analysis"), model.scenario.speed
+    shaft = None if model is None else model.shaft
+    if shaft is None:
+        raise InputError(
+            "scenario_or_shaft", obj, "a Scenario, a Shaft or a scenario file's path"
+        )
+    return shaft, 0.0
 
 
 def modes(scenario_or_shaft: Scenario | Shaft, speed: float | None = None) -> list[Mode]:
@@ -93,23 +99,7 @@ def linear_system(obj, stations=()) -> LinearSystem:
     -------
     LinearSystem
     """
-    from rubrotor.rotors.fe import Rotor
-    from rubrotor.rotors.shaft_system import continuous_system
-
-    obj = _loaded(obj)
-    if isinstance(obj, LinearSystem):
-        return obj
-    if isinstance(obj, Scenario):
-        if obj.model.fe_rotor:
-            return obj.rotor.linear_system(tuple(obj.stations) + tuple(stations))
-        return continuous_system(obj.shaft, obj.damping)
-    if isinstance(obj, Rotor):
-        return obj.linear_system(tuple(stations))
-    if isinstance(obj, Shaft):
-        return continuous_system(obj)
-    raise InputError(
-        "rotor", obj, "a Scenario, Rotor, Shaft, LinearSystem or a scenario file's path"
-    )
+    return _model(obj).linear_system(tuple(stations))
 
 
 def damped_modes(obj, speed: float | None = None, n: int | None = None) -> DampedModes:
@@ -128,6 +118,6 @@ def damped_modes(obj, speed: float | None = None, n: int | None = None) -> Dampe
     -------
     DampedModes
     """
-    obj = _loaded(obj)
-    default = obj.speed if isinstance(obj, Scenario) else 0.0
-    return _damped_modes(linear_system(obj), default if speed is None else speed, n)
+    model = _model(obj)
+    default = model.scenario.speed if model.scenario is not None else 0.0
+    return _damped_modes(model.linear_system(), default if speed is None else speed, n)

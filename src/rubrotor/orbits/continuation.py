@@ -54,6 +54,7 @@ import scipy.linalg
 import scipy.optimize
 
 from rubrotor.errors import InputError
+from rubrotor.modelling import model_of
 from rubrotor.orbits.shooting import (
     STEPS_PER_REVOLUTION,
     _Map,
@@ -282,7 +283,7 @@ class _Problem:
                 bases[steps] = (prepared_map(sc, self.k, steps), sc.speed / self.sp)
             if steps in bases:
                 cache[p, steps] = bases[steps][0].at_speed(bases[steps][1] * p)
-            elif self.scenario.model.fe_rotor:  # coordinates aligned with the first key value's
+            elif model_of(self.scenario).maps == "general":  # coordinates aligned with the first
                 first = self.__dict__.setdefault("_first", {})
                 if steps not in first:
                     first[steps] = prepared_map(self.at(self.sp), self.k, steps)
@@ -702,7 +703,7 @@ def _point(prob, z, jac, gz=None, t=None) -> BranchPoint:
     if prob.richardson:
         z, radius = _extrapolate(prob, z, jac, radius, gz, t)
         x, p = prob.unscale(z)
-    state = x.copy() if prob.scenario.model.fe_rotor else vector_state(x)
+    state = x.copy() if model_of(prob.scenario).maps == "general" else vector_state(x)
     return BranchPoint(float(p), state, radius, mu, bool(abs(mu[0]) < 1))
 
 
@@ -851,7 +852,8 @@ def _route(scenario, k, orbit, method) -> str:
         raise InputError("method", method, " | ".join(METHODS))
     if method == "shooting":
         return method
-    why = "a general rotor (not axisymmetric in general)" if scenario.model.fe_rotor else None
+    general = model_of(scenario).maps == "general"
+    why = "a general rotor (not axisymmetric in general)" if general else None
     why = why or unsupported(scenario, k)
     if why is None and not is_circular(scenario, state_vector(orbit.state)):
         why = "a start orbit that is not a circle (partial rub)"
@@ -865,7 +867,7 @@ def _route(scenario, k, orbit, method) -> str:
 def _problem(scenario, key, k, steps, x0, p0, kind=_Problem) -> _Problem:
     """The scaled problem: states by their largest displacement (m) and velocity (a general
     rotor's by its largest modal amplitude and force), key by p0."""
-    if scenario.model.fe_rotor:
+    if model_of(scenario).maps == "general":
         prob = kind(scenario, key, k, steps, np.ones(x0.size), abs(p0))
         prob.sx = prob.map_at(p0)._scales(x0)
         prob.tol, prob.h_rel = GENERAL_TOL, 1e-4
@@ -1043,7 +1045,7 @@ def _onset(prob, a: BranchPoint, b: BranchPoint) -> float | None:
     turns both points lie on the free side of the onset).
     """
     contact = prob.scenario.contact
-    if contact is None or prob.k != 1 or prob.scenario.model.fe_rotor:
+    if contact is None or prob.k != 1 or model_of(prob.scenario).maps == "general":
         return None
     g = contact.clearance
     if (a.max_radius_m > g) == (b.max_radius_m > g):

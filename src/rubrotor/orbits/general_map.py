@@ -74,10 +74,12 @@ class GeneralMap:
     def __init__(self, scenario, k: int, steps: int, speed: float | None = None,
                  reference: GeneralMap | None = None, probes=(), family=None):  # fmt: skip
         from rubrotor.engine.general import engine_problem
+        from rubrotor.modelling import model_of
 
         eng = scenario.engine
-        if not scenario.model.fe_rotor:
-            raise InputError("rotor", "a [shaft] rotor", "a general rotor for GeneralMap")
+        model_of(scenario).require_general_rotor(
+            InputError("rotor", "a [shaft] rotor", "a general rotor for GeneralMap")
+        )
         if eng.speed_end is not None or eng.speed_table:
             raise InputError(
                 "speed.profile", "a varying speed", "a constant speed (periodic orbits)"

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rubrotor.core.status import MESSAGES as _STATUS
 from rubrotor.errors import InputError
 
 __all__ = ["LyapunovResult", "lyapunov_exponents"]
@@ -75,7 +76,6 @@ class LyapunovResult:
     final_state: object = None
 
 
-_STATUS = {0: "complete", 1: "diverged", 2: "contact solve failed", 3: "tangent vectors degenerate"}
 CHUNK_REVOLUTIONS = 16
 """Revolutions per kernel call while averaging: when a run stops (it diverged, a contact solve
 failed), the exponents averaged over the chunks completed before it are kept."""
@@ -166,11 +166,12 @@ def lyapunov_exponents(
     ):
         if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
             raise InputError(name, v, f"an integer >= {lo}")
-    if scenario.model.fe_rotor:  # the general engine's map, its tangents propagated
+    from rubrotor.modelling import model_of
+
+    if model_of(scenario).require_maps("Lyapunov exponents") == "general":  # tangents propagated
         return lyapunov_general(scenario, count=count, revolutions=revolutions,
                                 transient_revolutions=transient_revolutions,
                                 steps=steps_per_revolution, start=start, seed=seed)  # fmt: skip
-    scenario.require_seed_engine("Lyapunov exponents")
     speed = float(scenario.speed)
     h = 2 * math.pi / (steps_per_revolution * speed)
     sysm, y_u, y_l, cdc, cvc, E, G0, G1, part, cp = _setup(scenario, h)

@@ -36,6 +36,7 @@ from rubrotor.engine.simulate import (
     simulate_scenario,
 )
 from rubrotor.errors import InputError
+from rubrotor.modelling import model_of
 from rubrotor.rotors.forces import Unbalance
 from rubrotor.rotors.shaft import modal_matrices
 
@@ -111,7 +112,7 @@ class _Map:
 
     def __init__(self, scenario, k: int, steps: int, speed: float | None = None, base=None):
         if base is None:
-            scenario.require_seed_engine("periodic orbits (shooting, continuation)")
+            model_of(scenario).require_shaft_engine("periodic orbits (shooting, continuation)")
         self.scenario, self.k, self.steps = scenario, int(k), int(steps)
         speed = float(scenario.speed if speed is None else speed)
         sc = scenario
@@ -282,7 +283,7 @@ class PeriodicOrbit:
         from rubrotor.engine.result import to_dataset
         from rubrotor.engine.simulate import scenario_parameters
 
-        if self.scenario.model.fe_rotor:
+        if model_of(self.scenario).maps == "general":
             from rubrotor.engine.driver import result_dataset
 
             mp = prepared_map(self.scenario, self.k, self.steps)
@@ -296,7 +297,7 @@ class PeriodicOrbit:
 
     def max_radius(self, samples_per_revolution: int = 256) -> float:
         """Largest shaft-centre distance (m) at the contact station (or midspan) on the orbit."""
-        if self.scenario.model.fe_rotor:
+        if model_of(self.scenario).maps == "general":
             return prepared_map(self.scenario, self.k, self.steps).run(self.state)[2]
         res = simulate_scenario(
             self.scenario,
@@ -319,7 +320,7 @@ def prepared_map(scenario, k: int, steps: int, reference=None):
     modes aligned with those of the map ``reference`` when given)."""
     from rubrotor.orbits.general_map import GeneralMap
 
-    if scenario.model.fe_rotor:
+    if model_of(scenario).maps == "general":
         return GeneralMap(scenario, k, steps, reference=reference)
     return _Map(scenario, k, steps)
 
@@ -376,9 +377,7 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
     from rubrotor.scenario.load import as_scenario
 
     scenario = as_scenario(scenario)
-    general = scenario.model.fe_rotor
-    if not general:
-        scenario.require_seed_engine("periodic orbits (shooting, continuation)")
+    general = model_of(scenario).require_maps("periodic orbits (shooting, continuation)") == "general"
     if isinstance(k, bool) or not isinstance(k, int) or k < 1:
         raise InputError("k", k, "an integer >= 1 (revolutions per period)")
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 16:

@@ -91,8 +91,10 @@ def contact_geometry(scenario) -> dict | None:
         bearing axis differs from the radius about the stator centre (offset stator, gravity
         sag, side load, flexible stator); None without a contact.
     """
+    from rubrotor.modelling import model_of
+
     spec = scenario.engine
-    if scenario.model.general and spec.stations:
+    if model_of(scenario).contact_stations:
         st = spec.stations[0]
         g, off, flexible = st.contact.clearance, math.hypot(st.offset_y, st.offset_z), st.stator
         why = [f"stator centre offset {off * 1e6:.3g} um"] if off > 0 else []

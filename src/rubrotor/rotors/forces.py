@@ -44,6 +44,8 @@ __all__ = [
     "CONTACT_LAWS",
     "FRICTION_SIGNS",
     "RESTITUTION_MODELS",
+    "FreeSpin",
+    "TouchdownRing",
 ]
 
 CONTACT_LAWS = ("hertz", "linear")
@@ -334,3 +336,63 @@ class ThermalBow:
         object.__setattr__(self, "time_constant", tau)
         object.__setattr__(self, "bow_per_heat", beta)
         object.__setattr__(self, "hot_spot_lag", lag)
+
+
+@dataclass(frozen=True)
+class FreeSpin:
+    """The spin equation's torques.
+
+    Parameters
+    ----------
+    drive_torque : float or tuple of float
+        Motor torque (N m): a constant, or values at ``drive_speeds`` (linear between them,
+        constant beyond).
+    drive_speeds : tuple of float, optional
+        Speeds (rad/s, increasing) of a torque table.
+    drag : float
+        Windage/bearing drag coefficient (N m s): torque ``-drag Omega``.
+    """
+
+    drive_torque: float | tuple = 0.0
+    drive_speeds: tuple | None = None
+    drag: float = 0.0
+
+    def table(self) -> tuple[np.ndarray, np.ndarray]:
+        """Speeds (rad/s) and torques (N m) of the drive as arrays (one row for a constant)."""
+        tq = np.atleast_1d(np.asarray(self.drive_torque, float))
+        if self.drive_speeds is None:
+            if tq.size != 1:
+                raise InputError("speed.drive_speeds", None, "speeds (rad/s) for a torque table")
+            return np.zeros(1), tq
+        w = np.asarray(self.drive_speeds, float)
+        if w.shape != tq.shape or w.size < 2 or np.any(np.diff(w) <= 0):
+            raise InputError("speed.drive_speeds", self.drive_speeds,
+                             "increasing speeds (rad/s), one per drive_torque value, >= 2")  # fmt: skip
+        return w, tq
+
+
+@dataclass(frozen=True)
+class TouchdownRing:
+    """The spinning inner ring of a touchdown bearing, the stator of one contact.
+
+    Parameters
+    ----------
+    inertia : float
+        Polar inertia of the ring (kg m^2), > 0.
+    radius : float
+        Radius of the ring's bore where the rotor touches it (m), > 0.
+    drag : float
+        The ring bearing's drag coefficient (N m s): torque ``-drag omega_ring``.
+    """
+
+    inertia: float
+    radius: float
+    drag: float = 0.0
+
+    def __post_init__(self):
+        for name in ("inertia", "radius"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise InputError(f"contact.ring_{name}", v, "a number > 0")
+        if not (math.isfinite(self.drag) and self.drag >= 0):
+            raise InputError("contact.ring_drag", self.drag, "a number >= 0 (N m s)")

@@ -545,7 +545,7 @@ def _rings(extras: dict, stations, rotor):
         return None
     if not free:
         raise _err("contact.ring_inertia", "set", 'a run with speed.profile = "free"')
-    from rubrotor.engine.spin import TouchdownRing
+    from rubrotor.rotors.forces import TouchdownRing
 
     out = []
     for i, (c, s) in enumerate(zip(items, stations, strict=True)):
@@ -564,7 +564,7 @@ def _free_spin(extras: dict):
     free = extras.get("speed", {}).get("free")
     if free is None:
         return None
-    from rubrotor.engine.spin import FreeSpin
+    from rubrotor.rotors.forces import FreeSpin
 
     if "drive_torques" in free:
         tq, w = tuple(map(float, free["drive_torques"])), tuple(map(float, free["drive_speeds"]))

@@ -68,7 +68,7 @@ from rubrotor.rotors.forces import (
 )
 from rubrotor.rotors.shaft import Dimensionless, Shaft
 from rubrotor.scenario.dynamics import Builders, EngineSpec, engine_spec_or_none, split_engine_keys
-from rubrotor.scenario.model import Model
+from rubrotor.scenario.kind import Kind
 from rubrotor.scenario.rotor import build_rotor, normalise_rotor_tables, rotor_to_dict
 from rubrotor.scenario.schema import (
     ALTERNATIVES,
@@ -522,9 +522,10 @@ class Scenario:
     thermal : rubrotor.rotors.forces.ThermalBow or None
         The ``[thermal]`` table: the thermal bow's time constant, bow per heat input, hot-spot
         lag and shape (``rubrotor thermal``, :mod:`rubrotor.studies.thermal`).
-    model : rubrotor.scenario.model.Model
+    model : rubrotor.scenario.kind.Kind
         What the scenario is (rotor kind, engine, formulation, general-engine features),
-        decided once when the scenario is built; every verb asks it.
+        decided once when the scenario is built. Verbs do not read it: they ask
+        :meth:`rubrotor.modelling.Model.for_scenario`, which decides from it and builds.
     source : str
         TOML text the scenario was read from (provenance); not compared by ``==``.
     """
@@ -544,10 +545,13 @@ class Scenario:
     thermal: ThermalBow | None = None
     source: str = field(default="", compare=False, repr=False)
     _spec: dict | None = field(default=None, compare=False, repr=False)
-    model: Model = field(init=False, compare=False, repr=False)
+    model: Kind = field(init=False, compare=False, repr=False)
+    _built: dict = field(init=False, compare=False, repr=False)
 
     def __post_init__(self):
-        object.__setattr__(self, "model", Model.for_scenario(self))
+        object.__setattr__(self, "model", Kind.for_scenario(self))
+        # rubrotor.modelling.Model.for_scenario keeps the Model it built here (once per scenario)
+        object.__setattr__(self, "_built", {})
 
     def with_changes(self, **dotted) -> Scenario:
         """A new validated scenario with some keys changed.
@@ -677,8 +681,8 @@ class Scenario:
 
     def require_seed_engine(self, what: str) -> Shaft:
         """The uniform shaft of a scenario the seed shaft's engine runs, or a ScenarioError
-        naming the key that needs the general engine (:meth:`Model.require_shaft_engine
-        <rubrotor.scenario.model.Model.require_shaft_engine>`).
+        naming the key that needs the general engine (:meth:`Kind.require_shaft_engine
+        <rubrotor.scenario.kind.Kind.require_shaft_engine>`).
 
         Parameters
         ----------

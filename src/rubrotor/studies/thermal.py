@@ -290,9 +290,11 @@ class ThermalModel:
         thermal = thermal or getattr(scenario, "thermal", None)
         if thermal is None:
             raise ScenarioError("thermal", None, "a [thermal] table (time_constant, bow_per_heat)")
-        if not scenario.model.fe_rotor:
-            raise ScenarioError("shaft", "a [shaft] rotor", "a general [[section]] rotor for "
-                                "the thermal bow (its shape is set between the bearings)")  # fmt: skip
+        from rubrotor.modelling import model_of
+
+        model_of(scenario).require_general_rotor(ScenarioError(
+            "shaft", "a [shaft] rotor", "a general [[section]] rotor for the thermal bow (its "
+            "shape is set between the bearings)"))  # fmt: skip
         sim = scenario.simulation
         probes = tuple(sim.probes) if sim is not None else ()
         self.scenario, self.thermal = scenario, thermal

@@ -42,6 +42,7 @@ from collections.abc import Iterator, Sequence
 import numpy as np
 
 from rubrotor.errors import InputError
+from rubrotor.modelling import model_of
 from rubrotor.scenario.load import as_scenario
 from rubrotor.sweeps.pool import LostTasks, local_pool
 
@@ -98,7 +99,7 @@ def run_follow_chunk(task: dict) -> dict:
 
     base = scenario_from_dict(task["scenario"])
     point_scenario = PointScenarios(base, [task["key"]])
-    if base.model.fe_rotor:
+    if model_of(base).maps == "general":
         return _general_chunk(task, point_scenario)
     state = task["start"]
     metrics = []
@@ -339,8 +340,7 @@ def follow_sweep(
     )
 
     scenario = as_scenario(scenario)
-    if not scenario.model.fe_rotor:
-        scenario.require_seed_engine("a state-carrying sweep")
+    model_of(scenario).require_maps("a state-carrying sweep")
     if direction not in DIRECTIONS:
         raise InputError("follow", direction, " | ".join(DIRECTIONS))
     directions = DIRECTIONS[direction]
@@ -389,7 +389,7 @@ def _follow_attrs(scenario, key, direction, t_rev, revs, n_rev) -> dict:
     attrs = {
         "title": f"rubrotor follow sweep {scenario.name}".strip(),
         "scenario_name": scenario.name,
-        "rotor": scenario.model.rotor,
+        "rotor": model_of(scenario).rotor,
         "swept_keys": key,
         "follow": direction,
         "transient_revolutions": t_rev,
@@ -409,7 +409,7 @@ def _general_steps(scenario, steps_per_revolution, samples_per_revolution) -> in
     """A finite-element rotor's steps per revolution, checked (None for the shaft's engine)."""
     from rubrotor.sweeps.general_point import GENERAL_STEPS
 
-    if not scenario.model.fe_rotor:
+    if model_of(scenario).maps == "shaft":
         if steps_per_revolution is not None:
             raise InputError("steps_per_revolution", steps_per_revolution,
                              "None for a [shaft] scenario (its engine is adaptive)")  # fmt: skip

@@ -59,6 +59,7 @@ from pathlib import Path
 import numpy as np
 
 from rubrotor.errors import InputError
+from rubrotor.modelling import model_of
 from rubrotor.scenario.load import as_scenario, key_unit
 from rubrotor.scenario.points import PointScenarios, _point_scenario
 from rubrotor.sweeps.metrics import (
@@ -213,7 +214,7 @@ def simulate_point(
     from rubrotor.engine.settings import Integrator
     from rubrotor.engine.simulate import PreparedRun
 
-    if scenario.model.fe_rotor:  # the general engine's fixed-step map
+    if model_of(scenario).maps == "general":  # the general engine's fixed-step map
         from rubrotor.sweeps.general_point import simulate_point_general
 
         return simulate_point_general(
@@ -257,8 +258,8 @@ def _rigid_clearance(scenario) -> float | None:
     an indentation beyond the clearance (millimetres for the seed rotor) lies far outside it,
     so such a run is labelled ``"indentation > clearance"``, not a rub. A linear law stands for
     a compliant seal or stator, whose deflection may exceed the gap: no such label."""
-    c = getattr(scenario, "contact", None)
-    if c is None or c.law != "hertz" or scenario.model.general:
+    c = model_of(scenario).seed_contact
+    if c is None or c.law != "hertz":
         return None
     return c.clearance
 
@@ -727,8 +728,7 @@ def _check_engine(scenario, samples_per_revolution: int) -> None:
     """Refuse, naming the key, a scenario no sweep point can run: the shaft's engine runs a
     [shaft] scenario; a finite-element rotor runs on its fixed-step map (a contact, constant
     speed, kept samples dividing its steps per revolution)."""
-    if not scenario.model.fe_rotor:
-        scenario.require_seed_engine("a parameter sweep (time simulations)")
+    if model_of(scenario).require_maps("a parameter sweep (time simulations)") == "shaft":
         return
     from rubrotor.orbits.general_map import GeneralMap
     from rubrotor.sweeps.general_point import GENERAL_STEPS

@@ -1,7 +1,9 @@
-"""What a scenario is, decided once: the rotor's kind, the features it uses and the engine that runs it.
+"""What a scenario is, decided once when it is built: the rotor's kind, the features it uses and
+the engine that runs it.
 
-Every verb asks :attr:`Scenario.model <rubrotor.scenario.load.Scenario.model>` (a
-:class:`Model`, built once per scenario) instead of testing which tables a file had:
+:attr:`Scenario.model <rubrotor.scenario.load.Scenario.model>` holds this :class:`Kind`; the
+verbs do not read it: they ask :class:`rubrotor.modelling.Model` (built once per scenario from
+it), which decides and builds. Its fields:
 
 * ``rotor``: ``"shaft"`` (the continuous ``[shaft]``, exact modal expansion) or ``"fe"``
   (a finite-element ``[[section]]`` rotor);
@@ -25,7 +27,7 @@ from dataclasses import dataclass
 
 from rubrotor.errors import ScenarioError
 
-__all__ = ["Model", "ROTORS", "ENGINES"]
+__all__ = ["Kind", "ROTORS", "ENGINES", "engine_features"]
 
 ROTORS = ("shaft", "fe")
 """Kinds of rotor: the continuous shaft, a finite-element rotor."""
@@ -35,7 +37,7 @@ ENGINES = ("shaft", "general")
 
 
 @dataclass(frozen=True)
-class Model:
+class Kind:
     """What one scenario is (see the module docstring).
 
     Attributes
@@ -61,7 +63,7 @@ class Model:
     spin: str = "imposed"
 
     @classmethod
-    def for_scenario(cls, scenario) -> Model:
+    def for_scenario(cls, scenario) -> Kind:
         """Decide what ``scenario`` is; refuse what no engine honours (naming the key).
 
         Parameters
@@ -71,7 +73,7 @@ class Model:
 
         Returns
         -------
-        Model
+        Kind
 
         Raises
         ------
