@@ -2,8 +2,9 @@
 keys changed, validated as :meth:`rubrotor.scenario.Scenario.with_changes` does, with the
 unswept shaft's critical speed solved once (:class:`PointScenarios`).
 
-Used by the sweeps (:mod:`rubrotor.sweeps.sweep`, :mod:`rubrotor.sweeps.follow`) and by
-continuation (:mod:`rubrotor.orbits.continuation`), which sit above it.
+Used by continuation (:mod:`rubrotor.orbits.continuation`) and by the sweeps
+(:mod:`rubrotor.sweeps.sweep`, :mod:`rubrotor.sweeps.follow`, a layer above): it lives in the
+lowest layer that may both read scenarios and solve the shaft's critical speed.
 """
 
 from __future__ import annotations
