@@ -22,8 +22,8 @@ import pytest
 
 from rubrotor.engine.settings import Integrator
 from rubrotor.engine.simulate import simulate
+from rubrotor.orbits.points import PointScenarios, _point_scenario
 from rubrotor.scenario import load_scenario, scenario_to_dict
-from rubrotor.scenario.points import PointScenarios, _point_scenario
 from rubrotor.sweeps.follow import run_follow_chunk
 from rubrotor.sweeps.sweep import point_metrics, sweep
 

@@ -5,5 +5,6 @@ continuation with bifurcations, Lyapunov exponents.
 * :mod:`rubrotor.orbits.general_map`: the general rotor's map;
 * :mod:`rubrotor.orbits.synchronous`: circular orbits as equilibria of the rotating frame;
 * :mod:`rubrotor.orbits.continuation`: pseudo-arclength continuation in any key;
-* :mod:`rubrotor.orbits.lyapunov`: Lyapunov exponents.
+* :mod:`rubrotor.orbits.lyapunov`: Lyapunov exponents;
+* :mod:`rubrotor.orbits.points`: the scenario at each point of a continuation or a sweep.
 """

@@ -254,8 +254,8 @@ class _Problem:
 
     def at(self, p):
         """The scenario at key value ``p`` (cached: rebuilding one solves its critical speeds;
-        :class:`rubrotor.scenario.points.PointScenarios` solves them once for the unswept shaft)."""
-        from rubrotor.scenario.points import PointScenarios
+        :class:`rubrotor.orbits.points.PointScenarios` solves them once for the unswept shaft)."""
+        from rubrotor.orbits.points import PointScenarios
 
         p = float(p)
         cache = self.__dict__.setdefault("_at", {})

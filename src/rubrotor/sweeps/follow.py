@@ -92,8 +92,8 @@ def run_follow_chunk(task: dict) -> dict:
         None}``.
     """
     from rubrotor.errors import RubrotorError
+    from rubrotor.orbits.points import PointScenarios
     from rubrotor.scenario.load import scenario_from_dict
-    from rubrotor.scenario.points import PointScenarios
     from rubrotor.sweeps.metrics import _empty_metrics
     from rubrotor.sweeps.sweep import simulate_point
 

@@ -60,8 +60,8 @@ import numpy as np
 
 from rubrotor.errors import InputError
 from rubrotor.modelling import model_of
+from rubrotor.orbits.points import PointScenarios, _point_scenario
 from rubrotor.scenario.load import as_scenario, key_unit
-from rubrotor.scenario.points import PointScenarios, _point_scenario
 from rubrotor.sweeps.metrics import (
     _SCALARS,
     N_PEAKS,

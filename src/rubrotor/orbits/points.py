@@ -2,14 +2,17 @@
 keys changed, validated as :meth:`rubrotor.scenario.Scenario.with_changes` does, with the
 unswept shaft's critical speed solved once (:class:`PointScenarios`).
 
-Used by the sweeps (:mod:`rubrotor.sweeps.sweep`, :mod:`rubrotor.sweeps.follow`) and by
-continuation (:mod:`rubrotor.orbits.continuation`), which sit above it.
+Used by continuation (:mod:`rubrotor.orbits.continuation`) and by the sweeps
+(:mod:`rubrotor.sweeps.sweep`, :mod:`rubrotor.sweeps.follow`, a layer above): it lives in the
+lowest layer that may both read scenarios and solve the shaft's critical speed.
 """
 
 from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
+
+from rubrotor.modelling import model_of
 
 __all__ = ["PointScenarios"]
 
@@ -53,7 +56,7 @@ class PointScenarios:
         )
         if (
             by_multiple
-            and not base.model.fe_rotor
+            and model_of(base).linear == "closed-form"
             and not any(k.startswith("shaft.") for k in keys)
         ):
             from rubrotor.linear.shaft import first_forward_critical
