@@ -4,7 +4,7 @@ Each verb is a :class:`~rubrotor.cli.common.Command`: a name, a help line, a fun
 arguments to an :mod:`argparse` subparser and a function running it (``run(args) -> int``). The
 verbs live in one module per group (:mod:`rubrotor.cli.linear`, :mod:`rubrotor.cli.simulate`,
 :mod:`rubrotor.cli.sweeps`, :mod:`rubrotor.cli.analyze`, :mod:`rubrotor.cli.orbits`,
-:mod:`rubrotor.cli.studies`, :mod:`rubrotor.cli.thermal`); to add one, write its two functions
+:mod:`rubrotor.cli.studies`, :mod:`rubrotor.cli.thermal`, :mod:`rubrotor.cli.draw`); to add one, write its two functions
 in its group's module and add a row to :data:`COMMANDS`, the one table.
 
 Errors the user can cause (:class:`rubrotor.errors.RubrotorError`, including scenario errors)
@@ -22,6 +22,7 @@ from rubrotor import __version__
 from rubrotor.cli import (
     analyze,
     api,
+    draw,
     linear,
     orbits,
     response,
@@ -107,6 +108,13 @@ COMMANDS: list[Command] = [
         response.shapes_args,
         response.shapes_run,
         outputs=("figure",),
+    ),
+    Command(
+        "draw",
+        "the rotor's geometry: sections, disks, bearings, contacts (figure)",
+        draw.draw_args,
+        draw.draw_run,
+        outputs=("out",),
     ),
     Command(
         "clearance",
