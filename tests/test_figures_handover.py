@@ -53,3 +53,60 @@ def test_clearance_labels_say_diametral_and_name_the_operating_range():
     assert any(t == "operating range 440-628.3 rad/s" for t in labels)
     assert len([t for t in bottom.get_legend_handles_labels()[1] if t.startswith("probe")]) == 2
     assert all("µm" in ax.get_ylabel() for ax in fig.axes)
+
+
+def test_separation_margin_api_formula():
+    """API 617 / 684 by hand: AF 2 needs none; AF 3.5 below the run range 17 (1 - 1/2) = 8.5 %,
+    above it 10 + 8.5 = 18.5 %; AF 100 hits the caps, 16 % below and 26 % above."""
+    from rubrotor.plotting.linear import margin_band, separation_margin
+
+    assert separation_margin(2.0, False) == 0.0 and separation_margin(2.0, True) == 0.0
+    assert separation_margin(3.5, False) == pytest.approx(0.085, rel=1e-14)
+    assert separation_margin(3.5, True) == pytest.approx(0.185, rel=1e-14)
+    assert (separation_margin(100.0, False), separation_margin(100.0, True)) == (0.16, 0.26)
+    lo, hi = margin_band(380.0, 1 / 7.0)  # zeta = 1 / (2 AF), AF 3.5
+    assert (lo, hi) == pytest.approx((380.0 / 1.185, 380.0 / 0.915), rel=1e-14)
+
+
+@pytest.mark.parametrize("zeta", [0.05, 0.01, 0.0005])
+def test_amplification_factor_of_one_mode(zeta):
+    """One mode's unbalance response ``r^2 / |1 - r^2 + 2 i zeta r|``: the half-power estimate
+    of the sampled curve (a uniform pass, then the phase-spaced grid of ``half_power_speeds``)
+    matches the same definition evaluated on a 400,001-point grid through the peak to 0.5 %, and
+    the textbook ``AF = 1 / (2 zeta)`` to ``3 zeta`` (relative; they differ at O(zeta))."""
+    from rubrotor.plotting.linear import amplification_factors, half_power_speeds
+
+    def amp(r):
+        return r**2 / np.abs(1 - r**2 + 2j * zeta * r)
+
+    r = np.linspace(0.2, 2.0, 2001)
+    first = amplification_factors(r, amp(r))
+    grid = np.unique(np.concatenate([r, half_power_speeds(first, r[0], r[-1], 401)]))
+    ((w, _, af),) = amplification_factors(grid, amp(grid))
+    peak = amp(np.array([w]))[0]
+    fine = np.linspace(w * (1 - 20 * zeta), w * (1 + 20 * zeta), 400001)
+    a = amp(fine)
+    inside = fine[a >= peak / np.sqrt(2)]
+    assert af == pytest.approx(w / (inside[-1] - inside[0]), rel=5e-3)
+    assert af == pytest.approx(1 / (2 * zeta), rel=3 * zeta + 1e-3)
+
+
+def test_interactive_pages_hold_their_data(tmp_path):
+    """plotly pages (the 'interactive' extra): self-contained (plotly.js inlined, no script
+    from the network), with the axes' units; the Campbell page carries every speed."""
+    pytest.importorskip("plotly")
+    from rubrotor.linear.analysis import CampbellData, LinearCritical
+    from rubrotor.plotting.interactive import campbell_html, write_html
+
+    speeds = np.linspace(0.0, 600.0, 13)
+    data = CampbellData(speeds, np.full((13, 2), 60.0), np.full((13, 2), 0.05),
+                        np.array([["forward", "backward"]] * 13))  # fmt: skip
+    crit = [LinearCritical(1, "forward", 1.0, 377.0, 0.01)]
+    fig = campbell_html(data, crit, 340.0, "Campbell diagram: test", (300.0, 340.0))
+    assert fig.layout.xaxis.title.text == "spin speed (rad/s)"
+    assert fig.layout.yaxis.title.text == "damped natural frequency (Hz)"
+    out = tmp_path / "c.html"
+    write_html(fig, out)
+    text = out.read_text()
+    assert '<script src="http' not in text and "plotly" in text.lower()
+    assert sum(len(t.x) for t in fig.data[:2]) == 26

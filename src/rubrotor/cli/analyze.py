@@ -65,6 +65,9 @@ def analyze_args(parser: argparse.ArgumentParser) -> None:
         "--rpm", action="store_true", help="speed axes of the order figures in rev/min"
     )
     parser.add_argument("--json", action="store_true", help="print the indicators as JSON")
+    parser.add_argument("--html", action="store_true",
+                        help="also write cascade.html, interactive (run-ups; needs the "
+                        "'interactive' extra)")  # fmt: skip
 
 
 def _read_table(path: Path, ext: str, fs):
@@ -375,9 +378,16 @@ def _order_figures(sig: dict, tracks: dict, args: argparse.Namespace, out: Path)
         casc = cascade(sig["spin"], y, z, revolutions=4)
     except InputError:
         casc = None
+    paths = []
     if casc is not None and casc.speed_rad_s.size >= 2:
         figs["cascade.png"] = cascade_figure(casc, rpm=args.rpm, title=f"{name}: cascade of the {label}")  # fmt: skip
-    paths = []
+        if getattr(args, "html", False):
+            from rubrotor.plotting.interactive import cascade_html, write_html
+
+            write_html(
+                cascade_html(casc, title=f"{name}: cascade of the {label}"), out / "cascade.html"
+            )
+            paths.append(out / "cascade.html")
     for fname, fig in figs.items():
         atomic_write(out / fname, lambda tmp, f=fig: f.savefig(tmp, format="png", dpi=110))
         paths.append(out / fname)
