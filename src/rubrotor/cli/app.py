@@ -25,6 +25,7 @@ from rubrotor.cli import (
     linear,
     orbits,
     response,
+    ross_import,
     simulate,
     studies,
     sweeps,
@@ -169,6 +170,13 @@ COMMANDS: list[Command] = [
         analyze.analyze_args,
         analyze.analyze_run,
         outputs=("out/",),
+    ),
+    Command(
+        "import-ross",
+        "turn a rotor file saved by ROSS (Rotor.save) into a scenario every verb runs on",
+        ross_import.import_ross_args,
+        ross_import.import_ross_run,
+        outputs=("out",),
     ),
     Command(
         "scenarios",
