@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubrotor.linear.api import ClearanceCheck, Level1
+from rubrotor.linear.api617 import ClearanceCheck
+from rubrotor.linear.api684 import Level1
 from rubrotor.plotting.response import clearance_figure, level1_figure
 
 
@@ -95,7 +96,8 @@ def test_interactive_pages_hold_their_data(tmp_path):
     """plotly pages (the 'interactive' extra): self-contained (plotly.js inlined, no script
     from the network), with the axes' units; the Campbell page carries every speed."""
     pytest.importorskip("plotly")
-    from rubrotor.linear.analysis import CampbellData, LinearCritical
+    from rubrotor.linear.campbell import CampbellData
+    from rubrotor.linear.critical import LinearCritical
     from rubrotor.plotting.interactive import campbell_html, write_html
 
     speeds = np.linspace(0.0, 600.0, 13)

@@ -26,6 +26,7 @@ from rubrotor.cli import (
     linear,
     orbits,
     response,
+    ross_import,
     simulate,
     studies,
     sweeps,
@@ -177,6 +178,13 @@ COMMANDS: list[Command] = [
         analyze.analyze_args,
         analyze.analyze_run,
         outputs=("out/",),
+    ),
+    Command(
+        "import-ross",
+        "turn a rotor file saved by ROSS (Rotor.save) into a scenario every verb runs on",
+        ross_import.import_ross_args,
+        ross_import.import_ross_run,
+        outputs=("out",),
     ),
     Command(
         "scenarios",

@@ -59,7 +59,7 @@ def campbell_html(data, criticals=(), operating_speed=None, title="Campbell diag
     Parameters
     ----------
     data : CampbellData
-        From :func:`rubrotor.linear.analysis.campbell_data`.
+        From :func:`rubrotor.linear.campbell.campbell_data`.
     criticals : list of LinearCritical
         Critical speeds (rad/s) to mark.
     operating_speed : float, optional
@@ -129,7 +129,7 @@ def bode_html(resp, probe: int = 0, clearance=None, title: str = "unbalance resp
     Parameters
     ----------
     resp : UnbalanceResponse
-        From :func:`rubrotor.linear.analysis.unbalance_response`.
+        From :func:`rubrotor.linear.response.unbalance_response`.
     probe : int
         Probe whose ``v``, ``w`` and phase are drawn.
     clearance : float, optional
