@@ -2,7 +2,7 @@
 Rotor geometry: what the model holds
 ====================================
 
-Before any analysis, look at the rotor: :func:`rubrotor.draw_rotor` (``rubrotor draw SCENARIO
+Before any analysis, look at the rotor: :func:`rubrotor.plotting.geometry.draw_rotor` (``rubrotor draw SCENARIO
 --out rotor.png`` on the command line) draws the shaft sections (bores white), the disks
 (hatched, as the uniform disk of their mass and polar inertia), the bearings (triangles and
 springs to the ground, open triangles for pinned ends), the contacts (dark stator blocks, gap

@@ -24,7 +24,7 @@ The public surface, each name defined once in its own module:
   state-carrying up/down sweeps ``rubrotor.sweeps.follow.follow_sweep``; Lyapunov exponents:
   :func:`lyapunov_exponents`; a start state: :class:`RotorState`;
 * results files: :func:`save_dataset`, :func:`load_dataset`;
-* figures: :func:`draw_rotor` (the rotor's geometry; ``rubrotor.plotting`` has the others).
+* figures: :func:`~rubrotor.plotting.geometry.draw_rotor` (the rotor's geometry; ``rubrotor.plotting`` has the others).
 """
 
 __version__ = "0.1.0"

@@ -1,13 +1,18 @@
+# The tutorial's commands, run in CI by docs/run_pages.py from a copy of this folder.
 set -euo pipefail
-# 1. look at the rotor you wrote
+# [draw]
 rubrotor draw rotor.toml --out rotor.png
-# 2. its modes at the scenario's speed, and its critical speeds
+# [modes]
 rubrotor modes rotor.toml
 rubrotor critical rotor.toml
-# 3. the Campbell diagram from rest to 600 rad/s
-rubrotor campbell rotor.toml --speeds 0:600:61 --out campbell.png
-# 4. the linear screening: does the unbalance response reach the seal's clearance?
+# [campbell]
+rubrotor campbell rotor.toml --speeds 0:600:61 --run-range 300:340 --out campbell.png
+# [unbalance]
+rubrotor unbalance rotor.toml --speeds 0:600:121 --probe 0.5 --probe 0.3 --figure bode.png
+# [clearance]
 rubrotor clearance rotor.toml --figure clearance.png
-# 5. simulate the rub at 380 rad/s, then ask for the verdict
+# [simulate]
 rubrotor simulate rotor.toml --out run.nc --figure
+# [analyze]
 rubrotor analyze run.nc --out verdict
+# [end]

@@ -54,7 +54,7 @@ class CampbellData:
 def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     """Frequencies, logarithmic decrements and whirl of the ``n`` lowest modes over ``speeds``.
 
-    Each eigenpair is exact (the same eigenvalues as :func:`damped_modes`, to ~1e-12): a
+    Each eigenpair is exact (the same eigenvalues as :func:`rubrotor.linear.modes.damped_modes`, to ~1e-12): a
     projection onto the rotor's lowest undamped modes gives starting values at every speed
     (one batched small eigen-solve), which Newton's method on the full quadratic eigenproblem
     refines with banded LU solves in one compiled loop. A speed where Newton fails falls back
@@ -100,7 +100,7 @@ def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
     Starting values (:func:`_refine_chunk`) refined by Newton on the full banded quadratic
     eigenproblem (:func:`rubrotor.core.banded.refine_eigenpairs`) until a step is below
     ``1e-10 |lam|`` (quadratic convergence: the error after it is at rounding level); clusters of
-    equal eigenvalues get the shapes of extreme whirl (as in :func:`damped_modes`).
+    equal eigenvalues get the shapes of extreme whirl (as in :func:`rubrotor.linear.modes.damped_modes`).
     """
     parts = _band_parts(system, speeds)
     rows = _stations(system)[:, system.free]

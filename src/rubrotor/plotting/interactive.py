@@ -104,11 +104,11 @@ def campbell_html(data, criticals=(), operating_speed=None, title="Campbell diag
                                  hovertemplate="%{text}",
                                  marker={"symbol": "diamond", "size": 11, "color": "gold",
                                          "line": {"width": 1, "color": "black"}}))  # fmt: skip
-        for c in criticals:
-            lo, hi = margin_band(c.speed_rad_s, c.damping_ratio)
-            if hi > lo:
-                fig.add_vrect(x0=lo, x1=hi, fillcolor="black", opacity=0.08, line_width=0,
-                              annotation_text="API 684 margin", annotation_position="bottom")  # fmt: skip
+        bands = [margin_band(c.speed_rad_s, c.damping_ratio) for c in criticals]
+        for k, (lo, hi) in enumerate(b for b in bands if b[1] > b[0]):
+            text = {"annotation_text": "API 684 separation margin: keep the run range out",
+                    "annotation_position": "bottom right"} if k == 0 else {}  # fmt: skip
+            fig.add_vrect(x0=lo, x1=hi, fillcolor="red", opacity=0.10, line_width=0, **text)
     if run_range is not None:
         fig.add_vrect(x0=run_range[0], x1=run_range[1], fillcolor="grey", opacity=0.15,
                       line_width=0, annotation_text="run range",

@@ -313,10 +313,10 @@ class Bearing:
         Bearing mass (kg), a constant symmetric 2x2 added to the mass matrix on the bearing's
         deflections (``[[myy, myz], [myz, mzz]]``, relative ones when linked).
     link : str, optional
-        Name of a :class:`PointMass` (a bearing housing): the bearing acts between the shaft
+        Name of a :class:`~rubrotor.rotors.fe.PointMass` (a bearing housing): the bearing acts between the shaft
         and that mass instead of the ground.
     on : str, optional
-        Name of a :class:`PointMass`: the bearing acts between that mass and the ground (the
+        Name of a :class:`~rubrotor.rotors.fe.PointMass`: the bearing acts between that mass and the ground (the
         housing's support); ``position`` is then the mass's station.
     """
 

@@ -210,7 +210,7 @@ class Support:
 
     def coefficients(self, speed: float, frequency: float | None = None):
         """``(K, C)`` 2x2 arrays (N/m, N s/m) at spin ``speed`` and whirl ``frequency``
-        (rad/s; default ``speed``: synchronous), each table read on its :attr:`axis`."""
+        (rad/s; default ``speed``: synchronous), each table read on its ``axis``."""
         at = speed if self.axis == "speed" or frequency is None else frequency
         k, c = self.tabulate([at])
         return k[0], c[0]

@@ -1,4 +1,4 @@
-"""A ROSS rotor as scenario tables: ``rubrotor import-ross`` and :meth:`Scenario.from_ross`.
+"""A ROSS rotor as scenario tables: ``rubrotor import-ross`` and :meth:`rubrotor.Scenario.from_ross`.
 
 The rotor comes as a ROSS ``Rotor`` object (ROSS 2.3 or 3.x installed) or as the file ROSS's
 ``Rotor.save`` wrote (read without ROSS, :func:`rubrotor.rotors.ross_model.read_ross_file`).
@@ -236,7 +236,7 @@ def ross_scenario_dict(model: RossModel, speed: float = 0.0, name: str = "ross_r
 
 def ross_mapping(rotor, speed: float = 0.0, name: str | None = None, speeds=None) -> dict:
     """The scenario mapping of a ROSS rotor (object or saved file); what
-    :meth:`rubrotor.scenario.load.Scenario.from_ross` builds its scenario of.
+    :meth:`rubrotor.Scenario.from_ross` builds its scenario of.
 
     Parameters
     ----------
