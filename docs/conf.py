@@ -22,6 +22,7 @@ sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(Path(__file__).parent))
 
 import cli_reference  # noqa: E402
+
 import rubrotor  # noqa: E402
 from rubrotor.scenario.schema import markdown_table  # noqa: E402
 
