@@ -112,3 +112,32 @@ def test_interactive_pages_hold_their_data(tmp_path):
     text = out.read_text()
     assert '<script src="http' not in text and "plotly" in text.lower()
     assert sum(len(t.x) for t in fig.data[:2]) == 26
+
+
+def test_static_figure_draws_no_arrow_for_a_zero_reaction_and_keeps_labels_inside():
+    """general_rotor's z reactions are round-off (2.7e-11 N against 442 N): no arrow, printed
+    as 0 N; the right bearing's label is right-aligned (it points inwards, not off the edge)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from rubrotor.linear.static import BearingReaction, StaticResult
+    from rubrotor.plotting.response import static_figure
+
+    x = np.linspace(0.0, 1.3, 27)
+    sag = -50e-6 * np.sin(np.pi * x / 1.3)
+    bearings = (BearingReaction("left bearing", 0.05, 442.0, 2.66e-11),
+                BearingReaction("right bearing", 1.25, 413.1, -1.1e-11))  # fmt: skip
+    res = StaticResult(0.0, (-9.81, 0.0), x, np.column_stack([sag, 0 * sag]), bearings,
+                       np.zeros(4), np.zeros(4))  # fmt: skip
+    fig = static_figure(res, "static deflection: general_rotor")
+    ax_f = fig.axes[1]
+    arrows = [t for t in ax_f.texts if t.get_text() == ""]
+    labels = [t for t in ax_f.texts if t.get_text()]
+    assert len(arrows) == 2  # the two y reactions only
+    assert all("F_z = 0 N" in t.get_text() for t in labels)
+    assert [t.get_ha() for t in labels] == ["left", "right"]
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    width = fig.bbox.width
+    for t in labels:
+        box = t.get_window_extent(canvas.get_renderer())
+        assert 0 <= box.x0 and box.x1 <= width

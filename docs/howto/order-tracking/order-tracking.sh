@@ -15,5 +15,5 @@ np.savetxt("probe.csv", np.column_stack([t, y, z, rpm]), delimiter=",",
            header="time,y,z,rpm", comments="", fmt="%.9g")
 PY
 # [analyze]
-rubrotor analyze probe.csv --columns y,z --orders 0.5,1,2 --clearance 150e-6 --html --out orders
+rubrotor analyze probe.csv --columns y,z --orders 0.5,1,2 --clearance 150e-6 --html --svg --out orders
 # [end]

@@ -147,16 +147,24 @@ def bode_html(resp, probe: int = 0, clearance=None, title: str = "unbalance resp
     fig = make_subplots(rows=2, cols=1, shared_xaxes=True, row_heights=[0.62, 0.38],
                         vertical_spacing=0.05)  # fmt: skip
     x = resp.speeds
-    for c, name, dash in ((0, "v", "solid"), (1, "w", "dash")):
-        fig.add_trace(go.Scatter(x=x, y=resp.amplitude[:, probe, c] * 1e6, name=f"{name} amplitude",
-                                 line={"dash": dash}), row=1, col=1)  # fmt: skip
+
+    def um(a):  # µm, zeros (at rest) left out of the log axis
+        a = np.asarray(a, float) * 1e6
+        return np.where(a > 0, a, np.nan)
+
+    for c, name, dash, colour in ((0, "v", "solid", "#1f77b4"), (1, "w", "dash", "#ff7f0e")):
+        line = {"dash": dash, "color": colour}
+        fig.add_trace(go.Scatter(x=x, y=um(resp.amplitude[:, probe, c]), name=f"{name} amplitude",
+                                 line=line, legendgroup=name), row=1, col=1)  # fmt: skip
         fig.add_trace(go.Scatter(x=x, y=np.degrees(np.unwrap(resp.phase[:, probe, c])),
-                                 name=f"{name} phase", line={"dash": dash}), row=2, col=1)  # fmt: skip
+                                 name=f"{name} phase", line=line, legendgroup=name), row=2, col=1)  # fmt: skip
     dashes = ("solid", "dashdot", "dot", "longdash")
     for k in range(resp.probes.size):
-        fig.add_trace(go.Scatter(x=x, y=resp.major[:, k] * 1e6, line={"color": "black",
+        fig.add_trace(go.Scatter(x=x, y=um(resp.major[:, k]), line={"color": "black",
                                  "dash": dashes[k % 4]},
                                  name=f"major semi-axis, x = {resp.probes[k]:g} m"), row=1, col=1)  # fmt: skip
+    top = float(np.nanmax(um(resp.major)))
+    low = max(float(np.nanmin(um(resp.major))), 1e-6 * top)
     for w, peak, af in amplification_factors(x, resp.major[:, probe]):
         label = f"{w:.0f} rad/s, AF {_af_text(af)}" if math.isfinite(af) else f"{w:.0f} rad/s"
         fig.add_annotation(x=w, y=math.log10(peak * 1e6), text=label, row=1, col=1)
@@ -164,7 +172,8 @@ def bode_html(resp, probe: int = 0, clearance=None, title: str = "unbalance resp
         fig.add_hline(y=clearance * 1e6, line_color="red", line_dash="longdash", row=1, col=1,
                       annotation_text=f"radial clearance {clearance * 1e6:g} µm")  # fmt: skip
     _layout(fig, f"{title}: probe x = {resp.probes[probe]:g} m", "spin speed (rad/s)", "")
-    fig.update_yaxes(type="log", title_text="amplitude (µm 0-peak)", row=1, col=1)
+    fig.update_yaxes(type="log", title_text="amplitude (µm 0-peak)", row=1, col=1,
+                     range=[math.log10(low) - 0.2, math.log10(top) + 0.4])  # fmt: skip
     fig.update_yaxes(title_text="phase, unwrapped (deg)", row=2, col=1)
     fig.update_xaxes(title_text="", row=1, col=1)
     return fig
@@ -196,7 +205,7 @@ def cascade_html(casc, orders=(0.5, 1.0, 2.0, 3.0), title: str = "cascade", floo
     z = np.log10(np.maximum(amp, floor * top))
     f_hz = np.asarray(casc.frequency_rad_s) / TWO_PI
     fig = go.Figure(go.Heatmap(
-        x=f_hz, y=casc.speed_rad_s, z=z, colorscale="Greys", reversescale=True,
+        x=f_hz, y=casc.speed_rad_s, z=z, colorscale="Greys",
         colorbar={"title": "log10 amplitude (µm)"},
         hovertemplate="%{x:.1f} Hz<br>%{y:.1f} rad/s<br>log10 µm %{z:.2f}<extra></extra>",
     ))  # fmt: skip
@@ -207,6 +216,11 @@ def cascade_html(casc, orders=(0.5, 1.0, 2.0, 3.0), title: str = "cascade", floo
         keep = f <= fmax
         fig.add_trace(go.Scatter(x=f[keep], y=w[keep], mode="lines", name=f"{k:g}X",
                                  line={"color": "red", "dash": dash, "width": 1.5}))  # fmt: skip
+        if casc.full and k == 1.0:  # backward 1X of a full spectrum
+            fig.add_trace(go.Scatter(x=-f[keep], y=w[keep], mode="lines", name="-1X",
+                                     line={"color": "blue", "dash": dash, "width": 1.5}))  # fmt: skip
     x_title = "frequency (Hz), negative = backward whirl" if casc.full else "frequency (Hz)"
     _layout(fig, title, x_title, "spin speed (rad/s)")
+    reach = 1.2 * max(orders) * float(np.max(casc.speed_rad_s)) / TWO_PI  # Hz: the orders drawn
+    fig.update_xaxes(range=[-reach if casc.full else 0.0, reach])
     return fig

@@ -36,7 +36,7 @@ def static_figure(result: StaticResult, title: str = "static deflection") -> Fig
     ax, ax_f = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1.4, 1]})
     x, d = result.x, result.deflection * 1e6
     ax.plot(x, d[:, 0], "C0", lw=2, label="v (along y)")
-    ax.plot(x, d[:, 1], "C1", lw=2, label="w (along z)")
+    ax.plot(x, d[:, 1], "C1", lw=2, ls="--", label="w (along z)")
     ax.axhline(0, color="0.6", lw=0.8)
     for b in result.bearings:
         i = int(np.argmin(np.abs(x - b.position)))
@@ -49,21 +49,28 @@ def static_figure(result: StaticResult, title: str = "static deflection") -> Fig
         + [abs(b.force_z) for b in result.bearings]
         + [1e-30]
     )
+    tiny = 1e-9 * fmax  # round-off of a zero reaction (-1.8e-11 N) gets no arrow
+    mid = 0.5 * (x[0] + x[-1])
     for b in result.bearings:
-        for comp, color, dx in ((b.force_y, "C0", -0.004), (b.force_z, "C1", 0.004)):
+        for comp, color, dx, ls in ((b.force_y, "C0", -0.004, "-"), (b.force_z, "C1", 0.004, "--")):
+            if abs(comp) <= tiny:
+                continue
             xb = b.position + dx * (x[-1] - x[0])
-            ax_f.annotate(
-                "", (xb, comp), (xb, 0.0), arrowprops={"arrowstyle": "->", "color": color, "lw": 2}
-            )
+            ax_f.annotate("", (xb, comp), (xb, 0.0),
+                          arrowprops={"arrowstyle": "->", "color": color, "lw": 2, "ls": ls})  # fmt: skip
+        fy, fz = (0.0 if abs(f) <= tiny else f for f in (b.force_y, b.force_z))
+        right = b.position > mid  # labels point inwards: never off the edge
         ax_f.annotate(
-            f"{b.name}\nF_y = {b.force_y:.4g} N\nF_z = {b.force_z:.4g} N",
+            f"{b.name}\nF_y = {fy:.4g} N\nF_z = {fz:.4g} N",
             (b.position, 0.0),
             textcoords="offset points",
-            xytext=(8, -30 if b.force_y > 0 else 10),
+            xytext=(-8 if right else 8, -30 if fy > 0 else 10),
+            ha="right" if right else "left",
             fontsize=8,
+            annotation_clip=False,
         )
     ax_f.plot([], [], "C0", label="F_y on the rotor")
-    ax_f.plot([], [], "C1", label="F_z on the rotor")
+    ax_f.plot([], [], "C1", ls="--", label="F_z on the rotor")
     ax_f.axhline(0, color="0.6", lw=0.8)
     ax_f.set(
         xlabel="axial position x (m)", ylabel="bearing force (N)", ylim=(-1.3 * fmax, 1.3 * fmax)
@@ -152,6 +159,9 @@ def clearance_figure(check: ClearanceCheck, title: str = "API 617 close-clearanc
                   if k == 0 else None)  # fmt: skip
         a.grid(alpha=0.3)
     ax.set(ylabel="major axis, µm peak to peak", title=f"{title}: S_cc = {check.scale_factor:.3g}")
+    if np.max(check.scaled) > 20 * np.max(check.clearances):  # a peak far above: log, so the
+        ax.set_yscale("log")  # clearance lines stay readable
+        ax.set_ylim(bottom=max(1e-3 * np.max(check.clearances) * 1e6, ax.get_ylim()[0]))
     ax.legend(fontsize=8, loc="upper left")
     styles = ("-", "--", "-.", ":")
     for p, row in enumerate(check.probe_response):

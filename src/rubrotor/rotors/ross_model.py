@@ -5,7 +5,7 @@ ROSS 2.x's TOML, which has the same element tables) with the standard library on
 not be installed. :func:`ross_model` reads the same data off a ROSS ``Rotor`` object (ROSS 2.3
 or 3.x). Both give a :class:`RossModel`: ROSS's element parameters (shaft elements, disks,
 point masses) and every bearing and seal as a lateral 2x2 stiffness/damping table in rubrotor's
-directions (``v = x``, ``w = y``; see :mod:`rubrotor.rotors.ross`), from which
+directions (``v = x``, ``w = y``; see :func:`rubrotor.rotors.ross.from_ross`), from which
 :func:`rubrotor.scenario.ross.ross_scenario_dict` writes scenario tables.
 
 Tables
