@@ -141,3 +141,37 @@ def test_static_figure_draws_no_arrow_for_a_zero_reaction_and_keeps_labels_insid
     for t in labels:
         box = t.get_window_extent(canvas.get_renderer())
         assert 0 <= box.x0 and box.x1 <= width
+
+
+def test_touchdown_contacts_that_move_alike_stay_visible():
+    """Two contacts with the same orbit (a symmetric drop): contact 1 is drawn wide and solid
+    underneath, contact 2 narrower and dashed on top, so the reader sees both (the old figure
+    hid contact 1 and ring 1 under contact 2 and ring 2)."""
+    import xarray as xr
+
+    from rubrotor.plotting.touchdown import touchdown_figure
+
+    t = np.linspace(0.0, 0.02, 401)
+    orbit = 200e-6 * np.exp(1j * 300.0 * t)
+    two = np.vstack([orbit, orbit])
+    ds = xr.Dataset(
+        {
+            "v": (("contact", "time"), two.real), "w": (("contact", "time"), two.imag),
+            "clearance": ("contact", [250e-6, 250e-6]),
+            "normal_force": (("contact", "time"), np.zeros((2, t.size))),
+            "ring_speed": (("contact", "time"), np.full((2, t.size), 50.0)),
+            "contact_radius": ("contact", [0.03, 0.03]), "ring_radius": ("contact", [0.04, 0.04]),
+            "spin_speed": ("time", np.full(t.size, 1000.0)),
+        },
+        coords={"time": t, "station": ("contact", [0.05, 0.75])},
+        attrs={"scenario_name": "touchdown_drop"},
+    )  # fmt: skip
+    fig = touchdown_figure(ds)
+    for ax in fig.axes:
+        one = [ln for ln in ax.lines if ln.get_label().endswith("contact 1 at 0.05 m")
+               or ln.get_label() == "ring 1"]  # fmt: skip
+        two_ = [ln for ln in ax.lines if ln.get_label().endswith("contact 2 at 0.75 m")
+                or ln.get_label() == "ring 2"]  # fmt: skip
+        for a, b in zip(one, two_, strict=True):
+            assert a.get_linestyle() != b.get_linestyle()
+            assert a.get_linewidth() > b.get_linewidth() and a.get_zorder() < b.get_zorder()
