@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -52,20 +53,27 @@ def run(name: str, script: Path, timeout: float = 1800.0) -> bool:
         env = dict(os.environ, PATH=f"{bin_dir}{os.pathsep}{os.environ.get('PATH', '')}",
                    MPLBACKEND="Agg")  # fmt: skip
         start = time.perf_counter()
-        proc = subprocess.run(["bash", "-e", script.name], cwd=work, env=env, text=True,
-                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout)  # fmt: skip
+        proc = subprocess.Popen(["bash", "-e", script.name], cwd=work, env=env, text=True,
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                start_new_session=True)  # fmt: skip
+        try:
+            output, _ = proc.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:  # stop the script and every command it started
+            os.killpg(proc.pid, signal.SIGKILL)
+            output, _ = proc.communicate()
+            output += f"\n(timed out after {timeout:.0f} s)\n"
         took = time.perf_counter() - start
         dest = OUT / name
         shutil.rmtree(dest, ignore_errors=True)
         dest.mkdir(parents=True)
-        (dest / "output.txt").write_text(proc.stdout)
+        (dest / "output.txt").write_text(output)
         for pattern in KEPT:
             for f in work.rglob(pattern):
                 shutil.copy2(f, dest / f.relative_to(work).as_posix().replace("/", "-"))
     status = "ok" if proc.returncode == 0 else f"FAILED (exit {proc.returncode})"
     print(f"{name}: {status} in {took:.0f} s", flush=True)
     if proc.returncode != 0:
-        print(proc.stdout[-6000:])
+        print(output[-6000:])
     return proc.returncode == 0
 
 

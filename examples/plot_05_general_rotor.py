@@ -33,7 +33,10 @@ fig = campbell_stability_figure(
 print(" mode     whirl  speed (rad/s)  speed (rpm)  damping ratio")
 for c in criticals:
     rpm = c.speed_rad_s * 30 / np.pi
-    print(f"{c.index:5d} {c.whirl:>9} {c.speed_rad_s:14.2f} {rpm:12.0f} {c.damping_ratio:14.4g}")
+    note = "  critically damped: no resonance" if c.damping_ratio > 0.2 else ""
+    print(
+        f"{c.index:5d} {c.whirl:>9} {c.speed_rad_s:14.2f} {rpm:12.0f} {c.damping_ratio:14.4g}{note}"
+    )
 
 # %%
 # Unbalance response at the impeller (0.45 m) from 10 to 1500 rad/s, sampled densely within

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from rubrotor.errors import RubrotorError
+from rubrotor.linear.critical import CRITICALLY_DAMPED
 from rubrotor.plotting.linear import _af_text, amplification_factors, margin_band
 
 __all__ = ["campbell_html", "bode_html", "cascade_html", "write_html", "require_plotly"]
@@ -94,6 +95,7 @@ def campbell_html(data, criticals=(), operating_speed=None, title="Campbell diag
         ))  # fmt: skip
     fig.add_trace(go.Scatter(x=data.speeds, y=data.speeds / TWO_PI, mode="lines", name="1X",
                              line={"dash": "dot", "color": "black"}))  # fmt: skip
+    criticals = [c for c in criticals if not c.damping_ratio > CRITICALLY_DAMPED]
     if criticals:
         cs = [c.speed_rad_s for c in criticals]
         text = [f"{c.speed_rad_s:.0f} rad/s, {c.speed_rad_s * 60 / TWO_PI:.0f} rpm ({c.whirl}), "

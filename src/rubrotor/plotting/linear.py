@@ -11,7 +11,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from rubrotor.linear.campbell import CampbellData
-from rubrotor.linear.critical import LinearCritical
+from rubrotor.linear.critical import CRITICALLY_DAMPED, LinearCritical
 from rubrotor.linear.modes import DampedMode
 from rubrotor.linear.response import UnbalanceResponse
 from rubrotor.linear.shapes import ModeShapes, node_whirl
@@ -87,7 +87,8 @@ def campbell_stability_figure(
     dark), forward whirl as circles and backward whirl as triangles (readable in grey scale);
     unstable points (log dec < 0) are red crosses; overdamped roots (no frequency) are left out.
     The 1X line is dotted; critical speeds are diamonds labelled, in rows of their own, with
-    their amplification factor ``AF = 1 / (2 zeta)``; around each, a hatched band at the foot
+    their amplification factor ``AF = 1 / (2 zeta)`` (critically damped ones, ``zeta > 0.2``, are
+    not critical speeds and are left out); around each, a hatched band at the foot
     marks where the run range may not reach (API 684 separation margin).
 
     Parameters
@@ -128,6 +129,9 @@ def campbell_stability_figure(
         u = real & ~stable
         ax.scatter(s[u], f[u], marker="x", c="r", s=18, label="unstable (log dec < 0)")
     ax.plot(data.speeds, data.speeds / TWO_PI, "k:", lw=1, label="1X")
+    # a mode damped beyond API 617's critically damped ratio (AF < 2.5) has no resonance: no
+    # critical speed to mark or keep a margin from
+    criticals = [c for c in criticals if not c.damping_ratio > CRITICALLY_DAMPED]
     _label_criticals(ax, criticals, fmax)
     _margins(ax, criticals, fmax)
     if run_range is not None:
