@@ -3,6 +3,7 @@
 Build (warnings are errors, cross-references nitpicky)::
 
     python -m pip install -e ".[docs]"
+    python docs/run_pages.py      # the tutorial's and how-to pages' commands and their figures
     python -m sphinx -W -n --keep-going -b html docs docs/_build/html
 
 Intersphinx inventories of NumPy, SciPy, xarray and matplotlib are fetched only when
