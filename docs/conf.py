@@ -3,6 +3,7 @@
 Build (warnings are errors, cross-references nitpicky)::
 
     python -m pip install -e ".[docs]"
+    python docs/run_pages.py      # the tutorial's and how-to pages' commands and their figures
     python -m sphinx -W -n --keep-going -b html docs docs/_build/html
 
 Intersphinx inventories of NumPy, SciPy, xarray and matplotlib are fetched only when
@@ -21,6 +22,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(Path(__file__).parent))
 
+import cli_reference  # noqa: E402
+
 import rubrotor  # noqa: E402
 from rubrotor.scenario.schema import markdown_table  # noqa: E402
 
@@ -37,9 +40,10 @@ extensions = [
     "numpydoc",
     "myst_parser",
     "sphinx_gallery.gen_gallery",
+    "sphinx-mathjax-offline",  # MathJax 3 copied into _static: equations render with no network
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "auto_examples/*.ipynb", "auto_examples/*.py", "**/*.zip"]
+exclude_patterns = ["_build", "_generated", "_pages", "auto_examples/*.ipynb", "auto_examples/*.py", "**/*.zip"]
 myst_heading_anchors = 3
 
 autosummary_generate = True
@@ -78,7 +82,8 @@ html_theme_options = {
     "show_toc_level": 2,
     "footer_start": ["copyright"],
 }
-html_static_path: list[str] = []
+html_static_path = ["_static"]
+html_css_files = ["rubrotor.css"]  # code wraps instead of scrolling sideways
 
 sphinx_gallery_conf = {
     "image_scrapers": ("matplotlib", "gallery_scraper.package_figures"),
@@ -93,7 +98,10 @@ sphinx_gallery_conf = {
 
 _generated = Path(__file__).parent / "_generated"
 _generated.mkdir(exist_ok=True)
-_text = markdown_table()  # the key table of guide/scenarios.md, from rubrotor.scenario.schema
-_target = _generated / "schema.md"
-if not _target.exists() or _target.read_text() != _text:
-    _target.write_text(_text)
+for _name, _text in (
+    ("schema.md", markdown_table()),  # reference/scenarios.md's key tables (scenario.schema)
+    ("cli.md", cli_reference.markdown()),  # reference/cli.md: every verb's --help
+):
+    _target = _generated / _name
+    if not _target.exists() or _target.read_text() != _text:
+        _target.write_text(_text)

@@ -27,10 +27,16 @@ fig = campbell_stability_figure(
     campbell_data(system, speeds, n=4),
     criticals,
     operating_speed=sc.speed,
-    title="general rotor",
+    title=f"Campbell diagram: {sc.name}",
+    run_range=(0.7 * sc.speed, sc.speed),  # rad/s, shaded with the API 684 margins
 )
+print(" mode     whirl  speed (rad/s)  speed (rpm)  damping ratio")
 for c in criticals:
-    print(c)
+    rpm = c.speed_rad_s * 30 / np.pi
+    note = "  critically damped: no resonance" if c.damping_ratio > 0.2 else ""
+    print(
+        f"{c.index:5d} {c.whirl:>9} {c.speed_rad_s:14.2f} {rpm:12.0f} {c.damping_ratio:14.4g}{note}"
+    )
 
 # %%
 # Unbalance response at the impeller (0.45 m) from 10 to 1500 rad/s, sampled densely within
@@ -39,4 +45,4 @@ u = sc.unbalance
 near = [np.linspace(0.9 * c.speed_rad_s, 1.1 * c.speed_rad_s, 200) for c in criticals]
 speeds_r = np.unique(np.concatenate([np.linspace(10.0, 1500.0, 300), *near]))
 resp = unbalance_response(system, speeds_r, [(u.position, u.magnitude, 0.0)], [0.45])
-fig2 = unbalance_response_figure(resp, probe=0)
+fig2 = unbalance_response_figure(resp, probe=0, title=sc.name)

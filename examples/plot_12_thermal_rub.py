@@ -36,10 +36,14 @@ for w, r in zip(speeds, lin, strict=True):
     print(f"{w:6.1f} rad/s: growth {r.growth_rate * 3600:+.3f} 1/h, "
           f"period {r.spiral_period / 60:.1f} min")  # fmt: skip
 
+# %%
+# A slow-time run at the scenario's 270 rad/s: the 1X vectors spiral out over hours.
 run = slow_run(ThermalModel(scenario, steps=512), 5 * 3600.0, samples=80)
 print("slow run:", run.attrs["status"], "at", round(float(run.time[-1]) / 3600, 2), "h")
 fig_spiral = spiral_figure(run)
 
+# %%
+# The same rotor with a stiffer seal, a lagging hot spot and more bow per watt: a limit cycle.
 spec = scenario_to_dict(scenario)
 spec["contact"][0]["stiffness"] = 2e6  # N/m
 spec["thermal"].update(hot_spot_lag=1.4, bow_per_heat=1e-6)  # rad, m/W

@@ -23,7 +23,8 @@ The public surface, each name defined once in its own module:
 * parameter maps: ``rubrotor.sweeps.sweep.sweep`` (its module imports zarr/dask lazily),
   state-carrying up/down sweeps ``rubrotor.sweeps.follow.follow_sweep``; Lyapunov exponents:
   :func:`lyapunov_exponents`; a start state: :class:`RotorState`;
-* results files: :func:`save_dataset`, :func:`load_dataset`.
+* results files: :func:`save_dataset`, :func:`load_dataset`;
+* figures: :func:`~rubrotor.plotting.geometry.draw_rotor` (the rotor's geometry; ``rubrotor.plotting`` has the others).
 """
 
 from rubrotor import _moved  # noqa: E402
@@ -83,4 +84,14 @@ __all__ = [
     "rub_indicators",
     "lyapunov_exponents",
     "from_ross",
+    "draw_rotor",
 ]
+
+
+def __getattr__(name):
+    # matplotlib is imported only when a figure is asked for: ``rubrotor.draw_rotor``
+    if name == "draw_rotor":
+        from rubrotor.plotting.geometry import draw_rotor
+
+        return draw_rotor
+    raise AttributeError(f"module 'rubrotor' has no attribute {name!r}")

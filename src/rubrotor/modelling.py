@@ -94,6 +94,35 @@ class SpeedLaw:
 
 
 @dataclass(frozen=True)
+class Geometry:
+    """A rotor's geometry, as a drawing needs it.
+
+    Attributes
+    ----------
+    sections : tuple of (float, float, float, float)
+        ``(start, length, outer radius, bore radius)`` of each shaft section (m).
+    length : float
+        The rotor's length (m).
+    disks : tuple
+        Its disks (objects with ``position`` m, ``mass`` kg, ``polar_inertia`` kg m^2,
+        ``width`` m and ``name``).
+    supports : tuple of (float, str, bool)
+        ``(position m, label, pinned)`` of each bearing or pinned end.
+    mass : float or None
+        The rotor's mass (kg), None where the model does not state it.
+    nodes : tuple of float
+        Finite-element nodes (m), empty for the continuous shaft.
+    """
+
+    sections: tuple
+    length: float
+    disks: tuple
+    supports: tuple
+    mass: float | None
+    nodes: tuple
+
+
+@dataclass(frozen=True)
 class Model:
     """What one scenario (or rotor) is, and the builder of its parts (see the module docstring).
 
@@ -313,6 +342,24 @@ class Model:
         if self.rotor != "fe" or not self._fe().disks:
             return None
         return float(max(self._fe().disks, key=lambda d: d.mass).position)
+
+    def geometry(self) -> Geometry:
+        """What a drawing of the rotor needs (see :class:`Geometry`), for any rotor."""
+        if self.rotor == "fe":
+            fe = self._fe()
+            sections, x0 = [], 0.0
+            for s in fe.sections:
+                sections.append((x0, s.length, s.diameter / 2, s.bore_diameter / 2))
+                x0 += s.length
+            stations = tuple(self.scenario.stations) if self.scenario is not None else ()
+            supports = tuple((b.position, b.name or b.kind, b.kind == "pinned")
+                             for b in fe.bearings)  # fmt: skip
+            return Geometry(tuple(sections), float(fe.length), tuple(fe.disks), supports,
+                            float(fe.mass), tuple(float(x) for x in fe.nodes(stations)))  # fmt: skip
+        sh = self.shaft
+        ends = ((0.0, "pinned end", True), (float(sh.length), "pinned end", True))
+        return Geometry(((0.0, sh.length, sh.diameter / 2, sh.bore_diameter / 2),),
+                        float(sh.length), (), ends, None, ())  # fmt: skip
 
     def _fe(self):
         return self.scenario.rotor if self.scenario is not None else self.source

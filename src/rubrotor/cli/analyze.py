@@ -65,6 +65,11 @@ def analyze_args(parser: argparse.ArgumentParser) -> None:
         "--rpm", action="store_true", help="speed axes of the order figures in rev/min"
     )
     parser.add_argument("--json", action="store_true", help="print the indicators as JSON")
+    parser.add_argument("--svg", action="store_true",
+                        help="also write every figure as SVG beside its PNG")  # fmt: skip
+    parser.add_argument("--html", action="store_true",
+                        help="also write cascade.html, interactive (run-ups; needs the "
+                        "'interactive' extra)")  # fmt: skip
 
 
 def _read_table(path: Path, ext: str, fs):
@@ -353,7 +358,6 @@ def _dataset_orders(ds, orders) -> tuple[list[dict], dict]:
 def _order_figures(sig: dict, tracks: dict, args: argparse.Namespace, out: Path) -> list[Path]:
     """``orders.png`` (transient Bode of 1X) and ``cascade.png`` of a run with varying speed."""
     from rubrotor.analysis.diagnostics import cascade
-    from rubrotor.engine.result import atomic_write
     from rubrotor.plotting.diagnostics import bode_figure, cascade_figure
 
     if not tracks or not _varying(sig["speed_range_rad_s"]):
@@ -375,13 +379,30 @@ def _order_figures(sig: dict, tracks: dict, args: argparse.Namespace, out: Path)
         casc = cascade(sig["spin"], y, z, revolutions=4)
     except InputError:
         casc = None
+    paths = []
     if casc is not None and casc.speed_rad_s.size >= 2:
         figs["cascade.png"] = cascade_figure(casc, rpm=args.rpm, title=f"{name}: cascade of the {label}")  # fmt: skip
-    paths = []
+        if getattr(args, "html", False):
+            from rubrotor.plotting.interactive import cascade_html, write_html
+
+            write_html(
+                cascade_html(casc, title=f"{name}: cascade of the {label}"), out / "cascade.html"
+            )
+            paths.append(out / "cascade.html")
     for fname, fig in figs.items():
-        atomic_write(out / fname, lambda tmp, f=fig: f.savefig(tmp, format="png", dpi=110))
-        paths.append(out / fname)
+        paths += save_figure(fig, out / fname, getattr(args, "svg", False))
     return paths
+
+
+def save_figure(fig, path: Path, svg: bool) -> list[Path]:
+    """Write ``fig`` to ``path`` (PNG) and, with ``svg``, beside it as SVG; the paths written."""
+    from rubrotor.engine.result import atomic_write
+
+    atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=110))
+    if not svg:
+        return [path]
+    atomic_write(path.with_suffix(".svg"), lambda tmp: fig.savefig(tmp, format="svg"))
+    return [path, path.with_suffix(".svg")]
 
 
 def _runup_warning(sig: dict) -> None:
@@ -445,10 +466,10 @@ def analyze_run(args: argparse.Namespace) -> int:
         sp = sig["spin"]
         sl = sp.valid
         mark_orders(fig.axes[0], sp.time[sl] - sp.time[0], sp.speed[sl])
-    atomic_write(out / "analysis.png", lambda tmp: fig.savefig(tmp, format="png", dpi=110))
+    figures = save_figure(fig, out / "analysis.png", getattr(args, "svg", False))
     atomic_write(out / "indicators.json", lambda tmp: Path(tmp).write_text(json.dumps(d, indent=2)))
     written = [
-        out / "analysis.png",
+        *figures,
         *_order_figures(sig, tracks, args, out),
         out / "indicators.json",
     ]

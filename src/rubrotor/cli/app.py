@@ -4,7 +4,7 @@ Each verb is a :class:`~rubrotor.cli.common.Command`: a name, a help line, a fun
 arguments to an :mod:`argparse` subparser and a function running it (``run(args) -> int``). The
 verbs live in one module per group (:mod:`rubrotor.cli.linear`, :mod:`rubrotor.cli.simulate`,
 :mod:`rubrotor.cli.sweeps`, :mod:`rubrotor.cli.analyze`, :mod:`rubrotor.cli.orbits`,
-:mod:`rubrotor.cli.studies`, :mod:`rubrotor.cli.thermal`); to add one, write its two functions
+:mod:`rubrotor.cli.studies`, :mod:`rubrotor.cli.thermal`, :mod:`rubrotor.cli.draw`); to add one, write its two functions
 in its group's module and add a row to :data:`COMMANDS`, the one table.
 
 Errors the user can cause (:class:`rubrotor.errors.RubrotorError`, including scenario errors)
@@ -22,9 +22,11 @@ from rubrotor._version import __version__
 from rubrotor.cli import (
     analyze,
     api,
+    draw,
     linear,
     orbits,
     response,
+    ross_import,
     simulate,
     studies,
     sweeps,
@@ -109,6 +111,13 @@ COMMANDS: list[Command] = [
         outputs=("figure",),
     ),
     Command(
+        "draw",
+        "the rotor's geometry: sections, disks, bearings, contacts (figure)",
+        draw.draw_args,
+        draw.draw_run,
+        outputs=("out",),
+    ),
+    Command(
         "clearance",
         "API 617 close-clearance check of the unbalance response at every contact",
         api.clearance_args,
@@ -169,6 +178,13 @@ COMMANDS: list[Command] = [
         analyze.analyze_args,
         analyze.analyze_run,
         outputs=("out/",),
+    ),
+    Command(
+        "import-ross",
+        "turn a rotor file saved by ROSS (Rotor.save) into a scenario every verb runs on",
+        ross_import.import_ross_args,
+        ross_import.import_ross_run,
+        outputs=("out",),
     ),
     Command(
         "scenarios",

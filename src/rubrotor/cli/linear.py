@@ -231,10 +231,30 @@ def campbell_args(parser: argparse.ArgumentParser) -> None:
         metavar="START:STOP:COUNT",
         help="spin speeds (rad/s), e.g. 0:60000:200",
     )
-    parser.add_argument("--out", required=True, metavar="FILE.png", help="figure file to write")
+    parser.add_argument("--out", required=True, metavar="FILE.png",
+                        help="figure file to write (.png/.pdf/.svg; .html: interactive, general "
+                        "rotor, needs the 'interactive' extra)")  # fmt: skip
     parser.add_argument(
         "--json", action="store_true", help="also print the diagram data as JSON on stdout"
     )
+    parser.add_argument("--run-range", metavar="MIN:MAX",
+                        help="minimum operating and maximum continuous speed (rad/s), shaded with "
+                        "the API 684 separation margins; default 0.7 x the scenario's speed to "
+                        "its speed (general rotor)")  # fmt: skip
+
+
+def run_range(text: str | None, speed: float) -> tuple[float, float]:
+    """``MIN:MAX`` (rad/s) of ``--run-range``, or ``(0.7 speed, speed)``; an InputError naming
+    the flag unless ``0 <= MIN <= MAX`` are finite numbers."""
+    if text is None:
+        return 0.7 * speed, speed
+    try:
+        lo, hi = (float(v) for v in text.split(":"))
+    except ValueError:
+        raise InputError("--run-range", text, "MIN:MAX in rad/s, e.g. 400:630") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= hi):
+        raise InputError("--run-range", text, "finite speeds 0 <= MIN <= MAX (rad/s)")
+    return lo, hi
 
 
 def campbell_run(args: argparse.Namespace) -> int:
@@ -244,12 +264,15 @@ def campbell_run(args: argparse.Namespace) -> int:
     speeds = parse_speeds(args.speeds)
     out = Path(args.out)
     fmt = out.suffix.lstrip(".").lower()
-    if fmt not in ("png", "pdf", "svg"):
-        raise InputError("--out", args.out, "a file name ending in .png, .pdf or .svg")
+    if fmt not in ("png", "pdf", "svg", "html"):
+        raise InputError("--out", args.out, "a file name ending in .png, .pdf, .svg or .html")
     scenario = load_scenario(args.scenario)
     model = model_of(scenario)
     if model.linear == "matrix":
-        return _general_campbell(scenario, speeds, out, args.json)
+        band = run_range(args.run_range, scenario.speed)
+        return _general_campbell(scenario, speeds, out, args.json, band)
+    if fmt == "html":
+        raise InputError("--out", args.out, "a .png, .pdf or .svg file for a [shaft] scenario")
     shaft = model.require_shaft("the Campbell diagram")
     fig = campbell_figure(shaft, speeds, operating_speed=scenario.speed)
     save_atomic(fig, out)
@@ -279,8 +302,9 @@ def campbell_run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _general_campbell(scenario, speeds, out: Path, as_json: bool) -> int:
-    """Campbell diagram with stability (log dec in colour) of a general rotor."""
+def _general_campbell(scenario, speeds, out: Path, as_json: bool, band) -> int:
+    """Campbell diagram with stability (log dec in colour) of a general rotor; an interactive
+    HTML page when ``out`` ends in .html."""
     from rubrotor.linear.campbell import campbell_data
     from rubrotor.linear.critical import linear_critical_speeds
     from rubrotor.linear.verbs import linear_system
@@ -290,7 +314,12 @@ def _general_campbell(scenario, speeds, out: Path, as_json: bool) -> int:
     data = campbell_data(system, speeds, n=8)
     crit = linear_critical_speeds(system, float(speeds[-1]), n=8) if speeds[-1] > 0 else []
     title = f"Campbell diagram: {scenario.name}"
-    save_atomic(campbell_stability_figure(data, crit, scenario.speed, title), out)
+    if out.suffix.lower() == ".html":
+        from rubrotor.plotting.interactive import campbell_html, write_html
+
+        write_html(campbell_html(data, crit, scenario.speed, title, band), out)
+    else:
+        save_atomic(campbell_stability_figure(data, crit, scenario.speed, title, band), out)
     if as_json:
         print_json(
             {

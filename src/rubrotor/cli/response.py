@@ -16,14 +16,15 @@ from rubrotor.scenario.load import load_scenario
 FIGURE_FORMATS = ("png", "pdf", "svg")
 
 
-def figure_path(text: str | None, flag: str = "--figure") -> Path | None:
+def figure_path(text: str | None, flag: str = "--figure", formats=FIGURE_FORMATS) -> Path | None:
     """The figure file of ``flag``: ``None`` when not given; an ``InputError`` naming the
-    flag unless it ends in .png, .pdf or .svg and its directory exists."""
+    flag unless it ends in one of ``formats`` (.png, .pdf or .svg) and its directory exists."""
     if text is None:
         return None
     out = Path(text)
-    if out.suffix.lstrip(".").lower() not in FIGURE_FORMATS:
-        raise InputError(flag, text, "a file name ending in .png, .pdf or .svg")
+    if out.suffix.lstrip(".").lower() not in formats:
+        names = ", ".join(f".{f}" for f in formats[:-1]) + f" or .{formats[-1]}"
+        raise InputError(flag, text, f"a file name ending in {names}")
     directory = out.parent if str(out.parent) else Path(".")
     if not directory.is_dir():
         raise InputError(flag, text, "a file in an existing directory")
@@ -143,14 +144,21 @@ def unbalance_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--speeds", required=True, metavar="START:STOP:COUNT",
                         help="spin speeds (rad/s)")  # fmt: skip
     parser.add_argument("--probe", type=float, action="append", required=True, metavar="X",
-                        help="probe position (m), repeatable; the figure draws the first")  # fmt: skip
+                        help="probe position (m), repeatable; the figure draws every probe's "
+                        "major semi-axis, and the phase and polar plot of the first; a figure "
+                        "ending in .html is interactive (the 'interactive' extra)")  # fmt: skip
 
 
 def unbalance_run(args: argparse.Namespace) -> int:
     from rubrotor.linear.response import scenario_unbalance_response, unbalance_to_dict
-    from rubrotor.plotting.linear import resonance_speeds, unbalance_response_figure
+    from rubrotor.plotting.linear import (
+        amplification_factors,
+        half_power_speeds,
+        resonance_speeds,
+        unbalance_response_figure,
+    )
 
-    out = figure_path(args.figure)
+    out = figure_path(args.figure, formats=(*FIGURE_FORMATS, "html"))
     speeds = parse_speeds(args.speeds)
     scenario = load_scenario(args.scenario)
     res = scenario_unbalance_response(scenario, speeds, on_rotor(scenario, args.probe, "--probe"))
@@ -165,12 +173,24 @@ def unbalance_run(args: argparse.Namespace) -> int:
             rows.append([f"{x:.4g}", f"{res.major[k, p] * 1e6:.4g}", f"{speeds[k]:.6g}"])
         print(table(["probe x (m)", "peak major semi-axis (µm)", "at speed (rad/s)"], rows))
     if out is not None:  # the figure on a grid refined at the peaks: smooth polar circles
-        x = args.probe[0]
+        x = float(res.probes[0])
         gaps = [c.clearance for c in scenario.contacts if abs(c.position - x) <= 1e-9]
         fine = scenario_unbalance_response(
-            scenario, resonance_speeds(speeds, res.major[:, 0]), [x])  # fmt: skip
-        fig = unbalance_response_figure(fine, 0, min(gaps) if gaps else None)
-        write_figure(fig, out, args.json)
+            scenario, resonance_speeds(speeds, res.major[:, 0]), list(res.probes))  # fmt: skip
+        peaks = amplification_factors(fine.speeds, fine.major[:, 0])
+        finer = half_power_speeds(peaks, speeds[0], speeds[-1])
+        if finer.size:  # light damping: speeds evenly in phase through each resonance
+            grid = np.unique(np.concatenate([fine.speeds, finer]))
+            fine = scenario_unbalance_response(scenario, grid, list(res.probes))
+        gap = min(gaps) if gaps else None
+        if out.suffix.lower() == ".html":
+            from rubrotor.plotting.interactive import bode_html, write_html
+
+            write_html(bode_html(fine, 0, gap, scenario.name), out)
+            if not args.json:
+                print(f"wrote {out}")
+        else:
+            write_figure(unbalance_response_figure(fine, 0, gap, scenario.name), out, args.json)
     return 0
 
 

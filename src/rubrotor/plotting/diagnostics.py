@@ -69,7 +69,8 @@ def bode_figure(tracks: dict, *, orders=(1.0,), direction: str = "both", rpm: bo
     Returns
     -------
     matplotlib.figure.Figure
-        Top: amplitude (um, zero-to-peak); bottom: phase (deg).
+        Top: amplitude (um, zero-to-peak), the first curve's highest peak labelled with its
+        half-power amplification factor (API 684); bottom: phase (deg).
     """
     if phase not in ("arg", "lag"):
         from rubrotor.errors import InputError
@@ -94,6 +95,8 @@ def bode_figure(tracks: dict, *, orders=(1.0,), direction: str = "both", rpm: bo
                     deg = -deg
                     deg -= 360.0 * np.floor(deg[0] / 360.0)
                 ax_p.plot(sp, deg, style, color=f"C{colour % 10}", lw=1.2)
+                if colour == 0 and d == dirs[0]:
+                    _label_peaks(ax_a, sp, np.abs(ph[i]) * UM, track.speed_rad_s)
             colour += 1
     ax_a.set_ylabel("amplitude (um, 0-peak)")
     top = max((float(np.nanmax(ln.get_ydata())) for ln in ax_a.lines), default=1.0)
@@ -111,6 +114,19 @@ def bode_figure(tracks: dict, *, orders=(1.0,), direction: str = "both", rpm: bo
     ax_p.grid(alpha=0.3)
     fig.suptitle(title or "transient Bode plot (order tracking)")
     return fig
+
+
+def _label_peaks(ax, speed_axis, amplitude, speed_rad_s) -> None:
+    """The highest resonance peak of a tracked amplitude, labelled with its speed and
+    amplification factor (the lesser peaks of a rubbing run's jagged response are not)."""
+    from rubrotor.plotting.linear import amplification_factors
+
+    peaks = amplification_factors(speed_rad_s, amplitude)
+    for w, peak, af in sorted(peaks, key=lambda p: p[1])[-1:]:
+        x = np.interp(w, speed_rad_s, speed_axis)
+        text = f"peak at {w:.0f} rad/s" + (f"\nAF {af:.3g}" if np.isfinite(af) else "")
+        ax.annotate(text, (x, peak), xytext=(6, -4), textcoords="offset points", va="top",
+                    fontsize=8, bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "0.7"})  # fmt: skip
 
 
 def polar_figure(track, *, order: float = 1.0, direction: str = "y", rpm: bool = False,

@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from rubrotor.linear.campbell import CampbellData
-from rubrotor.linear.critical import LinearCritical
+from rubrotor.linear.critical import CRITICALLY_DAMPED, LinearCritical
 from rubrotor.linear.modes import DampedMode
 from rubrotor.linear.response import UnbalanceResponse
 from rubrotor.linear.shaft import campbell, critical_speeds
@@ -23,7 +23,11 @@ from rubrotor.rotors.shaft import Shaft
 
 __all__ = [
     "campbell_figure",
+    "separation_margin",
+    "amplification_factors",
+    "margin_band",
     "resonance_speeds",
+    "half_power_speeds",
     "campbell_stability_figure",
     "unbalance_response_figure",
     "mode_shape_figure",
@@ -34,17 +38,62 @@ __all__ = [
 TWO_PI = 2 * np.pi
 
 
+def _af_text(af: float) -> str:
+    """An amplification factor as text: 3 significant digits, whole numbers from 1000 on."""
+    return f"{af:.0f}" if af >= 1000 else f"{af:.3g}"
+
+
+def separation_margin(amplification: float, above: bool) -> float:
+    """API 617 / API 684 separation margin (fraction of the speed) a critical speed of
+    amplification factor ``amplification`` needs from the run range.
+
+    ``0`` when ``AF < 2.5`` (critically damped); else ``min(0.16, 0.17 (1 - 1/(AF - 1.5)))`` for
+    a critical below the minimum operating speed and ``min(0.26, 0.10 + 0.17 (1 - 1/(AF - 1.5)))``
+    for one above the maximum continuous speed (``above=True``).
+
+    Parameters
+    ----------
+    amplification : float
+        Amplification factor (1), ``1 / (2 zeta)`` for a damping ratio ``zeta``.
+    above : bool
+        The critical speed lies above the run range.
+
+    Returns
+    -------
+    float
+        Required margin as a fraction (0.16 = 16 %) of the run range's nearer end.
+    """
+    if not math.isfinite(amplification) or amplification < 2.5:
+        return 0.0
+    core = 0.17 * (1.0 - 1.0 / (amplification - 1.5))
+    return min(0.26, 0.10 + core) if above else min(0.16, core)
+
+
+def margin_band(speed: float, damping_ratio: float) -> tuple[float, float]:
+    """Run-range ends (rad/s) that would violate the API 684 separation margin of a critical
+    speed ``speed`` (rad/s) of damping ratio ``damping_ratio`` (1): the run range's maximum must
+    stay below the first value and its minimum above the second."""
+    af = 1.0 / (2.0 * damping_ratio) if damping_ratio > 0 else math.inf
+    return speed / (1.0 + separation_margin(af, True)), speed / (1.0 - separation_margin(af, False))
+
+
 def campbell_stability_figure(
     data: CampbellData,
     criticals: list[LinearCritical] = (),
     operating_speed: float | None = None,
     title: str = "Campbell diagram",
+    run_range: tuple[float, float] | None = None,
 ) -> Figure:
-    """Damped frequencies against spin speed, coloured by logarithmic decrement.
+    """Damped frequencies against spin speed, coloured by logarithmic decrement, with the run
+    range and the API 684 separation margins of the critical speeds.
 
-    Stable modes are dots coloured by log dec (saturating at 1, well damped; the lightly damped
-    modes dark); unstable points (log dec < 0) are red crosses. The 1X line is dotted, critical
-    speeds are diamonds labelled in rows of their own above the highest one.
+    Stable modes are coloured by log dec (saturating at 1, well damped; the lightly damped modes
+    dark), forward whirl as circles and backward whirl as triangles (readable in grey scale);
+    unstable points (log dec < 0) are red crosses; overdamped roots (no frequency) are left out.
+    The 1X line is dotted; critical speeds are diamonds labelled, in rows of their own, with
+    their amplification factor ``AF = 1 / (2 zeta)`` (critically damped ones, ``zeta > 0.2``, are
+    not critical speeds and are left out); around each, a hatched band at the foot
+    marks where the run range may not reach (API 684 separation margin).
 
     Parameters
     ----------
@@ -55,28 +104,46 @@ def campbell_stability_figure(
     operating_speed : float, optional
         Spin speed (rad/s) drawn as a vertical line.
     title : str
-        Figure title.
+        Figure title (name the scenario).
+    run_range : tuple of float, optional
+        Minimum operating and maximum continuous speed (rad/s), shaded.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    fig = Figure(figsize=(9, 5.5), layout="constrained")
+    fig = Figure(figsize=(10, 5.8), layout="constrained")
     ax = fig.subplots()
     s = np.repeat(data.speeds[:, None], data.frequency_hz.shape[1], axis=1)
     f, ld = data.frequency_hz, data.log_dec
-    stable = ld >= 0
-    # colour saturates at log dec 1 (well damped); lightly damped modes, the ones that matter,
-    # are dark and saturated, well damped ones light orange (never pale on white)
-    sc = ax.scatter(s[stable], f[stable], c=np.minimum(ld[stable], 1.0), s=9, cmap=_LOGDEC_CMAP,
-                    vmin=0.0, vmax=1.0)  # fmt: skip
-    if (~stable).any():
-        ax.scatter(s[~stable], f[~stable], marker="x", c="r", s=18, label="unstable (log dec < 0)")
     fmax = float(np.nanmax(f)) * 1.05
+    real = np.isfinite(f) & (f > 1e-9 * fmax)  # overdamped roots carry no frequency
+    stable = real & (ld >= 0)
+    backward = np.asarray(data.whirl) == "backward"
+    sc = None
+    for mask, marker, name in (
+        (~backward, "o", "forward whirl"),
+        (backward, "v", "backward whirl"),
+    ):
+        m = stable & mask
+        # colour saturates at log dec 1 (well damped); lightly damped modes dark
+        sc = ax.scatter(s[m], f[m], c=np.minimum(ld[m], 1.0), s=12, marker=marker,
+                        cmap=_LOGDEC_CMAP, vmin=0.0, vmax=1.0, label=name)  # fmt: skip
+    if (real & ~stable).any():
+        u = real & ~stable
+        ax.scatter(s[u], f[u], marker="x", c="r", s=18, label="unstable (log dec < 0)")
     ax.plot(data.speeds, data.speeds / TWO_PI, "k:", lw=1, label="1X")
+    # a mode damped beyond API 617's critically damped ratio (AF < 2.5) has no resonance: no
+    # critical speed to mark or keep a margin from
+    criticals = [c for c in criticals if not c.damping_ratio > CRITICALLY_DAMPED]
     _label_criticals(ax, criticals, fmax)
+    _margins(ax, criticals, fmax)
+    if run_range is not None:
+        ax.axvspan(*run_range, color="0.88", zorder=0,
+                   label=f"run range {run_range[0]:.4g}-{run_range[1]:.4g} rad/s")  # fmt: skip
     if operating_speed:
-        ax.axvline(operating_speed, color="0.5", lw=1, ls="--", label="operating speed")
+        ax.axvline(operating_speed, color="0.4", lw=1, ls="--",
+                   label=f"operating speed {operating_speed:.5g} rad/s")  # fmt: skip
     ax.set(
         xlabel="spin speed (rad/s)",
         ylabel="damped natural frequency (Hz)",
@@ -84,10 +151,25 @@ def campbell_stability_figure(
         xlim=(data.speeds[0], data.speeds[-1]),
         title=title,
     )
-    fig.colorbar(sc, ax=ax, extend="max", label="logarithmic decrement (1), stable modes")
-    ax.legend(loc="upper left", fontsize=8)
+    fig.colorbar(sc, ax=ax, extend="max", pad=0.01, fraction=0.035, aspect=30,
+                 label="logarithmic decrement (1), stable modes")  # fmt: skip
+    ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
     ax.grid(alpha=0.3)
     return fig
+
+
+def _margins(ax, criticals, fmax: float) -> None:
+    """Hatched bands at the foot of the axes: where the run range may not reach (API 684)."""
+    first = True
+    for c in criticals:
+        lo, hi = margin_band(c.speed_rad_s, c.damping_ratio)
+        if hi - lo <= 0:
+            continue
+        ax.fill_between([lo, hi], 0, 0.035 * fmax, facecolor="none", edgecolor="k", hatch="////",
+                        lw=0.6, zorder=4,
+                        label="API 684 separation margin: keep the run range out" if first
+                        else None)  # fmt: skip
+        first = False
 
 
 def _logdec_cmap():
@@ -114,8 +196,10 @@ def _label_criticals(ax, criticals, fmax: float) -> None:
     row = 0.055 * fmax  # one text row, well above an 8 pt line on a 5.5 in tall figure
     base = max(ys) + 2.0 * row
     for i, (c, y) in enumerate(zip(crit, ys, strict=True)):
+        zeta = c.damping_ratio
+        af = f", AF {_af_text(1 / (2 * zeta))}" if zeta > 0 else ""
         ax.annotate(
-            f"{c.speed_rad_s:.0f} rad/s, {c.speed_rad_s * 60 / TWO_PI:.0f} rpm ({c.whirl})",
+            f"{c.speed_rad_s:.0f} rad/s, {c.speed_rad_s * 60 / TWO_PI:.0f} rpm ({c.whirl}{af})",
             (c.speed_rad_s, y),
             xytext=(c.speed_rad_s, base + i * row),
             textcoords="data",
@@ -128,52 +212,114 @@ def _label_criticals(ax, criticals, fmax: float) -> None:
         )
 
 
-def unbalance_response_figure(
-    resp: UnbalanceResponse, probe: int = 0, clearance: float | None = None
-) -> Figure:
-    """Bode (amplitude and phase of ``v`` and ``w`` against speed) and polar plot at one probe.
+def amplification_factors(speeds, amplitude, min_prominence: float = 2.0) -> list[tuple]:
+    """Peaks of a response against speed and their amplification factors (half-power method,
+    API 684): ``AF = N_c / (N_2 - N_1)`` with ``N_1, N_2`` the speeds where the amplitude is
+    the peak's ``1/sqrt(2)``, interpolated linearly between samples.
 
-    The curves join the computed speeds with straight lines: sample a resonance densely (a few
-    hundred speeds within 10 % of a critical speed) for a smooth polar circle.
+    Parameters
+    ----------
+    speeds : array_like, shape (S,)
+        Spin speeds (rad/s), increasing.
+    amplitude : array_like, shape (S,)
+        Response amplitude (any unit).
+    min_prominence : float
+        A peak counts when it is at least this many times the lower of the minima on its two
+        sides (1).
+
+    Returns
+    -------
+    list of tuple
+        ``(speed_rad_s, peak_amplitude, af)`` per peak; ``af`` is NaN when a half-power
+        point falls outside the speeds.
+    """
+    w, a = np.asarray(speeds, float), np.asarray(amplitude, float)
+    out = []
+    peaks = np.flatnonzero((a[1:-1] > a[:-2]) & (a[1:-1] >= a[2:])) + 1
+    for i in peaks:
+        left, right = a[: i + 1].min(), a[i:].min()
+        if a[i] < min_prominence * max(left, right, 1e-300):
+            continue
+        half = a[i] / math.sqrt(2.0)
+        lo = np.flatnonzero(a[:i] < half)
+        hi = np.flatnonzero(a[i:] < half)
+        if lo.size == 0 or hi.size == 0:
+            out.append((float(w[i]), float(a[i]), math.nan))
+            continue
+        j, k = lo[-1], i + hi[0]
+        n1 = np.interp(half, [a[j], a[j + 1]], [w[j], w[j + 1]])
+        n2 = np.interp(half, [a[k], a[k - 1]], [w[k], w[k - 1]])
+        out.append((float(w[i]), float(a[i]), float(w[i] / (n2 - n1))))
+    return out
+
+
+def unbalance_response_figure(
+    resp: UnbalanceResponse, probe: int = 0, clearance: float | None = None,
+    title: str | None = None,
+) -> Figure:  # fmt: skip
+    """Bode (amplitude and phase against speed) and polar plot, with amplification factors.
+
+    The amplitude panel draws every probe's major semi-axis (one line style each) and ``v``,
+    ``w`` of ``probe``; each resonance peak of ``probe`` is labelled with its speed and its
+    amplification factor (:func:`amplification_factors`). The phase is unwrapped (no jumps at
+    +-180 deg). The curves join the computed speeds with straight lines: sample a resonance
+    densely (:func:`resonance_speeds`) for a smooth polar circle.
 
     Parameters
     ----------
     resp : UnbalanceResponse
         From :func:`rubrotor.linear.response.unbalance_response`.
     probe : int
-        Index of the probe drawn.
+        Index of the probe whose ``v``, ``w``, phase and polar plot are drawn.
     clearance : float, optional
-        Radial clearance (m) of a contact at the probe, drawn as a red line on the amplitude
-        plot and a red circle on the polar plot: where the major semi-axis crosses it, the
-        linear response reaches the stator.
+        Radial clearance (m) of a contact at the probe, drawn as a line on the amplitude plot
+        and a circle on the polar plot: where the major semi-axis crosses it, the linear
+        response reaches the stator.
+    title : str, optional
+        Title (name the scenario); the probe is added.
 
     Returns
     -------
     matplotlib.figure.Figure
+        Amplitudes in µm 0-peak, phase in degrees, speed in rad/s.
     """
-    fig = Figure(figsize=(11, 5.5), layout="constrained")
+    fig = Figure(figsize=(11, 5.8), layout="constrained")
     grid = fig.add_gridspec(2, 2, width_ratios=[1.6, 1])
     ax_a, ax_p = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[1, 0])
     ax_pol = fig.add_subplot(grid[:, 1], projection="polar")
-    for c, name in ((0, "v"), (1, "w")):
-        ax_a.semilogy(resp.speeds, resp.amplitude[:, probe, c] * 1e6, label=name)
-        ax_p.plot(resp.speeds, np.degrees(resp.phase[:, probe, c]), label=name)
+    for c, name, ls in ((0, "v", "-"), (1, "w", "--")):
+        ax_a.semilogy(resp.speeds, resp.amplitude[:, probe, c] * 1e6, ls=ls, lw=1.2,
+                      label=f"{name} at x = {resp.probes[probe]:g} m")  # fmt: skip
+        ax_p.plot(resp.speeds, np.degrees(np.unwrap(resp.phase[:, probe, c])), ls=ls, label=name)
         z = resp.complex_response[:, probe, c]
-        ax_pol.plot(np.angle(z), np.abs(z) * 1e6, label=name)
-    ax_a.semilogy(resp.speeds, resp.major[:, probe] * 1e6, "k--", lw=1, label="major semi-axis")
+        ax_pol.plot(np.angle(z), np.abs(z) * 1e6, ls=ls, label=name)
+    styles = ("-", "-.", ":", (0, (5, 1, 1, 1, 1, 1)))
+    for k in range(resp.probes.size):
+        ax_a.semilogy(resp.speeds, resp.major[:, k] * 1e6, color="k", ls=styles[k % 4],
+                      lw=1.6 if k == probe else 0.9,
+                      label=f"major semi-axis, x = {resp.probes[k]:g} m")  # fmt: skip
+    for w, peak, af in amplification_factors(resp.speeds, resp.major[:, probe]):
+        text = f"{w:.0f} rad/s\nAF {_af_text(af)}" if math.isfinite(af) else f"{w:.0f} rad/s"
+        ax_a.annotate(text, (w, peak * 1e6), xytext=(6, -2), textcoords="offset points",
+                      fontsize=8, va="top",
+                      bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "0.7", "lw": 0.5})  # fmt: skip
     if clearance is not None:
-        ax_a.axhline(clearance * 1e6, color="r", lw=1.5, label=f"clearance {clearance * 1e6:g} µm")
+        ax_a.axhline(clearance * 1e6, color="r", lw=1.5, ls=(0, (8, 2)),
+                     label=f"radial clearance {clearance * 1e6:g} µm")  # fmt: skip
         th = np.linspace(0, TWO_PI, 200)
-        ax_pol.plot(th, np.full_like(th, clearance * 1e6), "r", lw=1.5, label="clearance")
+        ax_pol.plot(th, np.full_like(th, clearance * 1e6), "r", lw=1.5, ls=(0, (8, 2)),
+                    label="clearance")  # fmt: skip
         touch = resp.major[:, probe] >= clearance
         if touch.any():
             ax_a.axvspan(resp.speeds[touch][0], resp.speeds[touch][-1], color="r", alpha=0.08)
-    ax_a.set(ylabel="amplitude (µm)", title=f"unbalance response at x = {resp.probes[probe]:g} m")
-    ax_p.set(xlabel="spin speed (rad/s)", ylabel="phase (deg)")
+    head = f"{title}: " if title else ""
+    ax_a.set(ylabel="amplitude (µm 0-peak)",
+             title=f"{head}unbalance response at x = {resp.probes[probe]:g} m")  # fmt: skip
+    ax_p.set(xlabel="spin speed (rad/s)", ylabel="phase, unwrapped (deg)")
     _polar_axes(ax_pol, resp, probe, clearance)
     for ax in (ax_a, ax_p):
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=7)
     return fig
 
 
@@ -205,6 +351,31 @@ def resonance_speeds(speeds, amplitude, points: int = 200, width: float = 0.05) 
     extra = [np.linspace(w[i] * (1 - width), w[i] * (1 + width), points) for i in peaks]
     out = np.unique(np.concatenate([w, *extra]))
     return out[(out >= w[0]) & (out <= w[-1])]
+
+
+def half_power_speeds(peaks, lo: float, hi: float, points: int = 121) -> np.ndarray:
+    """Speeds spread evenly in phase through each resonance: ``N_c (1 + tan(theta) / (2 AF))``
+    for ``theta`` evenly in (-1.5, 1.5) rad, the spacing of a single mode's phase, so that its
+    polar circle is drawn smooth however light the damping.
+
+    Parameters
+    ----------
+    peaks : list of tuple
+        ``(speed_rad_s, amplitude, af)`` from :func:`amplification_factors` (NaN ``af`` skipped).
+    lo, hi : float
+        Speed range kept (rad/s).
+    points : int
+        Speeds per peak.
+
+    Returns
+    -------
+    ndarray
+        Sorted speeds (rad/s) in ``[lo, hi]``.
+    """
+    theta = np.linspace(-1.5, 1.5, points)
+    out = [w * (1 + np.tan(theta) / (2 * af)) for w, _, af in peaks if math.isfinite(af)]
+    out = np.concatenate(out) if out else np.empty(0)
+    return np.sort(out[(out >= lo) & (out <= hi)])
 
 
 def _polar_axes(ax, resp: UnbalanceResponse, probe: int, clearance: float | None = None) -> None:

@@ -147,5 +147,15 @@ def engine_figure(ds, *, title: str | None = None, rpm: bool = False) -> Figure:
     else:
         _spectrum(axes[2], ds)
     name = ds.attrs.get("scenario_name", "")
-    fig.suptitle(title or f"{name} ({ds.attrs['status']})")
+    fig.suptitle(title or f"{name}{_speed_text(ds.attrs)} ({ds.attrs['status']})")
     return fig
+
+
+def _speed_text(attrs) -> str:
+    """The speed for a title (', at 340 rad/s (3247 rpm)' or ', run-up 250-500 rad/s')."""
+    lo, hi = attrs.get("speed_rad_s"), attrs.get("speed_end_rad_s")
+    if lo is None:
+        return ""
+    if hi is not None and hi != lo:
+        return f", run-up {float(lo):.5g}-{float(hi):.5g} rad/s"
+    return f", at {float(lo):.5g} rad/s ({float(lo) * 30 / np.pi:.0f} rpm)"

@@ -52,7 +52,14 @@ def spiral_figure(ds, axis: str = "y") -> Figure:
         ax.set_title(f"{kind} at {stations[i]:.3g} m: 1X {axis} (um)", fontsize=10)
     fig.colorbar(sc, ax=axes, label="machine time (h)", shrink=0.8)
     status = ds.attrs.get("status", "")
-    fig.suptitle(f"Thermal spiral at {ds.attrs['speed_rad_s']:.1f} rad/s ({status})")
+    name = ds.attrs.get("scenario_name", "")
+    fig.suptitle(f"{name + ': ' if name else ''}thermal spiral at {ds.attrs['speed_rad_s']:.1f} "
+                 f"rad/s ({status})")  # fmt: skip
+    if status == "runaway":
+        fig.text(0.5, 0.0, "caveat: the run stops when a bow passes its limit (default 50 "
+                 "clearances); amplitudes of more than a few clearances lie outside the model "
+                 "(an elastic seal that neither wears nor yields)", ha="center", va="bottom",
+                 fontsize=8, color="0.25", wrap=True)  # fmt: skip
     return fig
 
 

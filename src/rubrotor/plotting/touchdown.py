@@ -66,21 +66,27 @@ def touchdown_figure(ds, window: float = 2e-3) -> Figure:
     t = ds.time.values
     nc = ds.sizes["contact"]
     cols = ("tab:blue", "tab:red", "tab:green", "tab:purple")
+    # contacts of a symmetric rotor often move alike: contact 1 wide and solid underneath, the
+    # others narrower and dashed on top, so that none hides another (and grey scale reads them)
+    styles = ("-", (0, (5, 2)), (0, (1, 1.5)), "-.")
     th = np.linspace(0, 2 * np.pi, 361)
     for i in range(nc):
-        c = cols[i % len(cols)]
+        c, ls, lw = cols[i % len(cols)], styles[i % len(styles)], 1.8 if i == 0 else 0.9
         lab = f"contact {i + 1} at {float(ds.station.values[i]):g} m"
         v, w = ds.v.values[i], ds.w.values[i]
         g = float(ds.clearance.values[i])
-        a1.plot(1e6 * w, 1e6 * v, color=c, lw=0.6, label=lab)
-        a1.plot(1e6 * g * np.cos(th), 1e6 * g * np.sin(th), color=c, ls="--", lw=0.8)
-        a2.plot(t, whirl_frequency(t, v, w, window), color=c, lw=0.9, label=lab)
-        a3.plot(t, ds.normal_force.values[i], color=c, lw=0.7, label=lab)
+        a1.plot(1e6 * w, 1e6 * v, color=c, lw=0.5 * lw, ls=ls, label=lab, zorder=2 + i)
+        a1.plot(1e6 * g * np.cos(th), 1e6 * g * np.sin(th), color=c, ls=ls, lw=lw,
+                label=f"clearance {1e6 * g:.4g} um, contact {i + 1}", zorder=2 + i)  # fmt: skip
+        a2.plot(t, whirl_frequency(t, v, w, window), color=c, lw=lw, ls=ls, label=lab, zorder=2 + i)
+        a3.plot(t, ds.normal_force.values[i], color=c, lw=0.8 * lw, ls=ls, label=lab, zorder=2 + i)
         rr = float(ds.ring_radius.values[i])
         if rr > 0:
-            a4.plot(t, ds.ring_speed.values[i], color=c, lw=1.0, label=f"ring {i + 1}")
+            a4.plot(t, ds.ring_speed.values[i], color=c, lw=lw, ls=ls, label=f"ring {i + 1}",
+                    zorder=2 + i)  # fmt: skip
             roll = float(ds.contact_radius.values[i]) / rr * ds.spin_speed.values
-            a4.plot(t, roll, color=c, ls=":", lw=1.0, label=f"rolling R Omega / r, ring {i + 1}")
+            a4.plot(t, roll, color=c, ls=":", lw=0.8, zorder=2 + i,
+                    label=f"rolling R Omega / r, ring {i + 1}")  # fmt: skip
     om = ds.spin_speed.values
     a2.plot(t, om, color="0.4", lw=0.8, ls="--", label="spin speed")
     a2.plot(t, -om, color="0.4", lw=0.8, ls=":", label="minus spin speed")

@@ -31,7 +31,13 @@ import numpy as np
 
 from rubrotor.errors import InputError
 from rubrotor.rotors.elements import beam_element
-from rubrotor.rotors.linear import LinearSystem, NodalBasis, Support
+from rubrotor.rotors.linear import (
+    EXTRAPOLATIONS,
+    INTERPOLATIONS,
+    LinearSystem,
+    NodalBasis,
+    Support,
+)
 from rubrotor.rotors.scales import check_scales, rotor_scales
 from rubrotor.rotors.shaft import (
     SHEAR_COEFFICIENTS,
@@ -45,6 +51,7 @@ __all__ = [
     "Section",
     "Disk",
     "Bearing",
+    "PointMass",
     "Rotor",
     "BEARING_KINDS",
     "COEFFICIENTS",
@@ -162,6 +169,17 @@ class Section:
     elements : int, optional
         Number of elements (at least this many when stations split the section);
         default from the rotor's mesh rule.
+    position : float, optional
+        Left end (m) of a *sleeve*: a section laid over the shaft from ``position`` to
+        ``position + length`` (an impeller hub, a shrunk-on sleeve; ROSS models them as a
+        second shaft element on the same nodes). Its element matrices add to those of the
+        shaft sections there; it does not extend the rotor. ``None`` (default): a shaft
+        section, end to end with the others.
+    mass_damping : float
+        ``alpha`` (1/s) of the section's proportional damping ``C_e = alpha M_e + beta K_e``
+        (ROSS's ``ShaftElement(alpha=...)``); 0 by default.
+    stiffness_damping : float
+        ``beta`` (s) of the same; 0 by default.
     """
 
     length: float
@@ -169,6 +187,9 @@ class Section:
     material: Material
     bore_diameter: float = 0.0
     elements: int | None = None
+    position: float | None = None
+    mass_damping: float = 0.0
+    stiffness_damping: float = 0.0
 
     def __post_init__(self):
         _finite_positive("section.length", self.length, "m")
@@ -183,6 +204,12 @@ class Section:
         n = self.elements
         if n is not None and (isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 10000):
             raise InputError("section.elements", n, "an integer in 1..10000")
+        if self.position is not None:
+            _number("section.position", self.position, "m")
+        for name, unit in (("mass_damping", "1/s"), ("stiffness_damping", "s")):
+            v = _number(f"section.{name}", getattr(self, name), unit)
+            if v < 0:
+                raise InputError(f"section.{name}", v, f"a number >= 0 ({unit})")
 
 
 @dataclass(frozen=True)
@@ -273,6 +300,24 @@ class Bearing:
     fail_time : float, optional
         Time (s) from which the bearing no longer holds the rotor (a magnetic bearing losing
         levitation); honoured by free-spin runs (:mod:`rubrotor.engine.spin`).
+    frequencies : sequence of float, optional
+        Whirl (excitation) frequencies (rad/s, increasing) at which the sequence-valued
+        coefficients are tabulated instead of ``speeds`` (a magnetic bearing's controller, a
+        squeeze-film damper: ROSS's ``frequency=`` tables). Direct coefficients of such a table
+        may be negative (an AMB's controller gives negative damping at low frequency).
+    interpolation : {"linear", "pchip"}
+        Between table points (see :class:`rubrotor.rotors.linear.Support`).
+    extrapolation : {"hold", "linear"}
+        Outside the table (see :class:`rubrotor.rotors.linear.Support`).
+    myy, myz, mzz : float
+        Bearing mass (kg), a constant symmetric 2x2 added to the mass matrix on the bearing's
+        deflections (``[[myy, myz], [myz, mzz]]``, relative ones when linked).
+    link : str, optional
+        Name of a :class:`~rubrotor.rotors.fe.PointMass` (a bearing housing): the bearing acts between the shaft
+        and that mass instead of the ground.
+    on : str, optional
+        Name of a :class:`~rubrotor.rotors.fe.PointMass`: the bearing acts between that mass and the ground (the
+        housing's support); ``position`` is then the mass's station.
     """
 
     position: float
@@ -288,6 +333,14 @@ class Bearing:
     kind: str = "bearing"
     name: str = ""
     fail_time: float | None = None
+    frequencies: Sequence[float] | None = None
+    interpolation: str = "linear"
+    extrapolation: str = "hold"
+    myy: float = 0.0
+    myz: float = 0.0
+    mzz: float = 0.0
+    link: str | None = None
+    on: str | None = None
     _table: tuple = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -300,12 +353,28 @@ class Bearing:
             raise InputError(
                 "bearing.kind", self.kind, " or ".join(f'"{k}"' for k in BEARING_KINDS)
             )
+        if self.speeds is not None and self.frequencies is not None:
+            raise InputError(
+                "bearing.frequencies", self.frequencies, "none with speeds (one table axis)"
+            )
+        if self.interpolation not in INTERPOLATIONS:
+            raise InputError("bearing.interpolation", self.interpolation, " or ".join(
+                f'"{i}"' for i in INTERPOLATIONS))  # fmt: skip
+        if self.extrapolation not in EXTRAPOLATIONS:
+            raise InputError("bearing.extrapolation", self.extrapolation, " or ".join(
+                f'"{i}"' for i in EXTRAPOLATIONS))  # fmt: skip
+        for nm in ("myy", "myz", "mzz"):
+            v = _number(f"bearing.{nm}", getattr(self, nm), "kg")
+            if nm != "myz" and v < 0:
+                raise InputError(f"bearing.{nm}", v, "a mass >= 0 (kg)")
+        if self.link is not None and self.on is not None:
+            raise InputError("bearing.link", self.link, "none with on (a bearing joins two bodies)")
         speeds = self._speeds()
         table = {c: self._column(c, speeds) for c in COEFFICIENTS}
         for c in COEFFICIENTS:  # store tables as tuples: comparable and hashable
             if np.ndim(getattr(self, c)) == 1:
                 object.__setattr__(self, c, tuple(float(v) for v in table[c]))
-        if speeds is not None:
+        if speeds is not None and self.frequencies is None:
             object.__setattr__(self, "speeds", tuple(float(v) for v in speeds))
         if self.kind == "pinned":
             for c, col in table.items():
@@ -319,16 +388,25 @@ class Bearing:
         )
         object.__setattr__(self, "_table", (speeds, k, c))
 
+    @property
+    def axis(self) -> str:
+        """``"frequency"`` for a table against whirl frequency, else ``"speed"``."""
+        return "frequency" if self.frequencies is not None else "speed"
+
     def _speeds(self) -> np.ndarray | None:
-        if self.speeds is None:
+        key = "frequencies" if self.frequencies is not None else "speeds"
+        given = getattr(self, key)
+        if given is None:
             return None
-        if isinstance(self.speeds, str | bytes) or np.ndim(self.speeds) != 1:
-            raise InputError("bearing.speeds", self.speeds, "a list of speeds (rad/s)")
-        s = np.array([_number("bearing.speeds", v, "rad/s") for v in self.speeds])
+        if isinstance(given, str | bytes) or np.ndim(given) != 1:
+            raise InputError(f"bearing.{key}", given, f"a list of {key} (rad/s)")
+        s = np.array([_number(f"bearing.{key}", v, "rad/s") for v in given])
         if len(s) < 1 or np.any(s < 0) or np.any(np.diff(s) <= 0):
             raise InputError(
-                "bearing.speeds", self.speeds, "a non-empty list of increasing speeds >= 0 (rad/s)"
+                f"bearing.{key}", given, f"a non-empty list of increasing {key} >= 0 (rad/s)"
             )
+        if self.frequencies is not None:
+            object.__setattr__(self, "frequencies", tuple(float(v) for v in s))
         return s
 
     def _column(self, name: str, speeds: np.ndarray | None) -> np.ndarray:
@@ -343,7 +421,7 @@ class Bearing:
             col = np.array([_number(f"bearing.{name}", v, unit) for v in value])
         else:
             col = np.full(n, _number(f"bearing.{name}", value, unit))
-        if name[1] == name[2] and np.any(col < 0):
+        if name[1] == name[2] and self.frequencies is None and np.any(col < 0):
             raise InputError(f"bearing.{name}", value, f"values >= 0 ({unit})")
         return col
 
@@ -353,17 +431,57 @@ class Bearing:
         _, k, _ = self._table
         return self.kind == "pinned" or bool(np.all(k[:, 0, 0] > 0) and np.all(k[:, 1, 1] > 0))
 
-    def support(self, node: int, name: str) -> Support:
-        """This bearing as a :class:`rubrotor.rotors.linear.Support` on node ``node``."""
+    @property
+    def mass_matrix(self) -> np.ndarray:
+        """The bearing mass ``[[myy, myz], [myz, mzz]]`` (kg)."""
+        return np.array([[self.myy, self.myz], [self.myz, self.mzz]], float)
+
+    def support(self, node: int, name: str, dofs=None, link=None) -> Support:
+        """This bearing as a :class:`rubrotor.rotors.linear.Support` on node ``node`` (or on
+        the DOFs ``dofs``, linked to the DOFs ``link``)."""
         speeds, k, c = self._table
         return Support(
-            dofs=(4 * node, 4 * node + 1),
+            dofs=tuple(dofs) if dofs is not None else (4 * node, 4 * node + 1),
             k=k,
             c=c,
             speeds=speeds,
             position=float(self.position),
             name=name,
+            interpolation=self.interpolation,
+            extrapolation=self.extrapolation,
+            link=tuple(link) if link is not None else None,
+            axis=self.axis,
         )
+
+
+@dataclass(frozen=True)
+class PointMass:
+    """A lumped mass with its own two lateral DOFs (a bearing housing, a pedestal).
+
+    It is joined to the rotor and the ground by bearings (``Bearing(link=name)`` between the
+    shaft and it, ``Bearing(on=name)`` between it and the ground), as ROSS's ``PointMass``.
+
+    Parameters
+    ----------
+    name : str
+        Label the bearings refer to.
+    position : float
+        Axial station (m) it sits at (for labels and plots: it adds no shaft node).
+    mass_y, mass_z : float
+        Mass (kg) along ``y`` and ``z``.
+    """
+
+    name: str
+    position: float
+    mass_y: float
+    mass_z: float
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name:
+            raise InputError("point_mass.name", self.name, "a non-empty label")
+        _number("point_mass.position", self.position, "m")
+        for nm in ("mass_y", "mass_z"):
+            _finite_positive(f"point_mass.{nm}", getattr(self, nm), "kg", allow_zero=True)
 
 
 @dataclass(frozen=True)
@@ -392,6 +510,16 @@ class Rotor:
         :meth:`default_element_length` of each section.
     stations : sequence of float
         Extra node positions (m), e.g. probes.
+    point_masses : sequence of PointMass
+        Lumped masses with their own DOFs (bearing housings), joined by bearings with
+        ``link`` / ``on``; their ``[v, w]`` DOFs follow the nodal ones, in this order.
+    mass_damping, stiffness_damping : float
+        Rotor-wide proportional damping ``C = alpha M + beta K`` (``alpha`` in 1/s, ``beta``
+        in s) on the shaft, sleeves, disks and point masses (not the bearings), as ROSS's
+        ``Rotor(alpha=, beta=)``; 0 by default.
+
+    Sections with a ``position`` are sleeves laid over the shaft (see :class:`Section`); the
+    shaft is the others, end to end.
 
     Examples
     --------
@@ -411,12 +539,19 @@ class Rotor:
     shear_coefficient: str | float = "cowper"
     max_element_length: float | None = None
     stations: Sequence[float] = ()
+    point_masses: Sequence[PointMass] = ()
+    mass_damping: float = 0.0
+    stiffness_damping: float = 0.0
 
     def __post_init__(self):
-        for name in ("sections", "disks", "bearings", "stations"):
+        for name, unit in (("mass_damping", "1/s"), ("stiffness_damping", "s")):
+            if _number(f"rotor.{name}", getattr(self, name), unit) < 0:
+                raise InputError(f"rotor.{name}", getattr(self, name), f"a number >= 0 ({unit})")
+        for name in ("sections", "disks", "bearings", "stations", "point_masses"):
             object.__setattr__(self, name, tuple(getattr(self, name)))
-        if not self.sections:
-            raise InputError("section", (), "at least one shaft section")
+        if not self.shaft_sections:
+            raise InputError("section", (), "at least one shaft section (without position)")
+        self._check_point_masses()
         for name, kind in (("sections", Section), ("disks", Disk), ("bearings", Bearing)):
             for i, item in enumerate(getattr(self, name)):
                 if not isinstance(item, kind):
@@ -429,8 +564,8 @@ class Rotor:
         if isinstance(coef, str) and coef not in SHEAR_COEFFICIENTS:
             allowed = " or ".join(f'"{c}"' for c in SHEAR_COEFFICIENTS) + " or a number > 0"
             raise InputError("rotor.shear_coefficient", coef, allowed)
-        for i in range(len(self.sections)):
-            self._kappa(i)
+        for sec in self.sections:
+            self._kappa_of(sec)
         if self.max_element_length is not None:
             _finite_positive("rotor.max_element_length", self.max_element_length, "m")
         self._check_positions()
@@ -438,14 +573,38 @@ class Rotor:
 
     # ---- geometry --------------------------------------------------------------------------
     @property
+    def shaft_sections(self) -> tuple[Section, ...]:
+        """The sections end to end (without the sleeves)."""
+        return tuple(s for s in self.sections if s.position is None)
+
+    @property
+    def sleeves(self) -> tuple[Section, ...]:
+        """The sections laid over the shaft (with a ``position``)."""
+        return tuple(s for s in self.sections if s.position is not None)
+
+    @property
     def length(self) -> float:
         """Total length ``L`` (m)."""
         return float(self.boundaries[-1])
 
     @property
     def boundaries(self) -> np.ndarray:
-        """Section boundaries (m), from 0 to ``L``."""
-        return np.concatenate([[0.0], np.cumsum([s.length for s in self.sections])])
+        """Section boundaries (m), from 0 to ``L`` (shaft sections only)."""
+        return np.concatenate([[0.0], np.cumsum([s.length for s in self.shaft_sections])])
+
+    def _check_point_masses(self) -> None:
+        names = [p.name for p in self.point_masses]
+        for i, p in enumerate(self.point_masses):
+            if not isinstance(p, PointMass):
+                raise InputError(f"point_mass[{i + 1}]", p, "a PointMass")
+            if names.index(p.name) != i:
+                raise InputError(f"point_mass[{i + 1}].name", p.name, "a name not used before")
+        for i, b in enumerate(self.bearings):
+            for key in ("link", "on"):
+                ref = getattr(b, key, None)
+                if ref is not None and ref not in names:
+                    raise InputError(f"bearing[{i + 1}].{key}", ref, "the name of a point_mass: "
+                                     + (", ".join(names) or "none defined"))  # fmt: skip
 
     @property
     def mass(self) -> float:
@@ -457,7 +616,9 @@ class Rotor:
         return float(shaft + sum(d.mass for d in self.disks))
 
     def _kappa(self, i: int) -> float:
-        s = self.sections[i]
+        return self._kappa_of(self.shaft_sections[i])
+
+    def _kappa_of(self, s: Section) -> float:
         try:
             return shear_coefficient_value(
                 self.shear_coefficient, s.material.nu, s.bore_diameter / s.diameter
@@ -467,7 +628,8 @@ class Rotor:
 
     def _check_positions(self):
         length = self.length
-        groups = (("disk", self.disks), ("bearing", self.bearings))
+        shaft_bearings = tuple(b for b in self.bearings if b.on is None)
+        groups = (("disk", self.disks), ("bearing", shaft_bearings))
         for kind, items in groups:
             for i, item in enumerate(items):
                 if not -_TOL <= item.position <= length + _TOL:
@@ -485,12 +647,18 @@ class Rotor:
                         f"a station apart from {kind}[{a + 1}] at {items[a].position:g} m "
                         f"(no two {kind}s overlap; merge them into one)",
                     )
+        for i, sec in enumerate(self.sections):
+            if sec.position is not None and not (
+                -_TOL <= sec.position and sec.position + sec.length <= length + _TOL
+            ):
+                raise InputError(f"section[{i + 1}].position", sec.position,
+                                 f"a sleeve inside [0, {length:g}] m")  # fmt: skip
         for x in self.stations:
             if not -_TOL <= _number("stations", x, "m") <= length + _TOL:
                 raise InputError("stations", x, f"positions in [0, {length:g}] m")
 
     def _check_supports(self):
-        held = {round(b.position / _TOL) for b in self.bearings if b.holds}
+        held = {round(b.position / _TOL) for b in self.bearings if b.holds and b.on is None}
         if len(held) < 2:
             raise InputError(
                 "bearing",
@@ -528,8 +696,9 @@ class Rotor:
             r0 = math.sqrt(s.diameter**2 + s.bore_diameter**2) / 4
             return r0 * math.sqrt(s.material.youngs_modulus / s.material.density)
 
-        s = self.sections[index]
-        mean_c = sum(wave_constant(t) * t.length for t in self.sections) / self.length
+        shaft = self.shaft_sections
+        s = shaft[index]
+        mean_c = sum(wave_constant(t) * t.length for t in shaft) / self.length
         omega = mean_c * (DEFAULT_WAVENUMBER / self.length) ** 2
         k = math.sqrt(omega / wave_constant(s))
         a = 0.0
@@ -559,6 +728,7 @@ class Rotor:
         bounds = self.boundaries
         points = [*bounds, *(d.position for d in self.disks)]
         points += [b.position for b in self.bearings] + [*self.stations, *stations]
+        points += [x for v in self.sleeves for x in (v.position, v.position + v.length)]
         for x in stations:
             if not -_TOL <= _number("stations", x, "m") <= self.length + _TOL:
                 raise InputError("stations", x, f"positions in [0, {self.length:g}] m")
@@ -566,7 +736,8 @@ class Rotor:
         keep = np.concatenate([[True], np.diff(points) > _TOL])
         points = points[keep]
         out = [0.0]
-        for i, (s, a, b) in enumerate(zip(self.sections, bounds[:-1], bounds[1:], strict=True)):
+        shaft = self.shaft_sections
+        for i, (s, a, b) in enumerate(zip(shaft, bounds[:-1], bounds[1:], strict=True)):
             if s.elements:
                 h = s.length / s.elements
             else:
@@ -601,7 +772,7 @@ class Rotor:
         from rubrotor._memory import available_memory
 
         total, worst, key, value = extra_nodes + len(self.disks) + len(self.bearings), -1, "", None
-        for i, s in enumerate(self.sections):
+        for i, s in enumerate(self.shaft_sections):
             if s.elements:
                 n, k, v = s.elements, f"section[{i + 1}].elements", s.elements
             elif self.max_element_length:
@@ -624,6 +795,61 @@ class Rotor:
             )  # fmt: skip
 
     # ---- assembly --------------------------------------------------------------------------
+    def _element(self, s: Section, h: float):
+        """The beam element of section (or sleeve) ``s`` of length ``h`` (m)."""
+        return beam_element(
+            h,
+            s.material.youngs_modulus,
+            s.material.G,
+            s.material.density,
+            s.diameter,
+            s.bore_diameter,
+            self._kappa_of(s),
+            self.theory,
+            self.gyroscopic,
+        )
+
+    def _assemble_shaft(self, x: np.ndarray, n: int) -> tuple[np.ndarray, ...]:
+        """``M, K, C, G`` (``n x n``) of the shaft elements and sleeves on the nodes ``x`` (m)."""
+        M, K, C, G = (np.zeros((n, n)) for _ in range(4))
+        bounds = self.boundaries
+        shaft = self.shaft_sections
+        for e in range(len(x) - 1):
+            mid = 0.5 * (x[e] + x[e + 1])
+            i = min(int(np.searchsorted(bounds, mid)) - 1, len(shaft) - 1)
+            on = [shaft[i]] + [v for v in self.sleeves
+                               if v.position < mid < v.position + v.length]  # fmt: skip
+            sl = slice(4 * e, 4 * e + 8)
+            for s in on:
+                el = self._element(s, x[e + 1] - x[e])
+                M[sl, sl] += el.M
+                K[sl, sl] += el.K
+                G[sl, sl] += el.G
+                if s.mass_damping or s.stiffness_damping:
+                    C[sl, sl] += s.mass_damping * el.M + s.stiffness_damping * el.K
+        return M, K, C, G
+
+    def _supports(self, basis: NodalBasis, M: np.ndarray) -> tuple[list, list]:
+        """The bearings as supports (their mass added to ``M``) and the pinned DOFs."""
+        extra = {p.name: 4 * len(basis.nodes) + 2 * j for j, p in enumerate(self.point_masses)}
+        supports, fixed = [], []
+        for i, b in enumerate(self.bearings):
+            if b.on is not None:
+                node, dofs = None, (extra[b.on], extra[b.on] + 1)
+            else:
+                node = basis.node_at(b.position)
+                dofs = (4 * node, 4 * node + 1)
+            if b.kind == "pinned":
+                fixed += list(dofs)
+                continue
+            link = (extra[b.link], extra[b.link] + 1) if b.link is not None else None
+            sup = b.support(node, b.name or f"bearing {i + 1}", dofs=dofs, link=link)
+            if np.any(b.mass_matrix):
+                ix = np.ix_(sup.all_dofs, sup.all_dofs)
+                M[ix] += sup.block(b.mass_matrix)
+            supports.append(sup)
+        return supports, fixed
+
     def linear_system(self, stations: Sequence[float] = ()) -> LinearSystem:
         """The finite-element model of this rotor.
 
@@ -635,33 +861,15 @@ class Rotor:
         Returns
         -------
         LinearSystem
-            ``M``, ``K``, ``G`` assembled, ``C = 0``, bearings as supports, pinned DOFs fixed,
-            a :class:`rubrotor.rotors.linear.NodalBasis` on the nodes.
+            ``M``, ``K``, ``G`` assembled (sleeves, disks, point masses and bearing masses
+            included), ``C`` the sections' proportional damping (zero unless given), bearings
+            as supports, pinned DOFs fixed, a :class:`rubrotor.rotors.linear.NodalBasis` on the
+            nodes (the point masses' ``[v, w]`` after the nodal DOFs).
         """
         x = self.nodes(stations)
-        n = 4 * len(x)
-        M, K, G = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
-        bounds = self.boundaries
-        for e in range(len(x) - 1):
-            mid = 0.5 * (x[e] + x[e + 1])
-            i = min(int(np.searchsorted(bounds, mid)) - 1, len(self.sections) - 1)
-            s = self.sections[i]
-            el = beam_element(
-                x[e + 1] - x[e],
-                s.material.youngs_modulus,
-                s.material.G,
-                s.material.density,
-                s.diameter,
-                s.bore_diameter,
-                self._kappa(i),
-                self.theory,
-                self.gyroscopic,
-            )
-            sl = slice(4 * e, 4 * e + 8)
-            M[sl, sl] += el.M
-            K[sl, sl] += el.K
-            G[sl, sl] += el.G
-        basis = NodalBasis(x)
+        n = 4 * len(x) + 2 * len(self.point_masses)
+        M, K, C, G = self._assemble_shaft(x, n)
+        basis = NodalBasis(x, extra=2 * len(self.point_masses))
         for d in self.disks:
             j = 4 * basis.node_at(d.position)
             M[j : j + 4, j : j + 4] += np.diag(
@@ -670,20 +878,21 @@ class Rotor:
             if self.gyroscopic:
                 G[j + 2, j + 3] += d.polar_inertia
                 G[j + 3, j + 2] -= d.polar_inertia
-        supports, fixed = [], []
-        for i, b in enumerate(self.bearings):
-            node = basis.node_at(b.position)
-            if b.kind == "pinned":
-                fixed += [4 * node, 4 * node + 1]
-            else:
-                supports.append(b.support(node, b.name or f"bearing {i + 1}"))
+        for j, p in enumerate(self.point_masses):
+            k = 4 * len(x) + 2 * j
+            M[k, k] += p.mass_y
+            M[k + 1, k + 1] += p.mass_z
+        if self.mass_damping or self.stiffness_damping:
+            C += self.mass_damping * M + self.stiffness_damping * K
+        supports, fixed = self._supports(basis, M)
         labels = tuple(f"{q}@{xi:.6g}" for xi in x for q in ("v", "w", "psi_v", "psi_w"))
+        labels += tuple(f"{q}@{p.name}" for p in self.point_masses for q in ("v", "w"))
         scales = rotor_scales(self, x, M, K)
         check_scales(scales)
         return LinearSystem(
             M=M,
             K=K,
-            C=np.zeros((n, n)),
+            C=C,
             G=G,
             basis=basis,
             supports=tuple(supports),

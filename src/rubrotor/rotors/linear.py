@@ -118,6 +118,7 @@ class NodalBasis:
 
 INTERPOLATIONS = ("linear", "pchip")
 EXTRAPOLATIONS = ("hold", "linear")
+AXES = ("speed", "frequency")
 
 
 @dataclass(frozen=True)
@@ -150,6 +151,11 @@ class Support:
         ``(j_v, j_w)``: the deflections of a second station (e.g. a bearing housing carried by
         a point mass). The support then acts on the relative deflection, its matrices entering
         as ``[[A, -A], [-A, A]]`` on ``dofs + link``. ``None``: to the ground.
+    axis : {"speed", "frequency"}
+        What ``speeds`` tabulates: the spin speed (``"speed"``, the default; a fluid-film
+        bearing, a seal) or the whirl (excitation) frequency (``"frequency"``; a magnetic
+        bearing's controller, a squeeze-film damper), as ROSS 3.x's ``speed=`` and
+        ``frequency=`` tables. :meth:`coefficients` reads each table on its own axis.
     """
 
     dofs: tuple[int, int]
@@ -161,6 +167,7 @@ class Support:
     interpolation: str = "linear"
     extrapolation: str = "hold"
     link: tuple[int, int] | None = None
+    axis: str = "speed"
     _pchip: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -172,6 +179,13 @@ class Support:
             raise InputError(
                 f"{self.name}.extrapolation", self.extrapolation, " or ".join(EXTRAPOLATIONS)
             )
+        if self.axis not in AXES:
+            raise InputError(f"{self.name}.axis", self.axis, " or ".join(AXES))
+
+    @property
+    def tabulated(self) -> bool:
+        """True when its coefficients vary along its axis (a table of two or more points)."""
+        return self.speeds is not None and len(self.speeds) > 1
 
     @property
     def all_dofs(self) -> tuple[int, ...]:
@@ -194,9 +208,11 @@ class Support:
                     np.broadcast_to(self.c[0], (s.size, 2, 2)).copy())  # fmt: skip
         return _interpolate(self, "k", s), _interpolate(self, "c", s)
 
-    def coefficients(self, speed: float) -> tuple[np.ndarray, np.ndarray]:
-        """``(K, C)`` 2x2 arrays (N/m, N s/m) at ``speed`` (rad/s), see :meth:`tabulate`."""
-        k, c = self.tabulate([speed])
+    def coefficients(self, speed: float, frequency: float | None = None):
+        """``(K, C)`` 2x2 arrays (N/m, N s/m) at spin ``speed`` and whirl ``frequency``
+        (rad/s; default ``speed``: synchronous), each table read on its ``axis``."""
+        at = speed if self.axis == "speed" or frequency is None else frequency
+        k, c = self.tabulate([at])
         return k[0], c[0]
 
 
@@ -303,12 +319,13 @@ class LinearSystem:
         """Number of free DOFs."""
         return len(self.free)
 
-    def matrices(self, speed: float = 0.0) -> SystemMatrices:
-        """``M, C, G, K`` on the free DOFs at ``speed`` (rad/s), supports included."""
+    def matrices(self, speed: float = 0.0, frequency: float | None = None) -> SystemMatrices:
+        """``M, C, G, K`` on the free DOFs at spin ``speed`` (rad/s), supports included, their
+        frequency tables read at the whirl ``frequency`` (rad/s; default ``speed``)."""
         K = self.K.copy()
         C = self.C.copy()
         for s in self.supports:
-            ks, cs = s.coefficients(speed)
+            ks, cs = s.coefficients(speed, frequency)
             ix = np.ix_(s.all_dofs, s.all_dofs)
             K[ix] += s.block(ks)
             C[ix] += s.block(cs)

@@ -165,7 +165,20 @@ def _support(b, rotor_bearings, index: dict, nodes, speeds, interpolation: str) 
         interpolation=interpolation,
         extrapolation="linear",
         link=tuple(index[i] for i in ross[1]) if len(ross) > 1 else None,
+        axis="frequency" if _frequency_only(b) else "speed",
     )
+
+
+def _frequency_only(b) -> bool:
+    """ROSS 3.x element tabulated against the whirl frequency only (``frequency=``, no
+    ``speed=``): its table is read at the excitation frequency (ROSS 2.3's ``frequency=`` is
+    read synchronously: it is a speed table)."""
+    import ross
+
+    if int(ross.__version__.split(".")[0]) < 3:
+        return False
+    speed, freq = getattr(b, "speed", None), getattr(b, "frequency", None)
+    return (speed is None or np.size(speed) < 2) and freq is not None and np.size(freq) > 1
 
 
 def _ours(rotor, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[int], list[str]]:

@@ -619,6 +619,50 @@ class Scenario:
                 f"{exc.field} = {old!r}, which it needs ({exc.allowed})"
             ) from None  # fmt: skip
 
+    @classmethod
+    def from_ross(cls, rotor, speed: float = 0.0, name: str | None = None, speeds=None) -> Scenario:
+        """The scenario of a ROSS rotor: a ``ross.Rotor`` (ROSS installed) or the file its
+        ``Rotor.save`` wrote (read without ROSS); see :mod:`rubrotor.scenario.ross`.
+
+        Parameters
+        ----------
+        rotor : ross.Rotor or str or Path
+            The rotor, or its saved ``.toml``/``.json`` file.
+        speed : float
+            Spin speed (rad/s) of the scenario's ``[speed]`` table.
+        name : str, optional
+            ``[meta] name``.
+        speeds : array_like, optional
+            With a ROSS object: speeds (rad/s) at which to read its speed tables from ROSS
+            (ROSS 2.3's smoothing splines, see :func:`rubrotor.rotors.ross.from_ross`).
+
+        Returns
+        -------
+        Scenario
+        """
+        from rubrotor.scenario.ross import ross_mapping
+
+        return scenario_from_dict(ross_mapping(rotor, speed=speed, name=name, speeds=speeds))
+
+    def save(self, path, header: str = "") -> Path:
+        """Write this scenario's tables as a TOML file (atomically); :func:`load_scenario` of
+        it gives this scenario back (numbers written to the last bit).
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write.
+        header : str
+            Comment lines put first.
+
+        Returns
+        -------
+        Path
+        """
+        from rubrotor.scenario.write import write_scenario
+
+        return write_scenario(scenario_to_dict(self), path, header)
+
     @property
     def stations(self) -> tuple[float, ...]:
         """Axial positions (m) of the unbalances, loads, contacts and probes, in that order,

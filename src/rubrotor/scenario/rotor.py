@@ -11,7 +11,10 @@ description)::
                       | outer_diameter (m), width (m), material, bore_diameter (m); name;
                       width (m) is also allowed with the mass form (overlap checks only)
     [[bearing]]       position (m); kyy, kyz, kzy, kzz (N/m); cyy, cyz, czy, czz (N s/m): numbers,
-                      or lists tabulated against speeds (rad/s); kind ("bearing" | "pinned"); name
+                      or lists tabulated against speeds or frequencies (rad/s); interpolation,
+                      extrapolation; myy, myz, mzz (kg); link, on (a point mass); kind
+                      ("bearing" | "pinned"); name
+    [[point_mass]]    name; position (m); mass_y, mass_z (kg)
     [rotor]           theory; gyroscopic; shear_coefficient; max_element_length (m)  (optional)
 
 Errors name the key as ``materials.steel.density``, ``section[2].diameter``, ``disk[1].mass``,
@@ -23,7 +26,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from rubrotor.errors import InputError, ScenarioError
-from rubrotor.rotors.fe import COEFFICIENTS, Bearing, Disk, Material, Rotor, Section
+from rubrotor.rotors.fe import COEFFICIENTS, Bearing, Disk, Material, PointMass, Rotor, Section
 from rubrotor.scenario.schema import REQUIRED, ROTOR_SCHEMA, ROTOR_TABLES, check_value, key_row
 
 __all__ = ["ROTOR_TABLES", "ROTOR_SCHEMA", "normalise_rotor_tables", "build_rotor", "rotor_to_dict"]
@@ -73,7 +76,7 @@ def normalise_rotor_tables(mapping: Mapping) -> dict:
         out["materials"] = {
             str(n): _keys(f"materials.{n}", body, "materials") for n, body in mats.items()
         }
-    for table in ("section", "disk", "bearing"):
+    for table in ("section", "disk", "bearing", "point_mass"):
         if table not in mapping:
             continue
         items = mapping[table]
@@ -167,7 +170,7 @@ def build_rotor(spec: dict) -> Rotor:
         materials = _materials(spec)
     except InputError as exc:
         raise ScenarioError(exc.field, exc.value, exc.allowed) from None
-    parts: dict = {"section": [], "disk": [], "bearing": []}
+    parts: dict = {"section": [], "disk": [], "bearing": [], "point_mass": []}
     for table in parts:
         for i, item in enumerate(spec.get(table, [])):
             name = f"{table}[{i + 1}]"
@@ -178,12 +181,15 @@ def build_rotor(spec: dict) -> Rotor:
                     parts[table].append(Section(material=mat, **kw))
                 elif table == "disk":
                     parts[table].append(_disk(item, name, materials))
+                elif table == "point_mass":
+                    parts[table].append(PointMass(**item))
                 else:
                     parts[table].append(_bearing(item))
             except InputError as exc:
                 raise _renamed(exc, name) from None
     try:
-        return Rotor(parts["section"], parts["disk"], parts["bearing"], **spec.get("rotor", {}))
+        return Rotor(parts["section"], parts["disk"], parts["bearing"],
+                     point_masses=parts["point_mass"], **spec.get("rotor", {}))  # fmt: skip
     except InputError as exc:
         raise ScenarioError(exc.field, exc.value, exc.allowed) from None
 
@@ -204,6 +210,9 @@ def rotor_to_dict(rotor: Rotor) -> dict:
         sec["material"] = m.name
         if s.elements is not None:
             sec["elements"] = s.elements
+        for key in ("position", "mass_damping", "stiffness_damping"):
+            if getattr(s, key):  # None or 0: the default
+                sec[key] = getattr(s, key)
         sections.append(sec)
     disks = [
         {
@@ -224,12 +233,22 @@ def rotor_to_dict(rotor: Rotor) -> dict:
             item[c] = list(v) if not isinstance(v, int | float) else v
         if b.speeds is not None:
             item["speeds"] = list(b.speeds)
-        if b.fail_time is not None:
-            item["fail_time"] = b.fail_time
+        if b.frequencies is not None:
+            item["frequencies"] = list(b.frequencies)
+        for key, default in (("interpolation", "linear"), ("extrapolation", "hold"),
+                             ("myy", 0.0), ("myz", 0.0), ("mzz", 0.0), ("link", None),
+                             ("on", None), ("fail_time", None)):  # fmt: skip
+            if getattr(b, key) != default:
+                item[key] = getattr(b, key)
         bearings.append(item)
     out = {"materials": materials, "section": sections, "bearing": bearings}
     if disks:
         out["disk"] = disks
+    if rotor.point_masses:
+        out["point_mass"] = [
+            {"name": p.name, "position": p.position, "mass_y": p.mass_y, "mass_z": p.mass_z}
+            for p in rotor.point_masses
+        ]
     out["rotor"] = {
         "theory": rotor.theory,
         "gyroscopic": rotor.gyroscopic,
@@ -237,4 +256,7 @@ def rotor_to_dict(rotor: Rotor) -> dict:
     }
     if rotor.max_element_length is not None:
         out["rotor"]["max_element_length"] = rotor.max_element_length
+    for key in ("mass_damping", "stiffness_damping"):
+        if getattr(rotor, key):
+            out["rotor"][key] = getattr(rotor, key)
     return out

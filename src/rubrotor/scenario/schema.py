@@ -53,6 +53,7 @@ from rubrotor.engine.settings import METHODS
 from rubrotor.errors import ScenarioError
 from rubrotor.rotors.fe import BEARING_KINDS, COEFFICIENTS
 from rubrotor.rotors.forces import BOW_SHAPES, CONTACT_LAWS, FRICTION_SIGNS, RESTITUTION_MODELS
+from rubrotor.rotors.linear import EXTRAPOLATIONS, INTERPOLATIONS
 from rubrotor.rotors.shaft import FORMULATIONS, PLAUSIBLE_RANGES, SHEAR_COEFFICIENTS, THEORIES
 
 __all__ = [
@@ -346,6 +347,15 @@ _SECTION = (
     _k("section", "material", "str", "", "Label of a [materials.LABEL] table", required=True),
     _k("section", "elements", "int", "1", "Finite elements (default from the mesh rule)",
        _closed(1, 10000)),
+    _k("section", "position", "number", "m", "Left end of a sleeve laid over the shaft (an "
+       "impeller hub; ROSS's second shaft element on the same nodes); none for a shaft section",
+       _STATION),
+    _k("section", "mass_damping", "number", "1/s",
+       "alpha of the proportional damping alpha M + beta K of its elements", _closed(0.0),
+       default=0.0),
+    _k("section", "stiffness_damping", "number", "s",
+       "beta of the proportional damping alpha M + beta K of its elements", _closed(0.0),
+       default=0.0),
 )  # fmt: skip
 _DISK = (
     _k("disk", "position", "number", "m", "Axial station", _STATION, required=True),
@@ -365,7 +375,8 @@ _DISK = (
 
 
 def _coefficient(c: str) -> Key:
-    """Row of a bearing coefficient: direct ones (kyy, czz ...) >= 0, cross-coupled ones any."""
+    """Row of a bearing coefficient (direct ones, kyy, czz ..., are checked >= 0 by
+    :class:`rubrotor.rotors.fe.Bearing` unless tabulated against frequencies)."""
     stiff = c[0] == "k"
     direct = c[1] == c[2]
     return _k(
@@ -373,8 +384,9 @@ def _coefficient(c: str) -> Key:
         c,
         "number|list",
         "N/m" if stiff else "N s/m",
-        f"{'Stiffness' if stiff else 'Damping'} {c}: a number or one value per speed",
-        _closed(0.0) if direct else None,
+        f"{'Stiffness' if stiff else 'Damping'} {c}: a number or one value per speed (or "
+        "frequency)" + (" (>= 0 unless tabulated against frequencies)" if direct else ""),
+        None,
         default=0.0,
     )
 
@@ -389,6 +401,27 @@ _BEARING = (
     _k("bearing", "name", "str", "", "Label", default=""),
     _k("bearing", "fail_time", "number", "s", "Time at which the bearing stops holding the "
        'rotor (a magnetic bearing losing levitation; speed.profile = "free")', _closed(0.0)),
+    _k("bearing", "frequencies", "list", "rad/s", "Whirl (excitation) frequencies at which the "
+       "coefficients are tabulated (a magnetic bearing, a squeeze-film damper)", _closed(0.0)),
+    _k("bearing", "interpolation", "str", "", "Between table points",
+       choices=INTERPOLATIONS, default="linear"),
+    _k("bearing", "extrapolation", "str", "", "Outside the table: the end values, or on along "
+       "the end slope (as ROSS 3.x)", choices=EXTRAPOLATIONS, default="hold"),
+    _k("bearing", "myy", "number", "kg", "Bearing mass along y", _closed(0.0), default=0.0),
+    _k("bearing", "myz", "number", "kg", "Bearing mass, cross term (symmetric)", default=0.0),
+    _k("bearing", "mzz", "number", "kg", "Bearing mass along z", _closed(0.0), default=0.0),
+    _k("bearing", "link", "str", "", "Name of the [[point_mass]] (a housing) the bearing joins "
+       "the shaft to, instead of the ground"),
+    _k("bearing", "on", "str", "", "Name of the [[point_mass]] the bearing holds to the ground "
+       "(a housing's support; position: the housing's station)"),
+)  # fmt: skip
+_POINT_MASS = (
+    _k("point_mass", "name", "str", "", "Label the bearings' link and on refer to",
+       required=True),
+    _k("point_mass", "position", "number", "m", "Axial station it sits at (labels)", _STATION,
+       required=True),
+    _k("point_mass", "mass_y", "number", "kg", "Mass along y", _MASS, zero=True, default=0.0),
+    _k("point_mass", "mass_z", "number", "kg", "Mass along z", _MASS, zero=True, default=0.0),
 )  # fmt: skip
 _ROTOR = (
     _k("rotor", "theory", "str", "", "Beam theory", choices=THEORIES, default="timoshenko"),
@@ -396,6 +429,10 @@ _ROTOR = (
     _k("rotor", "shear_coefficient", "number|str", "1", "Timoshenko shear coefficient kappa",
        _closed(1e-6, 1e9), choices=SHEAR_COEFFICIENTS, default="cowper"),
     _k("rotor", "max_element_length", "number", "m", "Upper bound of the element length", _LENGTH),
+    _k("rotor", "mass_damping", "number", "1/s", "alpha of a rotor-wide damping alpha M + beta K "
+       "(shaft, disks, point masses; ROSS's Rotor(alpha=))", _closed(0.0), default=0.0),
+    _k("rotor", "stiffness_damping", "number", "s", "beta of a rotor-wide damping alpha M + "
+       "beta K (ROSS's Rotor(beta=))", _closed(0.0), default=0.0),
 )  # fmt: skip
 
 _STATOR_PARTS = (("mass", "kg", "Mass", _closed(1e-6, 1e7)),
@@ -517,7 +554,10 @@ TABLES: tuple[Table, ...] = (
     Table("section", "array", "general", "Shaft sections of a general rotor, left to right",
           required=True),
     Table("disk", "array", "general", "Rigid disks"),
-    Table("bearing", "array", "general", "Bearings and supports"),
+    Table("bearing", "array", "general", "Bearings and supports",
+          groups=((("speeds", "frequencies"), False), (("link", "on"), False))),
+    Table("point_mass", "array", "general", "Lumped masses with their own DOFs (bearing "
+          "housings), joined by bearings' link and on"),
     Table("rotor", "table", "general", "Settings of the general rotor"),
     Table("thermal", "table", "any",
           "Thermal bow at the rubbing stations (rubrotor thermal; general rotors)"),
@@ -527,7 +567,7 @@ TABLES: tuple[Table, ...] = (
 _ORDER = {t.name: i for i, t in enumerate(TABLES)}
 KEYS: tuple[Key, ...] = tuple(sorted((
     *_META, *_SHAFT, *_SPEED, *_UNBALANCE, *_LOAD, *_CONTACT, *_DAMPING, *_INITIAL,
-    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_ROTOR, *_THERMAL,
+    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_POINT_MASS, *_ROTOR, *_THERMAL,
 ), key=lambda row: _ORDER[row.table]))  # fmt: skip
 """Every key of every scenario table, grouped by table: the one source of the schema."""
 
