@@ -282,7 +282,11 @@ def _problem(scenario, integrator=None):
         raise InputError("simulation", None, "a [simulation] section (revolutions or duration)")
     if integ.method != "exponential":
         raise ScenarioError("simulation.method", integ.method, '"exponential" (general engine)')
-    speed, end, table = scenario.speed, eng.speed_end, eng.speed_table
+    from rubrotor.modelling import model_of
+
+    model = model_of(scenario)  # it builds the rotor, the force terms and the speed law
+    law, forces = model.speed_law(), model.forces()
+    speed, end, table = law.speed, law.speed_end, law.table
     if speed <= 0:
         raise ScenarioError("speed", speed, "a spin speed > 0 (rad/s) for a time simulation")
     system = _system(scenario, integ.probes)
@@ -294,7 +298,7 @@ def _problem(scenario, integrator=None):
     if table and integ.duration is None:
         raise ScenarioError("simulation.revolutions", integ.revolutions,
                             'simulation.duration (s) instead, with speed.profile = "table"')  # fmt: skip
-    unb, t0, initial, snap = eng.unbalances, 0.0, eng.initial, None
+    unb, t0, initial, snap = forces.unbalances, 0.0, eng.initial, None
     if initial == "file":
         initial, t0, snap = _restart(eng.initial_path, scenario, system, speed)
         # constant speed: continuing at t0 equals starting at 0 with phases advanced by Omega t0
@@ -308,12 +312,13 @@ def _problem(scenario, integrator=None):
         step=integ.output_spacing(speed) if adaptive else step,
         save_every=1 if adaptive else integ.save_every, modes=eng.modes, cutoff=eng.cutoff,
         residual=eng.residual, initial=initial, probes=integ.probes,
-        max_displacement=integ.max_displacement, speed_end=end, speed_step=eng.speed_step,
+        max_displacement=integ.max_displacement, speed_end=end, speed_step=law.step,
         speed_table=table,
         rtol=integ.rtol if adaptive else None, atol=integ.atol,
     )  # fmt: skip
     _check_one_sample(integ, run)
-    kwargs = dict(stations=eng.stations, unbalances=unb, loads=eng.loads, gravity=eng.gravity)
+    kwargs = dict(stations=forces.stations, unbalances=unb, loads=forces.loads,
+                  gravity=forces.gravity)  # fmt: skip
     return system, run, kwargs, t0, snap
 
 

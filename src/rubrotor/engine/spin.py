@@ -292,11 +292,13 @@ def free_problem(scenario, integrator=None) -> tuple:
                             'no fixed step with speed.profile = "free" (adaptive: rtol, atol)')  # fmt: skip
     positions = tuple(s.contact.position for s in eng.stations) + tuple(integ.probes)
     system = model.linear_system(sorted(set(eng.positions + tuple(integ.probes))), only=True)
+    forces, law = model.forces(), model.speed_law()
     kwargs = dict(
-        J=polar_inertia(scenario.rotor), speed=scenario.speed,
-        duration=integ.total_time(scenario.speed), spacing=integ.output_spacing(scenario.speed),
-        stations=eng.stations, free=eng.free_spin, unbalances=eng.unbalances, loads=eng.loads,
-        gravity=eng.gravity, modes=eng.modes, initial=eng.initial, rtol=integ.rtol,
+        J=polar_inertia(scenario.rotor), speed=law.speed,
+        duration=integ.total_time(law.speed), spacing=integ.output_spacing(law.speed),
+        stations=forces.stations, free=law.free, unbalances=forces.unbalances,
+        loads=forces.loads, gravity=forces.gravity, modes=eng.modes, initial=eng.initial,
+        rtol=integ.rtol,
         atol=integ.atol, rings=eng.rings, **_failure(scenario.rotor),
     )  # fmt: skip
     return system, kwargs, positions
