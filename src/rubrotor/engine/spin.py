@@ -23,11 +23,21 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
+from rubrotor.engine.spin_guard import (
+    STABILITY,
+    check_samples,
+    estimated_normal,
+    refuse_unresolvable,
+    run_chunks,
+    stiff_terms,
+    stiffest,
+)
 from rubrotor.errors import InputError
 
 __all__ = ["FreeSpin", "TouchdownRing", "SpinResult", "polar_inertia", "simulate_spin",
@@ -135,7 +145,10 @@ class SpinResult:
     reduced : dict
         ``K``, ``C`` (before a failure, at the start speed), ``G``, ``f0``, ``Pc``, ``Pout``.
     J, radius, rings, status, stats
-        Polar inertia (kg m^2), contact radii (m), rings, status text, integrator counts.
+        Polar inertia (kg m^2), contact radii (m), rings, ``"complete"`` or ``"partial"``,
+        integrator counts.
+    message : str
+        Why and where a partial run stopped (``""`` when complete).
     """
 
     time: np.ndarray
@@ -148,6 +161,7 @@ class SpinResult:
     rings: tuple
     status: str
     stats: dict
+    message: str = ""
 
     @property
     def r(self) -> int:
@@ -251,7 +265,8 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
                   stations=(), free: FreeSpin = FreeSpin(), rings=None, unbalances=(), loads=(),
                   gravity=(0.0, 0.0), fail_time: float = math.inf, failing=(), modes=None,
                   initial="rest", rtol: float = 1e-6, atol: float = 1e-10,
-                  max_steps: int = 50_000_000) -> SpinResult:  # fmt: skip
+                  max_steps: int = 50_000_000, progress: bool | None = None,
+                  sample_keys=("duration", "spacing")) -> SpinResult:  # fmt: skip
     """Simulate a rotor whose spin speed is a state (see the module docstring).
 
     Parameters
@@ -284,10 +299,19 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     rtol, atol : float
         Relative tolerance and absolute tolerance (m) of the displacements; the other states'
         absolute tolerances follow from it (``_tolerances``).
+    max_steps : int
+        Steps allowed; a run whose stiffest term (:mod:`rubrotor.engine.spin_guard`) needs more
+        is refused, naming its key, and one that comes to need more stops partial.
+    progress : bool, optional
+        Print a progress line on runs longer than 2 s (default: when stderr is a terminal).
+    sample_keys : (str, str)
+        Names of ``duration`` and of the sample spacing in messages (the scenario's keys).
 
     Returns
     -------
     SpinResult
+        ``status`` ``"complete"`` (every saved value finite) or ``"partial"`` (``message`` says
+        why and where it stopped: diverged, too many steps, or interrupted with Ctrl-C).
     """
     from rubrotor.core.spin import spin_dopri
 
@@ -312,24 +336,43 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
         x0[: 2 * r] = (basis.T @ sm.M @ q.T).T.reshape(-1)
     elif initial != "rest":
         raise InputError("initial.state", initial, '"rest" or "static" with a free spin speed')
-    n = int(math.floor(duration / spacing + 1e-9)) + 1
+    rows = x0.size + 5 * nc
+    n = check_samples(math.floor(duration / spacing + 1e-9) + 1, rows, sample_keys,
+                      (duration, 1.0 / spacing))  # fmt: skip
     t_out = np.arange(n) * spacing
     w, tq = free.table()
+    normal, why = estimated_normal(f0, Pc, unb, speed, nc)
+    terms = stiff_terms(float(J), float(free.drag), Pc, cp, radius, ring, normal, why)
+    refuse_unresolvable(terms, duration, max_steps)
     ctrl = np.concatenate([[rtol, spacing / 64, max_steps],
                            _tolerances(basis, wn, atol, rtol, speed, Pc, radius, nc)])  # fmt: skip
-    out = np.zeros((x0.size + 5 * nc, n))
-    ist = np.zeros(4, np.int64)
-    wall = time.perf_counter()
     mats = (grid, Kt, Ct, G, float(fail_time))
-    spin_dopri(x0, t_out, mats, (f0, Pu, unb), (Pc, offs, cp, radius, ring),
-               (float(J), float(free.drag), w, tq), ctrl, out, ist)  # fmt: skip
+    args = (mats, (f0, Pu, unb), (Pc, offs, cp, radius, ring), (float(J), float(free.drag), w, tq))
+
+    def diagnose(code, saved, t, h, steps=None):
+        normal = np.max(saved[x0.size :: 5], axis=1) if saved.shape[1] else np.zeros(nc)
+        rate, key, _, what = stiffest(stiff_terms(float(J), float(free.drag), Pc, cp, radius, ring,
+                                               normal))  # fmt: skip
+        where = f"at t = {t:.6g} s (step {h:.3g} s); data up to t = {t:.6g} s kept"
+        if code == 2:
+            return (f"diverged {where}: the state is no longer finite; the stiffest term is "
+                    f"{key} ({what}, rate {rate:.3g} 1/s)")  # fmt: skip
+        more = f"about {steps:.3g} steps" if steps is not None else f"more than {max_steps} steps"
+        return (f"{_STATUS[code]} {where}: the run needs {more} (at most {max_steps}); the "
+                f"stiffest term is {key} ({what}, rate {rate:.3g} 1/s, stable steps "
+                f"<= {STABILITY / rate:.3g} s)")  # fmt: skip
+
+    show = sys.stderr.isatty() if progress is None else progress
+    wall = time.perf_counter()
+    out, (acc, rej), reason = run_chunks(spin_dopri, x0, t_out, args, ctrl, rows, show, diagnose)
     wall = time.perf_counter() - wall
-    m = int(ist[3])
+    m = out.shape[1]
     red = dict(K=Kt[0, 0], C=Ct[0, 0], G=G, f0=f0, Pc=Pc, Kt=Kt, Ct=Ct, grid=grid)
     return SpinResult(
-        time=t_out[:m], state=out[: x0.size, :m], contact=out[x0.size :, :m].reshape(nc, 5, m),
+        time=t_out[:m], state=out[: x0.size], contact=out[x0.size :].reshape(nc, 5, m),
         basis=basis, reduced=red, J=float(J), radius=radius, rings=rings,
-        status=_STATUS[int(ist[0])], stats={"accepted": int(ist[1]), "rejected": int(ist[2]), "wall_s": wall},
+        status="partial" if reason else "complete", stats={"accepted": acc, "rejected": rej, "wall_s": wall},
+        message=reason,
     )  # fmt: skip
 
 
@@ -387,6 +430,10 @@ def free_problem(scenario, integrator=None) -> tuple:
         stations=eng.stations, free=eng.free_spin, unbalances=eng.unbalances, loads=eng.loads,
         gravity=eng.gravity, modes=eng.modes, initial=eng.initial, rtol=integ.rtol,
         atol=integ.atol, rings=eng.rings, **_failure(scenario.rotor),
+        sample_keys=("simulation.duration" if integ.duration is not None
+                     else "simulation.revolutions",
+                     "simulation.sample_rate" if integ.sample_rate is not None
+                     else "simulation.output_dtau"),
     )  # fmt: skip
     return system, kwargs, positions
 
@@ -473,7 +520,8 @@ def spin_dataset(res: SpinResult, system, positions):
     touching = res.contact[:, 0] > 0
     events = int(np.sum(touching[:, 1:] & ~touching[:, :-1]))  # contact onsets between samples
     stats = {**res.stats, "contact_events": events}
-    attrs = {"status": res.status, "status_message": res.status, "engine": "free-spin",
+    attrs = {"status": res.status, "status_message": res.message or res.status,
+             "engine": "free-spin",
              "polar_inertia_kg_m2": res.J, "speed_rad_s": float(res.spin_speed[0]),
              "speed_end_rad_s": float(res.spin_speed[-1]),
              "integrator_stats": json.dumps(stats)}  # fmt: skip

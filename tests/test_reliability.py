@@ -1,0 +1,196 @@
+"""Nothing silently wrong under faults and bad input (issue 32), one section per numbered item.
+
+Each test reproduces one finding of the issue (it failed before the fix: a traceback, a NaN with
+exit 0, a hang, a wrong key) and checks the promise instead: exit 0 with finite output, exit 2
+with one line naming the key, or exit 1 with the data kept and marked partial with a reason.
+References: the compiled free-spin kernel called once over the whole run (the chunked driver
+must take exactly its steps); the stability limit of the Dormand-Prince pair (3.3 / rate, Hairer
+and Wanner vol. 1, IV.2) for the step counts a run needs.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from test_mangled_scenarios import _dump
+
+from rubrotor.cli import main
+
+SCENARIOS = Path(str(resources.files("rubrotor") / "scenarios"))
+
+
+def _one_error_line(capsys) -> str:
+    err = capsys.readouterr().err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("rubrotor: error:"), err
+    return lines[0]
+
+
+def _scenario(tmp_path, name, edit=None, file="x.toml") -> Path:
+    doc = tomllib.loads((SCENARIOS / f"{name}.toml").read_text())
+    if edit is not None:
+        edit(doc)
+    path = tmp_path / file
+    path.write_text(_dump(doc))
+    return path
+
+
+# ---- 1. free-speed runs -----------------------------------------------------------------------
+def _drop(tmp_path, table, key, value, duration=0.05):
+    """touchdown_drop.toml, ``duration`` s, with ``table.key = value`` (every contact's)."""
+
+    def edit(doc):
+        doc["simulation"]["duration"] = duration
+        rows = doc[table] if isinstance(doc[table], list) else [doc[table]]
+        for row in rows:
+            row[key] = value
+
+    return _scenario(tmp_path, "touchdown_drop", edit)
+
+
+UNRESOLVABLE = [
+    ("contact", "friction", 1e300, "contact[2].friction"),
+    ("contact", "stiffness", 1e300, "contact[2].stiffness"),
+    ("contact", "damping", 1e300, "contact[2].damping"),
+    ("unbalance", "magnitude", 1e300, "unbalance.magnitude"),
+    ("speed", "drag", 1e9, "speed.drag"),
+    ("contact", "ring_drag", 1e9, "contact[1].ring_drag"),
+    ("contact", "ring_radius", 1000.0, "contact[2].ring_radius"),
+    ("contact", "radius", 1000.0, "radius"),
+    ("contact", "friction", 1e6, "contact[2].friction"),
+    ("unbalance", "magnitude", 1e3, "unbalance.magnitude"),
+    ("simulation", "duration", 1e300, "simulation.duration"),
+    ("simulation", "sample_rate", 1e300, "simulation.sample_rate"),
+    ("simulation", "sample_rate", 1e9, "simulation.sample_rate"),
+]
+
+
+@pytest.mark.parametrize("table, key, value, named", UNRESOLVABLE)
+def test_free_speed_run_beyond_resolution_is_refused_by_key(table, key, value, named, tmp_path,
+                                                            capsys):  # fmt: skip
+    """Before: exit 0 with NaN, a ValueError/MemoryError traceback, or minutes at full CPU."""
+    path = _drop(tmp_path, table, key, value)
+    assert main(["simulate", str(path), "--out", str(tmp_path / "o.nc")]) == 2
+    line = _one_error_line(capsys)
+    assert named in line and ("steps" in line or "memory" in line), line
+    assert not (tmp_path / "o.nc").exists()
+
+
+def _spin_problem(tmp_path, edit=None):
+    from rubrotor.engine.spin import free_problem
+    from rubrotor.scenario.load import load_scenario
+
+    def short(doc):
+        doc["simulation"]["duration"] = 0.03
+        if edit:
+            edit(doc)
+
+    return free_problem(load_scenario(_scenario(tmp_path, "touchdown_drop", short)))
+
+
+def test_chunked_free_spin_takes_the_steps_of_one_kernel_call(tmp_path, monkeypatch):
+    """The driver calls the kernel a chunk at a time (progress, Ctrl-C, finite checks between
+    chunks); the kernel hands back its next step, so the run is the single call's to the bit."""
+    import rubrotor.core.spin as kernel
+    import rubrotor.engine.spin as spin
+    from rubrotor.core.spin import spin_dopri
+
+    system, kw, _ = _spin_problem(tmp_path)
+    calls = []
+
+    def single(x0, t_out, *args):
+        calls.append(t_out.size)
+        return spin_dopri(x0, t_out, *args)
+
+    monkeypatch.setattr(kernel, "spin_dopri", single)
+    chunked = spin.simulate_spin(system, **kw)
+    assert len(calls) > 3 and chunked.status == "complete"
+    # reference: one call over every output time
+    res = {}
+
+    def run_chunks(kernel, x0, t_out, args, ctrl, rows, show, diagnose):
+        out = np.zeros((rows, t_out.size))
+        ist = np.zeros(4, np.int64)
+        spin_dopri(np.ascontiguousarray(x0), t_out, *args, ctrl.copy(), out, ist)
+        res["ist"] = ist
+        return out[:, : ist[3]], (int(ist[1]), int(ist[2])), ""
+
+    monkeypatch.setattr(spin, "run_chunks", run_chunks)
+    whole = spin.simulate_spin(system, **kw)
+    assert np.array_equal(chunked.state, whole.state)
+    assert np.array_equal(chunked.contact, whole.contact)
+    assert chunked.stats["accepted"] == whole.stats["accepted"] == res["ist"][1]
+
+
+def test_non_finite_state_is_never_complete(tmp_path, monkeypatch):
+    """An overflowing run (stiffness 1e300, the a-priori refusal lifted) stops partial, naming
+    the stiffest term, with only finite samples kept. Before: "complete" with NaN outputs."""
+    import rubrotor.engine.spin as spin
+
+    monkeypatch.setattr(spin, "refuse_unresolvable", lambda *a: None)
+    system, kw, _ = _spin_problem(tmp_path, lambda d: [c.update(stiffness=1e300)
+                                                        for c in d["contact"]])  # fmt: skip
+    res = spin.simulate_spin(system, **kw)
+    assert res.status == "partial"
+    assert "contact[" in res.message and ".stiffness" in res.message, res.message
+    assert np.all(np.isfinite(res.state)) and np.all(np.isfinite(res.contact))
+    assert res.time.size >= 1
+
+
+def test_run_that_becomes_too_stiff_stops_partial_naming_the_key(tmp_path):
+    """A budget of steps below what the drop needs: the run projects its steps from the last
+    chunk and stops partial before exceeding them, naming the stiffest term at that time."""
+    from rubrotor.engine.spin import simulate_spin
+
+    system, kw, _ = _spin_problem(tmp_path)
+    res = simulate_spin(system, **kw, max_steps=800)
+    assert res.status == "partial" and "too many steps" in res.message
+    assert "contact[" in res.message and res.stats["accepted"] + res.stats["rejected"] <= 801  # the kernel stops at the first step past it
+    assert 1 < res.time.size < 601 and np.all(np.isfinite(res.state))
+
+
+def test_ctrl_c_keeps_a_partial_free_spin_run(tmp_path, monkeypatch, capsys):
+    """Ctrl-C between chunks: the data so far saved, marked partial, exit 1. Before: the kernel
+    ran to the end in one call and Ctrl-C did nothing."""
+    import rubrotor.core.spin as kernel
+    from rubrotor.core.spin import spin_dopri
+
+    calls = []
+
+    def interrupted(*args):
+        calls.append(1)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return spin_dopri(*args)
+
+    monkeypatch.setattr(kernel, "spin_dopri", interrupted)
+    path = _drop(tmp_path, "speed", "drag", 0.0, duration=0.03)
+    out = tmp_path / "o.nc"
+    assert main(["simulate", str(path), "--out", str(out)]) == 1
+    assert "interrupted by the user" in capsys.readouterr().err
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["status"] == "partial" and 1 < ds.sizes["time"] < 601
+        assert np.all(np.isfinite(ds["v"].values))
+
+
+def test_dopri_stability_limit_is_the_one_the_guard_uses():
+    """The guard's 3.3 / rate: the Dormand-Prince pair's stability function |R(z)| = 1 on the
+    negative real axis near z = -3.31 (computed here from its tableau)."""
+    from rubrotor.core.spin import _A, _B
+    from rubrotor.engine.spin_guard import STABILITY
+
+    def R(z):
+        k = np.zeros(7, complex)
+        for s in range(7):
+            k[s] = z * (1 + _A[s, :s] @ k[:s]) if s else z
+        return 1 + _B @ k
+
+    zs = np.linspace(-2.5, -4.0, 15001)
+    edge = zs[np.argmax(np.abs([R(z) for z in zs]) > 1.0)]
+    assert math.isclose(-edge, STABILITY, rel_tol=0.01), edge
