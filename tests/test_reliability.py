@@ -194,3 +194,56 @@ def test_dopri_stability_limit_is_the_one_the_guard_uses():
     zs = np.linspace(-2.5, -4.0, 15001)
     edge = zs[np.argmax(np.abs([R(z) for z in zs]) > 1.0)]
     assert math.isclose(-edge, STABILITY, rel_tol=0.01), edge
+
+
+# ---- 3. level1 ---------------------------------------------------------------------------------
+def _level1_rotor():
+    """A 1.2 m shaft, two 20 kg disks, two damped bearings (36 DOF): its first forward mode's
+    log dec at 900 rad/s crosses zero near 5.8e4 N/m and the next mode runs close to it."""
+    from test_api_checks import STEEL
+
+    from rubrotor.rotors.fe import Bearing, Disk, Rotor, Section
+
+    bearings = [Bearing(x, kyy=5e7, kzz=4e7, cyy=2e4, czz=2e4) for x in (0.05, 1.15)]
+    rotor = Rotor([Section(1.2, 0.06, STEEL, elements=6)], bearings=bearings,
+                  disks=[Disk(0.4, 20.0, 0.2, 0.1), Disk(0.8, 20.0, 0.2, 0.1)])  # fmt: skip
+    return rotor.linear_system((0.6,))
+
+
+def test_level1_q0_does_not_depend_on_the_grid():
+    """Before: 2 points gave a log dec of +0.27 at 1e8 N/m (another mode) and no Q0, 5 points
+    Q0 = 3.4e4, 50 points 5.80e4. The mode is followed through its own Q values and Q0 located
+    by root finding: the same Q0 (to 1e-6) and the same log dec at 1e8 on 2, 5 and 50 points;
+    the log dec at Q0 is zero and the mode at Q0 is the one followed on the finest grid."""
+    from rubrotor.linear.api684 import level1
+
+    system = _level1_rotor()
+    runs = [level1(system, 900.0, 0.6, np.logspace(4, 8, n)) for n in (2, 5, 50)]
+    q0 = runs[-1].q0
+    assert q0 is not None and all(r.q0 == pytest.approx(q0, rel=1e-6) for r in runs)
+    assert all(r.log_dec[-1] == pytest.approx(runs[-1].log_dec[-1], rel=1e-9) for r in runs)
+    near = level1(system, 900.0, 0.6, [q0 * (1 - 1e-6), q0 * (1 + 1e-6)])
+    assert near.log_dec[0] > 0 >= near.log_dec[1] and abs(near.log_dec).max() < 1e-5
+
+
+def test_level1_jeffcott_q0_by_root_finding_on_two_points():
+    """Reference: Q0 = c sqrt(k / m) (the closed form of test_api_checks) from 2 points."""
+    from test_api_checks import _jeffcott
+
+    from rubrotor.linear.api684 import level1
+
+    m, k, c = 2.0, 8e4, 20.0
+    res = level1(_jeffcott(m, k, c), 100.0, 0.0, [1e2, 1e4])
+    assert res.q0 == pytest.approx(c * math.sqrt(k / m), rel=1e-9)
+
+
+def test_level1_refuses_stiffness_past_the_followed_range(capsys):
+    """Before: --stiffness 1e300:1e301:3 ran and gave a constant log dec."""
+    from rubrotor.errors import InputError
+    from rubrotor.linear.api684 import level1
+
+    with pytest.raises(InputError, match="followed"):
+        level1(_level1_rotor(), 900.0, 0.6, [1e4, 1e300])
+    seal = str(SCENARIOS / "seal_rub.toml")
+    assert main(["level1", seal, "--stiffness", "1e300:1e301:3"]) == 2
+    assert "--stiffness" in _one_error_line(capsys)
