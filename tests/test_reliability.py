@@ -247,3 +247,88 @@ def test_level1_refuses_stiffness_past_the_followed_range(capsys):
     seal = str(SCENARIOS / "seal_rub.toml")
     assert main(["level1", seal, "--stiffness", "1e300:1e301:3"]) == 2
     assert "--stiffness" in _one_error_line(capsys)
+
+
+# ---- 2. thermal --------------------------------------------------------------------------------
+THERMAL = SCENARIOS / "thermal_rub.toml"
+
+
+def _thermal(tmp_path, **contact):
+    return _scenario(tmp_path, "thermal_rub", lambda d: d["contact"][0].update(contact))
+
+
+def test_thermal_without_a_growth_rate_says_why_and_exits_1(tmp_path, capsys):
+    """Before: contact stiffness 1e7 N/m gave growth null with exit 0 and no message. At
+    300 rad/s the rub has no bounded steady orbit (the run from the no-contact orbit diverges):
+    the value stays null, the JSON and stderr say why, exit 1."""
+    import json
+
+    path = _thermal(tmp_path, stiffness=1e7)
+    assert main(["thermal", str(path), "--speeds", "300:310:2", "--steps", "64", "--json"]) == 1
+    io = capsys.readouterr()
+    out = json.loads(io.out)
+    assert out["growth_rate_per_s"][0] is None and "300 rad/s" in out["reasons"][0]
+    assert "contact.stiffness" in io.err and "no growth rate at 300 rad/s" in io.err
+
+
+def test_thermal_runaway_reports_the_time_it_ran_away(tmp_path, capsys):
+    """Before: a 1000 h slow run reported "runaway" at end_time_s 0.0 (the last output sample
+    before the event). The last sample is now the runaway itself: the bow there is the limit
+    (50 clearances, slow_run's max_bow), the time inside (0, duration), exit 1 with a reason."""
+    import json
+
+    out = tmp_path / "s.nc"
+    args = ["thermal", str(THERMAL), "--simulate", "1000", "--out", str(out), "--samples", "3",
+            "--steps", "64", "--json"]  # fmt: skip
+    assert main(args) == 1
+    io = capsys.readouterr()
+    summary = json.loads(io.out)
+    assert summary["status"] == "runaway" and 0 < summary["end_time_s"] < 1000 * 3600
+    assert "runaway" in io.err and "data kept" in io.err
+    with xr.open_dataset(out) as ds:
+        bow = np.hypot(ds.bow_real.values[-1], ds.bow_imag.values[-1]).max()
+        assert bow == pytest.approx(50 * 30e-6, rel=1e-6)
+        assert ds["time"].values[-1] == pytest.approx(summary["end_time_s"])
+
+
+# ---- 4. unbalance and modes --------------------------------------------------------------------
+def test_unbalance_overflowing_magnitude_is_named(tmp_path, capsys):
+    """Before: ``unbalance --json`` with a magnitude of 1e300 printed NaN with exit 0."""
+    path = _scenario(tmp_path, "seal_rub", lambda d: d["unbalance"][0].update(magnitude=1e300))
+    assert main(["unbalance", str(path), "--json", "--speeds", "10:600:5", "--probe", "0.45"]) == 2
+    assert "unbalance.magnitude = 1e+300" in _one_error_line(capsys)
+    assert capsys.readouterr().out == ""
+
+
+def test_json_never_holds_a_non_finite_number(capsys):
+    from rubrotor.cli.common import print_json
+    from rubrotor.errors import RubrotorError
+
+    with pytest.raises(RubrotorError, match=r"not finite at a\.b\[1\]"):
+        print_json({"a": {"b": [1.0, math.nan]}})
+    print_json({"a": [1.0, None]})
+    assert capsys.readouterr().out.count("1.0") == 1
+
+
+def test_modes_survive_an_arpack_failure(monkeypatch):
+    """Before: ``modes`` with a density of 1e-9 raised ArpackError in 2 of 4 runs (its random
+    start vector). When ARPACK fails the dense route answers; reference: the dense eigenvalues
+    of the same first-order matrix (scipy.linalg.eig)."""
+    import scipy.linalg
+    import scipy.sparse.linalg
+
+    import rubrotor.linear.modes as modes
+    from rubrotor.linear.verbs import linear_system
+    from rubrotor.scenario.load import load_scenario
+
+    def fails(*a, **k):
+        raise scipy.sparse.linalg.ArpackNoConvergence("no convergence", [], [])
+
+    monkeypatch.setattr(modes, "_newton_eig", lambda *a: None)
+    monkeypatch.setattr(scipy.sparse.linalg, "eigs", fails)
+    system = linear_system(load_scenario(SCENARIOS / "touchdown_drop.toml"))
+    got = modes.damped_modes(system, 500.0, n=4)
+    lam = scipy.linalg.eigvals(system.matrices(500.0).first_order()[0])
+    lam = lam[lam.imag > 0]
+    ref = np.sort(np.abs(lam))[:4]
+    np.testing.assert_allclose(np.sort([abs(m.eigenvalue) for m in got.modes]), ref, rtol=1e-9)
