@@ -332,3 +332,241 @@ def test_modes_survive_an_arpack_failure(monkeypatch):
     lam = lam[lam.imag > 0]
     ref = np.sort(np.abs(lam))[:4]
     np.testing.assert_allclose(np.sort([abs(m.eigenvalue) for m in got.modes]), ref, rtol=1e-9)
+
+
+# ---- 5. restart files --------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def first_run(tmp_path_factory):
+    """A one-revolution seal_rub results file (in memory, one restart row) and its scenario."""
+    from test_stream_restart import seal_text, write
+
+    import rubrotor
+    from rubrotor.engine.general import simulate_engine
+    from rubrotor.scenario.load import load_scenario
+
+    tmp = tmp_path_factory.mktemp("restart")
+    first = tmp / "first.nc"
+    scen = load_scenario(write(tmp, "a.toml", seal_text(revolutions=1)))
+    rubrotor.save_dataset(simulate_engine(scen, progress=False), first)
+    return tmp, first
+
+
+def _restart_of(tmp, path, edit=lambda t: t, name="b.toml"):
+    from test_stream_restart import seal_text, write
+
+    return write(tmp, name, edit(seal_text(initial=f'state = "file"\npath = "{path}"',
+                                           revolutions=1)))  # fmt: skip
+
+
+def _damaged(tmp, first, name, change):
+    """A copy of ``first`` with ``change(ds)`` applied (an xarray Dataset, loaded)."""
+    with xr.open_dataset(first) as ds:
+        ds = ds.load()
+    change(ds)
+    out = tmp / name
+    ds.to_netcdf(out)
+    return out
+
+
+def _refusal(path, capsys) -> str:
+    out = path.with_name(path.stem + "_continued.nc")
+    assert main(["simulate", str(path), "--out", str(out)]) == 2
+    return _one_error_line(capsys)
+
+
+def _drop_rows(ds):
+    """The file of a run killed before its first chunk: restart variables without rows."""
+    del ds.attrs["final_state"]
+    vec, t = ds["restart_vector"], ds["restart_time"]
+    del ds["restart_vector"], ds["restart_time"]
+    ds["restart_vector"] = (vec.dims, vec.values[:0], vec.attrs)
+    ds["restart_time"] = (t.dims, t.values[:0], t.attrs)
+
+
+RESTART_DAMAGE = [
+    # killed before its first restart row (before: KeyError: 'final_state')
+    ("no_rows", _drop_rows, "stopped before its first chunk"),
+    ("no_layout", lambda ds: ds["restart_vector"].attrs.pop("layout"), "layout"),  # KeyError
+    ("no_speed", lambda ds: ds.attrs.pop("speed_rad_s"), "speed_rad_s"),  # KeyError
+    ("negative_time", lambda ds: ds["restart_time"].values.__setitem__(-1, -5.0),
+     ">= 0 s"),  # before: started at t = -5 s
+    ("nan_time", lambda ds: ds["restart_time"].values.__setitem__(-1, math.nan),
+     ">= 0 s"),  # before: NaN named unbalance.phase
+    ("flipped_byte", lambda ds: ds["restart_vector"].values.__setitem__(
+        (-1, 3), ds["restart_vector"].values[-1, 3] * (1 + 2**-40)), "checksum"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("name, change, says", RESTART_DAMAGE, ids=[d[0] for d in RESTART_DAMAGE])
+def test_damaged_restart_file_is_refused_naming_initial_path(name, change, says, first_run,
+                                                              capsys):  # fmt: skip
+    tmp, first = first_run
+    bad = _damaged(tmp, first, f"{name}.nc", change)
+    line = _refusal(_restart_of(tmp, bad, name=f"{name}.toml"), capsys)
+    assert "initial.path" in line and says in line, line
+
+
+@pytest.mark.parametrize("key, value", [("stiffness", 3e8), ("friction", 0.2)])
+def test_restart_with_another_contact_force_is_refused(key, value, first_run, capsys):
+    """Before: a changed contact stiffness or friction was not in the fingerprint."""
+    import re
+
+    tmp, first = first_run
+
+    def edit(text):
+        table = text[text.index("[[contact]]"):]
+        changed = re.sub(rf"(?m)^{key} *= *[^\n#]*", f"{key} = {value}", table, count=1)
+        assert changed != table
+        return text.replace(table, changed)
+
+    line = _refusal(_restart_of(tmp, first, edit, name=f"{key}.toml"), capsys)
+    assert f"contact[1].{key} = {value}" in line, line
+    assert "readable results file" not in line  # item 8: no longer nested in that refusal
+
+
+def test_old_layout_file_of_another_model_is_refused(first_run, capsys):
+    """A file of the earlier layout (final_state only, no fingerprint) of another rotor with
+    the same number of DOF (a bearing's stiffness changed in its stored scenario). Before:
+    accepted."""
+    tmp, first = first_run
+
+    def old(ds):
+        for v in ("restart_time", "restart_vector"):
+            del ds[v]
+        del ds.attrs["model_fingerprint"]
+        ds.attrs["scenario"] = ds.attrs["scenario"].replace("kyy = 8.0e7", "kyy = 9.0e7")
+
+    bad = _damaged(tmp, first, "old.nc", old)
+    line = _refusal(_restart_of(tmp, bad, name="old.toml"), capsys)
+    assert "initial.path" in line and "[bearing] differs" in line, line
+
+
+def test_out_equal_to_the_restart_input_is_refused(first_run, capsys):
+    """Before: ``--out`` naming the restart input replaced the run with its continuation."""
+    tmp, first = first_run
+    before = first.read_bytes()
+    path = _restart_of(tmp, first, name="same.toml")
+    assert main(["simulate", str(path), "--out", str(first)]) == 2
+    assert "--out" in _one_error_line(capsys) and first.read_bytes() == before
+
+
+def test_intact_restart_still_continues(first_run, capsys):
+    """The checks pass an intact file: exit 0, the continuation starts at its restart time."""
+    tmp, first = first_run
+    out = tmp / "cont.nc"
+    assert main(["simulate", str(_restart_of(tmp, first, name="ok.toml")), "--out", str(out)]) == 0
+    with xr.open_dataset(first) as a, xr.open_dataset(out) as b:
+        assert float(b["time"].values[0]) == pytest.approx(float(a["restart_time"].values[-1]))
+
+
+# ---- 6. tracebacks: encodings, a full disk, Ctrl-C in continue --------------------------------
+def test_analyze_of_a_csv_that_is_not_utf8_is_named(tmp_path, capsys):
+    """Before: UnicodeDecodeError traceback."""
+    bad = tmp_path / "bad.csv"
+    bad.write_bytes(b"t,x\n0,1\n\xff\xfe,2\n")
+    assert main(["analyze", str(bad), "--out", str(tmp_path / "an") + "/"]) == 2
+    line = _one_error_line(capsys)
+    assert "input" in line and "UTF-8" in line
+
+
+def test_out_name_that_is_not_utf8_is_named(tmp_path, capsys):
+    """Before: UnicodeEncodeError traceback from netCDF (a file name with a byte 0xff)."""
+    import os
+
+    out = os.fsdecode(os.fsencode(str(tmp_path)) + b"/\xff.nc")
+    assert main(["simulate", str(SCENARIOS / "seal_rub.toml"), "--revolutions", "1",
+                 "--out", out]) == 2  # fmt: skip
+    assert "--out" in _one_error_line(capsys)
+
+
+def _tmpfs(path: Path, size: str):
+    """Mount a tmpfs of ``size`` at ``path`` (root only: the test is skipped otherwise)."""
+    import os
+    import subprocess
+
+    if os.geteuid() != 0:
+        pytest.skip("mounting a small tmpfs needs root")
+    path.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(path)],
+                      capture_output=True).returncode:  # fmt: skip
+        pytest.skip("mount -t tmpfs failed")
+    return path
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    import subprocess
+
+    disk = _tmpfs(tmp_path / "disk", "24m")
+    yield disk
+    subprocess.run(["umount", str(disk)], check=False)
+
+
+def test_full_disk_stops_a_streamed_run_partial_and_says_so(small_disk, monkeypatch, capsys):
+    """A real 24 MiB tmpfs. The streamed run's size check is lifted (the disk can fill after the
+    start, e.g. by another process); the run streams 6 MiB chunks until the disk cannot take
+    the next one. Before: ``RuntimeError: NetCDF: HDF error`` and an unreadable file. Now:
+    "no space left on device", exit 1, and the file readable, partial, with its chunks."""
+    import rubrotor.engine.driver as driver
+    import rubrotor.engine.general as general
+
+    monkeypatch.setattr(general, "STREAM_SAMPLES", 20000)
+    monkeypatch.setattr(general, "check_size", lambda *a, **k: None)
+    monkeypatch.setattr(driver, "check_size", lambda *a, **k: None)
+    out = small_disk / "s.nc"
+    argv = ["simulate", str(SCENARIOS / "seal_rub.toml"), "--revolutions", "300", "--out",
+            str(out), "--no-progress"]  # fmt: skip
+    assert main(argv) == 1
+    err = capsys.readouterr().err
+    assert "no space left on device" in err and "kept, partial" in err
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["status"] == "partial" and "no space left" in ds.attrs["status_message"]
+        assert ds.sizes["time"] > 1 and ds.sizes["checkpoint"] >= 1
+        assert np.all(np.isfinite(ds["v"].values))
+
+
+def test_full_disk_for_an_in_memory_result_says_so(tmp_path, capsys):
+    """A 1 MiB tmpfs and a 20-revolution seal_rub result (more than 1 MiB). Before: the
+    NetCDF HDF error traceback. Now "no space left on device", exit 1, no file left behind."""
+    import subprocess
+
+    disk = _tmpfs(tmp_path / "tiny", "1m")
+    try:
+        out = disk / "a.nc"
+        argv = ["simulate", str(SCENARIOS / "seal_rub.toml"), "--revolutions", "20", "--out",
+                str(out)]  # fmt: skip
+        assert main(argv) == 1
+        assert "no space left on device" in capsys.readouterr().err
+        assert list(disk.iterdir()) == []
+    finally:
+        subprocess.run(["umount", str(disk)], check=False)
+
+
+def test_ctrl_c_in_continue_keeps_the_branch_so_far(tmp_path, monkeypatch, capsys):
+    """Before: KeyboardInterrupt traceback. Ctrl-C after the third branch point: the branch so
+    far is written, the JSON says why it stopped, exit 1."""
+    import json
+
+    from test_continuation import HYST_TOML, KEY
+
+    import rubrotor.orbits.continuation as cont
+
+    real = cont._point
+    calls = []
+
+    def point(*a, **k):
+        calls.append(1)
+        if len(calls) == 4:
+            raise KeyboardInterrupt
+        return real(*a, **k)
+
+    monkeypatch.setattr(cont, "_point", point)
+    scen = tmp_path / "hyst.toml"
+    scen.write_text(HYST_TOML)
+    out = tmp_path / "b.nc"
+    args = ["continue", str(scen), "--vary", f"{KEY}=1.8:1.5", "--out", str(out), "--json",
+            "--points", "30"]  # fmt: skip
+    assert main(args) == 1
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["stopped"] == "interrupted" and len(summary["points"]) == 3
+    assert out.exists()
