@@ -570,3 +570,76 @@ def test_ctrl_c_in_continue_keeps_the_branch_so_far(tmp_path, monkeypatch, capsy
     summary = json.loads(capsys.readouterr().out)
     assert summary["stopped"] == "interrupted" and len(summary["points"]) == 3
     assert out.exists()
+
+
+# ---- 7. the output lock ------------------------------------------------------------------------
+HOLD = """
+import sys, time
+from rubrotor.errors import InputError
+from rubrotor.engine.output import claim_output
+start = float(sys.argv[2])
+while time.time() < start:
+    pass
+try:
+    with claim_output(sys.argv[1]):
+        t0 = time.time()
+        time.sleep(3.0)
+        t1 = time.time()
+    print("held", t0, t1, flush=True)
+except InputError:
+    print("refused", flush=True)
+"""
+
+
+def test_simultaneous_starts_give_the_lock_to_one_run(tmp_path):
+    """Before: 1 of 14 simultaneous starts both got the lock (a lock file created but not yet
+    written was read as empty, hence stale). 14 processes released at one instant, each
+    holding the lock for 3 s: no two hold it at the same time (a process slowed past the
+    first one's release may take it after), the others are refused; twice."""
+    import os
+    import subprocess
+    import sys
+    import time
+
+    import rubrotor
+
+    env = dict(os.environ, PYTHONPATH=str(Path(rubrotor.__file__).parents[1]))
+    for trial in range(2):
+        target = tmp_path / f"r{trial}.nc"
+        start = time.time() + 4.0  # every interpreter up and waiting by then, on a calm host
+        procs = [subprocess.Popen([sys.executable, "-c", HOLD, str(target), str(start)],
+                                  stdout=subprocess.PIPE, env=env) for _ in range(14)]  # fmt: skip
+        said = [p.communicate(timeout=120)[0].decode().split() for p in procs]
+        held = sorted((float(s[1]), float(s[2])) for s in said if s[0] == "held")
+        assert len(held) >= 1 and all(s[0] in ("held", "refused") for s in said), said
+        assert all(b[0] >= a[1] for a, b in zip(held, held[1:], strict=False)), held
+
+
+def test_empty_lock_file_of_a_dead_run_is_taken_and_a_live_one_respected(tmp_path):
+    """A lock file left empty (a run killed between creating and writing it) is free; a lock
+    held by a live claim is refused even though its file's content is not read."""
+    from rubrotor.engine.output import claim_output, lock_path
+    from rubrotor.errors import InputError
+
+    target = tmp_path / "r.nc"
+    lock_path(target).write_text("")
+    with claim_output(target):
+        with pytest.raises(InputError, match="no other run is writing"):
+            with claim_output(target):
+                pass
+    assert not lock_path(target).exists()
+
+
+def test_sweep_on_a_scheduler_without_dask_leaves_no_store(tmp_path, monkeypatch, capsys):
+    """Before: ``sweep --scheduler`` without Dask distributed left an empty store behind."""
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name == "distributed" else real(name, *a))  # fmt: skip
+    out = tmp_path / "s.zarr"
+    case = str(SCENARIOS / "seed_case1.toml")
+    argv = ["sweep", case, "--vary", "unbalance.magnitude=1e-4:3e-3:3", "--out", str(out),
+            "--scheduler", "tcp://127.0.0.1:1"]  # fmt: skip
+    assert main(argv) == 2
+    assert "--scheduler" in _one_error_line(capsys) and not out.exists()
