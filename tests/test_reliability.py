@@ -643,3 +643,31 @@ def test_sweep_on_a_scheduler_without_dask_leaves_no_store(tmp_path, monkeypatch
             "--scheduler", "tcp://127.0.0.1:1"]  # fmt: skip
     assert main(argv) == 2
     assert "--scheduler" in _one_error_line(capsys) and not out.exists()
+
+
+# ---- 9. the Python API names the argument ------------------------------------------------------
+def _api_calls(tmp_path):
+    import xarray
+
+    import rubrotor
+    from rubrotor.linear.static import static_analysis
+
+    seal = rubrotor.load_scenario(SCENARIOS / "seal_rub.toml")
+    return [
+        (lambda: rubrotor.load_scenario(None), "path"),
+        (lambda: rubrotor.load_scenario(3), "path"),
+        (lambda: rubrotor.simulate(seal, integrator="abc"), "integrator"),
+        (lambda: static_analysis(seal, gravity="down"), "gravity"),
+        (lambda: static_analysis(seal, gravity=[1.0, [2.0]]), "gravity"),
+        (lambda: rubrotor.save_dataset(xarray.Dataset(), "/proc/nope/x.nc"), "path"),
+    ]
+
+
+def test_bad_python_calls_raise_input_error_naming_the_argument(tmp_path):
+    """Before: TypeError, AttributeError, ValueError, FileNotFoundError."""
+    from rubrotor.errors import InputError
+
+    for call, field in _api_calls(tmp_path):
+        with pytest.raises(InputError) as err:
+            call()
+        assert err.value.field == field, err.value

@@ -830,8 +830,11 @@ def simulate(
         ``"partial"`` (then ``attrs["status_message"]`` says why and where it stopped).
     """
     from rubrotor.engine.result import to_dataset
+    from rubrotor.errors import instance_argument
     from rubrotor.scenario.load import as_scenario
 
+    instance_argument("integrator", integrator, Integrator, "a rubrotor.Integrator (or None: "
+                      "the scenario's [simulation] section)")  # fmt: skip
     scenario = as_scenario(scenario)
     if scenario.model.general:  # a finite-element rotor or general-engine keys
         from rubrotor.engine.general import simulate_engine
