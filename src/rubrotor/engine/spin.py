@@ -31,6 +31,7 @@ import numpy as np
 
 from rubrotor.engine.spin_guard import (
     STABILITY,
+    STEPS_PER_SAMPLE,
     check_samples,
     estimated_normal,
     refuse_unresolvable,
@@ -300,8 +301,10 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
         Relative tolerance and absolute tolerance (m) of the displacements; the other states'
         absolute tolerances follow from it (``_tolerances``).
     max_steps : int
-        Steps allowed; a run whose stiffest term (:mod:`rubrotor.engine.spin_guard`) needs more
-        is refused, naming its key, and one that comes to need more stops partial.
+        Steps allowed (at most ``STEPS_PER_SAMPLE`` per saved sample: a motion that much faster
+        than the sampling is not one the run was asked to resolve); a run whose stiffest term
+        (:mod:`rubrotor.engine.spin_guard`) needs more is refused, naming its key, and one that
+        comes to need more stops partial.
     progress : bool, optional
         Print a progress line on runs longer than 2 s (default: when stderr is a terminal).
     sample_keys : (str, str)
@@ -343,6 +346,7 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     w, tq = free.table()
     normal, why = estimated_normal(f0, Pc, unb, speed, nc)
     terms = stiff_terms(float(J), float(free.drag), Pc, cp, radius, ring, normal, why)
+    max_steps = int(min(max_steps, STEPS_PER_SAMPLE * max(n - 1, 1)))
     refuse_unresolvable(terms, duration, max_steps)
     ctrl = np.concatenate([[rtol, spacing / 64, max_steps],
                            _tolerances(basis, wn, atol, rtol, speed, Pc, radius, nc)])  # fmt: skip

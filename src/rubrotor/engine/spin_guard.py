@@ -22,11 +22,14 @@ import numpy as np
 
 from rubrotor.errors import InputError
 
-__all__ = ["stiff_terms", "stiffest", "check_samples", "run_chunks", "STABILITY"]
+__all__ = ["stiff_terms", "stiffest", "check_samples", "run_chunks", "STABILITY", "STEPS_PER_SAMPLE"]
 
 STABILITY = 3.3
 """Dormand-Prince 5(4): a step ``h`` is stable when ``h lambda <= 3.3`` (real or imaginary
 ``lambda``; the boundary of its stability region, Hairer and Wanner, vol. 1, IV.2)."""
+
+STEPS_PER_SAMPLE = 1000
+"""Steps a free-spin run may take per saved sample (the shipped touchdown_drop takes 3)."""
 
 MEMORY_SHARE = 0.5
 """A run's saved samples may take at most this share of the available memory."""
