@@ -671,3 +671,20 @@ def test_bad_python_calls_raise_input_error_naming_the_argument(tmp_path):
         with pytest.raises(InputError) as err:
             call()
         assert err.value.field == field, err.value
+
+
+def test_free_speed_progress_line(tmp_path, monkeypatch, capsys):
+    """``--progress`` on a free-speed run prints a progress line between chunks (before: none,
+    the kernel ran the whole run in one call). The clock is advanced so that every chunk
+    counts as past the 2 s after which the line starts."""
+    import itertools
+
+    import rubrotor.engine.spin_guard as guard
+
+    ticks = itertools.count(0.0, 1.0)
+    monkeypatch.setattr(guard.time, "perf_counter", lambda: next(ticks))
+    path = _drop(tmp_path, "speed", "drag", 0.0, duration=0.03)
+    out = tmp_path / "o.nc"
+    assert main(["simulate", str(path), "--out", str(out), "--progress"]) == 0
+    err = capsys.readouterr().err
+    assert "rubrotor:" in err and "% (t = " in err and "s left" in err

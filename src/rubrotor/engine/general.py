@@ -442,7 +442,7 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
 
         if stream is not None:
             raise ScenarioError("speed.profile", "free", "a run without streaming")
-        return simulate_free(scenario, integrator=integrator)
+        return simulate_free(scenario, integrator=integrator, progress=progress)
     system, run, kwargs, t0, snap = _problem(scenario, integrator)
     src = scenario.engine.initial_path
     if stream is not None and src is not None and Path(src).resolve() == Path(stream).resolve():

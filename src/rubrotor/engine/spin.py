@@ -442,7 +442,7 @@ def free_problem(scenario, integrator=None) -> tuple:
     return system, kwargs, positions
 
 
-def simulate_free(scenario, *, integrator=None):
+def simulate_free(scenario, *, integrator=None, progress=None):
     """Run a scenario with ``[speed] profile = "free"`` (see the module docstring).
 
     Parameters
@@ -451,6 +451,8 @@ def simulate_free(scenario, *, integrator=None):
         A ``[[section]]`` rotor scenario whose ``engine.free_spin`` is set.
     integrator : rubrotor.engine.settings.Integrator, optional
         Overrides ``[simulation]`` (see :func:`free_problem`).
+    progress : bool, optional
+        Print a progress line on runs longer than 2 s (default: when stderr is a terminal).
 
     Returns
     -------
@@ -459,7 +461,7 @@ def simulate_free(scenario, *, integrator=None):
         on ``contact``.
     """
     system, kwargs, positions = free_problem(scenario, integrator)
-    res = simulate_spin(system, **kwargs)
+    res = simulate_spin(system, **kwargs, progress=progress)
     ds = spin_dataset(res, system, positions)
     st = kwargs["stations"]
     ds["clearance"] = ("contact", [s.contact.clearance for s in st], {"units": "m"})
