@@ -159,9 +159,9 @@ FIXED = [
     ("seal_rub", "level1", None, None),
     ("seal_rub", "modes", ("materials", "steel", "density"), ("scale", 1e-12)),
     ("thermal_rub", "thermal", ("contact", 0, "stiffness"), ("set", 1e7)),
-    ("general_rotor", "static", ("gravity", None, "y"), ("set", math.nan)),
+    ("seal_rub", "static", ("gravity", None, "y"), ("set", math.nan)),
     ("seed_case1", "critical", None, None),
-    ("runup_rub", "simulate", ("speed", None, "rad_per_s_end"), ("set", -1e300)),
+    ("runup_rub", "simulate", ("speed", None, "to"), ("set", -1e300)),
     # found by the 250-case run: the start run of a continuation failed (AttributeError)
     ("one_mode_chaotic_rub", "continue", ("unbalance", None, "magnitude"), ("set", 0)),
 ]
