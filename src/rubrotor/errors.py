@@ -6,7 +6,7 @@ print it and exit with status 2 instead of showing a traceback.
 
 import re
 
-__all__ = ["RubrotorError", "ScenarioError", "InputError"]
+__all__ = ["RubrotorError", "ScenarioError", "InputError", "path_argument", "instance_argument"]
 
 
 class RubrotorError(Exception):
@@ -54,3 +54,21 @@ def _which_table(field: object) -> str:
 
 class ScenarioError(InputError):
     """A scenario file or mapping has a missing, unknown or invalid key."""
+
+
+def path_argument(name: str, value, allowed: str = "a file path (str or os.PathLike)"):
+    """``value`` as a :class:`pathlib.Path`, or :class:`InputError` naming the argument ``name``
+    (``None``, a number, ... given where the Python API takes a path)."""
+    import os
+    from pathlib import Path
+
+    if isinstance(value, bool) or not isinstance(value, str | os.PathLike):
+        raise InputError(name, value, allowed)
+    return Path(value)
+
+
+def instance_argument(name: str, value, kind: type, allowed: str):
+    """``value`` when it is a ``kind`` (or None), else :class:`InputError` naming ``name``."""
+    if value is not None and not isinstance(value, kind):
+        raise InputError(name, value, allowed)
+    return value

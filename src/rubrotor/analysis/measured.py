@@ -45,7 +45,11 @@ def read_csv_table(path) -> dict[str, np.ndarray]:
         Named columns (header names, in file order) followed by their indices ``"0"``, ``"1"``...
     """
     p = Path(path)
-    text = p.read_text().splitlines()
+    try:
+        text = p.read_text(encoding="utf-8").splitlines()
+    except UnicodeDecodeError as exc:
+        raise InputError("input", str(path), f"a CSV text file in UTF-8 (ASCII numbers): byte "
+                         f"{exc.start} is {exc.object[exc.start:exc.start + 1]!r}") from None  # fmt: skip
     if not text:
         raise InputError("input", str(path), "a CSV file with at least one row")
     first = [c.strip() for c in text[0].split(",")]
@@ -55,7 +59,7 @@ def read_csv_table(path) -> dict[str, np.ndarray]:
     except ValueError:
         names, skip = first, 1
     try:
-        data = np.loadtxt(p, delimiter=",", skiprows=skip, ndmin=2)
+        data = np.loadtxt(p, delimiter=",", skiprows=skip, ndmin=2, encoding="utf-8")
     except ValueError as exc:
         raise InputError("input", str(path), f"a CSV file of numbers ({exc})") from None
     if data.shape[1] != len(names):

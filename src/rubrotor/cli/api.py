@@ -153,7 +153,12 @@ def level1_run(args: argparse.Namespace) -> int:
         qa = anticipated_cross_coupling(p, speed, d, h, r)
     if qa is not None and not (math.isfinite(qa) and qa > 0):
         raise InputError("--qa", qa, "a cross-coupled stiffness > 0 (N/m)")
-    res = level1(system, speed, at, q, qa)
+    try:
+        res = level1(system, speed, at, q, qa)
+    except InputError as exc:
+        if exc.field != "stiffness":
+            raise
+        raise InputError("--stiffness", args.stiffness or "1e4:1e9:41", exc.allowed) from None
     if args.json:
         print_json(res.to_dict())
     else:

@@ -36,7 +36,7 @@ from rubrotor.cli.analyze import load_signals
 from rubrotor.cli.common import Command, parse_speeds
 from rubrotor.cli.simulate import run_summary
 from rubrotor.engine.output import claim_output
-from rubrotor.errors import RubrotorError
+from rubrotor.errors import InputError, RubrotorError
 from rubrotor.scenario.load import shipped_scenarios
 
 __all__ = [
@@ -241,10 +241,46 @@ def main(argv: list[str] | None = None) -> int:
     except RubrotorError as exc:
         print(f"rubrotor: error: {exc}", file=sys.stderr)
         return 2
+    except (OSError, RuntimeError) as exc:  # a full disk (a streamed file is kept, partial)
+        why = _disk_full(exc, args)
+        if why is None:
+            raise
+        print(f"rubrotor: error: {why}", file=sys.stderr)
+        return 1
     except BrokenPipeError:  # e.g. output piped into `head`
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 1
+
+
+def _disk_full(exc: BaseException, args: argparse.Namespace) -> str | None:
+    """The message of a write that failed for want of disk space, or None for another error.
+
+    ``ENOSPC``/``EDQUOT`` say so themselves; netCDF reports a full disk as ``NetCDF: HDF
+    error``, taken as one when a disk the verb writes to has less than 16 MiB free.
+    """
+    import errno
+    import shutil
+    from pathlib import Path
+
+    if isinstance(exc, BrokenPipeError):
+        return None
+    if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        text = exc.strerror or str(exc)
+        return text if text.startswith("no space left") else f"no space left on device: {exc}"
+    if not isinstance(exc, RuntimeError) or "HDF error" not in str(exc):
+        return None
+    for spec in getattr(args._command, "outputs", ()):
+        value = getattr(args, spec.rstrip("/"), None)
+        if value is None:
+            continue
+        folder = Path(value) if spec.endswith("/") else Path(value).parent
+        folder = folder if str(folder) else Path(".")
+        free = shutil.disk_usage(folder if folder.exists() else Path(".")).free
+        if free < 16 * 2**20:
+            return (f"no space left on device at {folder} ({free / 2**20:.3g} MiB free) "
+                    f"while writing {value} ({exc}); nothing was kept of what did not fit")
+    return None
 
 
 def _run(cmd: Command, args: argparse.Namespace) -> int:
@@ -255,5 +291,10 @@ def _run(cmd: Command, args: argparse.Namespace) -> int:
             value = getattr(args, name, None)
             if value is not None:
                 field = f"--{name}"
+                try:  # netCDF, HDF5 and zarr name files in UTF-8
+                    str(value).encode("utf-8")
+                except UnicodeEncodeError:
+                    raise InputError(field, value, "a file name that is valid UTF-8 (this one "
+                                     "holds bytes that are not text)") from None  # fmt: skip
                 stack.enter_context(claim_output(value, field, folder=spec.endswith("/")))
         return cmd.run(args)

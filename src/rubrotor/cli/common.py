@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rubrotor.errors import InputError
+from rubrotor.errors import InputError, RubrotorError
 
 TWO_PI = 2 * math.pi
 
@@ -46,7 +46,27 @@ class Command:
 
 
 def print_json(obj) -> None:
+    """Print ``obj`` as JSON; a non-finite number in it (never valid JSON, never a result) is
+    refused with the path where it sits (:class:`RubrotorError`, exit status 2)."""
+    where = _non_finite(obj, "")
+    if where is not None:
+        raise RubrotorError(f"the result is not finite at {where or 'the top'}: an input is "
+                            "beyond the range the computation represents (check the values "
+                            "of the scenario's keys and the options)")  # fmt: skip
     print(json.dumps(obj, indent=2))
+
+
+def _non_finite(obj, path: str):
+    """The JSON path of the first non-finite float in ``obj``, or None."""
+    if isinstance(obj, float):
+        return None if math.isfinite(obj) else path
+    if isinstance(obj, dict):
+        items = ((f"{path}.{k}" if path else str(k), v) for k, v in obj.items())
+    elif isinstance(obj, list | tuple):
+        items = ((f"{path}[{i}]", v) for i, v in enumerate(obj))
+    else:
+        return None
+    return next((w for p, v in items if (w := _non_finite(v, p)) is not None), None)
 
 
 def add_scenario(parser: argparse.ArgumentParser) -> None:

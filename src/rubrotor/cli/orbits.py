@@ -92,13 +92,18 @@ def continue_run(args: argparse.Namespace) -> int:
     scenario.with_changes(**{key: start})  # names a bad key before any work
     show = sys.stderr.isatty() if args.progress is None else args.progress
     progress = _Progress(key, start, stop) if show else None
-    branch = continue_orbit(scenario, key, start, stop, k=args.k, points=args.points,
-                            steps=args.steps, ds_max=args.ds_max, method=args.method,
-                            richardson=args.richardson, progress=progress)  # fmt: skip
+    try:
+        branch = continue_orbit(scenario, key, start, stop, k=args.k, points=args.points,
+                                steps=args.steps, ds_max=args.ds_max, method=args.method,
+                                richardson=args.richardson, progress=progress)  # fmt: skip
+    except KeyboardInterrupt:  # before the branch's first point: nothing to keep
+        print("rubrotor: warning: interrupted by the user before the first branch point; "
+              "nothing written", file=sys.stderr)  # fmt: skip
+        return 1
     if progress is not None:
         progress.done()
     branches = [branch]
-    if args.switch is not None:
+    if args.switch is not None and branch.stopped != "interrupted":
         branches.append(_switch(scenario, key, branch, stop, args))
     save_dataset(branches_dataset(branches), args.out)
     if args.figure is not None:
@@ -134,7 +139,7 @@ def continue_run(args: argparse.Namespace) -> int:
     else:
         for line in branch_summary(branches, key, args.out):
             print(line)
-    return 0
+    return 1 if any(br.stopped == "interrupted" for br in branches) else 0
 
 
 def branch_summary(branches, key: str, out: str) -> list[str]:

@@ -162,6 +162,11 @@ def unbalance_run(args: argparse.Namespace) -> int:
     speeds = parse_speeds(args.speeds)
     scenario = load_scenario(args.scenario)
     res = scenario_unbalance_response(scenario, speeds, on_rotor(scenario, args.probe, "--probe"))
+    if not np.all(np.isfinite(res.major)):  # linear in m e Omega^2: only a magnitude overflows
+        big = max(scenario.unbalances, key=lambda u: u.magnitude)
+        raise InputError("unbalance.magnitude", big.magnitude,
+                         f"an unbalance whose force m e Omega^2 at {speeds[-1]:g} rad/s and "
+                         "response are finite numbers (kg m)")  # fmt: skip
     if args.json:
         print_json(unbalance_to_dict(res))
     else:

@@ -147,6 +147,10 @@ def simulate_run(args: argparse.Namespace) -> int:
 
     scenario = load_scenario(args.scenario)
     out, summary_file = _outputs(args.out)
+    source = getattr(getattr(scenario, "engine", None), "initial_path", None)
+    if source is not None and Path(source).resolve() == out.resolve():
+        raise InputError("--out", args.out, "a file other than the restart file initial.path "
+                         "(the continuation would replace the run it continues)")  # fmt: skip
     integ = scenario.simulation
     if args.revolutions is not None:
         if integ is None:

@@ -107,6 +107,10 @@ def sweep_run(args: argparse.Namespace) -> int:
             raise InputError("--scheduler", args.scheduler, "no scheduler with --follow")
     try:
         ds = _sweep_or_follow(scenario, vary, args, progress)
+    except InputError as exc:  # the library's argument names: the options that set them
+        if exc.field in ("scheduler", "workers", "chunk_size"):
+            raise InputError(f"--{exc.field.replace('_', '-')}", exc.value, exc.allowed) from None
+        raise
     except KeyboardInterrupt:
         print(
             f"rubrotor: interrupted; {args.out} holds every finished chunk: "

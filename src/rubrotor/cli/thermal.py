@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -85,16 +86,21 @@ def thermal_run(args: argparse.Namespace) -> int:
         ]
         save_atomic(growth_figure(speeds, [r.growth_rate for r in res],
                                   [r.spiral_period for r in res], cr), Path(args.figure))  # fmt: skip
+    reasons = [r.reason for r in res if r.reason]
+    if reasons:
+        out["reasons"] = [r.reason or None for r in res]
     if args.json:
         print_json(out)
-        return 0
-    print(f"{scenario.name}: thermal bow, first forward critical "
-          f"{first if first is None else round(first, 2)} rad/s")  # fmt: skip
-    rows = [[f"{w:.2f}", f"{r.growth_rate * 3600:.4g}",
-             "-" if not math.isfinite(r.spiral_period) else f"{r.spiral_period / 60:.4g}"]
-            for w, r in zip(speeds, res, strict=True)]  # fmt: skip
-    print(table(["speed (rad/s)", "growth (1/h)", "period (min)"], rows))
-    return 0
+    else:
+        print(f"{scenario.name}: thermal bow, first forward critical "
+              f"{first if first is None else round(first, 2)} rad/s")  # fmt: skip
+        rows = [[f"{w:.2f}", f"{r.growth_rate * 3600:.4g}" if not r.reason else "-",
+                 "-" if not math.isfinite(r.spiral_period) else f"{r.spiral_period / 60:.4g}"]
+                for w, r in zip(speeds, res, strict=True)]  # fmt: skip
+        print(table(["speed (rad/s)", "growth (1/h)", "period (min)"], rows))
+    for reason in reasons:  # values missing at some speeds: say why, exit 1 (partial)
+        print(f"rubrotor: warning: {reason}", file=sys.stderr)
+    return 1 if reasons else 0
 
 
 def _simulate(scenario, args: argparse.Namespace) -> int:
@@ -127,4 +133,9 @@ def _simulate(scenario, args: argparse.Namespace) -> int:
     else:
         print(f"{scenario.name}: slow run {summary['status']} at "
               f"{summary['end_time_s'] / 3600:.3g} h -> {args.out}")  # fmt: skip
+    if summary["status"] != "complete":
+        print(f"rubrotor: warning: runaway: a bow reached 50 clearances at t = "
+              f"{summary['end_time_s']:.6g} s of {args.simulate * 3600:.6g} s; the run stopped "
+              f"there (data kept)", file=sys.stderr)  # fmt: skip
+        return 1
     return 0

@@ -170,7 +170,8 @@ def spin_dopri(x0, t_out, mats, forces, cont, spin, ctrl, out, istate):
     spin : tuple
         ``(J kg m^2, drag N m s, speeds (n,) rad/s, torques (n,) N m)``.
     ctrl : ndarray (3 + n_x,)
-        ``[rtol, h0 s, max_steps, atol per state...]``.
+        ``[rtol, h0 s, max_steps, atol per state...]``; ``ctrl[1]`` gets the next step size (s)
+        on return, to continue with.
     out : ndarray (n_x + 5 n_c, len(t_out))
         Filled with the saved channels.
     istate : ndarray of int64 (4,)
@@ -217,7 +218,9 @@ def spin_dopri(x0, t_out, mats, forces, cont, spin, ctrl, out, istate):
             for p in range(7):
                 e += _E[p] * k[p, q]
             sc = atol[q] + rtol * max(abs(x[q]), abs(x5[q]))
-            err = max(err, abs(h * e) / sc)
+            v = abs(h * e) / sc
+            if not v <= err:  # a NaN state is not a small error: it propagates
+                err = v
         if not math.isfinite(err):
             istate[0] = SPIN_DIVERGED
             break
@@ -248,3 +251,4 @@ def spin_dopri(x0, t_out, mats, forces, cont, spin, ctrl, out, istate):
     istate[1] = acc
     istate[2] = rej
     istate[3] = m
+    ctrl[1] = h  # the next step, so that a run continued from here takes the same steps

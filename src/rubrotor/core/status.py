@@ -27,6 +27,8 @@ Codes (the first four kept the values the engines used before the enumeration wa
     A matrix to factorise was singular (a zero pivot).
 ``TANGENTS_DEGENERATE`` (7)
     Tangent vectors lost their independence (a zero norm at re-orthonormalisation).
+``INTERRUPTED`` (8)
+    The user stopped the run (Ctrl-C) between two chunks of samples; what was computed is kept.
 """
 
 from enum import IntEnum
@@ -40,6 +42,7 @@ __all__ = [
     "MAX_STEPS",
     "SINGULAR",
     "TANGENTS_DEGENERATE",
+    "INTERRUPTED",
     "MESSAGES",
     "Status",
     "message",
@@ -53,6 +56,7 @@ STEP_TOO_SMALL = 4
 MAX_STEPS = 5
 SINGULAR = 6
 TANGENTS_DEGENERATE = 7
+INTERRUPTED = 8
 
 MESSAGES = (
     "complete",
@@ -63,6 +67,7 @@ MESSAGES = (
     "too many steps",
     "singular matrix",
     "tangent vectors degenerate",
+    "interrupted by the user",
 )
 """What each code means, indexed by the code."""
 
@@ -78,6 +83,7 @@ class Status(IntEnum):
     MAX_STEPS = MAX_STEPS
     SINGULAR = SINGULAR
     TANGENTS_DEGENERATE = TANGENTS_DEGENERATE
+    INTERRUPTED = INTERRUPTED
 
     @property
     def message(self) -> str:

@@ -61,44 +61,17 @@ def _restart(path: str, scenario, system, speed: float) -> tuple[np.ndarray, flo
     try:
         with xr.open_dataset(path, engine="netcdf4") as ds:  # lazily: read what is used
             return _restart_from(ds, path, scenario, system, speed)
+    except ScenarioError:  # a refusal of the file's content: not nested in this one
+        raise
     except (OSError, ValueError) as exc:
         raise ScenarioError("initial.path", path, f"a readable results file ({exc})") from None
 
 
 def _restart_from(ds, path: str, scenario, system, speed: float):
-    """:func:`_restart` on the opened file."""
-    from rubrotor.engine.restart import check_fingerprint, fingerprint, finite_state, unflatten
+    """:func:`_restart` on the opened file (:func:`rubrotor.engine.restart.read_restart`)."""
+    from rubrotor.engine.restart import read_restart
 
-    at = ds.attrs
-    if "final_state" not in at and "restart_vector" not in ds:
-        raise ScenarioError("initial.path", path, "a results file written by the general engine")
-    if "speed_end_rad_s" in at:
-        raise ScenarioError("initial.path", path, "a constant-speed results file")
-    if not math.isclose(float(at["speed_rad_s"]), speed, rel_tol=1e-12):
-        raise ScenarioError("initial.path", path, f"a results file run at {speed:g} rad/s")
-    if "model_fingerprint" in at:
-        now = fingerprint(system, scenario.engine.stations, speed)
-        check_fingerprint(json.loads(at["model_fingerprint"]), now, path)
-    snap = None
-    if "restart_vector" in ds and ds.sizes["checkpoint"]:
-        lay = json.loads(ds["restart_vector"].attrs["layout"])
-        t_last = float(ds["restart_time"].values[-1])
-        snap = unflatten(ds["restart_vector"].values[-1], lay, t_last)
-        x, end = np.array(snap["x"], float), t_last
-        if not finite_state(snap):
-            raise ScenarioError("initial.path", path, "a results file whose kept state is finite")
-    else:  # a file of an earlier version: the rotor state only
-        x = np.array(json.loads(at["final_state"]), float)
-        end = float(
-            at.get("end_time_s", float(at.get("start_time_s", 0.0)) + ds["time"].values[-1])
-        )
-        if at.get("status") != "complete" or not np.all(np.isfinite(x)):
-            raise ScenarioError("initial.path", path,
-                                "a complete results file (this one has no restart state)")  # fmt: skip
-    n = system.n_dof
-    if x.shape != (2 * n,):
-        raise ScenarioError("initial.path", path, f"a results file of this rotor ({2 * n} states)")
-    return x, end, snap
+    return read_restart(ds, path, scenario, system, speed)
 
 
 POINTS_PER_PERIOD = 20
@@ -509,7 +482,7 @@ def simulate_engine(scenario, *, integrator=None, progress=None, stream=None):
 
         if stream is not None:
             raise ScenarioError("speed.profile", "free", "a run without streaming")
-        return simulate_free(scenario, integrator=integrator)
+        return simulate_free(scenario, integrator=integrator, progress=progress)
     res, run, t0, fp = engine_run(scenario, integrator=integrator, progress=progress,
                                   stream=stream)  # fmt: skip
     if stream is not None:

@@ -110,13 +110,48 @@ def _holder(lock: Path) -> int | None:
     return pid
 
 
+def _acquire(lock: Path, field: str, path) -> int:
+    """Open ``lock`` and take an exclusive ``flock`` on it: the descriptor, or
+    :class:`InputError` naming the live process that holds it.
+
+    The kernel releases the lock when its process dies, however it dies, so a lock file left
+    behind by a killed run is free to take, and there is no window in which a lock being
+    written looks stale (an empty file, seen by 1 of 14 simultaneous starts when liveness was
+    read from the file's content). A lock taken on a file another run removed meanwhile (a
+    different inode at the path) is let go and taken again.
+    """
+    import fcntl
+
+    for _ in range(16):
+        fd = os.open(lock, os.O_CREAT | os.O_RDWR, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            pid = _holder(lock)
+            who = f"process {pid} is" if pid is not None else "another run is"
+            raise InputError(field, str(path), f"a path no other run is writing ({who} writing "
+                             f"it; its lock is {lock})") from None  # fmt: skip
+        try:
+            same = os.stat(lock).st_ino == os.fstat(fd).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            os.ftruncate(fd, 0)
+            os.write(fd, f"{os.getpid()} {socket.gethostname()}".encode())
+            return fd
+        os.close(fd)  # removed by the run that held it: take the new file
+    raise InputError(field, str(path), f"a path no other run is writing (lock {lock})")
+
+
 @contextlib.contextmanager
 def claim_output(path: str | os.PathLike, field: str = "--out", *, folder: bool = False):
     """Check ``path`` (:func:`check_output`) and hold its lock file while the body runs.
 
-    The lock ``.NAME.lock`` (see :func:`lock_path`) is created with ``O_EXCL`` and holds
-    ``"PID HOSTNAME"``; it is removed when the body ends, however it ends. A lock whose process
-    no longer runs on this host is stale and taken over.
+    The lock ``.NAME.lock`` (see :func:`lock_path`) is held with an exclusive ``flock``
+    (:func:`_acquire`) and holds ``"PID HOSTNAME"`` (for the message); it is removed when the
+    body ends, however it ends. A lock file left by a run that died is free (the kernel
+    released its lock) and taken over.
 
     Parameters
     ----------
@@ -141,26 +176,10 @@ def claim_output(path: str | os.PathLike, field: str = "--out", *, folder: bool 
     where = p if folder else p.parent
     where.mkdir(parents=True, exist_ok=True)
     lock = where / ".rubrotor.lock" if folder else lock_path(p)
-    for _ in range(2):
-        try:
-            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-        except FileExistsError:
-            pid = _holder(lock)
-            if pid is not None:
-                raise InputError(
-                    field, str(path), f"a path no other run is writing (process {pid} is "
-                    f"writing it; its lock is {lock})"
-                ) from None  # fmt: skip
-            with contextlib.suppress(FileNotFoundError):
-                os.remove(lock)  # stale: its run died
-            continue
-        with os.fdopen(fd, "w") as f:
-            f.write(f"{os.getpid()} {socket.gethostname()}")
-        break
-    else:
-        raise InputError(field, str(path), f"a path no other run is writing (lock {lock})")
+    fd = _acquire(lock, field, path)
     try:
         yield p
     finally:
         with contextlib.suppress(FileNotFoundError):
-            os.remove(lock)
+            os.remove(lock)  # before unlocking: a run that opened it sees another inode, retries
+        os.close(fd)

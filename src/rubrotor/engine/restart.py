@@ -22,7 +22,9 @@ differs.
 
 from __future__ import annotations
 
+import json
 import math
+import zlib
 
 import numpy as np
 
@@ -30,8 +32,12 @@ from rubrotor.errors import ScenarioError
 
 __all__ = [
     "physical_state", "snapshot", "resume", "fingerprint", "check_fingerprint", "finite_state", "flatten",
-    "unflatten", "layout",
+    "unflatten", "layout", "checksum", "read_restart",
 ]  # fmt: skip
+
+CONTACT_KEYS = ("position", "clearance", "radius", "offset_y", "offset_z", "law", "stiffness",
+                "damping", "friction", "friction_sign", "friction_regularization", "stator")
+"""The contact parameters a restart file must share with the scenario (those a file keeps)."""
 
 _REL = 1e-9
 """Relative tolerance of the fingerprint's matrix sums (assembly round-off is ~1e-16)."""
@@ -160,7 +166,8 @@ def fingerprint(system, stations, speed: float) -> dict:
     dict
         ``n_dof``; ``mass``, ``damping``, ``stiffness``: three sums each (kg, N s/m, N/m
         weighted); ``contacts``: per station its position (m), clearance (m), radius (m),
-        offsets (m), law and stator (kg, N/m, N s/m, or ``None``).
+        offsets (m), law, stiffness, damping, friction, friction sign and regularization (the
+        contact force's parameters) and stator (kg, N/m, N s/m, or ``None``).
     """
     sm = system.matrices(speed)
     contacts = []
@@ -170,6 +177,9 @@ def fingerprint(system, stations, speed: float) -> dict:
         contacts.append({
             "position": c.position, "clearance": c.clearance, "radius": c.radius,
             "offset_y": s.offset_y, "offset_z": s.offset_z, "law": c.law,
+            "stiffness": c.stiffness, "damping": c.damping, "friction": c.friction,
+            "friction_sign": c.friction_sign,
+            "friction_regularization": c.friction_regularization,
             "stator": None if st is None else [st.mass_y, st.mass_z, st.stiffness_y,
                                                st.stiffness_z, st.damping_y, st.damping_z],
         })  # fmt: skip
@@ -183,7 +193,7 @@ def fingerprint(system, stations, speed: float) -> dict:
 
 
 def _close(a, b) -> bool:
-    if a is None or b is None or isinstance(a, str):
+    if a is None or b is None or isinstance(a, str) or isinstance(b, str):
         return a == b
     a, b = np.atleast_1d(np.asarray(a, float)), np.atleast_1d(np.asarray(b, float))
     if a.shape != b.shape:
@@ -212,7 +222,9 @@ def check_fingerprint(stored: dict, now: dict, path: str) -> None:
         raise ScenarioError("contact", f"{len(cn)} stations",
                             f"{len(cs)} contact stations, as in the restart file initial.path = {path!r}")  # fmt: skip
     for i, (a, b) in enumerate(zip(cs, cn, strict=True)):
-        for key in ("position", "clearance", "radius", "offset_y", "offset_z", "law", "stator"):
+        for key in CONTACT_KEYS:
+            if key not in a or key not in b:  # a file written before the key was kept
+                continue
             if not _close(a[key], b[key]):
                 name = (
                     f"contact[{i + 1}].{key}" if key != "stator" else f"contact[{i + 1}].stator_*"
@@ -247,20 +259,50 @@ def layout(snap: dict) -> dict:
         "F": len(snap["F"]),
         "Fp": len(snap["Fp"]),
         "dprev": len(snap["dprev"]),
+        "checksum": 1,
     }
+
+
+def checksum(vec: np.ndarray) -> float:
+    """CRC-32 of the little-endian float64 bytes of ``vec`` (an integer below 2^32, exact as a
+    float): the last component of :func:`flatten`'s vector, so that a changed byte is seen."""
+    return float(zlib.crc32(np.asarray(vec, "<f8").tobytes()))
 
 
 def flatten(snap: dict) -> np.ndarray:
     """A snapshot (without ``time_s``) as one float vector: ``x``, the stator states, ``F``,
-    ``Fp``, ``dprev``, ``hp``, ``level`` (SI; the layout is :func:`layout`)."""
+    ``Fp``, ``dprev``, ``hp``, ``level`` (SI; the layout is :func:`layout`), then the
+    :func:`checksum` of those."""
     parts = [snap["x"]] + [u for u in snap["stators"] if u is not None]
     parts += [snap["F"], snap["Fp"], snap["dprev"], [snap["hp"], snap["level"]]]
-    return np.concatenate([np.asarray(p, float) for p in parts])
+    vec = np.concatenate([np.asarray(p, float) for p in parts])
+    return np.append(vec, checksum(vec))
+
+
+def intact(vec: np.ndarray, lay: dict) -> bool:
+    """Whether ``vec`` matches its :func:`checksum` (always, for a layout without one: files
+    written before it was added)."""
+    if not lay.get("checksum"):
+        return True
+    vec = np.asarray(vec, float)
+    return checksum(vec[:-1]) == vec[-1]
 
 
 def unflatten(vec: np.ndarray, lay: dict, time_s: float) -> dict:
-    """Inverse of :func:`flatten` for the layout ``lay``; ``time_s`` (s) added."""
+    """Inverse of :func:`flatten` for the layout ``lay``; ``time_s`` (s) added.
+
+    Raises
+    ------
+    ValueError
+        When the vector does not have the layout's length (:func:`intact` checks its checksum).
+    """
     vec = np.asarray(vec, float)
+    try:
+        size = lay["x"] + sum(lay["stators"]) + lay["F"] + lay["Fp"] + lay["dprev"] + 2
+    except (KeyError, TypeError):
+        raise ValueError("its restart_vector layout attribute is incomplete") from None
+    if vec.shape != (size + lay.get("checksum", 0),):
+        raise ValueError(f"its restart_vector has {vec.size} components, its layout {size}")
     pos = 0
 
     def take(k: int) -> list:
@@ -274,3 +316,108 @@ def unflatten(vec: np.ndarray, lay: dict, time_s: float) -> dict:
             "Fp": take(lay["Fp"]), "dprev": take(lay["dprev"])}  # fmt: skip
     hp, level = take(2)
     return {**snap, "hp": hp, "level": int(level)}
+
+
+def read_restart(ds, path: str, scenario, system, speed: float):
+    """State ``x`` (``[q, q']`` on the free DOFs), start time (s) and restart state of an open
+    results file, checked against the scenario's model.
+
+    Every way a file can fail to be a restart of this model is refused naming
+    ``initial.path``, or the contact key that differs (:func:`check_fingerprint`): not written
+    by the general engine, missing attributes, stopped before its first chunk, another speed,
+    another model (a file without a fingerprint: its stored scenario's rotor and contact tables
+    compared with this one's), a negative or non-finite restart time, a restart vector whose
+    checksum does not match, a state that is not finite.
+    """
+    at = ds.attrs
+
+    def refuse(allowed):
+        raise ScenarioError("initial.path", path, allowed)
+
+    has_rows = "restart_vector" in ds and ds.sizes.get("checkpoint", 0) > 0
+    if "restart_vector" not in ds and "final_state" not in at:
+        refuse("a results file written by the general engine (this one has no restart state)")
+    if "restart_vector" in ds and not has_rows and "final_state" not in at:
+        refuse("a results file with a restart state: this one stopped before its first chunk "
+               "completed (nothing to continue from; run it again)")
+    if "speed_end_rad_s" in at:
+        refuse("a constant-speed results file")
+    try:
+        stored_speed = float(at["speed_rad_s"])
+    except (KeyError, TypeError, ValueError):
+        refuse("a results file with its speed_rad_s attribute (this one has none: damaged?)")
+    if not math.isclose(stored_speed, speed, rel_tol=1e-12):
+        refuse(f"a results file run at {speed:g} rad/s")
+    stations = scenario.engine.stations
+    if "model_fingerprint" in at:
+        try:
+            stored = json.loads(at["model_fingerprint"])
+        except ValueError:
+            refuse("a results file whose model_fingerprint attribute is readable JSON")
+        check_fingerprint(stored, fingerprint(system, stations, speed), path)
+    else:
+        _same_tables(at.get("scenario", ""), getattr(scenario, "source", ""), path)
+    if has_rows:
+        x, end, snap = _last_row(ds, path)
+    else:  # a file of an earlier version: the rotor state only
+        if at.get("status") != "complete":
+            refuse("a complete results file (this one has no restart state)")
+        try:
+            x = np.array(json.loads(at["final_state"]), float)
+            end = float(at.get("end_time_s", float(at.get("start_time_s", 0.0))
+                               + float(ds["time"].values[-1])))  # fmt: skip
+        except (KeyError, ValueError, IndexError, TypeError):
+            refuse("a results file whose final_state and time are readable")
+        snap = None
+        if not np.all(np.isfinite(x)):
+            refuse("a results file whose kept state is finite")
+    if not (math.isfinite(end) and end >= 0):
+        refuse(f"a results file whose restart time is finite and >= 0 s (it has {end!r})")
+    n = system.n_dof
+    if x.shape != (2 * n,):
+        refuse(f"a results file of this rotor ({2 * n} states)")
+    return x, end, snap
+
+
+def _last_row(ds, path: str):
+    """``x``, time (s) and snapshot of the last restart row, its layout and checksum checked."""
+    try:
+        lay = json.loads(ds["restart_vector"].attrs["layout"])
+        t_last = float(ds["restart_time"].values[-1])
+        snap = unflatten(ds["restart_vector"].values[-1], lay, t_last)
+    except (KeyError, ValueError, TypeError) as exc:
+        why = exc if isinstance(exc, ValueError) else f"no {exc} attribute"
+        raise ScenarioError("initial.path", path, f"a results file with an intact restart "
+                            f"state ({why})") from None  # fmt: skip
+    if not finite_state(snap):
+        raise ScenarioError("initial.path", path, "a results file whose kept state is finite")
+    if not intact(ds["restart_vector"].values[-1], lay):
+        raise ScenarioError("initial.path", path, "a results file with an intact restart state "
+                            "(its restart_vector does not match its checksum: changed after "
+                            "it was written)")  # fmt: skip
+    return np.array(snap["x"], float), t_last, snap
+
+
+ROTOR_TABLES = ("materials", "shaft", "section", "disk", "bearing", "support", "contact",
+                "stator")  # fmt: skip
+"""Tables of a scenario that make its model (compared for files without a fingerprint)."""
+
+
+def _same_tables(stored: str, now: str, path: str) -> None:
+    """Refuse a file without a fingerprint whose stored scenario's rotor or contact tables
+    differ from the scenario's (or that stores no scenario to compare)."""
+    import tomllib
+
+    try:
+        a, b = tomllib.loads(stored), tomllib.loads(now)
+    except (tomllib.TOMLDecodeError, TypeError):
+        a, b = None, None
+    if not stored or a is None:
+        raise ScenarioError("initial.path", path, "a results file that says which model it "
+                            "belongs to (this one has neither a model_fingerprint nor its "
+                            "scenario)")  # fmt: skip
+    for key in ROTOR_TABLES:
+        if a.get(key) != b.get(key):
+            raise ScenarioError("initial.path", path, f"a results file of this model: its "
+                                f"scenario's [{key}] differs from this one's (the state belongs "
+                                "to that model)")  # fmt: skip

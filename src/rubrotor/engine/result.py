@@ -498,7 +498,12 @@ def save_dataset(ds: xr.Dataset, path: str | os.PathLike) -> Path:
         raise InputError("ds", _short(ds), "an xarray.Dataset (a result of rubrotor.simulate)")
     if not isinstance(path, str | os.PathLike):
         raise InputError("path", _short(path), "a file path (str or os.PathLike) ending in .nc")
-    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4"))
+    try:
+        return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4",
+                                                           format="NETCDF4"))  # fmt: skip
+    except (FileNotFoundError, NotADirectoryError, PermissionError) as exc:
+        raise InputError("path", str(path), f"a file in a folder that exists or can be made "
+                         f"and written ({exc.strerror}: {exc.filename})") from None  # fmt: skip
 
 
 def from_shaft_layout(ds: xr.Dataset) -> xr.Dataset:

@@ -798,9 +798,12 @@ def simulate(
         See :func:`rubrotor.engine.result.to_dataset`; ``attrs["status"]`` is ``"complete"`` or
         ``"partial"`` (then ``attrs["status_message"]`` says why and where it stopped).
     """
+    from rubrotor.errors import instance_argument
     from rubrotor.modelling import model_of
     from rubrotor.scenario.load import as_scenario
 
+    instance_argument("integrator", integrator, Integrator, "a rubrotor.Integrator (or None: "
+                      "the scenario's [simulation] section)")  # fmt: skip
     scenario = as_scenario(scenario)
     runner = model_of(scenario).runner  # the engine the Model chose
     if runner != "shaft" and track_energy:

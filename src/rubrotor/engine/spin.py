@@ -23,12 +23,23 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 import time
 
 import numpy as np
 
 from rubrotor.core.status import Status
 from rubrotor.engine.result import TimeRun, to_dataset
+from rubrotor.engine.spin_guard import (
+    STABILITY,
+    STEPS_PER_SAMPLE,
+    check_samples,
+    estimated_normal,
+    refuse_unresolvable,
+    run_chunks,
+    stiff_terms,
+    stiffest,
+)
 from rubrotor.errors import InputError
 from rubrotor.rotors.forces import FreeSpin, TouchdownRing  # their home; kept importable here
 
@@ -152,7 +163,8 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
                   stations=(), free: FreeSpin = _NO_DRIVE, rings=None, unbalances=(), loads=(),
                   gravity=(0.0, 0.0), fail_time: float = math.inf, failing=(), modes=None,
                   initial="rest", rtol: float = 1e-6, atol: float = 1e-10,
-                  max_steps: int = 50_000_000) -> SpinResult:  # fmt: skip
+                  max_steps: int = 50_000_000, progress: bool | None = None,
+                  sample_keys=("duration", "spacing")) -> SpinResult:  # fmt: skip
     """Simulate a rotor whose spin speed is a state (see the module docstring).
 
     Parameters
@@ -185,10 +197,21 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     rtol, atol : float
         Relative tolerance and absolute tolerance (m) of the displacements; the other states'
         absolute tolerances follow from it (``_tolerances``).
+    max_steps : int
+        Steps allowed (at most ``STEPS_PER_SAMPLE`` per saved sample: a motion that much faster
+        than the sampling is not one the run was asked to resolve); a run whose stiffest term
+        (:mod:`rubrotor.engine.spin_guard`) needs more is refused, naming its key, and one that
+        comes to need more stops partial.
+    progress : bool, optional
+        Print a progress line on runs longer than 2 s (default: when stderr is a terminal).
+    sample_keys : (str, str)
+        Names of ``duration`` and of the sample spacing in messages (the scenario's keys).
 
     Returns
     -------
     SpinResult
+        ``status`` ``"complete"`` (every saved value finite) or ``"partial"`` (``message`` says
+        why and where it stopped: diverged, too many steps, or interrupted with Ctrl-C).
     """
     from rubrotor.core.spin import spin_dopri
 
@@ -213,29 +236,51 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
         x0[: 2 * r] = (basis.T @ sm.M @ q.T).T.reshape(-1)
     elif initial != "rest":
         raise InputError("initial.state", initial, '"rest" or "static" with a free spin speed')
-    n = int(math.floor(duration / spacing + 1e-9)) + 1
+    rows = x0.size + 5 * nc
+    n = check_samples(math.floor(duration / spacing + 1e-9) + 1, rows, sample_keys,
+                      (duration, 1.0 / spacing))  # fmt: skip
     t_out = np.arange(n) * spacing
     w, tq = free.table()
+    normal, why = estimated_normal(f0, Pc, unb, speed, nc)
+    terms = stiff_terms(float(J), float(free.drag), Pc, cp, radius, ring, normal, why)
+    max_steps = int(min(max_steps, STEPS_PER_SAMPLE * max(n - 1, 1)))
+    refuse_unresolvable(terms, duration, max_steps)
     ctrl = np.concatenate([[rtol, spacing / 64, max_steps],
                            _tolerances(basis, wn, atol, rtol, speed, Pc, radius, nc)])  # fmt: skip
-    out = np.zeros((x0.size + 5 * nc, n))
-    ist = np.zeros(4, np.int64)
-    wall = time.perf_counter()
     mats = (grid, Kt, Ct, G, float(fail_time))
-    spin_dopri(x0, t_out, mats, (f0, Pu, unb), (Pc, offs, cp, radius, ring),
-               (float(J), float(free.drag), w, tq), ctrl, out, ist)  # fmt: skip
+    args = (mats, (f0, Pu, unb), (Pc, offs, cp, radius, ring), (float(J), float(free.drag), w, tq))
+
+    stopped = [Status.OK]  # the code of the diagnosed stop
+
+    def diagnose(code, saved, t, h, steps=None):
+        stopped[0] = Status(code)
+        normal = np.max(saved[x0.size :: 5], axis=1) if saved.shape[1] else np.zeros(nc)
+        rate, key, _, what = stiffest(stiff_terms(float(J), float(free.drag), Pc, cp, radius, ring,
+                                               normal))  # fmt: skip
+        where = f"at t = {t:.6g} s (step {h:.3g} s); data up to t = {t:.6g} s kept"
+        if code == Status.DIVERGED:
+            return (f"diverged {where}: the state is no longer finite; the stiffest term is "
+                    f"{key} ({what}, rate {rate:.3g} 1/s)")  # fmt: skip
+        more = f"about {steps:.3g} steps" if steps is not None else f"more than {max_steps} steps"
+        return (f"{Status(code).message} {where}: the run needs {more} (at most {max_steps}); the "
+                f"stiffest term is {key} ({what}, rate {rate:.3g} 1/s, stable steps "
+                f"<= {STABILITY / rate:.3g} s)")  # fmt: skip
+
+    show = sys.stderr.isatty() if progress is None else progress
+    wall = time.perf_counter()
+    out, (acc, rej), reason = run_chunks(spin_dopri, x0, t_out, args, ctrl, rows, show, diagnose)
     wall = time.perf_counter() - wall
-    m = int(ist[3])
+    m = out.shape[1]
     red = dict(K=Kt[0, 0], C=Ct[0, 0], G=G, f0=f0, Pc=Pc, Kt=Kt, Ct=Ct, grid=grid)
     state, contact = out[: x0.size, :m], out[x0.size :, :m].reshape(nc, 5, m)
     per_contact = np.concatenate([state[2 * r + 2 :, None], contact,
                                   -radius[:, None, None] * contact[:, 1:2]], axis=1)  # fmt: skip
-    code = Status(int(ist[0]))
+    code = stopped[0] if not reason or stopped[0] != Status.OK else Status.INTERRUPTED
     return TimeRun(
         time=t_out[:m], stations=np.zeros(0), n_contacts=nc,
         channels=per_contact.reshape(7 * nc, m), events=np.zeros((0, 2)),
-        status="complete" if code == Status.OK else "partial", message=code.message,
-        stats={"accepted": int(ist[1]), "rejected": int(ist[2]), "wall_s": wall},
+        status="partial" if reason else "complete", message=reason or code.message,
+        stats={"accepted": acc, "rejected": rej, "wall_s": wall},
         speed=float(speed), engine="free-spin", code=code,
         extras={"state": state, "contact": contact, "basis": basis, "reduced": red, "J": float(J),
                 "radius": radius, "rings": rings},
@@ -300,18 +345,22 @@ def free_problem(scenario, integrator=None) -> tuple:
         loads=forces.loads, gravity=forces.gravity, modes=eng.modes, initial=eng.initial,
         rtol=integ.rtol,
         atol=integ.atol, rings=eng.rings, **_failure(scenario.rotor),
+        sample_keys=("simulation.duration" if integ.duration is not None
+                     else "simulation.revolutions",
+                     "simulation.sample_rate" if integ.sample_rate is not None
+                     else "simulation.output_dtau"),
     )  # fmt: skip
     return system, kwargs, positions
 
 
-def free_run(scenario, integrator=None):
+def free_run(scenario, integrator=None, progress=None):
     """Run a ``[speed] profile = "free"`` scenario: ``(run, system, kwargs, positions)``, the
     :class:`~rubrotor.engine.result.TimeRun` and the :func:`free_problem` it was run from."""
     system, kwargs, positions = free_problem(scenario, integrator)
-    return simulate_spin(system, **kwargs), system, kwargs, positions
+    return simulate_spin(system, **kwargs, progress=progress), system, kwargs, positions
 
 
-def simulate_free(scenario, *, integrator=None):
+def simulate_free(scenario, *, integrator=None, progress=None):
     """Run a scenario with ``[speed] profile = "free"`` (see the module docstring).
 
     Parameters
@@ -320,6 +369,8 @@ def simulate_free(scenario, *, integrator=None):
         A ``[[section]]`` rotor scenario whose ``engine.free_spin`` is set.
     integrator : rubrotor.engine.settings.Integrator, optional
         Overrides ``[simulation]`` (see :func:`free_problem`).
+    progress : bool, optional
+        Print a progress line on runs longer than 2 s (default: when stderr is a terminal).
 
     Returns
     -------
@@ -327,7 +378,7 @@ def simulate_free(scenario, *, integrator=None):
         See :func:`spin_dataset`; also ``clearance``, ``contact_radius``, ``ring_radius`` (m)
         on ``contact``.
     """
-    res, system, kwargs, positions = free_run(scenario, integrator)
+    res, system, kwargs, positions = free_run(scenario, integrator, progress)
     ds = spin_dataset(res, system, positions)
     st = kwargs["stations"]
     ds["clearance"] = ("contact", [s.contact.clearance for s in st], {"units": "m"})

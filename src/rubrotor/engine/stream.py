@@ -16,6 +16,7 @@ status, its message, ``end_time_s`` and ``final_state``.
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import shutil
@@ -235,10 +236,19 @@ class NetcdfSink:
                 var.set_var_chunk_cache(size=CACHE_BYTES, nelems=127, preemption=1.0)
 
     def write(self, block: np.ndarray) -> None:
-        """Append ``block`` (channels x samples, the kernel's layout)."""
+        """Append ``block`` (channels x samples, the kernel's layout).
+
+        Raises
+        ------
+        DiskFull
+            Before writing, when the disk cannot take the block with a margin: the file, closed
+            by the caller with its final attributes, then stays readable, ending at the last
+            completed chunk (an HDF5 file whose write failed for want of space is unreadable).
+        """
         k = block.shape[1]
         if k == 0:
             return
+        self._room(2 * block.nbytes)
         a, b = self.n, self.n + k
         rel = np.arange(a, b) * self.dt
         times = rel + self.t0
@@ -268,6 +278,16 @@ class NetcdfSink:
                 j * self.S : (j + 1) * self.S, skip:
             ]
         self._tail = (vel[:, -2:], t[-2:])
+
+    def _room(self, nbytes: int) -> None:
+        """Raise :class:`DiskFull` unless ``nbytes`` plus :data:`DISK_MARGIN` are free."""
+        free = shutil.disk_usage(self.path.parent).free
+        if free < nbytes + DISK_MARGIN:
+            t = self.t0 + max(self.n - 1, 0) * self.dt
+            raise DiskFull(errno.ENOSPC, f"no space left on device at {self.path.parent} "
+                           f"({free / 2**20:.3g} MiB free, the next chunk needs "
+                           f"{(nbytes + DISK_MARGIN) / 2**20:.3g} MiB): {self.path} is kept, "
+                           f"partial, with the data up to t = {t:.6g} s")  # fmt: skip
 
     def write_events(self, events: np.ndarray) -> None:
         """Append contact events (``(n, 2)``: time (s), ``+/-(contact index + 1)``)."""
@@ -299,9 +319,19 @@ class NetcdfSink:
             self.nc.close()
 
 
+DISK_MARGIN = 1 << 20
+"""Bytes kept free on the disk of a streamed file (HDF5 metadata, the closing attributes)."""
+
+
+class DiskFull(OSError):
+    """The disk of a streamed file is full: stopped before a write that would not fit (the file
+    is closed by its writer and stays readable, partial). ``errno`` is ``ENOSPC``."""
+
+
 def define_restart(nc, lay: dict) -> None:
     """The restart variables of an open netCDF file (see the module docstring)."""
-    size = lay["x"] + sum(lay["stators"]) + lay["F"] + lay["Fp"] + lay["dprev"] + 2
+    size = (lay["x"] + sum(lay["stators"]) + lay["F"] + lay["Fp"] + lay["dprev"] + 2
+            + lay.get("checksum", 0))  # fmt: skip
     nc.createDimension("checkpoint", None)
     nc.createDimension("restart_component", size)
     t = nc.createVariable("restart_time", "f8", ("checkpoint",), chunksizes=(256,))

@@ -140,9 +140,127 @@ def _start_mode(system: LinearSystem, speed: float, n: int) -> complex:
     )
 
 
+FOLLOW_STEP = 10 ** 0.25
+"""Largest ratio between the ``Q`` values at which the mode is followed (4 per decade); a step
+whose eigenvalue moves by more than :data:`FOLLOW_SHARE` of its distance to the next mode is
+halved (in ``log Q``) until it does not."""
+FOLLOW_SHARE = 0.25
+FOLLOW_MIN_STEP = 1e-6
+"""Smallest relative step in ``Q``: a mode that needs smaller ones is not followed further."""
+COUPLING_LIMIT = 1e6
+"""``Q`` is followed up to this multiple of the rotor's direct stiffness at the station."""
+
+
+class _Follower:
+    """The mode of :func:`level1` followed along ``Q``: eigenvalue by continuity from a ``Q``
+    small against the rotor's stiffness at the station, so that the mode at a ``Q`` does not
+    depend on the other ``Q`` values asked for."""
+
+    def __init__(self, system, speed, position, n):
+        rows = system.output_rows(position)
+        self.dofs = tuple(int(system.free[np.argmax(np.abs(r))]) for r in rows)
+        if not np.allclose(np.abs(rows).max(axis=1), 1.0):
+            raise InputError("position", position, "a node of the rotor (give it as a station)")
+        self.system, self.speed, self.position, self.n = system, speed, position, n
+        k = system.matrices(speed).K
+        free = list(system.free)
+        self.k_scale = max(abs(k[free.index(d), free.index(d)]) for d in self.dofs)
+
+    def modes(self, q: float):
+        k = np.array([[[0.0, q], [-q, 0.0]]])
+        extra = Support(self.dofs, k, np.zeros((1, 2, 2)), None, float(self.position),
+                        "cross-coupling")  # fmt: skip
+        coupled = dataclasses.replace(self.system, supports=(*self.system.supports, extra))
+        return damped_modes(coupled, self.speed, n=self.n).modes, coupled
+
+    def start(self, q: float):
+        """``(Q, mode)`` of the followed mode at ``Q``, where it is identified."""
+        _, coupled = self.modes(q)
+        lam = _start_mode(coupled, self.speed, self.n)
+        modes, _ = self.modes(q)
+        return q, min(modes, key=lambda md: abs(md.eigenvalue - lam))
+
+    def step(self, qa: float, mode, qb: float):
+        """The followed mode at ``qb`` from its ``mode`` at ``qa``, or None where it cannot be
+        told from the others (the step is halved down to :data:`FOLLOW_MIN_STEP`)."""
+        while True:
+            modes, _ = self.modes(qb)
+            lam = np.array([md.eigenvalue for md in modes])
+            d = np.abs(lam - mode.eigenvalue)
+            i = int(np.argmin(d))
+            others = np.delete(lam, i)
+            gap = np.min(np.abs(others - lam[i])) if others.size else np.inf
+            if d[i] <= FOLLOW_SHARE * gap:
+                return modes[i]
+            if qb / qa - 1 < FOLLOW_MIN_STEP:
+                return None
+            mode = self.step(qa, mode, math.sqrt(qa * qb))
+            if mode is None:
+                return None
+            qa = math.sqrt(qa * qb)
+
+
+def _refuse_beyond(q: float, followed: float, why: str):
+    raise InputError("stiffness", float(q), f"cross-coupled stiffness up to {followed:.4g} N/m, the "
+                     f"range where the first forward mode is followed ({why})")  # fmt: skip
+
+
+def _follow(fol: _Follower, q: np.ndarray) -> tuple[np.ndarray, list]:
+    """The ``Q`` values (N/m) the mode is followed through (the asked ones and 4 per decade from
+    a ``Q`` of 1e-6 of the rotor's stiffness at the station) and the mode at each."""
+    limit = COUPLING_LIMIT * fol.k_scale
+    if q[-1] > limit:
+        _refuse_beyond(q[-1], limit, f"{COUPLING_LIMIT:g} times the rotor's direct stiffness "
+                       f"{fol.k_scale:.4g} N/m at x = {fol.position:g} m")  # fmt: skip
+    q_ref = 1e-6 * fol.k_scale
+    lo = min(q_ref, q[0])
+    k = np.arange(math.floor(math.log(lo / q_ref, FOLLOW_STEP)),
+                  math.ceil(math.log(q[-1] / q_ref, FOLLOW_STEP)) + 1)  # fmt: skip
+    grid = q_ref * FOLLOW_STEP ** k.astype(float)
+    path = np.unique(np.concatenate([grid[(grid > lo) & (grid < q[-1])], q]))
+    path = path[path >= lo]
+    qa, mode = fol.start(path[0])
+    modes = [mode]
+    for qb in path[1:]:
+        mode = fol.step(qa, mode, qb)
+        if mode is None:
+            _refuse_beyond(q[-1], qa, "beyond it the mode cannot be told from the others")
+        modes.append(mode)
+        qa = qb
+    return path, modes
+
+
+def _root(fol: _Follower, path, modes, q_lo, q_hi) -> float | None:
+    """``Q0`` (N/m): the first zero of the followed mode's log dec in ``[q_lo, q_hi]``, located
+    by Brent's method on ``log Q`` between the followed values that bracket it."""
+    from scipy.optimize import brentq
+
+    inside = np.flatnonzero((path >= q_lo) & (path <= q_hi))
+    ld = np.array([modes[i].log_dec for i in inside])
+    cross = np.flatnonzero((ld[:-1] > 0) & (ld[1:] <= 0))
+    if not cross.size:
+        return None
+    a, b = inside[cross[0]], inside[cross[0] + 1]
+
+    def log_dec(x):
+        m = fol.step(path[a], modes[a], math.exp(x)) if math.exp(x) > path[a] else modes[a]
+        return m.log_dec if m is not None else math.nan
+
+    x = brentq(log_dec, math.log(path[a]), math.log(path[b]), xtol=1e-13, rtol=1e-13)
+    return float(math.exp(x))
+
+
 def level1(system: LinearSystem, speed: float, position: float, stiffness=None, qa=None,
            n: int = 8) -> Level1:  # fmt: skip
     """Log dec of the first forward mode against a cross-coupled stiffness at one station.
+
+    The mode is the lowest one not whirling backward everywhere (forward or mixed) with
+    ``zeta <= 0.2`` at a ``Q`` of 1e-6 of the rotor's direct stiffness at the station (or the
+    first ``Q`` if lower), followed by continuity through 4 ``Q`` values per decade and the
+    ones asked for (a step is halved while the eigenvalue moves by more than a quarter of its
+    distance to the next mode), so the log dec at a ``Q`` and ``Q0`` do not depend on the
+    other values asked for. ``Q0`` is the first zero of the log dec in the range, located by
+    Brent's method.
 
     Parameters
     ----------
@@ -154,41 +272,26 @@ def level1(system: LinearSystem, speed: float, position: float, stiffness=None, 
     position : float
         Station of the added cross-coupling (m): mid-span, or the impeller.
     stiffness : array_like, optional
-        ``Q`` values (N/m, > 0, increasing); default 1e4 ... 1e9 N/m, 41 log-spaced.
+        ``Q`` values (N/m, > 0, increasing); default 1e4 ... 1e9 N/m, 41 log-spaced. Values
+        beyond 1e6 times the rotor's direct stiffness at the station, or beyond the ``Q``
+        where the mode can no longer be told from the others, are refused.
     qa : float, optional
         Anticipated cross-coupling (N/m), :func:`anticipated_cross_coupling`.
     n : int
-        Modes computed at each ``Q``: the lowest mode not whirling backward everywhere (forward
-        or mixed) with ``zeta <= 0.2`` at the first ``Q`` is followed to the others by the
-        nearest eigenvalue.
+        Modes computed at each ``Q``.
 
     Returns
     -------
     Level1
     """
     q = np.logspace(4, 9, 41) if stiffness is None else np.asarray(stiffness, float)
-    if q.ndim != 1 or q.size < 2 or np.any(q <= 0) or np.any(np.diff(q) <= 0):
+    if (q.ndim != 1 or q.size < 2 or not np.all(np.isfinite(q)) or np.any(q <= 0)
+            or np.any(np.diff(q) <= 0)):  # fmt: skip
         raise InputError("stiffness", stiffness, "increasing cross-coupled stiffness > 0 (N/m)")
-    rows = system.output_rows(position)
-    dofs = tuple(int(system.free[np.argmax(np.abs(r))]) for r in rows)
-    if not np.allclose(np.abs(rows).max(axis=1), 1.0):
-        raise InputError("position", position, "a node of the rotor (give it as a station)")
-    ld, fr = np.empty(q.size), np.empty(q.size)
-    lam = None
-    for i, qi in enumerate(q):
-        k = np.array([[[0.0, qi], [-qi, 0.0]]])
-        extra = Support(dofs, k, np.zeros((1, 2, 2)), None, float(position), "cross-coupling")
-        coupled = dataclasses.replace(system, supports=(*system.supports, extra))
-        if lam is None:
-            lam = _start_mode(coupled, speed, n)
-        modes = damped_modes(coupled, speed, n=n).modes
-        m = min(modes, key=lambda md: abs(md.eigenvalue - lam))  # follow the mode along Q
-        lam = m.eigenvalue
-        ld[i], fr[i] = m.log_dec, m.frequency_hz
-    q0 = None
-    cross = np.flatnonzero((ld[:-1] > 0) & (ld[1:] <= 0))
-    if cross.size:
-        j = cross[0]
-        t = ld[j] / (ld[j] - ld[j + 1])
-        q0 = float(math.exp(math.log(q[j]) + t * (math.log(q[j + 1]) - math.log(q[j]))))
+    fol = _Follower(system, speed, position, n)
+    path, modes = _follow(fol, q)
+    at = np.searchsorted(path, q)
+    ld = np.array([modes[i].log_dec for i in at])
+    fr = np.array([modes[i].frequency_hz for i in at])
+    q0 = _root(fol, path, modes, q[0], q[-1])
     return Level1(float(speed), float(position), q, ld, fr, q0, None if qa is None else float(qa))

@@ -183,7 +183,10 @@ def _end_reactions(length: float, points: list[tuple[float, np.ndarray]]) -> tup
 
 
 def _check_gravity(gravity) -> np.ndarray:
-    g = np.asarray(gravity, float)
+    try:
+        g = np.asarray(gravity, float)
+    except (TypeError, ValueError):  # text, or a ragged sequence
+        g = np.full(0, np.nan)
     if g.shape != (2,) or not np.all(np.isfinite(g)):
         raise InputError("gravity", gravity, "(g_y, g_z): two finite accelerations (m/s^2)")
     return g

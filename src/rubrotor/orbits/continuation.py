@@ -73,6 +73,7 @@ STOPS = {
     "points": "used its largest number of points",
     "step": "the corrector failed down to the smallest step (1e-8)",
     "met": "met the branch it was born from again",
+    "interrupted": "was interrupted by the user (Ctrl-C); the points so far are kept",
 }
 """Why a branch ended (``Branch.stopped``) and what that means."""
 
@@ -919,41 +920,44 @@ def _march(prob, z, t, gz, jac, bounds, points, ds, ds_max, first=None,
     pts, bifs, grazings = [first or _point(prob, z, jac, gz, t)], [], []
     sig = _tests(gz, t, jac)
     stopped = "points"
-    while len(pts) < points:
-        out = _chord(prob, z + ds * t, t, gz, ds=ds)
-        chord = out is not None
-        if not chord:
-            out = _correct(prob, z + ds * t, t)
-        if out is None:
-            ds *= 0.5
-            if ds < 1e-8:
-                stopped = "step"
+    try:
+        while len(pts) < points:
+            out = _chord(prob, z + ds * t, t, gz, ds=ds)
+            chord = out is not None
+            if not chord:
+                out = _correct(prob, z + ds * t, t)
+            if out is None:
+                ds *= 0.5
+                if ds < 1e-8:
+                    stopped = "step"
+                    break
+                continue
+            z1, gz1, jac1, iters = out
+            z1, gz1, jac1 = prob.polish(z1, gz1, jac1, t)
+            t1 = _tangent(gz1, t)
+            sig1 = _tests(gz1, t1, jac1)
+            new = _point(prob, z1, jac1, gz1, t1)
+            onset = _onset(prob, pts[-1], new)
+            found = _found(prob, z, t, ds, gz, _changed(sig, sig1), onset)
+            pts.append(new)
+            bifs += [_radius(b, pts[-2], pts[-1]) for b in found]
+            ds = _next_ds(ds, ds_max, t, t1, iters <= (6 if chord else 3), (hi - lo) / prob.sp)
+            z_in, z, t, sig, gz = z, z1, t1, sig1, gz1
+            if onset is not None:
+                grazings.append(onset)
+            if progress is not None:
+                progress(len(pts), points, pts[-1].value)
+            if not lo <= pts[-1].value <= hi:  # the last point lands on the bound it crossed
+                pts[-1:] = _land(prob, z_in, z, hi if pts[-1].value > hi else lo, t)
+                bifs = [b for b in bifs if lo <= b.value <= hi]
+                grazings = [g for g in grazings if lo <= g <= hi]
+                stopped = "range"
                 break
-            continue
-        z1, gz1, jac1, iters = out
-        z1, gz1, jac1 = prob.polish(z1, gz1, jac1, t)
-        t1 = _tangent(gz1, t)
-        sig1 = _tests(gz1, t1, jac1)
-        new = _point(prob, z1, jac1, gz1, t1)
-        onset = _onset(prob, pts[-1], new)
-        found = _found(prob, z, t, ds, gz, _changed(sig, sig1), onset)
-        pts.append(new)
-        bifs += [_radius(b, pts[-2], pts[-1]) for b in found]
-        ds = _next_ds(ds, ds_max, t, t1, iters <= (6 if chord else 3), (hi - lo) / prob.sp)
-        z_in, z, t, sig, gz = z, z1, t1, sig1, gz1
-        if onset is not None:
-            grazings.append(onset)
-        if progress is not None:
-            progress(len(pts), points, pts[-1].value)
-        if not lo <= pts[-1].value <= hi:  # the last point lands on the bound it crossed
-            pts[-1:] = _land(prob, z_in, z, hi if pts[-1].value > hi else lo, t)
-            bifs = [b for b in bifs if lo <= b.value <= hi]
-            grazings = [g for g in grazings if lo <= g <= hi]
-            stopped = "range"
-            break
-        if born_at is not None and _meets_again(bifs, born_at):
-            stopped = "met"
-            break
+            if born_at is not None and _meets_again(bifs, born_at):
+                stopped = "met"
+                break
+    except KeyboardInterrupt:  # Ctrl-C: the points so far are a branch, kept
+        stopped = "interrupted"
     method = "synchronous" if isinstance(prob, _SyncProblem) else "shooting"
     return Branch(prob.key, prob.k, tuple(pts), tuple(bifs), tuple(grazings), method, stopped)
 

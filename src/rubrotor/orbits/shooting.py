@@ -390,6 +390,11 @@ def shoot(scenario, guess=None, k: int = 1, *, steps: int = STEPS_PER_REVOLUTION
             scenario, _integrator(1, steps, False), progress=False, initial="steady"
         )
         guess = res.final_state
+        if guess is None:  # the start run itself did not complete: no orbit to start from
+            raise InputError("scenario", getattr(scenario, "name", ""),
+                             "a rotor whose one-revolution start run (from the steady response "
+                             f"without contact) completes; it stopped: {res.message or res.status}"
+                             )  # fmt: skip
     x0 = state_vector(guess)
     if transient_revolutions and not general:
         x0 = strobe(scenario, x0, int(transient_revolutions), steps)

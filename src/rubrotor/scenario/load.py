@@ -965,7 +965,10 @@ def load_scenario(path) -> Scenario:
         The file cannot be read, is not valid TOML (the parser's message and the file name), or
         a key is invalid (the message starts with the file name and names the key).
     """
-    p = find_scenario(path)
+    from rubrotor.errors import path_argument
+
+    p = find_scenario(path_argument("path", path, "a scenario TOML file path (str or "
+                                    "os.PathLike) or a shipped scenario's name"))
     try:
         text = p.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:

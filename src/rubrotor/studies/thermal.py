@@ -70,6 +70,8 @@ class SlowLinear:
         ``Im`` of that eigenvalue (rad/s, signed as above).
     spiral_period : float
         ``2 pi / |Im lambda|`` (s) of the eigenvalue with the largest real part (inf if real).
+    reason : str
+        Why the values are nan (no steady bow found, no steady orbit), ``""`` otherwise.
     """
 
     speed: float
@@ -79,6 +81,7 @@ class SlowLinear:
     eigenvalues: np.ndarray
     growth_rate: float
     spiral_period: float
+    reason: str = ""
 
     @property
     def spiral_frequency(self) -> float:
@@ -490,7 +493,8 @@ def growth_against_speed(scenario, speeds, *, thermal: ThermalBow | None = None,
     -------
     list of SlowLinear
         One per speed; the steady bow found at one speed starts Newton at the next. Where no
-        steady bow is found (its orbit diverges, Newton fails) every value is nan.
+        steady bow is found (its orbit diverges, Newton fails) every value is nan and
+        ``reason`` says why.
     """
     out, guess = [], None
     for w in np.asarray(speeds, float):
@@ -504,12 +508,29 @@ def growth_against_speed(scenario, speeds, *, thermal: ThermalBow | None = None,
                 if guess is None:
                     raise
                 lin = model.steady(None)  # the last speed's bow was too far: start afresh
-        except InputError:  # no steady bow found (e.g. no steady orbit at the bow): nan
+        except InputError as exc:  # no steady bow found (e.g. no steady orbit at the bow): nan
             nan = np.full(model.n_contacts, complex(math.nan, math.nan))
-            lin = SlowLinear(float(w), nan, nan, nan, np.full(2, nan[0]), math.nan, math.nan)
+            lin = SlowLinear(float(w), nan, nan, nan, np.full(2, nan[0]), math.nan, math.nan,
+                             _no_steady_bow(float(w), exc))  # fmt: skip
+        if not lin.reason and not (math.isfinite(lin.growth_rate)
+                                   and np.all(np.isfinite(lin.bow))):  # fmt: skip
+            lin = dataclasses.replace(lin, reason=f"at {float(w):.6g} rad/s the linearised slow "
+                                      "dynamics are not finite (a steady bow at the limit of "
+                                      "existence, e.g. exactly at a critical speed)")  # fmt: skip
         guess = None if math.isnan(lin.growth_rate) else lin.bow
         out.append(lin)
     return out
+
+
+def _no_steady_bow(speed: float, exc: Exception) -> str:
+    """Why a speed has no growth rate, with the keys that set it."""
+    if "diverging" in str(exc):
+        return (f"no growth rate at {speed:.6g} rad/s: the rub has no bounded steady orbit "
+                "there (a run from the no-contact orbit diverges: the rub itself is unstable, "
+                "e.g. a dry whirl, which contact.stiffness and contact.friction set)")  # fmt: skip
+    return (f"no growth rate at {speed:.6g} rad/s: no steady bow found ({exc}); the thermal "
+            "loop may have no steady state there (its gain grows with contact.stiffness, "
+            "contact.friction and thermal.bow_per_heat)")  # fmt: skip
 
 
 def slow_run(model: ThermalModel, duration: float, *, bow=None, samples: int = 200,
@@ -537,7 +558,8 @@ def slow_run(model: ThermalModel, duration: float, *, bow=None, samples: int = 2
         ``one_x`` (m, complex as ``one_x_real``/``one_x_imag`` on ``(time, station, axis)``:
         the 1X phasors of ``v`` and ``w`` at the contacts then the probes), ``bow_real/imag``
         (m) and ``heat_real/imag`` (W) on ``(time, contact)``; attributes ``status``
-        (``"complete"`` or ``"runaway"``), ``speed_rad_s`` and the thermal parameters.
+        (``"complete"`` or ``"runaway"``: then the last sample is the time the bow reached
+        ``max_bow``), ``speed_rad_s`` and the thermal parameters.
     """
     import scipy.integrate
 
@@ -555,14 +577,27 @@ def slow_run(model: ThermalModel, duration: float, *, bow=None, samples: int = 2
 
     runaway.terminal = True
     t_eval = np.linspace(0.0, float(duration), samples)
-    sol = scipy.integrate.solve_ivp(lambda t, y: model.rate(y), (0.0, float(duration)),
+
+    def rate(t, y):
+        try:
+            return model.rate(y)
+        except InputError as exc:
+            raise InputError("contact", f"bow {np.hypot(y[:n], y[n:]).max():.3g} m at "
+                             f"t = {t:.6g} s", "a rub with a bounded steady orbit at every bow "
+                             f"of the slow run ({_no_steady_bow(model.speed, exc)})") from None
+
+    sol = scipy.integrate.solve_ivp(rate, (0.0, float(duration)),
                                     np.concatenate([b0.real, b0.imag]), method="RK45",
                                     t_eval=t_eval, rtol=rtol, atol=1e-9 * gap,
                                     events=runaway)  # fmt: skip
     status = "runaway" if sol.status == 1 else "complete"
     if sol.status == -1:
         raise InputError("thermal", sol.message, "a slow run that the integrator completes")
-    return _slow_dataset(model, sol.t, sol.y, status)
+    t, y = sol.t, sol.y
+    if sol.status == 1:  # the last sample is the runaway itself, not the sample before it
+        t = np.append(t, sol.t_events[0][0])
+        y = np.column_stack([y, sol.y_events[0][0]])
+    return _slow_dataset(model, t, y, status)
 
 
 def _slow_dataset(model: ThermalModel, t, y, status: str):

@@ -645,6 +645,8 @@ def sweep(
     pool = None
     if scheduler is None:
         pool = _local_pool(workers, len(chunks))
+    else:  # before the store is made: a sweep that cannot run leaves nothing behind
+        _check_dask(scheduler)
     try:
         return _run(
             ds, keys, grid, chunks, chunk_size, definition, store, pool, scheduler, progress
@@ -766,6 +768,20 @@ def _execute(todo: list[dict], pool, scheduler: str | None, lost: list) -> Itera
         )
         return
     yield from _run_pool(run_chunk, todo, pool, lost)
+
+
+def _check_dask(scheduler: str) -> None:
+    """Refuse a cluster sweep where Dask distributed is not installed (the installation decides;
+    tested with the import blocked)."""
+    import importlib.util
+
+    if importlib.util.find_spec("distributed") is None:
+        raise InputError(
+            "scheduler",
+            scheduler,
+            'Dask distributed installed for a cluster sweep: pip install "rubrotor[sweep]" '
+            "(without --scheduler, sweeps run on local processes)",
+        )
 
 
 def _run_dask(fn, tasks: Sequence, scheduler: str, key=None) -> Iterator:
