@@ -112,7 +112,9 @@ def linear_system(obj, stations=()) -> LinearSystem:
     )
 
 
-def damped_modes(obj, speed: float | None = None, n: int | None = None) -> DampedModes:
+def damped_modes(
+    obj, speed: float | None = None, n: int | None = None, order: str = "natural"
+) -> DampedModes:
     """Damped modes (frequency, damping ratio, log dec, whirl, shape) of any rotor at a speed.
 
     Parameters
@@ -123,6 +125,9 @@ def damped_modes(obj, speed: float | None = None, n: int | None = None) -> Dampe
         Spin speed (rad/s); default the scenario's, or 0.
     n : int, optional
         Keep the ``n`` lowest modes (default all).
+    order : {"natural", "ross"}
+        By ``|lambda|`` (default) or ROSS 3.1's selection and order; see
+        :func:`rubrotor.linear.modes.damped_modes`.
 
     Returns
     -------
@@ -130,4 +135,4 @@ def damped_modes(obj, speed: float | None = None, n: int | None = None) -> Dampe
     """
     obj = _loaded(obj)
     default = obj.speed if isinstance(obj, Scenario) else 0.0
-    return _damped_modes(linear_system(obj), default if speed is None else speed, n)
+    return _damped_modes(linear_system(obj), default if speed is None else speed, n, order)
