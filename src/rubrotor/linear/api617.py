@@ -257,6 +257,13 @@ class ClearanceCheck:
         Their positions (m) and diametral clearances ``2 c`` (m).
     scaled : ndarray, shape (C, S)
         Scaled peak-to-peak major axis ``2 S_cc a_major`` (m).
+    mode : dict or None
+        The mode the unbalance was placed for (None when the planes were given):
+        ``forward_index`` (counted over the forward modes), ``frequency_rad_s`` (its damped
+        natural frequency at ``max_speed``, the estimate of its critical speed),
+        ``damping_ratio``, ``amplification_factor`` (``1 / (2 zeta)``, API 684's single-mode
+        estimate), ``separation_margin`` (its distance to the operating range
+        ``[min_speed, max_speed]``, relative to the nearer end; 0 inside) and ``whirl``.
     """
 
     speeds: np.ndarray
@@ -271,6 +278,7 @@ class ClearanceCheck:
     positions: np.ndarray
     clearances: np.ndarray
     scaled: np.ndarray
+    mode: dict | None = None
 
     @property
     def margin(self) -> np.ndarray:
@@ -295,6 +303,7 @@ class ClearanceCheck:
             "unbalance": [
                 {"position_m": p, "magnitude_kg_m": m, "phase_rad": f} for p, m, f in self.planes
             ],  # fmt: skip
+            "mode": self.mode,
             "vibration_limit_m_pp": self.vibration_limit,
             "max_probe_amplitude_m_pp": self.max_probe_amplitude,
             "scale_factor": self.scale_factor,
@@ -384,8 +393,10 @@ def clearance_check(
         raise InputError("probes", probes, "at least one vibration probe (position m, angle)")
     s = np.union1d(np.asarray(speeds, float), [min_speed, max_speed])
     s = s[s > 0]
+    info = None
     if planes is None:
         planes = api617_unbalance(system, max_speed, mode, 12, max_damping_ratio)[0]
+        info = _mode_info(system, min_speed, max_speed, mode, max_damping_ratio)
     points = [p for p, _ in probes] + [c[1] for c in clearances]
     resp = unbalance_response(system, s, list(planes), points).complex_response
     pp = _probe_pp(resp[:, : len(probes)], [a for _, a in probes])
@@ -401,4 +412,27 @@ def clearance_check(
         probe_response=pp, vibration_limit=avl, max_probe_amplitude=amax, scale_factor=scc,
         names=[c[0] for c in clearances], positions=np.array([c[1] for c in clearances], float),
         clearances=2 * np.array([c[2] for c in clearances], float), scaled=scc * major,
+        mode=info,
     )  # fmt: skip
+
+
+def _mode_info(system, min_speed: float, max_speed: float, mode: int, max_zeta) -> dict:
+    """What :attr:`ClearanceCheck.mode` says of forward mode ``mode`` at ``max_speed``."""
+    shapes, k = _forward_mode(system, max_speed, mode, 12, max_zeta)
+    m = shapes.modes.modes[k]
+    f = 2 * math.pi * m.frequency_hz
+    if f < min_speed:
+        sm = (min_speed - f) / min_speed
+    elif f > max_speed:
+        sm = (f - max_speed) / max_speed
+    else:
+        sm = 0.0
+    zeta = m.damping_ratio
+    return {
+        "forward_index": int(mode),
+        "frequency_rad_s": f,
+        "damping_ratio": zeta,
+        "amplification_factor": 1 / (2 * zeta) if zeta > 0 else None,
+        "separation_margin": sm,
+        "whirl": m.whirl,
+    }
