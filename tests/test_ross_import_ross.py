@@ -247,3 +247,45 @@ def test_api617_load_equals_ross_on_the_compressor(nmc, tmp_path):
     for j in range(2):
         np.testing.assert_allclose(mine.scaled[j], np.asarray(ref.clearance_response[j]),
                                    rtol=1e-6)  # fmt: skip
+
+
+@pytest.mark.skipif(not ROSS3, reason="ROSS 3.1's example rotors")
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_cli_unbalance_equals_run_unbalance_response(name, tmp_path, capsys):
+    """import-ross, an ``[unbalance]`` table (1e-4 kg m, 0.3 rad at the middle node), then
+    ``rubrotor unbalance --json`` at 40 speeds with a probe at every node: amplitudes and phases
+    along y and z equal ROSS's ``run_unbalance_response`` (x, y) to 1e-6 of the largest
+    amplitude (complex response compared)."""
+    r = _quiet(ROTORS[name])
+    saved = tmp_path / f"{name}.toml"
+    _quiet(r.save, saved)
+    out = tmp_path / "scenario.toml"
+    assert main(["import-ross", str(saved), "--out", str(out)]) == 0
+    nodes = np.asarray(r.nodes_pos, float)
+    node = len(nodes) // 2
+    out.write_text(out.read_text() + f"\n[unbalance]\nmagnitude = 1e-4\nposition = "
+                   f"{float(nodes[node])!r}\nphase_deg = {float(np.degrees(0.3))!r}\n")  # fmt: skip
+    speeds = np.linspace(50.0, 1500.0, 40)
+    argv = ["unbalance", str(out), "--json", "--speeds", "50:1500:40"]
+    for x in nodes:
+        argv += ["--probe", repr(float(x))]
+    capsys.readouterr()
+    assert main(argv) == 0
+    probes = json.loads(capsys.readouterr().out)["probes"]
+    mine = np.array(
+        [
+            [
+                np.asarray(p["amplitude_y_m"]) * np.exp(1j * np.asarray(p["phase_y_rad"])),
+                np.asarray(p["amplitude_z_m"]) * np.exp(1j * np.asarray(p["phase_z_rad"])),
+            ]
+            for p in probes
+        ]
+    )  # fmt: skip  (nodes, [y, z], speeds)
+    res = _quiet(r.run_unbalance_response, node, 1e-4, 0.3, speeds)
+    theirs = np.asarray(res.forced_resp)
+    d = r.number_dof
+    ref = np.stack([theirs[d * np.arange(len(nodes))], theirs[d * np.arange(len(nodes)) + 1]],
+                   axis=1)  # fmt: skip
+    err = np.abs(mine - ref).max() / np.abs(ref).max()
+    print(f"{name}: CLI unbalance vs run_unbalance_response {err:.1e}")
+    assert err <= 1e-6
