@@ -289,3 +289,33 @@ def test_cli_unbalance_equals_run_unbalance_response(name, tmp_path, capsys):
     err = np.abs(mine - ref).max() / np.abs(ref).max()
     print(f"{name}: CLI unbalance vs run_unbalance_response {err:.1e}")
     assert err <= 1e-6
+
+
+@pytest.mark.skipif(not ROSS3, reason="ROSS 3.1's example rotors and run_freq_response(speed=)")
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_cli_response_equals_run_freq_response(name, tmp_path, capsys):
+    """import-ross, then ``rubrotor response --json`` (a fixed unit force along y at the first
+    disk's node, spin 500 rad/s, 40 excitation frequencies, probe at the last node): the
+    complex response along y and z equals ROSS's ``run_freq_response(speed_range=w,
+    speed=500)`` (the columns of the x force) to 1e-6 of the largest."""
+    r = _quiet(ROTORS[name])
+    saved = tmp_path / f"{name}.toml"
+    _quiet(r.save, saved)
+    out = tmp_path / "scenario.toml"
+    assert main(["import-ross", str(saved), "--out", str(out)]) == 0
+    nodes = np.asarray(r.nodes_pos, float)
+    n_in, n_out = int(r.disk_elements[0].n), len(nodes) - 1
+    w = np.linspace(20.0, 2000.0, 40)
+    capsys.readouterr()
+    assert main(["response", str(out), "--json", "--speed", "500", "--at",
+                 repr(float(nodes[n_in])), "--frequencies", "20:2000:40", "--probe",
+                 repr(float(nodes[n_out]))]) == 0  # fmt: skip
+    (p,) = json.loads(capsys.readouterr().out)["probes"]
+    mine = np.array([np.asarray(p["amplitude_y_m"]) * np.exp(1j * np.asarray(p["phase_y_rad"])),
+                     np.asarray(p["amplitude_z_m"]) * np.exp(1j * np.asarray(p["phase_z_rad"]))])  # fmt: skip
+    h = np.asarray(_quiet(r.run_freq_response, speed_range=w, speed=500.0).freq_resp)
+    d = r.number_dof
+    ref = np.array([h[d * n_out, d * n_in, :], h[d * n_out + 1, d * n_in, :]])
+    err = np.abs(mine - ref).max() / np.abs(ref).max()
+    print(f"{name}: CLI response vs run_freq_response {err:.1e}")
+    assert err <= 1e-6
