@@ -81,6 +81,13 @@ def clearance_run(args: argparse.Namespace) -> int:
         print(
             f"{scenario.name}: API 617 close-clearance check, N_ma {nma:.5g} .. N_mc {nmc:.5g} rad/s"
         )
+        if res.mode is not None:
+            md = res.mode
+            af = md["amplification_factor"]
+            print(f"mode: forward mode {md['forward_index']} at {md['frequency_rad_s']:.6g} rad/s "
+                  f"({md['whirl']}), damping ratio {md['damping_ratio']:.4g}, AF "
+                  f"{'-' if af is None else f'{af:.3g}'}, separation margin "
+                  f"{100 * md['separation_margin']:.3g} %")  # fmt: skip
         print("unbalance: " + ", ".join(f"{m * 1e6:.4g} g mm at {p:g} m, {f:.3g} rad"
                                          for p, m, f in res.planes))  # fmt: skip
         print(f"A_vl {res.vibration_limit * 1e6:.4g} µm pk-pk, A_max {res.max_probe_amplitude * 1e6:.4g}"

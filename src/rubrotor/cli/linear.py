@@ -35,6 +35,21 @@ def modes_args(parser: argparse.ArgumentParser) -> None:
         help="refer modal masses and stiffnesses to this axial position (m); default: where "
         "each mode deflects most",
     )
+    parser.add_argument(
+        "--order",
+        choices=("ross", "natural"),
+        default="ross",
+        help="general rotors: modes selected and ordered as ROSS 3.1's run_modal (default: "
+        "the 4n nearest 1/s, positive damped frequencies first by damped frequency) or by "
+        "undamped natural frequency |lambda| (natural)",
+    )
+    parser.add_argument(
+        "--number",
+        type=int,
+        metavar="N",
+        help="general rotors: keep N modes (ROSS's run_modal with num_modes = 2 N); default "
+        "20 in the table, all in JSON",
+    )
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
 
 
@@ -63,7 +78,10 @@ def modes_run(args: argparse.Namespace) -> int:
     if not math.isfinite(speed) or speed < 0:
         raise InputError("--speed", args.speed, "a finite spin speed >= 0 (rad/s)")
     if model_of(scenario).linear == "matrix":
-        return _general_modes(scenario, speed, args.json, args.station)
+        if args.number is not None and args.number < 1:
+            raise InputError("--number", args.number, "a number of modes >= 1")
+        count = args.number if args.number is not None else (None if args.json else 20)
+        return _general_modes(scenario, speed, args.json, args.station, args.order, count)
     result = modes(scenario, speed)
     if args.json:
         out = {
@@ -86,11 +104,18 @@ def modes_run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _general_modes(scenario, speed: float, as_json: bool, station: float | None) -> int:
+def _general_modes(
+    scenario,
+    speed: float,
+    as_json: bool,
+    station: float | None,
+    order: str = "ross",
+    count: int | None = 20,
+) -> int:
     """Damped modes of a general rotor and modal masses: JSON, or tables."""
     from rubrotor.linear.verbs import damped_modes
 
-    result = damped_modes(scenario, speed, None if as_json else 20)
+    result = damped_modes(scenario, speed, count, order)
     if as_json:
         out = result.to_dict()
         _modal_masses(scenario, speed, station, out)
@@ -98,7 +123,11 @@ def _general_modes(scenario, speed: float, as_json: bool, station: float | None)
         return 0
     print(
         f"{scenario.name}: damped modes at {speed:.6g} rad/s ({speed / TWO_PI:.6g} Hz), "
-        "ranked by undamped natural frequency |lambda|"
+        + (
+            "ordered as ROSS 3.1 (by damped frequency)"
+            if order == "ross"
+            else "ranked by undamped natural frequency |lambda|"
+        )  # fmt: skip
     )
     rows = [
         [
@@ -109,7 +138,7 @@ def _general_modes(scenario, speed: float, as_json: bool, station: float | None)
             f"{m.log_dec:.4g}",
             m.whirl + (" (overdamped)" if m.overdamped else ""),
         ]
-        for m in result.modes  # the 20 lowest, then the overdamped roots up to the 20th
+        for m in result.modes  # 20 modes (natural: then the overdamped roots up to the 20th)
     ]
     head = ["mode", "frequency (Hz)", "natural (Hz)", "damping ratio", "log dec", "whirl"]
     print(table(head, rows))

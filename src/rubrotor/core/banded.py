@@ -190,7 +190,8 @@ def unbalance_sweep(parts, speeds, rhs, out_rows):
 def frequency_sweep(parts, spin, freqs, rhs, out_rows):
     """Forced response at every excitation frequency at one spin: ``out[s] = R Q`` with
     ``(K + K_s - w^2 M + i w (C + C_s + spin G)) Q = rhs`` (``w = freqs[s]``, rad/s; the
-    supports' entries at sweep index 0, ``spin`` in rad/s).
+    supports' entries at sweep index ``s`` when ``parts`` tabulates them at every frequency,
+    else at index 0; ``spin`` in rad/s).
 
     Returns ``(out, status, index)`` as :func:`unbalance_sweep`.
     """
@@ -205,7 +206,8 @@ def frequency_sweep(parts, spin, freqs, rhs, out_rows):
         ipiv = np.empty(n, np.int64)
         x = np.empty(n, np.complex128)
         for s in range(blk * ns // nblk, (blk + 1) * ns // nblk):
-            _assemble(parts, 0, spin, 1j * freqs[s], ab)
+            row = s if parts.sup_k.shape[0] == ns else 0
+            _assemble(parts, row, spin, 1j * freqs[s], ab)
             if band_factor(ab, kl, ku, ipiv) != OK:
                 bad[s] = True
                 continue

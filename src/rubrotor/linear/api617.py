@@ -14,9 +14,11 @@ Close-clearance check (API 617, 9th edition, 6.8.2.7-6.8.2.11, as ROSS 3.1's
 2. Each unbalance is ``U_a = 2 U_r`` with ``U_r = 6350 W / N_mc`` (g mm; ``W`` in kg, ``N_mc``
    in rpm; ``W / 3.937`` from 25000 rpm), phase 0 or pi as its lobe's sign. ``W`` is the sum of
    the journal static loads for a single antinode between the bearings, the load of the nearest
-   journal for several, and the mass outboard of the bearing for an outboard one (the nodes'
-   tributary mass of ``M``). Journal loads are the static bearing reactions under standard
-   gravity divided by ``g``.
+   journal for several, and the mass outboard of the bearing for an outboard one (as ROSS 3.1:
+   the shaft elements wholly outboard plus the disks and point masses beyond the bearing).
+   Journal loads are, as ROSS 3.1 defines them, the static reactions under standard gravity
+   divided by ``g`` with the journal bearings rigid and the seals (``kind = "seal"``, ROSS's
+   ``SealElement``) carrying nothing.
 3. The mechanical test vibration limit is ``A_vl = min(25.4, 25.4 sqrt(12000 / N_mc))`` µm
    peak to peak; ``A_max`` the largest peak-to-peak amplitude at the probes (along each probe's
    direction, or the orbit's major axis) between the minimum allowable speed and ``N_mc``; the
@@ -97,15 +99,20 @@ def _major_angle(v: complex, w: complex) -> float:
 
 
 def _forward_mode(system: LinearSystem, speed: float, mode: int, count: int, max_zeta):
-    shapes = mode_shapes(system, speed, count)
-    ratio = shapes.minor.sum(axis=1) / shapes.major.sum(axis=1)
-    zeta = np.array([m.damping_ratio for m in shapes.modes.modes])
-    ok = (ratio > FORWARD_WHIRL_RATIO) & (zeta <= (np.inf if max_zeta is None else max_zeta))
-    forward = np.flatnonzero(ok)
-    if forward.size <= mode:
-        raise InputError("mode", mode, f"a forward mode index below {forward.size} "
-                         f"(forward modes among the {count} lowest at {speed:g} rad/s)")  # fmt: skip
-    return shapes, int(forward[mode])
+    """The mode shapes at ``speed`` and the index of forward mode ``mode`` among them: first as
+    ROSS 3.1's ``api617_unbalance`` takes them (its ``run_modal(num_modes=count)``: the
+    ``count // 2`` modes in ROSS's selection and order); when those hold too few forward modes
+    (ROSS would raise), among the ``count`` modes of least ``|lambda|``."""
+    for n, order in ((max(1, count // 2), "ross"), (count, "natural")):
+        shapes = mode_shapes(system, speed, n, order=order)
+        ratio = shapes.minor.sum(axis=1) / shapes.major.sum(axis=1)
+        zeta = np.array([m.damping_ratio for m in shapes.modes.modes])
+        ok = (ratio > FORWARD_WHIRL_RATIO) & (zeta <= (np.inf if max_zeta is None else max_zeta))
+        forward = np.flatnonzero(ok)
+        if forward.size > mode:
+            return shapes, int(forward[mode])
+    raise InputError("mode", mode, f"a forward mode index below {forward.size} "
+                     f"(forward modes among the {count} lowest at {speed:g} rad/s)")  # fmt: skip
 
 
 def _lobes(sign: np.ndarray, amplitude: np.ndarray) -> list[list[int]]:
@@ -122,16 +129,38 @@ def _lobes(sign: np.ndarray, amplitude: np.ndarray) -> list[list[int]]:
 
 
 def _loads(system: LinearSystem) -> dict[float, float]:
-    """Static load (kg) of each support, by position (m): reaction under gravity / g."""
-    res = static_analysis(system, gravity=(-STANDARD_GRAVITY, 0.0), loads=())
+    """Static load (kg) of each journal bearing, by position (m), as ROSS 3.1 defines it: the
+    reactions under gravity / g with the journal bearings rigid and the seals (``kind ==
+    "seal"``) and housings' supports left out (ROSS's ``run_static``)."""
+    import dataclasses
+
+    nodal = 4 * len(system.basis.nodes)
+    journals = [s for s in system.supports if s.kind != "seal" and max(s.dofs) < nodal]
+    fixed = tuple(sorted(set(system.fixed) | {d for s in journals for d in s.dofs}))
+    if not journals:  # pinned supports only: their reactions
+        res = static_analysis(system, gravity=(-STANDARD_GRAVITY, 0.0), loads=())
+    else:
+        rigid = dataclasses.replace(system, supports=(), fixed=fixed)
+        res = static_analysis(rigid, gravity=(-STANDARD_GRAVITY, 0.0), loads=())
     return {b.position: math.hypot(b.force_y, b.force_z) / STANDARD_GRAVITY for b in res.bearings}
 
 
 def _outboard_mass(system: LinearSystem, x: np.ndarray, left: float, right: float, side: int):
-    """Tributary mass (kg) of the nodes outboard of the outermost bearing on ``side``."""
+    """Mass (kg) of the rotor outboard of the outermost bearing on ``side``: as ROSS computes
+    it, the shaft elements wholly outboard and the lumped masses beyond the bearing
+    (:attr:`LinearSystem.masses`); without that list, the tributary mass of the nodes outboard."""
+    tol = 1e-12
+    if system.masses:
+        if side < 0:
+            picked = [m for a, b, m in system.masses if (b <= left + tol and a < b)
+                      or (a == b and a < left - tol)]  # fmt: skip
+        else:
+            picked = [m for a, b, m in system.masses if (a >= right - tol and a < b)
+                      or (a == b and a > right + tol)]  # fmt: skip
+        return float(sum(picked))
     ones = np.zeros(len(system.M))
-    ones[0::4] = 1.0
-    tributary = (system.M @ ones)[0::4]
+    ones[0 : 4 * len(x) : 4] = 1.0
+    tributary = (system.M @ ones)[0 : 4 * len(x) : 4]
     mask = x < left if side < 0 else x > right
     return float(tributary[mask].sum())
 
@@ -154,7 +183,10 @@ def api617_unbalance(
     mode : int
         Forward mode index (0: the first forward mode).
     modes : int
-        Modes computed to find it.
+        ROSS's ``num_modes``: the forward mode is counted among the ``modes // 2`` modes
+        selected and ordered as ROSS's ``run_modal`` (``damped_modes(order="ross")``), as ROSS
+        3.1's ``api617_unbalance`` does; when they hold too few forward modes, among the
+        ``modes`` modes of least ``|lambda|``.
     max_damping_ratio : float or None
         Modes damped beyond this ratio are not counted (API 617: amplification factor below
         2.5, ``zeta > 0.2``, is critically damped, no critical speed); None counts every
@@ -225,6 +257,13 @@ class ClearanceCheck:
         Their positions (m) and diametral clearances ``2 c`` (m).
     scaled : ndarray, shape (C, S)
         Scaled peak-to-peak major axis ``2 S_cc a_major`` (m).
+    mode : dict or None
+        The mode the unbalance was placed for (None when the planes were given):
+        ``forward_index`` (counted over the forward modes), ``frequency_rad_s`` (its damped
+        natural frequency at ``max_speed``, the estimate of its critical speed),
+        ``damping_ratio``, ``amplification_factor`` (``1 / (2 zeta)``, API 684's single-mode
+        estimate), ``separation_margin`` (its distance to the operating range
+        ``[min_speed, max_speed]``, relative to the nearer end; 0 inside) and ``whirl``.
     """
 
     speeds: np.ndarray
@@ -239,6 +278,7 @@ class ClearanceCheck:
     positions: np.ndarray
     clearances: np.ndarray
     scaled: np.ndarray
+    mode: dict | None = None
 
     @property
     def margin(self) -> np.ndarray:
@@ -263,6 +303,7 @@ class ClearanceCheck:
             "unbalance": [
                 {"position_m": p, "magnitude_kg_m": m, "phase_rad": f} for p, m, f in self.planes
             ],  # fmt: skip
+            "mode": self.mode,
             "vibration_limit_m_pp": self.vibration_limit,
             "max_probe_amplitude_m_pp": self.max_probe_amplitude,
             "scale_factor": self.scale_factor,
@@ -352,8 +393,10 @@ def clearance_check(
         raise InputError("probes", probes, "at least one vibration probe (position m, angle)")
     s = np.union1d(np.asarray(speeds, float), [min_speed, max_speed])
     s = s[s > 0]
+    info = None
     if planes is None:
         planes = api617_unbalance(system, max_speed, mode, 12, max_damping_ratio)[0]
+        info = _mode_info(system, min_speed, max_speed, mode, max_damping_ratio)
     points = [p for p, _ in probes] + [c[1] for c in clearances]
     resp = unbalance_response(system, s, list(planes), points).complex_response
     pp = _probe_pp(resp[:, : len(probes)], [a for _, a in probes])
@@ -369,4 +412,27 @@ def clearance_check(
         probe_response=pp, vibration_limit=avl, max_probe_amplitude=amax, scale_factor=scc,
         names=[c[0] for c in clearances], positions=np.array([c[1] for c in clearances], float),
         clearances=2 * np.array([c[2] for c in clearances], float), scaled=scc * major,
+        mode=info,
     )  # fmt: skip
+
+
+def _mode_info(system, min_speed: float, max_speed: float, mode: int, max_zeta) -> dict:
+    """What :attr:`ClearanceCheck.mode` says of forward mode ``mode`` at ``max_speed``."""
+    shapes, k = _forward_mode(system, max_speed, mode, 12, max_zeta)
+    m = shapes.modes.modes[k]
+    f = 2 * math.pi * m.frequency_hz
+    if f < min_speed:
+        sm = (min_speed - f) / min_speed
+    elif f > max_speed:
+        sm = (f - max_speed) / max_speed
+    else:
+        sm = 0.0
+    zeta = m.damping_ratio
+    return {
+        "forward_index": int(mode),
+        "frequency_rad_s": f,
+        "damping_ratio": zeta,
+        "amplification_factor": 1 / (2 * zeta) if zeta > 0 else None,
+        "separation_margin": sm,
+        "whirl": m.whirl,
+    }

@@ -19,14 +19,17 @@ from rubrotor.linear.roots import OSCILLATING
 from rubrotor.rotors.linear import LinearSystem
 
 
-def _support_values(system: LinearSystem, speeds: np.ndarray):
+def _support_values(system: LinearSystem, speeds: np.ndarray, frequencies=None):
     """Support entries on the free DOFs: rows, columns and their ``k`` (N/m), ``c`` (N s/m) at
-    every speed (rad/s), as :meth:`Support.tabulate` gives them (linked supports expanded)."""
+    every speed (rad/s), as :meth:`Support.tabulate` gives them (linked supports expanded);
+    with ``frequencies`` (rad/s, one per speed) a table against whirl frequency is read there
+    instead (synchronous, frequency = speed, without)."""
     pos = np.full(len(system.M), -1)
     pos[system.free] = np.arange(system.free.size)
     rows, cols, kv, cv = [], [], [], []
     for sup in system.supports:
-        ks, cs = (sup.block(a) for a in sup.tabulate(speeds))
+        at = frequencies if frequencies is not None and sup.axis == "frequency" else speeds
+        ks, cs = (sup.block(a) for a in sup.tabulate(at))
         for i, di in enumerate(sup.all_dofs):
             for j, dj in enumerate(sup.all_dofs):
                 if pos[di] < 0 or pos[dj] < 0:
@@ -41,8 +44,9 @@ def _support_values(system: LinearSystem, speeds: np.ndarray):
     return np.array(rows, np.int64), np.array(cols, np.int64), k, c
 
 
-def _band_parts(system: LinearSystem, speeds: np.ndarray) -> BandParts:
-    """The rotor's matrices on the free DOFs in band storage, and its supports over ``speeds``.
+def _band_parts(system: LinearSystem, speeds: np.ndarray, frequencies=None) -> BandParts:
+    """The rotor's matrices on the free DOFs in band storage, and its supports over ``speeds``
+    (their frequency tables at ``frequencies``, one per speed, when given).
 
     An FE rotor couples neighbouring nodes only, so its bandwidth is a few DOFs and a banded
     LU costs ``O(n b^2)``; a dense system (e.g. a modal one) is simply a band as wide as the
@@ -52,7 +56,7 @@ def _band_parts(system: LinearSystem, speeds: np.ndarray) -> BandParts:
     if system.fixed:
         f = np.ix_(system.free, system.free)
         mats = [a[f] for a in mats]
-    rows, cols, k, c = _support_values(system, speeds)
+    rows, cols, k, c = _support_values(system, speeds, frequencies)
     pattern = (mats[0] != 0) | (mats[1] != 0) | (mats[2] != 0) | (mats[3] != 0)
     pattern[rows, cols] = True
     r, cidx = np.nonzero(pattern)

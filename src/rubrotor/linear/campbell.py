@@ -26,7 +26,7 @@ from rubrotor.linear.roots import (
     _stations,
     _whirl_labels,
 )
-from rubrotor.rotors.linear import LinearSystem
+from rubrotor.rotors.linear import LinearSystem, check_table_axes
 
 __all__ = ["CampbellData", "campbell_data"]
 
@@ -76,6 +76,7 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     CampbellData
     """
     s = _speed_array("speeds", speeds)
+    check_table_axes(system, "campbell_data", speed=s, frequency=s)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise InputError("n", n, "a number of modes >= 1")
     lam, shapes, ok = _refined_modes(system, s, n)

@@ -33,7 +33,7 @@ from rubrotor.linear.roots import (
 )
 from rubrotor.rotors.linear import LinearSystem
 
-__all__ = ["DampedMode", "DampedModes", "damped_modes"]
+__all__ = ["DampedMode", "DampedModes", "damped_modes", "ORDERS"]
 
 
 @dataclass(frozen=True)
@@ -43,7 +43,8 @@ class DampedMode:
     Attributes
     ----------
     index : int
-        1-based rank by undamped natural frequency ``|lambda|`` (as ROSS ranks its modes).
+        1-based rank in the order :func:`damped_modes` was asked for (ROSS's, or by undamped
+        natural frequency ``|lambda|``).
     frequency_hz : float
         Damped natural frequency ``Im(lambda) / 2 pi`` (Hz; 0 for a real root).
     damping_ratio : float
@@ -250,7 +251,15 @@ def _newton_eig(system: LinearSystem, speed: float, n: int, natural: bool = Fals
     return lam[order], ref.shapes[0].T[:, order]
 
 
-def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None) -> DampedModes:
+ORDERS = ("ross", "natural")
+"""How :func:`damped_modes` selects and orders the modes."""
+ROSS_SHIFT = 1.0
+"""ROSS 3.1's shift ``sigma`` (1/s) of its sparse eigen-solve (``run_modal``)."""
+
+
+def damped_modes(
+    system: LinearSystem, speed: float = 0.0, n: int | None = None, order: str = "natural"
+) -> DampedModes:
     """Damped modes of a linear rotor at one spin speed.
 
     Parameters
@@ -260,15 +269,33 @@ def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None)
     speed : float
         Spin speed ``Omega`` (rad/s), ``>= 0``.
     n : int, optional
-        Keep the ``n`` lowest modes (default: all).
+        Keep ``n`` modes (default: all).
+    order : {"natural", "ross"}
+        ``"ross"``: selected and ordered as ROSS 3.1's ``run_modal`` (sparse, its default)
+        does, in two steps (``rubrotor modes`` uses it by default). (1) Selection: the ``4 n`` eigenvalues nearest ROSS's
+        shift ``sigma = 1`` 1/s (ROSS asks ARPACK for ``2 num_modes`` of them, with
+        ``num_modes = 2 n``; all eigenvalues when ``n`` is None), those with ``|lambda| > 0.1``
+        1/s. (2) Order (ROSS's ``Rotor._index``): positive damped frequencies first, by damped
+        frequency ``Im(lambda)``, then by ``|lambda|``; then the real roots (by ``|lambda|``);
+        the first ``n`` are kept (ROSS's negative-frequency conjugates are left out). ROSS's
+        candidates also hold its axial and torsional roots, which rubrotor does not model:
+        where those are among ROSS's ``4 n`` nearest, ROSS's lateral candidates are fewer, so
+        an overdamped root (``Im <= OVERDAMPED |lambda|``, damping ratio >= 0.99995: nothing
+        oscillates) that ROSS's shorter list leaves out would here come first by its tiny
+        damped frequency; such roots are therefore ordered with the real roots, after the
+        oscillating modes (the one place this order departs from ROSS's ``_index``).
+        ``"natural"`` (default, what every analysis built on the modes uses): the ``n`` modes of
+        least undamped natural frequency ``|lambda|``, in that order, then the real and nearly
+        real roots up to the last one's ``|lambda|`` (not ROSS's order: where a heavily damped
+        mode has a lower damped frequency but a larger ``|lambda|`` than a lighter one, ROSS
+        lists it first).
 
     Returns
     -------
     DampedModes
-        Frequencies (Hz), damping ratios, logarithmic decrements, whirl and shapes, ranked by
-        undamped natural frequency ``|lambda|`` as ROSS ranks them; real roots and roots with
-        ``Im(lambda) <= OVERDAMPED |lambda|`` are kept in that rank and marked
-        ``DampedMode.overdamped`` (ranked by ``Im(lambda)`` they would come first).
+        Frequencies (Hz), damping ratios, logarithmic decrements, whirl and shapes in the chosen
+        order; real roots and roots with ``Im(lambda) <= OVERDAMPED |lambda|`` are marked
+        ``DampedMode.overdamped``.
 
     Examples
     --------
@@ -286,13 +313,41 @@ def damped_modes(system: LinearSystem, speed: float = 0.0, n: int | None = None)
     speed = _check_speed("speed", speed)
     if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
         raise InputError("n", n, "a number of modes >= 1")
-    return _modes(system, speed, n, natural=True)
+    if order not in ORDERS:
+        raise InputError("order", order, " or ".join(f'"{o}"' for o in ORDERS))
+    return _modes(system, speed, n, natural=True, ross=order == "ross")
 
 
-def _modes(system: LinearSystem, speed: float, n: int | None, natural: bool) -> DampedModes:
-    """:func:`damped_modes` ranked by ``|lambda|`` (``natural``, real roots kept) or, for the
-    Campbell rows, by ``Im(lambda)`` (oscillating modes only)."""
-    lam, vec = _eig(system, speed, n, natural)
+def _ross_eig(system: LinearSystem, speed: float, n: int | None):
+    """Eigenvalues and ``q`` eigenvectors selected and ordered as ROSS 3.1 (see
+    :func:`damped_modes`, ``order="ross"``): dense on a small system, else shift-invert
+    Arnoldi for the ``4 n + 8`` eigenvalues nearest zero, of which the ``4 n`` nearest
+    :data:`ROSS_SHIFT` are ROSS's candidates."""
+    mx = system.matrices(speed)
+    size = 2 * system.n_dof
+    if n is not None and size > 16 * n:
+        lam, vec = _eig_nearest_zero(mx, min(4 * n + 8, size - 2))
+    else:
+        lam, vec = scipy.linalg.eig(mx.first_order()[0], check_finite=False)
+    if n is not None:
+        near = np.argsort(np.abs(lam - ROSS_SHIFT), kind="stable")[: 4 * n]
+        lam, vec = lam[near], vec[:, near]
+    keep = np.abs(lam) > 0.1
+    lam, vec = _real_made_real(lam[keep]), vec[:, keep]
+    r = np.round(lam, 10)
+    sign = np.where(r.imag > 0, 0, np.where(r.imag == 0, 1, 2))
+    sign[(sign == 0) & (r.imag <= OVERDAMPED * np.abs(r))] = 1  # overdamped: with the real roots
+    idx = np.lexsort((np.abs(r), r.imag, sign))
+    idx = idx[sign[idx] < 2][:n]
+    return lam[idx], vec[: system.n_dof, idx]
+
+
+def _modes(
+    system: LinearSystem, speed: float, n: int | None, natural: bool, ross: bool = False
+) -> DampedModes:
+    """:func:`damped_modes` ranked by ``|lambda|`` (``natural``, real roots kept), as ROSS
+    (``ross``) or, for the Campbell rows, by ``Im(lambda)`` (oscillating modes only)."""
+    lam, vec = _ross_eig(system, speed, n) if ross else _eig(system, speed, n, natural)
     full = np.zeros((len(system.M), vec.shape[1]), complex)
     full[system.free] = vec
     rows = _stations(system)

@@ -8,10 +8,11 @@ Equations
 A harmonic force at spin ``Omega`` and excitation frequency ``w`` (both rad/s) gives the steady
 response ``q = Re(Q e^{i w t})`` with
 
-    ``(K + K_s(Omega) - w^2 M + i w (C + C_s(Omega) + Omega G)) Q = B(x) F``
+    ``(K + K_s(Omega, w) - w^2 M + i w (C + C_s(Omega, w) + Omega G)) Q = B(x) F``
 
-(bearing coefficients at the spin speed, as tabulated; one banded LU solve per frequency, all
-in one compiled loop). The force ``F = [F_y, F_z]`` of amplitude ``f`` (N) at angle ``theta``
+(each bearing table read on its own axis, as ROSS 3.x reads them: a table against speed at the
+spin ``Omega``, a table against frequency, e.g. a magnetic bearing's, at the excitation ``w``;
+one banded LU solve per frequency, all in one compiled loop). The force ``F = [F_y, F_z]`` of amplitude ``f`` (N) at angle ``theta``
 (rad, from ``+y`` towards ``+z``) is
 
 * ``"fixed"``: ``f [cos theta, sin theta] cos(w t)``, so ``F = f [cos theta, sin theta]``;
@@ -34,7 +35,7 @@ from rubrotor.core.banded import OK, frequency_sweep, unbalance_sweep
 from rubrotor.errors import InputError, ScenarioError
 from rubrotor.linear.band import _band_parts
 from rubrotor.linear.roots import _speed_array
-from rubrotor.rotors.linear import LinearSystem
+from rubrotor.rotors.linear import LinearSystem, check_table_axes
 
 __all__ = [
     "FORCE_KINDS",
@@ -114,6 +115,7 @@ def unbalance_response(system: LinearSystem, speeds, unbalances, probes) -> Unba
     if not len(probes):
         raise InputError("probes", probes, "at least one probe position (m)")
     rows = np.concatenate([system.output_rows(p) for p in probes]).astype(complex)
+    check_table_axes(system, "unbalance_response", speed=s, frequency=s)
     out, status, at = unbalance_sweep(_band_parts(system, s), s, b, rows)
     if status != OK:
         raise InputError("speeds", float(s[at]), "speeds off the undamped critical speeds (rad/s)")
@@ -300,7 +302,8 @@ def frequency_response(
     direction : float
         Force angle at ``t = 0`` (rad, from ``+y`` towards ``+z``).
     speed : float
-        Spin speed ``Omega`` (rad/s): gyroscopic moments and speed-dependent bearings.
+        Spin speed ``Omega`` (rad/s): gyroscopic moments and speed-dependent bearings
+        (frequency-dependent ones are read at each excitation frequency).
 
     Returns
     -------
@@ -322,7 +325,11 @@ def frequency_response(
         raise InputError("probes", probes, "at least one probe position (m)")
     rhs = system.force_map(position) @ force
     rows = np.concatenate([system.output_rows(float(p)) for p in probes]).astype(complex)
-    parts = _band_parts(system, np.array([float(speed)]))
+    check_table_axes(system, "frequency_response", speed=speed, frequency=w)
+    if any(s.axis == "frequency" and s.tabulated for s in system.supports):
+        parts = _band_parts(system, np.full(w.size, float(speed)), w)  # tables at each w
+    else:
+        parts = _band_parts(system, np.array([float(speed)]))
     out, status, at = frequency_sweep(parts, float(speed), w, rhs, rows)
     if status != OK:
         raise InputError("frequencies", float(w[at]), "frequencies off the undamped resonances")

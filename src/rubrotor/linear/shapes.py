@@ -94,7 +94,9 @@ class ModeShapes:
         return {"speed_rad_s": self.modes.speed_rad_s, "x_m": self.x.tolist(), "modes": out}
 
 
-def mode_shapes(system: LinearSystem, speed: float = 0.0, n: int = 4) -> ModeShapes:
+def mode_shapes(
+    system: LinearSystem, speed: float = 0.0, n: int = 4, order: str = "natural"
+) -> ModeShapes:
     """The ``n`` lowest damped modes at ``speed`` and their shapes at the stations.
 
     Parameters
@@ -105,12 +107,14 @@ def mode_shapes(system: LinearSystem, speed: float = 0.0, n: int = 4) -> ModeSha
         Spin speed (rad/s), ``>= 0``.
     n : int
         Number of modes.
+    order : {"natural", "ross"}
+        Which modes and in which order (see :func:`rubrotor.linear.modes.damped_modes`).
 
     Returns
     -------
     ModeShapes
     """
-    modes = damped_modes(system, speed, n=n)
+    modes = damped_modes(system, speed, n=n, order=order)
     nodes = getattr(system.basis, "nodes", None)
     x = np.asarray(nodes, float) if nodes is not None else np.linspace(0, system.basis.length, 41)
     rows = np.stack([system.basis.rows(float(xi)) for xi in x])  # (X, 2, n_full)

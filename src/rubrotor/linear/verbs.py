@@ -102,7 +102,9 @@ def linear_system(obj, stations=()) -> LinearSystem:
     return _model(obj).linear_system(tuple(stations))
 
 
-def damped_modes(obj, speed: float | None = None, n: int | None = None) -> DampedModes:
+def damped_modes(
+    obj, speed: float | None = None, n: int | None = None, order: str = "natural"
+) -> DampedModes:
     """Damped modes (frequency, damping ratio, log dec, whirl, shape) of any rotor at a speed.
 
     Parameters
@@ -113,6 +115,9 @@ def damped_modes(obj, speed: float | None = None, n: int | None = None) -> Dampe
         Spin speed (rad/s); default the scenario's, or 0.
     n : int, optional
         Keep the ``n`` lowest modes (default all).
+    order : {"natural", "ross"}
+        By ``|lambda|`` (default) or ROSS 3.1's selection and order; see
+        :func:`rubrotor.linear.modes.damped_modes`.
 
     Returns
     -------
@@ -120,4 +125,4 @@ def damped_modes(obj, speed: float | None = None, n: int | None = None) -> Dampe
     """
     model = _model(obj)
     default = model.scenario.speed if model.scenario is not None else 0.0
-    return _damped_modes(model.linear_system(), default if speed is None else speed, n)
+    return _damped_modes(model.linear_system(), default if speed is None else speed, n, order)

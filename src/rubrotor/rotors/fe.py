@@ -60,7 +60,7 @@ __all__ = [
     "MESH_MATRICES",
 ]
 
-BEARING_KINDS = ("bearing", "pinned")
+BEARING_KINDS = ("bearing", "pinned", "seal")
 COEFFICIENTS = ("kyy", "kyz", "kzy", "kzz", "cyy", "cyz", "czy", "czz")
 DEFAULT_TOLERANCE = 1e-4
 """Relative frequency error the default mesh aims at for the first five frequencies."""
@@ -293,8 +293,10 @@ class Bearing:
     speeds : sequence of float, optional
         Spin speeds (rad/s, increasing) at which sequence-valued coefficients are tabulated;
         coefficients are interpolated linearly between them and held outside.
-    kind : {"bearing", "pinned"}
-        ``"pinned"``: both deflections are exactly zero (no coefficients allowed).
+    kind : {"bearing", "pinned", "seal"}
+        ``"pinned"``: both deflections are exactly zero (no coefficients allowed). ``"seal"``:
+        coefficients like a bearing's, but no static load in API 617's check (ROSS's
+        ``SealElement``).
     name : str
         Label.
     fail_time : float, optional
@@ -451,6 +453,7 @@ class Bearing:
             extrapolation=self.extrapolation,
             link=tuple(link) if link is not None else None,
             axis=self.axis,
+            kind="seal" if self.kind == "seal" else "bearing",
         )
 
 
@@ -887,6 +890,7 @@ class Rotor:
         supports, fixed = self._supports(basis, M)
         labels = tuple(f"{q}@{xi:.6g}" for xi in x for q in ("v", "w", "psi_v", "psi_w"))
         labels += tuple(f"{q}@{p.name}" for p in self.point_masses for q in ("v", "w"))
+        masses = self._masses(x)
         scales = rotor_scales(self, x, M, K)
         check_scales(scales)
         return LinearSystem(
@@ -900,4 +904,22 @@ class Rotor:
             dof_labels=labels,
             name="fe",
             scales=scales,
+            masses=masses,
         )
+
+    def _masses(self, x: np.ndarray) -> tuple:
+        """``(left, right, mass)`` of each element (sections and sleeves, m, m, kg) and lumped
+        mass (disks, point masses: ``(mx + my) / 2`` as ROSS), for API 617's overhung mass."""
+        out = []
+        bounds, shaft = self.boundaries, self.shaft_sections
+        for e in range(len(x) - 1):
+            mid = 0.5 * (x[e] + x[e + 1])
+            i = min(int(np.searchsorted(bounds, mid)) - 1, len(shaft) - 1)
+            on = [shaft[i]] + [v for v in self.sleeves
+                               if v.position < mid < v.position + v.length]  # fmt: skip
+            m = sum(s.material.density * math.pi * (s.diameter**2 - s.bore_diameter**2) / 4
+                    for s in on) * (x[e + 1] - x[e])  # fmt: skip
+            out.append((float(x[e]), float(x[e + 1]), float(m)))
+        out += [(d.position, d.position, d.mass) for d in self.disks]
+        out += [(p.position, p.position, 0.5 * (p.mass_y + p.mass_z)) for p in self.point_masses]
+        return tuple(out)

@@ -40,7 +40,19 @@ import numpy as np
 
 from rubrotor.errors import InputError
 
-__all__ = ["Basis", "NodalBasis", "Support", "SystemMatrices", "LinearSystem"]
+__all__ = [
+    "Basis",
+    "NodalBasis",
+    "Support",
+    "SystemMatrices",
+    "LinearSystem",
+    "TableExtrapolationWarning",
+    "check_table_axes",
+]
+
+
+class TableExtrapolationWarning(UserWarning):
+    """An analysis reads a bearing or seal table outside its axis (extrapolated)."""
 
 
 class Basis(Protocol):
@@ -156,6 +168,8 @@ class Support:
         bearing, a seal) or the whirl (excitation) frequency (``"frequency"``; a magnetic
         bearing's controller, a squeeze-film damper), as ROSS 3.x's ``speed=`` and
         ``frequency=`` tables. :meth:`coefficients` reads each table on its own axis.
+    kind : {"bearing", "seal"}
+        A seal carries no static load in API 617's check (ROSS's ``SealElement``).
     """
 
     dofs: tuple[int, int]
@@ -168,6 +182,7 @@ class Support:
     extrapolation: str = "hold"
     link: tuple[int, int] | None = None
     axis: str = "speed"
+    kind: str = "bearing"
     _pchip: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -291,6 +306,11 @@ class LinearSystem:
         Its inputs ranked by their distance (decades) from its own scale, ``(decades, key,
         value, scale)`` (:func:`rubrotor.rotors.scales.rotor_scales`; empty when unknown), so
         that a failed eigenproblem names the scenario key that likely caused it.
+    masses : tuple of (float, float, float)
+        ``(left m, right m, mass kg)`` of every shaft element (sleeves included) and, with
+        ``left == right``, every lumped mass (disks, point masses at their station): what the
+        rotor outboard of a bearing weighs (API 617's overhung ``W``, as ROSS computes it).
+        Empty when unknown.
     """
 
     M: np.ndarray
@@ -303,6 +323,7 @@ class LinearSystem:
     dof_labels: tuple[str, ...] = ()
     name: str = "linear"
     scales: tuple = ()
+    masses: tuple = ()
     free: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
@@ -346,3 +367,41 @@ class LinearSystem:
         out = np.zeros((len(self.M),) + q_free.shape[1:], q_free.dtype)
         out[self.free] = q_free
         return out
+
+
+def check_table_axes(system: LinearSystem, what: str, speed=None, frequency=None) -> None:
+    """Warn, as ROSS 3.x does, when ``what`` reads a support's table outside its axis.
+
+    Each tabulated support is checked on its own axis: the spin speeds ``speed`` (rad/s)
+    against a table of ``axis == "speed"``, the excitation (whirl) frequencies ``frequency``
+    (rad/s) against a table of ``axis == "frequency"``. The warning
+    (:class:`TableExtrapolationWarning`) names the element, the axis, its range and the values
+    asked. Tables that extrapolate linearly (ROSS's way, ``extrapolation = "linear"``) are
+    checked; tables held at their end values (rubrotor's default) are not.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    what : str
+        The analysis, for the message.
+    speed, frequency : float or array_like, optional
+        Values read on each axis (rad/s); ``None``: that axis is not checked.
+    """
+    import warnings
+
+    asked = {"speed": speed, "frequency": frequency}
+    for sup in system.supports:
+        values = asked.get(sup.axis)
+        if values is None or not sup.tabulated or sup.extrapolation == "hold":
+            continue
+        v = np.atleast_1d(np.asarray(values, float))
+        lo, hi = float(sup.speeds[0]), float(sup.speeds[-1])
+        if v.size and (v.min() < lo or v.max() > hi):
+            how = "extrapolated linearly from the end slope"
+            warnings.warn(
+                f"{what}: the coefficients of {sup.name!r} are read outside its {sup.axis} axis "
+                f"({lo:.4g} to {hi:.4g} rad/s; asked {v.min():.4g} to {v.max():.4g} rad/s) and "
+                f"{how}",
+                TableExtrapolationWarning,
+                stacklevel=3,
+            )

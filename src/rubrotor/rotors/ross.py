@@ -166,7 +166,29 @@ def _support(b, rotor_bearings, index: dict, nodes, speeds, interpolation: str) 
         extrapolation="linear",
         link=tuple(index[i] for i in ross[1]) if len(ross) > 1 else None,
         axis="frequency" if _frequency_only(b) else "speed",
+        kind="seal" if _is_seal(b) else "bearing",
     )
+
+
+def _is_seal(b) -> bool:
+    """ROSS's ``SealElement`` (or a subclass): no static load in API 617's check."""
+    return any(c.__name__ == "SealElement" for c in type(b).__mro__)
+
+
+def _masses(rotor, nodes: np.ndarray) -> tuple:
+    """``(left, right, mass)`` of ROSS's shaft elements and lumped masses (m, m, kg), for
+    :attr:`LinearSystem.masses`; a point mass sits at the shaft node its housing joins."""
+    out = [(float(nodes[e.n]), float(nodes[e.n + 1]), float(e.m)) for e in rotor.shaft_elements]
+    out += [(float(nodes[d.n]), float(nodes[d.n]), float(d.m)) for d in rotor.disk_elements]
+    links = {b.n_link: b.n for b in rotor.bearing_elements if getattr(b, "n_link", None)}
+    for p in getattr(rotor, "point_mass_elements", []):
+        n, seen = int(p.n), set()
+        while n >= len(nodes) and n in links and n not in seen:
+            seen.add(n)
+            n = int(links[n])
+        if n < len(nodes):
+            out.append((float(nodes[n]), float(nodes[n]), 0.5 * (float(p.mx) + float(p.my))))
+    return tuple(out)
 
 
 def _frequency_only(b) -> bool:
@@ -326,4 +348,5 @@ def from_ross(rotor, speeds=None, interpolation: str = "ross") -> LinearSystem:
         supports=supports,
         dof_labels=tuple(labels),
         name="ross",
+        masses=_masses(rotor, nodes),
     )

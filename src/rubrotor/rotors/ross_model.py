@@ -56,6 +56,8 @@ class RossSupport:
         ROSS's interpolation between table points.
     mass : ndarray, shape (2, 2)
         Constant bearing mass (kg).
+    seal : bool
+        A ROSS ``SealElement`` (no static load in API 617's check).
     """
 
     name: str
@@ -67,6 +69,7 @@ class RossSupport:
     kind: str
     interpolation: str
     mass: np.ndarray
+    seal: bool = False
 
 
 @dataclass(frozen=True)
@@ -168,7 +171,7 @@ def _support(data: dict, cls: str, ross3: bool) -> RossSupport:
         raise InputError(f"{name}.mxy", (mass[0, 1], mass[1, 0]), "mxy = myx (symmetric)")
     link = data.get("n_link")
     return RossSupport(name, int(data["n"]), None if link is None else int(link), k, c, axis,
-                       kind, interpolation, mass)  # fmt: skip
+                       kind, interpolation, mass, cls == "SealElement")  # fmt: skip
 
 
 def _damping(params: dict, where: str) -> tuple[float, float]:
@@ -338,8 +341,10 @@ def _object_support(b, ross3: bool, coefficient, table_speeds, speeds=None) -> R
     c = np.array([_lat(b, "C", kw(w), lateral, coefficient) for w in at])
     interpolation = "pchip" if getattr(b, "interpolation", "") == "pchip" else "linear"
     link = getattr(b, "n_link", None)
+    from rubrotor.rotors.ross import _is_seal
+
     return RossSupport(_label_name(b, _label), int(b.n), None if link is None else int(link), k,
-                       c, axis, kind, interpolation, _bearing_mass(b))  # fmt: skip
+                       c, axis, kind, interpolation, _bearing_mass(b), _is_seal(b))  # fmt: skip
 
 
 def _lat(b, name: str, kw: dict, lateral: list, coefficient) -> np.ndarray:

@@ -165,6 +165,8 @@ def _housings(model: RossModel, nodes: np.ndarray) -> dict:
 
 def _bearing(s, nodes: np.ndarray, housings: dict) -> dict:
     b: dict = {"name": s.name}
+    if s.seal:
+        b["kind"] = "seal"
     if s.n < len(nodes):
         b["position"] = float(nodes[s.n])
     elif s.n in housings and s.n_link is None:
