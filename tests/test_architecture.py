@@ -96,3 +96,25 @@ def test_scenario_kind_is_decided_once():
         if pattern.search(line)
     ]
     assert not found, found
+
+
+def test_no_contact_law_tested_by_name_outside_forces():
+    """Which law a contact is stays behind its term (``rubrotor.forces``): no ``law ==`` or
+    ``law !=`` comparison anywhere else in the package (an AST check, comments and strings
+    excluded). The engine, the scenario loader, sweeps and analyses ask the law's term object."""
+    root = Path(rubrotor.__file__).parent
+    forces = root / "forces"
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        if path.is_relative_to(forces):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if not isinstance(node, ast.Compare):
+                continue
+            if not any(isinstance(op, ast.Eq | ast.NotEq) for op in node.ops):
+                continue
+            for side in (node.left, *node.comparators):
+                name = side.attr if isinstance(side, ast.Attribute) else getattr(side, "id", "")
+                if name == "law":
+                    found.append(f"{path.relative_to(root)}:{node.lineno}")
+    assert not found, found

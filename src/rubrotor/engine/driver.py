@@ -29,7 +29,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rubrotor.core.contact import pack_contact
 from rubrotor.core.engine import (
     CONTACT_CHANNELS,
     EVENT_BUFFER_FULL,
@@ -62,8 +61,6 @@ from rubrotor.engine.parts import (
     Run,
     speed_at,
     spin_angle,
-    static_load_vector,
-    unbalance_phasor,
 )
 from rubrotor.engine.reduce import (
     IllConditioned,
@@ -80,6 +77,8 @@ from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
 from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Plan, Steps
 from rubrotor.errors import InputError
+from rubrotor.forces.terms import Terms
+from rubrotor.forces.unbalance import unbalance_load
 from rubrotor.rotors.scales import explain
 
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "result_dataset", "STEPPERS"]
@@ -227,35 +226,17 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
         Sd[2 * i : 2 * i + 2, o : o + k] = sm_i.Vq
         o += k
     Cd = Cd - Sd
-    b_u = np.zeros(sm.M.shape[0], complex)
-    for u in unbalances:
-        if u.position is None:
-            raise InputError("unbalance.position", None, "an axial position (m)")
-        b_u += unbalance_phasor(u, speed) * (system.force_map(u.position) @ np.array([1, -1j]))
+    terms = Terms(tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity))
+    b_u = terms.unbalance_load(system, speed)
     try:
         Q = _particular(sm, b_u, speed)
     except NearCritical as exc:  # name the scenario key far off the rotor's scale, if any
         raise explain(exc, system.scales) from None
-    f_s = static_load_vector(system, tuple(loads), gravity)
+    f_s = terms.static_load(system)
     q_s = np.linalg.solve(sm.K, f_s) if np.any(f_s) else np.zeros_like(f_s)
     offs = np.array([[s.offset_y, s.offset_z] for s in stations]).ravel()
     Pu = Bmat.T @ Q
-    cps = np.array(
-        [
-            pack_contact(
-                1,
-                c.law_code,
-                c.stiffness,
-                c.damping,
-                c.clearance,
-                c.friction,
-                c.sign_code,
-                c.radius * speed,
-                c.friction_regularization,
-            )
-            for c in (s.contact for s in stations)
-        ]  # fmt: skip
-    ).reshape(nc, 10)
+    cps = terms.contact_rows(speed)
     max_d = run.max_displacement or (
         1000 * max((s.contact.clearance for s in stations), default=0.0)
         or 0.1 * system.basis.length
@@ -569,9 +550,7 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     n_seg = bounds.size - 1
     k = _kernel_state(plant, run)
     cur = {"index": -1, "plant": plant}
-    b0 = np.zeros(problem.system.n_dof, complex)
-    for u in problem.unbalances:
-        b0 += unbalance_phasor(u, 1.0) * (problem.system.force_map(u.position) @ np.array([1, -1j]))
+    b0 = unbalance_load(problem.system, problem.unbalances, 1.0)
     basis = _runup_basis(problem, run, plant)
 
     def segment(index: int):

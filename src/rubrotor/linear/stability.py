@@ -25,6 +25,7 @@ import numpy as np
 
 from rubrotor.core.contact import contact_force_jac, pack_contact
 from rubrotor.errors import InputError
+from rubrotor.forces.contact import law_of
 from rubrotor.rotors.shaft import FORMULATIONS
 
 __all__ = ["ContactStability", "contact_stability", "general_contact_stability", "GROWTH_RTOL"]
@@ -215,7 +216,7 @@ def contact_stability(
     c = scenario.contact
     if c is None and scenario.model.general and scenario.engine.stations:
         c = scenario.engine.stations[0].contact  # the first [[contact]] table
-    if c is None or c.law != "hertz":
+    if c is None or not law_of(c).indentation:
         raise InputError("contact", None if c is None else c.law, "a Hertz [contact] section")
     if isinstance(indentation, bool) or not (
         isinstance(indentation, int | float) and math.isfinite(indentation) and indentation > 0

@@ -51,6 +51,7 @@ import numpy as np
 
 from rubrotor.engine.settings import METHODS
 from rubrotor.errors import ScenarioError
+from rubrotor.forces.supports import DEFAULT_SUPPORT, SUPPORT_TYPES
 from rubrotor.rotors.fe import BEARING_KINDS, COEFFICIENTS
 from rubrotor.rotors.forces import BOW_SHAPES, CONTACT_LAWS, FRICTION_SIGNS, RESTITUTION_MODELS
 from rubrotor.rotors.shaft import FORMULATIONS, PLAUSIBLE_RANGES, SHEAR_COEFFICIENTS, THEORIES
@@ -389,6 +390,15 @@ _BEARING = (
     _k("bearing", "name", "str", "", "Label", default=""),
     _k("bearing", "fail_time", "number", "s", "Time at which the bearing stops holding the "
        'rotor (a magnetic bearing losing levitation; speed.profile = "free")', _closed(0.0)),
+    _k("bearing", "type", "str", "", "Support model: coefficients (kyy ... czz), or a force term "
+       "of rubrotor.forces.supports", choices=tuple(SUPPORT_TYPES), default=DEFAULT_SUPPORT),
+    # type = "muszynska" (rubrotor.forces.muszynska): a fluid ring swirling at lambda Omega
+    _k("bearing", "fluid_stiffness", "number", "N/m", 'Direct fluid stiffness K_f (type = '
+       '"muszynska")', _closed(0.0), default=0.0),
+    _k("bearing", "fluid_damping", "number", "N s/m", 'Direct fluid damping D_f (type = '
+       '"muszynska"); the cross-coupled stiffness is swirl_ratio Omega D_f', _positive()),
+    _k("bearing", "swirl_ratio", "number", "1", 'Average circumferential fluid speed over the '
+       'spin, lambda (type = "muszynska")', (0.0, 1.0, False, True), default=0.5),
 )  # fmt: skip
 _ROTOR = (
     _k("rotor", "theory", "str", "", "Beam theory", choices=THEORIES, default="timoshenko"),

@@ -60,6 +60,7 @@ from pathlib import Path
 import numpy as np
 
 from rubrotor.errors import InputError
+from rubrotor.forces.contact import law_of
 from rubrotor.scenario.load import as_scenario, key_unit
 from rubrotor.sweeps.metrics import (
     _SCALARS,
@@ -318,7 +319,7 @@ def _rigid_clearance(scenario) -> float | None:
     so such a run is labelled ``"indentation > clearance"``, not a rub. A linear law stands for
     a compliant seal or stator, whose deflection may exceed the gap: no such label."""
     c = getattr(scenario, "contact", None)
-    if c is None or c.law != "hertz" or scenario.model.general:
+    if c is None or not law_of(c).indentation or scenario.model.general:
         return None
     return c.clearance
 
