@@ -6,7 +6,9 @@ with ``DIR`` the ``src`` folder of the old code (``git archive COMMIT | tar -x -
 (``NUMBA_CACHE_DIR`` per side under the system's temporary folder); each process compiles and
 warms up first, then times ``rubrotor.simulate`` three times (median). Printed per scenario and
 pair: seconds of each, their ratio (new / old) and the largest difference of the two codes'
-saved displacements (m), so equal speed is measured at equal results. Prints, never asserts.
+saved displacements (m), so equal speed is measured at equal results; the process CPU time of
+the same runs beside the wall time (on a loaded machine the CPU ratio is the steadier one).
+Prints, never asserts.
 """
 
 from __future__ import annotations
@@ -29,19 +31,21 @@ import rubrotor
 from pathlib import Path
 sc = rubrotor.load_scenario(Path(rubrotor.__file__).parent / "scenarios" / (sys.argv[2] + ".toml"))
 ds = rubrotor.simulate(sc)  # compile + warm up
-times = []
+times, cpu = [], []
 for _ in range(3):
-    t0 = time.perf_counter(); ds = rubrotor.simulate(sc); times.append(time.perf_counter() - t0)
+    t0, c0 = time.perf_counter(), time.process_time()
+    ds = rubrotor.simulate(sc)
+    times.append(time.perf_counter() - t0); cpu.append(time.process_time() - c0)
 np.save(sys.argv[1], np.stack([ds["v"].values.ravel(), ds["w"].values.ravel()]))
-print(json.dumps({"median_s": sorted(times)[1]}))
+print(json.dumps({"median_s": sorted(times)[1], "median_cpu_s": sorted(cpu)[1]}))
 """
 
 
-def _run(src: Path, cache: Path, scenario: str, out: Path) -> float:
+def _run(src: Path, cache: Path, scenario: str, out: Path) -> dict:
     env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=str(cache))
     res = subprocess.run([sys.executable, "-c", CHILD, str(out), scenario], env=env,
                          capture_output=True, text=True, check=True)  # fmt: skip
-    return json.loads(res.stdout.strip().splitlines()[-1])["median_s"]
+    return json.loads(res.stdout.strip().splitlines()[-1])
 
 
 def main() -> None:
@@ -55,16 +59,21 @@ def main() -> None:
     tmp = Path(tempfile.gettempdir())
     sides = {"old": args.old_src, "new": ROOT / "src"}
     for scenario in args.scenarios.split(","):
-        ratios = []
+        ratios, cratios = [], []
         for k in range(args.pairs):
             t = {}
-            for side, src in sides.items():
+            order = list(sides.items()) if k % 2 == 0 else list(sides.items())[::-1]
+            for side, src in order:  # alternate who goes first (a loaded machine drifts)
                 t[side] = _run(src, tmp / f"bench-cache-{side}", scenario, tmp / f"ba-{side}.npy")
             diff = float(np.max(np.abs(np.load(tmp / "ba-new.npy") - np.load(tmp / "ba-old.npy"))))
-            ratios.append(t["new"] / t["old"])
-            print(f"{scenario} pair {k + 1}: old {t['old']:.3f} s, new {t['new']:.3f} s, "
-                  f"ratio {ratios[-1]:.3f}, max |new - old| {diff:.2e} m", flush=True)  # fmt: skip
-        print(f"{scenario}: median ratio new/old {statistics.median(ratios):.3f}", flush=True)
+            ratios.append(t["new"]["median_s"] / t["old"]["median_s"])
+            cratios.append(t["new"]["median_cpu_s"] / t["old"]["median_cpu_s"])
+            print(f"{scenario} pair {k + 1}: wall old {t['old']['median_s']:.3f} s, new "
+                  f"{t['new']['median_s']:.3f} s, ratio {ratios[-1]:.3f}; CPU old "
+                  f"{t['old']['median_cpu_s']:.3f} s, new {t['new']['median_cpu_s']:.3f} s, ratio "
+                  f"{cratios[-1]:.3f}; max |new - old| {diff:.2e} m", flush=True)  # fmt: skip
+        print(f"{scenario}: median ratio new/old wall {statistics.median(ratios):.3f}, CPU "
+              f"{statistics.median(cratios):.3f}", flush=True)  # fmt: skip
 
 
 if __name__ == "__main__":

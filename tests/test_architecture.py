@@ -118,3 +118,19 @@ def test_no_contact_law_tested_by_name_outside_forces():
                 if name == "law":
                     found.append(f"{path.relative_to(root)}:{node.lineno}")
     assert not found, found
+
+
+def test_engine_kernels_take_named_structures():
+    """The compiled kernels of the general engine, its adaptive stepper, the free-speed stepper
+    and the contact law take at most 8 positional arguments: the rest travels in named
+    structures (``rubrotor.engine.structs``) or tuples unpacked at the top of the kernel."""
+    wide = []
+    for name in ("engine.py", "engine_adaptive.py", "spin.py", "contact.py"):
+        for node in ast.parse((CORE / name).read_text()).body:
+            if not isinstance(node, ast.FunctionDef):
+                continue
+            if not any("njit" in ast.unparse(d) for d in node.decorator_list):
+                continue
+            if len(node.args.args) > 8:
+                wide.append(f"{name}:{node.name} ({len(node.args.args)})")
+    assert not wide, wide

@@ -75,7 +75,17 @@ from rubrotor.engine.restart import physical_state
 from rubrotor.engine.result import _jsonable
 from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.engine.stream import CONTACT_VARS, STATION_VARS, NetcdfSink, check_size
-from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Plan, Steps
+from rubrotor.engine.structs import (
+    Contacts,
+    Control,
+    Drive,
+    Outputs,
+    Plan,
+    Sink,
+    State,
+    Steps,
+    span,
+)
 from rubrotor.errors import InputError
 from rubrotor.forces.terms import Terms
 from rubrotor.forces.unbalance import unbalance_load
@@ -353,11 +363,21 @@ def _kernel_state(plant: Plant, run: Run):
                 zt=np.ones(1, complex), hp=np.array([run.step]))  # fmt: skip
 
 
+def _state(k: dict, clock: np.ndarray, chunks) -> State:
+    """The kernels' :class:`State` of the kernel arrays ``k`` with ``clock`` (``zt`` or ``tst``)."""
+    return State(k["y"], k["F"], k["Fp"], k["dprev"], clock, chunks.istate, k["hp"])
+
+
+def _sink(chunks) -> Sink:
+    """The kernels' :class:`Sink`: the chunk buffers (replaced when the event buffer grows)."""
+    return Sink(chunks.out, chunks.ys, chunks.events)
+
+
 def _first_sample(state, k, plant):
     from rubrotor.core.engine import _write
 
     nc = len(plant.outputs.flex)
-    _write(state.out, state.ys, 0, k["y"], k["zt"][0], k["F"], np.zeros(nc), np.zeros(nc),
+    _write(_sink(state), 0, k["y"], k["zt"][0], (k["F"], np.zeros(nc), np.zeros(nc)),
            plant.contacts, plant.outputs)  # fmt: skip
 
 
@@ -419,9 +439,8 @@ def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks, 
     stats = {"step_s": run.step, "min_step_s": plan.hmin, "adaptive": True}
 
     def chunk(offset: int, count: int, done: int) -> int:
-        wrote = expo_adaptive(k["y"], k["F"], k["Fp"], k["dprev"], tst, state.istate, count,
-                              state.out, state.ys, offset, plan, c, plant.outputs, plant.speed,
-                              state.events, control)  # fmt: skip
+        wrote = expo_adaptive(_state(k, tst, state), span(count, 1, offset, plant.speed),
+                              _sink(state), plan, c, plant.outputs, control)  # fmt: skip
         # the counters after every chunk: the result's stats hold them however the run ends
         stats["free_advances"] = int(tst[T_FREE])
         stats["coefficient_fills"] = int(tst[T_FILLS])
@@ -453,10 +472,9 @@ def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     drive = _no_drive(plant.lam.size)
 
     def chunk(offset: int, count: int, done: int) -> int:
-        return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
-                          count, run.save_every, state.out, state.ys, offset, steps,
-                          plant.contacts, plant.outputs, plant.speed, 0.0, state.events,
-                          drive, control)  # fmt: skip
+        return expo_fixed(_state(k, k["zt"], state), span(count, run.save_every, offset,
+                          plant.speed), _sink(state), steps, plant.contacts, plant.outputs, drive,
+                          control)  # fmt: skip
 
     stats = {"step_s": run.step, "min_step_s": float(steps.h[-1]), "adaptive": run.rtol is not None}
 
@@ -584,10 +602,9 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
             segment(index)
         count = min(count, int(bounds[index + 1]) - done)
         p = cur["plant"]
-        return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
-                          count, run.save_every, state.out, state.ys, offset, cur["steps"],
-                          p.contacts, p.outputs, p.speed, 0.0, state.events,
-                          cur["drive"], cur["control"])  # fmt: skip
+        return expo_fixed(_state(k, k["zt"], state), span(count, run.save_every, offset, p.speed),
+                          _sink(state), cur["steps"], p.contacts, p.outputs, cur["drive"],
+                          cur["control"])  # fmt: skip
 
     stats = {"step_s": run.step, "segments": n_seg, "speed_end_rad_s": run.speed_end,
              "angular_acceleration_rad_s2": [float(d[1]) for d in drives],

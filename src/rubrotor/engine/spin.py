@@ -322,7 +322,7 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     wall = time.perf_counter()
     mats = (grid, Kt, Ct, G, float(fail_time))
     spin_dopri(x0, t_out, mats, (f0, Pu, unb), (Pc, offs, cp, radius, ring),
-               (float(J), float(free.drag), w, tq), ctrl, out, ist)  # fmt: skip
+               (float(J), float(free.drag), w, tq), ctrl, (out, ist))  # fmt: skip
     wall = time.perf_counter() - wall
     m = int(ist[3])
     red = dict(K=Kt[0, 0], C=Ct[0, 0], G=G, f0=f0, Pc=Pc, Kt=Kt, Ct=Ct, grid=grid)
