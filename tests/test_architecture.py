@@ -6,8 +6,8 @@ from pathlib import Path
 import rubrotor
 
 CORE = Path(rubrotor.__file__).parent / "core"
-# collections: namedtuples, the named structures compiled kernels take
-ALLOWED = {"math", "numpy", "numba", "rubrotor", "__future__", "collections"}
+# collections: namedtuples, the named structures compiled kernels take; enum: the status mirror
+ALLOWED = {"math", "numpy", "numba", "rubrotor", "__future__", "collections", "enum"}
 
 
 def test_core_imports_only_numpy_numba_and_core():
@@ -134,3 +134,35 @@ def test_engine_kernels_take_named_structures():
             if len(node.args.args) > 8:
                 wide.append(f"{name}:{node.name} ({len(node.args.args)})")
     assert not wide, wide
+
+
+def test_one_status_enumeration():
+    """Every compiled run reports a code of ``rubrotor.core.status``; no module defines its own.
+
+    The codes are distinct, each has a message, and no other module assigns an integer to a
+    status name (an alias imported from the enumeration is fine).
+    """
+    from rubrotor.core import status
+
+    codes = [getattr(status, name) for name in status.__all__ if name.isupper()
+             and name != "MESSAGES"]  # fmt: skip
+    assert sorted(codes) == list(range(len(status.MESSAGES)))
+    for code in codes:
+        assert status.Status(code).message == status.MESSAGES[code] == status.message(code)
+    names = set(status.Status.__members__) | {
+        "NEWTON_FAILED", "STATUS", "STATUS_NAMES", "_STATUS", "SPIN_OK", "SPIN_DIVERGED",
+        "SPIN_STEP_TOO_SMALL", "SPIN_MAX_STEPS",
+    }  # fmt: skip
+    root = Path(rubrotor.__file__).parent
+    own = []
+    for path in sorted(root.rglob("*.py")):
+        if path == CORE / "status.py":
+            continue
+        for node in ast.parse(path.read_text()).body:
+            targets = node.targets if isinstance(node, ast.Assign) else []
+            for t in targets:
+                elts = t.elts if isinstance(t, ast.Tuple) else [t]
+                bad = [e.id for e in elts if isinstance(e, ast.Name) and e.id in names]
+                if bad and not isinstance(node.value, ast.Call):
+                    own.append(f"{path.relative_to(root)}:{node.lineno} {bad}")
+    assert not own, own

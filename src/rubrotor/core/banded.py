@@ -14,6 +14,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit, prange
 
+from rubrotor.core.status import OK, SINGULAR  # SINGULAR: a zero pivot at this speed
+
 __all__ = [
     "BandParts",
     "OK",
@@ -32,8 +34,6 @@ __all__ = [
     "frequency_sweep",
 ]
 
-OK = 0
-SINGULAR = 1  # a zero pivot: the matrix is singular at this speed
 
 BandParts = namedtuple("BandParts", "m g k c kl ku sup_row sup_col sup_k sup_c")
 Starts = namedtuple("Starts", "lam vec")

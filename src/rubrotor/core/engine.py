@@ -56,16 +56,10 @@ __all__ = [
 
 SAFE_FASTMATH = {"contract", "reassoc", "arcp", "nsz"}
 
-OK = 0
-DIVERGED = 1
-NEWTON_FAILED = 2
-EVENT_BUFFER_FULL = 3
-STATUS_NAMES = {
-    OK: "complete",
-    DIVERGED: "diverged",
-    NEWTON_FAILED: "contact solve failed at the finest sub-step",
-    EVENT_BUFFER_FULL: "event buffer full",
-}
+from rubrotor.core.status import CONTACT_FAILED as NEWTON_FAILED  # noqa: E402
+from rubrotor.core.status import DIVERGED, EVENT_BUFFER_FULL, MESSAGES, OK  # noqa: E402
+
+STATUS_NAMES = dict(enumerate(MESSAGES))
 
 EVENT_MARGIN = 128
 """Free event slots per contact required before a base step (more events in one step are

@@ -49,10 +49,11 @@ from rubrotor.core.engine import (
     solve_one,
     workspace,
 )
+from rubrotor.core.status import CONTACT_FAILED as NEWTON_FAILED
+from rubrotor.core.status import DIVERGED, OK
 
 __all__ = ["OK", "DIVERGED", "NEWTON_FAILED", "map_tangent"]
 
-OK, DIVERGED, NEWTON_FAILED = 0, 1, 2
 
 
 @njit(cache=True)

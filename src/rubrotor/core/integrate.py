@@ -24,6 +24,7 @@ import numpy as np
 from numba import njit
 
 from rubrotor.core.contact import contact_force, solve_contact
+from rubrotor.core.status import CONTACT_FAILED, DIVERGED, EVENT_BUFFER_FULL, MESSAGES, OK
 
 SAFE_FASTMATH = {"contract", "reassoc", "arcp", "nsz"}
 """LLVM fast-math flags that allow vectorisation but keep NaN and infinity semantics, so the
@@ -50,14 +51,8 @@ __all__ = [
     "n_channels",
 ]
 
-OK, DIVERGED, CONTACT_FAILED, EVENT_BUFFER_FULL = 0, 1, 2, 3
-STATUS = {
-    OK: "complete",
-    DIVERGED: "diverged",
-    CONTACT_FAILED: "contact solve failed",
-    EVENT_BUFFER_FULL: "event buffer full",
-}
-"""Status codes a kernel leaves in ``istate[I_STATUS]``. ``EVENT_BUFFER_FULL``: before a saved
+STATUS = dict(enumerate(MESSAGES))
+"""Messages of the status codes (:mod:`rubrotor.core.status`) a kernel leaves in ``istate[I_STATUS]``. ``EVENT_BUFFER_FULL``: before a saved
 sample the event buffer has less room than ``event_reserve`` (no event lost: the driver grows
 the buffer and goes on), or events of the last sample were counted but not stored."""
 

@@ -33,11 +33,10 @@ from numba import njit
 
 from rubrotor.core.contact import contact_force_jac_exact, solve_contact
 from rubrotor.core.integrate import SAFE_FASTMATH
+from rubrotor.core.status import CONTACT_FAILED, DIVERGED, OK
 from rubrotor.core.tangent import _force_tangent, implicit_force_tangent, newton_matrix
 
 __all__ = ["expo_strobe", "phi12"]
-
-OK, DIVERGED, CONTACT_FAILED = 0, 1, 2
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
@@ -60,7 +59,7 @@ def expo_strobe(y, Q, k, cp, out):
         Packed contact law (:data:`rubrotor.core.contact.CP_FIELDS`).
     out : ndarray (2,)
         Filled with the largest contact-station radius (m) over the start and every step,
-        and the status (0 complete, 1 diverged, 2 contact solve failed).
+        and the status (a code of :mod:`rubrotor.core.status`).
 
     Returns
     -------

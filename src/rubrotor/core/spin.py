@@ -37,10 +37,10 @@ from rubrotor.core.contact import _law
 
 __all__ = ["spin_dopri", "SPIN_OK", "SPIN_STEP_TOO_SMALL", "SPIN_DIVERGED", "SPIN_MAX_STEPS"]
 
-SPIN_OK = 0
-SPIN_STEP_TOO_SMALL = 1
-SPIN_DIVERGED = 2
-SPIN_MAX_STEPS = 3
+from rubrotor.core.status import DIVERGED as SPIN_DIVERGED  # noqa: E402
+from rubrotor.core.status import MAX_STEPS as SPIN_MAX_STEPS  # noqa: E402
+from rubrotor.core.status import OK as SPIN_OK  # noqa: E402
+from rubrotor.core.status import STEP_TOO_SMALL as SPIN_STEP_TOO_SMALL  # noqa: E402
 
 # Dormand-Prince 5(4) tableau
 _C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0])

@@ -26,6 +26,7 @@ from numba import njit
 
 from rubrotor.core.contact import contact_force_jac_exact, solve_contact
 from rubrotor.core.integrate import SAFE_FASTMATH
+from rubrotor.core.status import CONTACT_FAILED, DIVERGED, OK, TANGENTS_DEGENERATE
 
 __all__ = ["expo_tangent", "orthonormalise"]
 
@@ -107,8 +108,8 @@ def expo_tangent(
     """Advance the state ``n_steps`` fixed exponential steps with tangent vectors ``Q``.
 
     State in/out as :func:`rubrotor.core.integrate.expo_fixed`: ``y`` (shifted eigen-
-    coordinates), ``cstate = [F, z, F_prev]``, ``istate = [step, status]`` (status 1 diverged,
-    2 contact solve failed). ``Q`` (m, ns) complex: tangent vectors as rows, orthonormalised
+    coordinates), ``cstate = [F, z, F_prev]``, ``istate = [step, status]`` (a code of
+    :mod:`rubrotor.core.status`). ``Q`` (m, ns) complex: tangent vectors as rows, orthonormalised
     every ``renorm_every`` steps and at the end, their log growths added to ``logs`` (m,).
     ``part = (part_c, part_lc, vel_cz)``: the contact station's particular-solution
     displacement per unit phasor (m), constant-load displacement (m) and velocity per unit
@@ -172,7 +173,7 @@ def expo_tangent(
             F0 = 2.0 * F - Fp
         Fn, it, fn_c, ft_c = solve_contact(pd, ud, sd, sv, F0, cp, jac)
         if it < 0:
-            istate[1] = 2
+            istate[1] = CONTACT_FAILED
             break
         for j in range(ns):
             y[j] = E[j] * y[j] + G0[j] * F + G1[j] * Fn
@@ -193,13 +194,13 @@ def expo_tangent(
         z = zn
         done += 1
         if not (P.real * P.real + P.imag * P.imag <= maxd2):
-            istate[1] = 1
+            istate[1] = DIVERGED
             break
         if done % renorm_every == 0:
             if not orthonormalise(Q, logs):
-                istate[1] = 3
+                istate[1] = TANGENTS_DEGENERATE
                 break
-    if istate[1] == 0 and done % renorm_every != 0:
+    if istate[1] == OK and done % renorm_every != 0:
         orthonormalise(Q, logs)
     cstate[0] = F
     cstate[1] = z

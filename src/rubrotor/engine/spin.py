@@ -33,7 +33,7 @@ from rubrotor.errors import InputError
 __all__ = ["FreeSpin", "TouchdownRing", "SpinResult", "polar_inertia", "simulate_spin",
            "spin_dataset", "simulate_free", "free_problem"]  # fmt: skip
 
-_STATUS = {0: "complete", 1: "step size too small", 2: "diverged", 3: "too many steps"}
+from rubrotor.core.status import MESSAGES as _STATUS  # noqa: E402
 
 
 @dataclass(frozen=True)

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rubrotor.core.status import MESSAGES as _STATUS
 from rubrotor.errors import InputError
 
 __all__ = ["LyapunovResult", "lyapunov_exponents"]
@@ -75,7 +76,6 @@ class LyapunovResult:
     final_state: object = None
 
 
-_STATUS = {0: "complete", 1: "diverged", 2: "contact solve failed", 3: "tangent vectors degenerate"}
 CHUNK_REVOLUTIONS = 16
 """Revolutions per kernel call while averaging: when a run stops (it diverged, a contact solve
 failed), the exponents averaged over the chunks completed before it are kept."""
