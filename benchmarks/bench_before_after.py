@@ -42,7 +42,9 @@ print(json.dumps({"median_s": sorted(times)[1], "median_cpu_s": sorted(cpu)[1]})
 
 
 def _run(src: Path, cache: Path, scenario: str, out: Path) -> dict:
-    env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=str(cache))
+    # one BLAS thread: on a loaded machine OpenBLAS's spinning threads dominate (seal_rub's
+    # reduction took 0.05 s of CPU with one thread, 0.5-3 s with two, in either code)
+    env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=str(cache), OPENBLAS_NUM_THREADS="1")
     res = subprocess.run([sys.executable, "-c", CHILD, str(out), scenario], env=env,
                          capture_output=True, text=True, check=True)  # fmt: skip
     return json.loads(res.stdout.strip().splitlines()[-1])
