@@ -149,6 +149,44 @@ def test_only_the_model_tests_the_rotors_kind():
     assert pattern.search("elif isinstance(obj, Shaft):")
 
 
+def test_no_contact_law_tested_by_name_outside_forces():
+    """Which law a contact is stays behind its term (``rubrotor.forces``): no ``law ==`` or
+    ``law !=`` comparison anywhere else in the package (an AST check, comments and strings
+    excluded). The engine, the scenario loader, sweeps and analyses ask the law's term object."""
+    root = Path(rubrotor.__file__).parent
+    forces = root / "forces"
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        if path.is_relative_to(forces):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if not isinstance(node, ast.Compare):
+                continue
+            if not any(isinstance(op, ast.Eq | ast.NotEq) for op in node.ops):
+                continue
+            for side in (node.left, *node.comparators):
+                name = side.attr if isinstance(side, ast.Attribute) else getattr(side, "id", "")
+                if name == "law":
+                    found.append(f"{path.relative_to(root)}:{node.lineno}")
+    assert not found, found
+
+
+def test_engine_kernels_take_named_structures():
+    """The compiled kernels of the general engine, its adaptive stepper, the free-speed stepper
+    and the contact law take at most 8 positional arguments: the rest travels in named
+    structures (``rubrotor.engine.structs``) or tuples unpacked at the top of the kernel."""
+    wide = []
+    for name in ("engine.py", "engine_adaptive.py", "spin.py", "contact.py"):
+        for node in ast.parse((CORE / name).read_text()).body:
+            if not isinstance(node, ast.FunctionDef):
+                continue
+            if not any("njit" in ast.unparse(d) for d in node.decorator_list):
+                continue
+            if len(node.args.args) > 8:
+                wide.append(f"{name}:{node.name} ({len(node.args.args)})")
+    assert not wide, wide
+
+
 def test_one_status_enumeration():
     """Every compiled run reports a code of ``rubrotor.core.status``; no module defines its own.
 

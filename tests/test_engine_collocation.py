@@ -36,7 +36,7 @@ from rubrotor.core.engine_adaptive import (
 from rubrotor.engine.driver import _plan, build_plant, simulate_general
 from rubrotor.engine.parts import RubStation, Run
 from rubrotor.engine.settings import Integrator
-from rubrotor.engine.structs import Control
+from rubrotor.engine.structs import Control, Sink, State, span
 from rubrotor.rotors.shaft_system import continuous_system
 from rubrotor.scenario import load_scenario
 
@@ -131,9 +131,10 @@ def _kernel_run(plant, run, order):
     n = int(round(run.duration / run.step))
     out = np.empty((4 + 8, n + 1))
     control = Control(1.0, float(run.rtol), float(run.atol), 1.0, np.zeros(1))
-    written = expo_adaptive(y, F, np.zeros(m), np.zeros(1), tst, ist, n, out,
-                            np.zeros((0, ns), complex), 1, plan, c, plant.outputs, plant.speed,
-                            np.zeros((4 * EVENT_MARGIN, 2)), control)  # fmt: skip
+    state = State(y, F, np.zeros(m), np.zeros(1), tst, ist, np.zeros(1))
+    sink = Sink(out, np.zeros((0, ns), complex), np.zeros((4 * EVENT_MARGIN, 2)))
+    written = expo_adaptive(state, span(n, 1, 1, plant.speed), sink, plan, c, plant.outputs,
+                            control)  # fmt: skip
     assert written == n and ist[I_STATUS] == OK
     assert np.all(out[10, 1:] > 0.0)  # the normal force never vanished
     return y, tst[0]

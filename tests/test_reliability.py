@@ -117,7 +117,7 @@ def test_chunked_free_spin_takes_the_steps_of_one_kernel_call(tmp_path, monkeypa
     def run_chunks(kernel, x0, t_out, args, ctrl, rows, show, diagnose):
         out = np.zeros((rows, t_out.size))
         ist = np.zeros(4, np.int64)
-        spin_dopri(np.ascontiguousarray(x0), t_out, *args, ctrl.copy(), out, ist)
+        spin_dopri(np.ascontiguousarray(x0), t_out, *args, ctrl.copy(), (out, ist))
         res["ist"] = ist
         return out[:, : ist[3]], (int(ist[1]), int(ist[2])), ""
 

@@ -5,7 +5,8 @@ module at its new path, with one :class:`FutureWarning` per old path and process
 object is the same (``rubrotor.simulation is rubrotor.engine.simulate``), so attributes set on
 either are seen through both. ``rubrotor.linear``, now the package of linear analyses, keeps the
 names of the old module (``LinearSystem``, ``NodalBasis``, ``Support``) the same way, in
-:mod:`rubrotor.linear`. These aliases will be removed in a later release.
+:mod:`rubrotor.linear`; so does ``rubrotor.forces``, now the package of force terms, for the
+names of :mod:`rubrotor.rotors.forces`. These aliases will be removed in a later release.
 """
 
 import importlib
@@ -26,7 +27,6 @@ MOVED = {
     "elements": "rotors.elements",
     "rotor": "rotors.fe",
     "interop": "rotors.ross",
-    "forces": "rotors.forces",
     "seedform": "rotors.seed_form",
     "engine.continuous": "rotors.shaft_system",
     "modal": "linear.shaft",

@@ -14,6 +14,7 @@ import numpy as np
 import scipy.integrate
 import scipy.linalg
 
+from rubrotor.forces.contact import law_named
 from rubrotor.rotors.shaft import Shaft, modal_matrices
 
 
@@ -91,7 +92,7 @@ def contact_force_reference(P, V, *, law, k, c, g, mu, surface_speed, v_reg, see
     n = P / d
     eps = d - g
     epsd = (np.conj(n) * V).real
-    fn = k * eps**1.5 * (1 + c * epsd) if law == "hertz" else k * eps + c * epsd
+    fn = law_named(law).normal_force(k, c, eps, epsd)
     if fn <= 0:
         return 0j
     t = 1j * n

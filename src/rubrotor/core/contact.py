@@ -11,6 +11,7 @@ from numba import njit
 
 __all__ = [
     "CP_FIELDS",
+    "LAW_EXPONENTS",
     "pack_contact",
     "contact_force",
     "contact_force_jac",
@@ -34,14 +35,16 @@ CP_FIELDS = (
 )
 
 
+LAW_EXPONENTS = (1.5, 1.0)
+"""Exponent ``a`` of ``F_n = k eps^a`` of each law code (0 Hertz, 1 linear): the force scale
+``k g^a`` of the tolerances (the law terms: ``rubrotor.forces.contact``)."""
+
+
 def pack_contact(
     active, law, stiffness, damping, clearance, friction, sign, surface_speed, v_reg
 ) -> np.ndarray:
     """Pack the contact parameters into the array the kernels take (SI units)."""
-    if law == 0:
-        scale = stiffness * clearance**1.5 if active else 1.0
-    else:
-        scale = stiffness * clearance if active else 1.0
+    scale = stiffness * clearance ** LAW_EXPONENTS[law] if active else 1.0
     return np.array(
         [
             float(active),

@@ -149,8 +149,15 @@ def _lu_solve(a, b):
 
 
 @njit(cache=True, inline="always")
-def _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac):
-    """Contact positions for forces ``F``, the laws' forces ``f`` and their Jacobian blocks."""
+def _eval(lin, F, cp, fn, ft, work):
+    """Contact positions for forces ``F``, the laws' forces and their Jacobian blocks.
+
+    ``lin = (pd, pv, Sd, Sv)``: the step's contact displacement and velocity without new force
+    (m, m/s) and their sensitivities (m/N, m/(s N)); ``work`` the scratch of
+    :func:`workspace`, whose ``f, p, u, jp, ju`` receive the forces (N), the positions (m, m/s)
+    and the Jacobian blocks; ``fn``, ``ft`` the normal and friction forces (N)."""
+    pd, pv, Sd, Sv = lin
+    f, p, u, jp, ju = work[0], work[1], work[2], work[6], work[7]
     m = F.shape[0]
     for r in range(m):
         a = pd[r]
@@ -186,25 +193,28 @@ def workspace(m):
 
 
 @njit(cache=True, inline="always")
-def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft, work):
+def solve_contacts(lin, F0, cp, res_out, work):
     """Solve ``F = law(pd + Sd F, pv + Sv F)`` for all contacts together.
 
-    ``pd``, ``pv`` (m, m/s) are the relative displacements and velocities the step gives without
-    new force, ``Sd``, ``Sv`` their real sensitivities (m/N, m/(s N)); ``F0`` a start (N). Newton
-    on the ``2 n_c`` real unknowns with step halving when the residual grows. ``F``, ``fn``,
-    ``ft`` receive the force (N) and each contact's normal and friction force (N). Returns the
-    iteration count, ``0`` when no contact closes, negative when Newton did not converge.
+    ``lin = (pd, pv, Sd, Sv)``: ``pd``, ``pv`` (m, m/s) are the relative displacements and
+    velocities the step gives without new force, ``Sd``, ``Sv`` their real sensitivities (m/N,
+    m/(s N)); ``F0`` a start (N). Newton on the ``2 n_c`` real unknowns with step halving when
+    the residual grows. ``res_out = (F, fn, ft)`` receive the force (N) and each contact's
+    normal and friction force (N). Returns the iteration count, ``0`` when no contact closes,
+    negative when Newton did not converge.
     """
+    pd, pv, Sd, Sv = lin
+    F, fn, ft = res_out
     m = F.shape[0]
     nc = cp.shape[0]
-    f, p, u, zero, last, res = work[0], work[1], work[2], work[3], work[4], work[5]
-    jp, ju, jr, jac = work[6], work[7], work[8], work[9]
+    f, zero, last, res = work[0], work[3], work[4], work[5]
+    jp, ju, jr = work[6], work[7], work[8]
     start = False
     for r in range(m):
         if F0[r] != 0.0:
             start = True
     if not start:
-        _eval(pd, pv, Sd, Sv, zero, cp, f, fn, ft, jp, ju, p, u, jac)
+        _eval(lin, zero, cp, fn, ft, work)
         closed = False
         for i in range(nc):
             if fn[i] != 0.0:
@@ -225,7 +235,7 @@ def solve_contacts(pd, pv, Sd, Sv, F0, cp, F, fn, ft, work):
         last[r] = 0.0
     rprev = 1e300
     for it in range(1, 60):
-        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
+        _eval(lin, F, cp, fn, ft, work)
         rn = 0.0
         for r in range(m):
             res[r] = F[r] - f[r]
@@ -272,8 +282,10 @@ def _consistent(F, fn, ft):
 
 
 @njit(cache=True, inline="always")
-def solve_one(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
+def solve_one(lin, F0, cp, res_out):
     """:func:`solve_contacts` for a single contact, on scalars (the common case, ~2x faster)."""
+    pd, pv, Sd, Sv = lin
+    F, fn, ft = res_out
     c = cp[0]
     f0y, f0z = F0[0], F0[1]
     if f0y == 0.0 and f0z == 0.0:
@@ -335,50 +347,55 @@ def solve_one(pd, pv, Sd, Sv, F0, cp, F, fn, ft):
 
 
 @njit(cache=True)
-def graze_contacts(pd, pv, Sd, Sv, cp, F, fn, ft, work):
+def graze_contacts(lin, cp, res_out, work):
     """Set-valued closure when Newton has no solution to converge to (a law that jumps at zero
     penetration, e.g. the linear law's dashpot): each contact in turn gets the fraction ``s`` of
     its law's force at zero new force that puts it exactly on the clearance circle (bisection on
     ``|p(s)| - g``), the complementarity solution ``eps = 0``, ``0 <= F_n <= c eps_dot``.
-    Returns 1 when every contact could be placed, else -1.
+    Returns 1 when every contact could be placed, else -1. Arguments as
+    :func:`solve_contacts`.
     """
+    pd, pv, Sd, Sv = lin
+    F, fn, ft = res_out
     m = F.shape[0]
-    f, p, u = work[0], work[1], work[2]
-    jp, ju, jac = work[6], work[7], work[9]
+    f, p = work[0], work[1]
     for r in range(m):
         F[r] = 0.0
     for i in range(cp.shape[0]):
-        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
+        _eval(lin, F, cp, fn, ft, work)
         if fn[i] == 0.0:
             continue
         fy, fz = f[2 * i], f[2 * i + 1]
         lo, hi = 0.0, 1.0
         F[2 * i] = fy
         F[2 * i + 1] = fz
-        _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
+        _eval(lin, F, cp, fn, ft, work)
         if math.sqrt(p[2 * i] ** 2 + p[2 * i + 1] ** 2) > cp[i, 4] and fn[i] != 0.0:
             return -1
         for _ in range(60):
             mid = 0.5 * (lo + hi)
             F[2 * i] = mid * fy
             F[2 * i + 1] = mid * fz
-            _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
+            _eval(lin, F, cp, fn, ft, work)
             if math.sqrt(p[2 * i] ** 2 + p[2 * i + 1] ** 2) > cp[i, 4]:
                 lo = mid
             else:
                 hi = mid
         F[2 * i] = hi * fy
         F[2 * i + 1] = hi * fz
-    _eval(pd, pv, Sd, Sv, F, cp, f, fn, ft, jp, ju, p, u, jac)
+    _eval(lin, F, cp, fn, ft, work)
     for i in range(cp.shape[0]):
         fn[i] = math.sqrt(F[2 * i] ** 2 + F[2 * i + 1] ** 2) / math.sqrt(1.0 + cp[i, 5] ** 2)
     return 1
 
 
 @njit(cache=True)
-def _write(out, ys, idx, y, z, F, fn, ft, contacts, outputs):
-    """Write sample ``idx`` from the state ``y``, phasor ``z``, contact forces ``F`` and the
+def _write(sink, idx, y, z, forces, contacts, outputs):
+    """Write sample ``idx`` to ``sink.out`` (and the state to ``sink.ys`` when kept) from the
+    state ``y``, phasor ``z`` and ``forces = (F, fn, ft)``: the contact forces ``F`` and the
     normal and friction forces ``fn``, ``ft`` (N) of the last contact solve."""
+    out, ys = sink.out, sink.ys
+    F, fn, ft = forces
     Od, Ov, ORd, ORv = outputs.Od, outputs.Ov, outputs.ORd, outputs.ORv
     OPu, OPv, Od0 = outputs.OPu, outputs.OPv, outputs.Od0
     nrow = Od.shape[0]
@@ -459,17 +476,18 @@ def hold_error(Fn, F, Fp, m, h, hp, a_f, omega):
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
-def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, ys, offset,
-               steps, contacts, outputs, omega, t0, events, drive, control):  # fmt: skip
+def expo_fixed(state, span, sink, steps, contacts, outputs, drive, control):
     """Fixed steps ``h = steps.h[0]``, halved where the contact solve fails.
 
-    State in/out: ``y`` (ns,) complex modal coordinates (shifted by the static and unbalance
-    particular solutions), ``F``, ``Fp`` (m,) current and previous contact forces (N), ``dprev``
-    (nc,) last relative radial displacements (m), ``zt = [z]`` the unbalance phasor,
-    ``istate`` (I_* slots). ``stats = [h_prev]``. Writes samples ``out[:, offset:offset + n]``
-    every ``save_every`` steps and returns the number written; stops early on a status
-    (:data:`STATUS_NAMES`). ``events`` (cap, 2) collects ``[t, +/-(i + 1)]`` onsets (+) and
-    separations (-) of contact ``i``, located by linear interpolation of the radial gap.
+    ``state`` (``State``, in/out): ``y`` (ns,) complex modal coordinates (shifted by the static
+    and unbalance particular solutions), ``F``, ``Fp`` (m,) current and previous contact forces
+    (N), ``dprev`` (nc,) last relative radial displacements (m), ``clock = [z]`` the unbalance
+    phasor, ``istate`` (I_* slots), ``stats = [h_prev]``. ``span`` (``Span``): writes
+    ``n_samples`` samples to ``sink.out[:, offset:offset + n]`` every ``save_every`` steps at
+    spin ``omega`` (rad/s) from the run's start ``t0`` (s), and returns the number written;
+    stops early on a status (:data:`STATUS_NAMES`). ``sink.events`` (cap, 2) collects
+    ``[t, +/-(i + 1)]`` onsets (+) and separations (-) of contact ``i``, located by linear
+    interpolation of the radial gap; ``sink.ys`` the modal states when not empty.
 
     ``drive`` (``Drive``): when ``drive.on``, the unbalance is an input instead of a particular
     solution (speed varying as ``Omega = omega0 + alpha t``): over each step the force
@@ -487,6 +505,11 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
     ``max(e_d, e_v / Omega) > atol + rtol max(|p|, g)``; it doubles again after steps below 1/20
     of that.
     """
+    y, F, Fp, dprev, zt = state.y, state.F, state.Fp, state.dprev, state.clock
+    istate, stats = state.istate, state.stats
+    n_samples, save_every, offset = span.n_samples, span.save_every, span.offset
+    omega, t0 = span.omega, span.t0
+    events = sink.events
     E, G0, G1, BT, CdE, CvE = steps.E, steps.G0, steps.G1, steps.BT, steps.CdE, steps.CvE
     CdG0b, CvG0b, Sd, Sv, rot, hs = steps.CdG0b, steps.CvG0b, steps.Sd, steps.Sv, steps.rot, steps.h
     Pu, Pv, d0, cp, max_disp = (contacts.Pu, contacts.Pv, contacts.d0, contacts.cp,
@@ -591,11 +614,11 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
                         for c in range(m):
                             pv[r] += CvG0b[lev, r, c] * F[c]
                 if nc == 1:
-                    it = solve_one(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft)
+                    it = solve_one((pd, pv, Sd[lev], Sv[lev]), F0, cp, (Fn, fn, ft))
                 else:
-                    it = solve_contacts(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft, work)
+                    it = solve_contacts((pd, pv, Sd[lev], Sv[lev]), F0, cp, (Fn, fn, ft), work)
             if it < 0 and lev == J:
-                it = graze_contacts(pd, pv, Sd[lev], Sv[lev], cp, Fn, fn, ft, work)
+                it = graze_contacts((pd, pv, Sd[lev], Sv[lev]), cp, (Fn, fn, ft), work)
                 if it > 0:
                     istate[I_GRAZE] += 1
             if it < 0:
@@ -703,7 +726,7 @@ def expo_fixed(y, F, Fp, dprev, zt, istate, stats, n_samples, save_every, out, y
         tt = omega * (t0 + step * h0)
         z = complex(math.cos(tt), math.sin(tt))
         if step % save_every == 0:
-            _write(out, ys, offset + written, y, z, F, fn, ft, contacts, outputs)
+            _write(sink, offset + written, y, z, (F, fn, ft), contacts, outputs)
             written += 1
     zt[0] = z
     stats[0] = hp

@@ -162,13 +162,14 @@ def colloc_weights(lam, s, h):
 
 
 @njit(cache=True)
-def _fill4(tab4, k, h, lam, Cd, Cv, BT, Rd, Rv):
+def _fill4(tab4, k, h, lam, rows):
     """Coefficients of a collocation step ``h`` (s) into row ``k`` of ``tab4``: per stage
     (midpoint, end) the propagator and force weights, the contact rows times the propagator, and
     the real responses of the stacked stage rows ``[p(h/2), p(h)]`` to ``F0`` (``P0d, P0v``) and
     to the unknown stage forces ``[Fm, F1]`` (``S2d, S2v``, residual flexibility on the diagonal
-    blocks)."""
+    blocks); ``rows = (Cd, Cv, BT, Rd, Rv)`` the contact rows, modal input and residual."""
     E, Em, W, CdE, CvE, CdEm, CvEm, P0d, P0v, S2d, S2v = tab4
+    Cd, Cv, BT, Rd, Rv = rows
     ns = lam.shape[0]
     m = Cd.shape[0]
     for j in range(ns):
@@ -236,11 +237,13 @@ def _dense4_next(ysmp, bF, bM, bN, EH, PH, s, h):
 
 
 @njit(cache=True, inline="always")
-def quad_error(Fp, Fpm, F, Fm, Fn, m, hp, h, a_f, omega):
+def quad_error(forces, m, hp, h, a_f, omega):
     """Local error (m) of a collocation step ``h`` (s) with the force held quadratic: Simpson's
     ``h^5 |F| / 2880`` in velocity per unit acceleration ``a_f``, ``F`` from the fourth
     divided difference of the five forces at ``-hp, -hp/2, 0, h/2, h`` (this and the previous
-    step ``hp``, s). Returns ``max(e_v h / 2, e_v / omega)`` as :func:`hold_error`."""
+    step ``hp``, s), ``forces = (Fp, Fpm, F, Fm, Fn)`` (N). Returns ``max(e_v h / 2,
+    e_v / omega)`` as :func:`hold_error`."""
+    Fp, Fpm, F, Fm, Fn = forces
     x0, x1, x2, x3, x4 = -hp, -0.5 * hp, 0.0, 0.5 * h, h
     f4 = 0.0
     for r in range(m):
@@ -260,9 +263,11 @@ def quad_error(Fp, Fpm, F, Fm, Fn, m, hp, h, a_f, omega):
 
 
 @njit(cache=True)
-def _fill(tab, k, h, lam, Cd, Cv, Wd, Wv, Rd, Rv):
-    """Coefficients of a step ``h`` (s) into row ``k`` of the tables ``tab``."""
+def _fill(tab, k, h, lam, rows):
+    """Coefficients of a step ``h`` (s) into row ``k`` of the tables ``tab``; ``rows = (Cd, Cv,
+    Wd, Wv, Rd, Rv)`` the contact rows, their products with the modal input and the residual."""
     E, G0, G1, CdE, CvE, Q0d, Q0v, Sd, Sv = tab
+    Cd, Cv, Wd, Wv, Rd, Rv = rows
     ns = lam.shape[0]
     m = Cd.shape[0]
     for j in range(ns):
@@ -297,16 +302,19 @@ def _bound(py, pz, vy, vz, a, s):
 
 
 @njit(cache=True)
-def _free_look(y, z, S, omega, contacts, Ca, grow, ay, p0, v0, tol_x):
+def _free_look(y, z, S, omega, contacts, look, scratch):
     """Largest certified free advance in ``[0, S]`` (s) from the state ``y``, phasor ``z``.
 
-    ``grow`` bounds ``|e^{lam s}|`` for ``s <= S``; ``ay`` is scratch for ``|y|``. Fills ``p0``,
-    ``v0`` (m, m/s) with the relative contact displacement and velocity. Returns
+    ``look = (Ca, grow, tol_x)``: the look-ahead rows, ``grow`` a bound of ``|e^{lam s}|`` for
+    ``s <= S`` and the gap ``tol_x`` (m) of a located onset. ``scratch = (ay, p0, v0)``: ``ay``
+    for ``|y|``; ``p0``, ``v0`` receive (m, m/s) the relative contact displacement and velocity. Returns
     ``(s, located, rmax)``: ``s`` the certified advance, ``located`` True when a contact's gap is
     below ``tol_x`` (m) (an onset to hand to the contact steps), ``rmax`` the largest radial
     displacement (m, for the divergence check)."""
     Cd, Cv, Pu, Pv, d0, cp = (contacts.Cd, contacts.Cv, contacts.Pu, contacts.Pv, contacts.d0,
                               contacts.cp)  # fmt: skip
+    Ca, grow, tol_x = look
+    ay, p0, v0 = scratch
     ns = y.shape[0]
     for j in range(ns):
         ay[j] = math.sqrt(y[j].real ** 2 + y[j].imag ** 2)
@@ -379,8 +387,10 @@ def _dense(ysmp, y, bF, bN, lam, ilam, s, h):
 
 
 @njit(cache=True)
-def _write_dense(out, ys, idx, ysmp, z, Fs, contacts, outputs, fn, ft, pbuf, ubuf):
-    """Sample from an interpolated state: normal and friction force from the law there."""
+def _write_dense(sink, idx, ysmp, z, Fs, contacts, outputs, scratch):
+    """Sample from an interpolated state: normal and friction force from the law there
+    (``scratch = (fn, ft, pbuf, ubuf)``)."""
+    fn, ft, pbuf, ubuf = scratch
     Cd, Cv, Pu, Pv, d0, cp = (contacts.Cd, contacts.Cv, contacts.Pu, contacts.Pv, contacts.d0,
                               contacts.cp)  # fmt: skip
     m = Fs.shape[0]
@@ -394,16 +404,21 @@ def _write_dense(out, ys, idx, ysmp, z, Fs, contacts, outputs, fn, ft, pbuf, ubu
         law = _law(pbuf[2 * i], pbuf[2 * i + 1], ubuf[2 * i], ubuf[2 * i + 1], cp[i])
         fn[i] = law[2]
         ft[i] = law[3]
-    _write(out, ys, idx, ysmp, z, Fs, fn, ft, contacts, outputs)
+    _write(sink, idx, ysmp, z, (Fs, fn, ft), contacts, outputs)
 
 
 @njit(cache=True, inline="always")
-def _solve_stages(pd2, pv2, X0, X, fn2, ft2, cp2, work2, y, F, Fp, loaded, extrap, h, hp, t,
-                  omega, k, tab4, contacts, finest):  # fmt: skip
+def _solve_stages(stage, y, F, Fp, step, tab4, contacts):
     """The collocation step's implicit contact solve: stage rows ``pd2, pv2`` (m, m/s) without
     the unknown stage forces, then Newton (:func:`solve_contacts` on the two stages stacked as
     ``2 n_c`` contacts) for ``X = [F(h/2), F(h)]`` (N) from a start extrapolated along the last
-    step. Returns the iteration count (``0``: no contact closes, ``< 0``: failed)."""
+    step. Returns the iteration count (``0``: no contact closes, ``< 0``: failed).
+
+    ``stage = (pd2, pv2, X0, X, fn2, ft2, cp2, work2)`` the stacked stage arrays, ``step =
+    (loaded, extrap, h, hp, t, omega, k)``: whether a force acts, whether to extrapolate, the
+    step and the previous one (s), its start (s), the spin (rad/s) and its table row."""
+    pd2, pv2, X0, X, fn2, ft2, cp2, work2 = stage
+    loaded, extrap, h, hp, t, omega, k = step
     E4, Em4, W4, CdE4, CvE4, CdEm4, CvEm4, P0d, P0v, S2d, S2v = tab4
     Pu, Pv, d0 = contacts.Pu, contacts.Pv, contacts.d0
     m = F.shape[0]
@@ -426,20 +441,25 @@ def _solve_stages(pd2, pv2, X0, X, fn2, ft2, cp2, work2, y, F, Fp, loaded, extra
         else:
             X0[r] = F[r]
             X0[m + r] = F[r]
-    return solve_contacts(pd2, pv2, S2d[k], S2v[k], X0, cp2, X, fn2, ft2, work2)
+    return solve_contacts((pd2, pv2, S2d[k], S2v[k]), X0, cp2, (X, fn2, ft2), work2)
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
-def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan, contacts,
-                  outputs, omega, events, control):  # fmt: skip
-    """Advance ``n_samples`` output samples (spacing ``plan.H``) with exact free flight and
+def expo_adaptive(state, span, sink, plan, contacts, outputs, control):
+    """Advance ``span.n_samples`` output samples (spacing ``plan.H``) with exact free flight and
     error-controlled contact steps (module docstring); returns the number written.
 
-    State in/out as in :func:`rubrotor.core.engine.expo_fixed` (``y``, ``F``, ``Fp``, ``dprev``,
-    ``istate``, ``events``) plus ``tst`` (T_* slots: time (s), previous step (s), level, free
-    advances). ``plan`` (:class:`rubrotor.engine.structs.Plan`) holds the modes, the lazily
-    filled per-level tables and the look-ahead rows. Samples go to ``out[:, offset + k]``.
+    ``state`` (``State``, in/out) as in :func:`rubrotor.core.engine.expo_fixed` (``y``, ``F``,
+    ``Fp``, ``dprev``, ``istate``) with ``clock`` the T_* slots (time (s), previous step (s),
+    level, free advances); ``span`` gives ``n_samples``, ``offset`` and the spin ``omega``
+    (rad/s). ``plan`` (:class:`rubrotor.engine.structs.Plan`) holds the modes, the lazily
+    filled per-level tables and the look-ahead rows. Samples go to ``sink.out[:, offset + k]``,
+    events to ``sink.events``.
     """
+    y, F, Fp, dprev, tst, istate = (state.y, state.F, state.Fp, state.dprev, state.clock,
+                                    state.istate)  # fmt: skip
+    n_samples, offset, omega = span.n_samples, span.offset, span.omega
+    events = sink.events
     lam, BT, Wd, Wv, Ca, EH = plan.lam, plan.BT, plan.Wd, plan.Wv, plan.Ca, plan.EH
     H, J, have, tab, tol_x = plan.H, plan.J, plan.have, plan.tab, plan.tol_x
     E, G0, G1, CdE, CvE, Q0d, Q0v, Sd, Sv = tab
@@ -532,8 +552,8 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
                 s, located = ts - t, False
             else:
                 S = min(LOOK_AHEAD * H, t_end - t)
-                s, located, rmax = _free_look(y, z, S, omega, contacts, Ca, grow, ay, pd, pv,
-                                              tol_x)  # fmt: skip
+                s, located, rmax = _free_look(y, z, S, omega, contacts, (Ca, grow, tol_x),
+                                              (ay, pd, pv))  # fmt: skip
                 if not (rmax <= max_disp):
                     istate[I_STATUS] = DIVERGED
                     break
@@ -553,7 +573,7 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
                 for i in range(nc):
                     fn[i] = 0.0
                     ft[i] = 0.0
-                _write(out, ys, offset + written, y, z, F, fn, ft, contacts, outputs)
+                _write(sink, offset + written, y, z, (F, fn, ft), contacts, outputs)
                 written += 1
                 istate[I_STEP] += 1
                 continue
@@ -583,9 +603,9 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
             k = kfree
         if k == kfree or have[k] == 0:
             if quad:
-                _fill4(tab4, k, h, lam, Cd, Cv, BT, Rd, Rv)
+                _fill4(tab4, k, h, lam, (Cd, Cv, BT, Rd, Rv))
             else:
-                _fill(tab, k, h, lam, Cd, Cv, Wd, Wv, Rd, Rv)
+                _fill(tab, k, h, lam, (Cd, Cv, Wd, Wv, Rd, Rv))
             tst[T_FILLS] += 1.0
             if k != kfree:
                 have[k] = 1
@@ -596,10 +616,10 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
                 extrap = True
         finest = h <= plan.hmin * 1.0000001
         if quad:
-            it = _solve_stages(pd2, pv2, X0, X, fn2, ft2, cp2, work2, y, F, Fp, loaded, extrap,
-                               h, hp, t, omega, k, tab4, contacts, finest)  # fmt: skip
+            it = _solve_stages((pd2, pv2, X0, X, fn2, ft2, cp2, work2), y, F, Fp,
+                               (loaded, extrap, h, hp, t, omega, k), tab4, contacts)  # fmt: skip
             if it < 0 and finest:
-                it = graze_contacts(pd2, pv2, S2d[k], S2v[k], cp2, X, fn2, ft2, work2)
+                it = graze_contacts((pd2, pv2, S2d[k], S2v[k]), cp2, (X, fn2, ft2), work2)
                 if it > 0:
                     istate[I_GRAZE] += 1
             for r in range(m):
@@ -623,11 +643,11 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
             for r in range(m):
                 F0[r] = F[r] + (F[r] - Fp[r]) * (h / hp) if extrap else F[r]
             if nc == 1:
-                it = solve_one(pd, pv, Sd[k], Sv[k], F0, cp, Fn, fn, ft)
+                it = solve_one((pd, pv, Sd[k], Sv[k]), F0, cp, (Fn, fn, ft))
             else:
-                it = solve_contacts(pd, pv, Sd[k], Sv[k], F0, cp, Fn, fn, ft, work)
+                it = solve_contacts((pd, pv, Sd[k], Sv[k]), F0, cp, (Fn, fn, ft), work)
             if it < 0 and finest:
-                it = graze_contacts(pd, pv, Sd[k], Sv[k], cp, Fn, fn, ft, work)
+                it = graze_contacts((pd, pv, Sd[k], Sv[k]), cp, (Fn, fn, ft), work)
                 if it > 0:
                     istate[I_GRAZE] += 1
             for r in range(m):
@@ -698,7 +718,7 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
             tolp = control.atol + control.rtol * max(pmax, gmin)
             if quad:
                 if has_history(Fp, m) and has_history(Fpm, m) and new and loaded:
-                    err = quad_error(Fp, Fpm, F, Fmid, Fn, m, hp, h, control.a_f, omega) / tolp
+                    err = quad_error((Fp, Fpm, F, Fmid, Fn), m, hp, h, control.a_f, omega) / tolp
                 else:
                     # quadratic against linear force (the midpoint bubble): end displacement,
                     # and velocity over Omega
@@ -769,8 +789,8 @@ def expo_adaptive(y, F, Fp, dprev, tst, istate, n_samples, out, ys, offset, plan
                 for r in range(m):
                     Fs[r] = F[r] + (Fn[r] - F[r]) * (s / h)
             zs = complex(math.cos(omega * ts), math.sin(omega * ts))
-            _write_dense(out, ys, offset + written, ysmp, zs, Fs, contacts, outputs, fn, ft,
-                         pbuf, ubuf)  # fmt: skip
+            _write_dense(sink, offset + written, ysmp, zs, Fs, contacts, outputs,
+                         (fn, ft, pbuf, ubuf))  # fmt: skip
             written += 1
             istate[I_STEP] += 1
         if quad:

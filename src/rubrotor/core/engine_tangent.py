@@ -277,11 +277,11 @@ def map_tangent(y, F, Qy, QF, steps, contacts, outputs, omega, n_steps, out):
                         for c in range(m):
                             pv[r] += CvG0b[lev, r, c] * F[c]
                 if nc == 1:
-                    it = solve_one(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft)
+                    it = solve_one((pd, pv, Sd[lev], Sv[lev]), F0, cp, (Fn, fn, ft))
                 else:
-                    it = solve_contacts(pd, pv, Sd[lev], Sv[lev], F0, cp, Fn, fn, ft, work)
+                    it = solve_contacts((pd, pv, Sd[lev], Sv[lev]), F0, cp, (Fn, fn, ft), work)
             if it < 0 and lev == J:
-                it = graze_contacts(pd, pv, Sd[lev], Sv[lev], cp, Fn, fn, ft, work)
+                it = graze_contacts((pd, pv, Sd[lev], Sv[lev]), cp, (Fn, fn, ft), work)
                 if it > 0:
                     grazes += 1
             if it < 0:

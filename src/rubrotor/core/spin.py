@@ -149,7 +149,7 @@ def _rhs(t, x, mats, forces, cont, spin, dx, rec):
 
 
 @njit(cache=True)
-def spin_dopri(x0, t_out, mats, forces, cont, spin, ctrl, out, istate):
+def spin_dopri(x0, t_out, mats, forces, cont, spin, ctrl, sink):
     """Integrate from ``t_out[0]`` through ``t_out`` with Dormand-Prince 5(4), saving every time.
 
     Parameters
@@ -172,11 +172,11 @@ def spin_dopri(x0, t_out, mats, forces, cont, spin, ctrl, out, istate):
     ctrl : ndarray (3 + n_x,)
         ``[rtol, h0 s, max_steps, atol per state...]``; ``ctrl[1]`` gets the next step size (s)
         on return, to continue with.
-    out : ndarray (n_x + 5 n_c, len(t_out))
-        Filled with the saved channels.
-    istate : ndarray of int64 (4,)
-        Gets ``[status, accepted, rejected, samples saved]``.
+    sink : tuple
+        ``(out, istate)``: ``out`` (n_x + 5 n_c, len(t_out)) is filled with the saved channels;
+        ``istate`` (4,) int64 gets ``[status, accepted, rejected, samples saved]``.
     """
+    out, istate = sink
     n = x0.shape[0]
     nc = cont[2].shape[0]
     rtol = ctrl[0]

@@ -29,7 +29,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rubrotor.core.contact import pack_contact
 from rubrotor.core.engine import (
     CONTACT_CHANNELS,
     EVENT_BUFFER_FULL,
@@ -63,8 +62,6 @@ from rubrotor.engine.parts import (
     Run,
     speed_at,
     spin_angle,
-    static_load_vector,
-    unbalance_phasor,
 )
 from rubrotor.engine.reduce import (
     IllConditioned,
@@ -79,8 +76,20 @@ from rubrotor.engine.restart import physical_state
 from rubrotor.engine.result import TimeRun, _jsonable, to_dataset
 from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.engine.stream import NetcdfSink, check_size
-from rubrotor.engine.structs import Contacts, Control, Drive, Outputs, Plan, Steps
+from rubrotor.engine.structs import (
+    Contacts,
+    Control,
+    Drive,
+    Outputs,
+    Plan,
+    Sink,
+    State,
+    Steps,
+    span,
+)
 from rubrotor.errors import InputError
+from rubrotor.forces.terms import Terms
+from rubrotor.forces.unbalance import unbalance_load
 from rubrotor.rotors.scales import explain
 
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "result_dataset", "STEPPERS"]
@@ -228,35 +237,17 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
         Sd[2 * i : 2 * i + 2, o : o + k] = sm_i.Vq
         o += k
     Cd = Cd - Sd
-    b_u = np.zeros(sm.M.shape[0], complex)
-    for u in unbalances:
-        if u.position is None:
-            raise InputError("unbalance.position", None, "an axial position (m)")
-        b_u += unbalance_phasor(u, speed) * (system.force_map(u.position) @ np.array([1, -1j]))
+    terms = Terms(tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity))
+    b_u = terms.unbalance_load(system, speed)
     try:
         Q = _particular(sm, b_u, speed)
     except NearCritical as exc:  # name the scenario key far off the rotor's scale, if any
         raise explain(exc, system.scales) from None
-    f_s = static_load_vector(system, tuple(loads), gravity)
+    f_s = terms.static_load(system)
     q_s = np.linalg.solve(sm.K, f_s) if np.any(f_s) else np.zeros_like(f_s)
     offs = np.array([[s.offset_y, s.offset_z] for s in stations]).ravel()
     Pu = Bmat.T @ Q
-    cps = np.array(
-        [
-            pack_contact(
-                1,
-                c.law_code,
-                c.stiffness,
-                c.damping,
-                c.clearance,
-                c.friction,
-                c.sign_code,
-                c.radius * speed,
-                c.friction_regularization,
-            )
-            for c in (s.contact for s in stations)
-        ]  # fmt: skip
-    ).reshape(nc, 10)
+    cps = terms.contact_rows(speed)
     max_d = run.max_displacement or (
         1000 * max((s.contact.clearance for s in stations), default=0.0)
         or 0.1 * system.basis.length
@@ -373,11 +364,21 @@ def _kernel_state(plant: Plant, run: Run):
                 zt=np.ones(1, complex), hp=np.array([run.step]))  # fmt: skip
 
 
+def _state(k: dict, clock: np.ndarray, chunks) -> State:
+    """The kernels' :class:`State` of the kernel arrays ``k`` with ``clock`` (``zt`` or ``tst``)."""
+    return State(k["y"], k["F"], k["Fp"], k["dprev"], clock, chunks.istate, k["hp"])
+
+
+def _sink(chunks) -> Sink:
+    """The kernels' :class:`Sink`: the chunk buffers (replaced when the event buffer grows)."""
+    return Sink(chunks.out, chunks.ys, chunks.events)
+
+
 def _first_sample(state, k, plant):
     from rubrotor.core.engine import _write
 
     nc = len(plant.outputs.flex)
-    _write(state.out, state.ys, 0, k["y"], k["zt"][0], k["F"], np.zeros(nc), np.zeros(nc),
+    _write(_sink(state), 0, k["y"], k["zt"][0], (k["F"], np.zeros(nc), np.zeros(nc)),
            plant.contacts, plant.outputs)  # fmt: skip
 
 
@@ -439,9 +440,8 @@ def _adaptive_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks, 
     stats = {"step_s": run.step, "min_step_s": plan.hmin, "adaptive": True}
 
     def chunk(offset: int, count: int, done: int) -> int:
-        wrote = expo_adaptive(k["y"], k["F"], k["Fp"], k["dprev"], tst, state.istate, count,
-                              state.out, state.ys, offset, plan, c, plant.outputs, plant.speed,
-                              state.events, control)  # fmt: skip
+        wrote = expo_adaptive(_state(k, tst, state), span(count, 1, offset, plant.speed),
+                              _sink(state), plan, c, plant.outputs, control)  # fmt: skip
         # the counters after every chunk: the result's stats hold them however the run ends
         stats["free_advances"] = int(tst[T_FREE])
         stats["coefficient_fills"] = int(tst[T_FILLS])
@@ -473,10 +473,9 @@ def _fixed_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     drive = _no_drive(plant.lam.size)
 
     def chunk(offset: int, count: int, done: int) -> int:
-        return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
-                          count, run.save_every, state.out, state.ys, offset, steps,
-                          plant.contacts, plant.outputs, plant.speed, 0.0, state.events,
-                          drive, control)  # fmt: skip
+        return expo_fixed(_state(k, k["zt"], state), span(count, run.save_every, offset,
+                          plant.speed), _sink(state), steps, plant.contacts, plant.outputs, drive,
+                          control)  # fmt: skip
 
     stats = {"step_s": run.step, "min_step_s": float(steps.h[-1]), "adaptive": run.rtol is not None}
 
@@ -570,9 +569,7 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
     n_seg = bounds.size - 1
     k = _kernel_state(plant, run)
     cur = {"index": -1, "plant": plant}
-    b0 = np.zeros(problem.system.n_dof, complex)
-    for u in problem.unbalances:
-        b0 += unbalance_phasor(u, 1.0) * (problem.system.force_map(u.position) @ np.array([1, -1j]))
+    b0 = unbalance_load(problem.system, problem.unbalances, 1.0)
     basis = _runup_basis(problem, run, plant)
 
     def segment(index: int):
@@ -606,10 +603,9 @@ def _runup_factory(problem: Problem, plant: Plant, run: Run, state: _Chunks):
             segment(index)
         count = min(count, int(bounds[index + 1]) - done)
         p = cur["plant"]
-        return expo_fixed(k["y"], k["F"], k["Fp"], k["dprev"], k["zt"], state.istate, k["hp"],
-                          count, run.save_every, state.out, state.ys, offset, cur["steps"],
-                          p.contacts, p.outputs, p.speed, 0.0, state.events,
-                          cur["drive"], cur["control"])  # fmt: skip
+        return expo_fixed(_state(k, k["zt"], state), span(count, run.save_every, offset, p.speed),
+                          _sink(state), cur["steps"], p.contacts, p.outputs, cur["drive"],
+                          cur["control"])  # fmt: skip
 
     stats = {"step_s": run.step, "segments": n_seg, "speed_end_rad_s": run.speed_end,
              "angular_acceleration_rad_s2": [float(d[1]) for d in drives],

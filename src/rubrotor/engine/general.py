@@ -25,6 +25,7 @@ import numpy as np
 from rubrotor.engine.parts import Run, spin_angle
 from rubrotor.engine.stream import check_size
 from rubrotor.errors import InputError, ScenarioError
+from rubrotor.forces.contact import law_of
 
 __all__ = ["engine_problem", "engine_run", "simulate_engine", "given_state", "default_step", "STREAM_SAMPLES"]
 
@@ -121,7 +122,7 @@ def default_step(system, eng, top_speed: float) -> float:
     fast = [top_speed]
     for st in eng.stations:
         c = st.contact
-        k = c.stiffness if c.law == "linear" else 1.5 * c.stiffness * math.sqrt(c.clearance)
+        k = law_of(c).tangent_stiffness(c.stiffness, c.clearance)
         mm = modal_masses(system, top_speed, c.position, n=kept)
         fast.append(math.sqrt(k / min(m.modal_mass for m in mm)))
         if st.stator is not None:

@@ -9,7 +9,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from rubrotor.errors import InputError
-from rubrotor.rotors.forces import Contact, RadialLoad, Unbalance
+from rubrotor.forces.loads import static_load as _static_load
+from rubrotor.forces.unbalance import unbalance_phasor as _unbalance_phasor
+from rubrotor.rotors.forces import Contact
 
 __all__ = ["Stator", "RubStation", "Run", "INITIAL_STATES"]
 
@@ -266,31 +268,6 @@ def speed_at(run: Run, t) -> np.ndarray:
     return ww[i] + a[i] * (t - tt[i]), a[i]
 
 
-def unbalance_phasor(u: Unbalance, speed: float) -> complex:
-    """``m e Omega^2 e^{i phase}`` (N): the force is ``Re`` / ``Im`` of it times ``e^{i Omega t}``."""
-    return u.magnitude * speed**2 * complex(math.cos(u.phase), math.sin(u.phase))
-
-
-def static_load_vector(system, loads: tuple[RadialLoad, ...], gravity=(0.0, 0.0)) -> np.ndarray:
-    """Constant generalised force (N) on the free DOFs: point loads plus gravity.
-
-    Gravity ``(g_y, g_z)`` (m/s^2) is ``M r`` with ``r`` the rigid translation along ``g``:
-    the consistent load of the distributed shaft mass and the disk masses. It needs DOF labels
-    ``"v@..."``/``"w@..."`` (as the finite-element builder makes them).
-    """
-    f = np.zeros(system.M.shape[0])
-    gy, gz = (_num("gravity.y", gravity[0], "m/s^2"), _num("gravity.z", gravity[1], "m/s^2"))
-    if gy or gz:
-        labels = system.dof_labels
-        if len(labels) != len(f):
-            raise InputError("gravity", gravity, "a rotor with labelled DOFs (v@x, w@x)")
-        r = np.array(
-            [gy if s.startswith("v@") else gz if s.startswith("w@") else 0.0 for s in labels]
-        )
-        f += system.M @ r
-    f = f[system.free]
-    for ld in loads:
-        if ld.position is None:
-            raise InputError("load.position", None, "an axial position (m)")
-        f += system.force_map(ld.position) @ np.array([ld.force_y, ld.force_z])
-    return f
+# The unbalance and load terms live in rubrotor.forces; their old names stay here.
+unbalance_phasor = _unbalance_phasor
+static_load_vector = _static_load

@@ -37,6 +37,7 @@ from rubrotor.engine.settings import Integrator
 from rubrotor.engine.shaft_modal import ModalSystem, assemble_modal, phi_functions
 from rubrotor.engine.shaft_steppers import STEPPERS, Plan, Rows, RunState
 from rubrotor.errors import InputError
+from rubrotor.forces.contact import law_of
 from rubrotor.rotors.forces import Contact, ModalDamping, RadialLoad, Unbalance
 from rubrotor.rotors.shaft import Shaft
 
@@ -468,11 +469,7 @@ def _energy_balance(plan: Plan, st: RunState, e0: float, n_out: int, contact) ->
     if contact is not None:
         eps = abs(p_end) - contact.clearance
         if eps > 0:
-            u_c = (
-                0.4 * contact.stiffness * eps**2.5
-                if contact.law == "hertz"
-                else 0.5 * contact.stiffness * eps**2
-            )
+            u_c = law_of(contact).energy(contact.stiffness, eps)
     work = st.work
     return {
         "mechanical_energy_start_J": e0,
@@ -731,9 +728,9 @@ def scenario_parameters(scenario) -> dict:
             key = f"{sec}.{f.name}"
             u = unit(key, getattr(obj, f.name))
             if sec == "contact" and f.name == "stiffness":
-                u = "N/m^1.5" if obj.law == "hertz" else "N/m"
+                u = law_of(obj).stiffness_unit
             if sec == "contact" and f.name == "damping":
-                u = "s/m" if obj.law == "hertz" else "N s/m"
+                u = law_of(obj).damping_unit
             out[key] = [getattr(obj, f.name), u]
     return out
 

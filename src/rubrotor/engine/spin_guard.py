@@ -208,7 +208,7 @@ def run_chunks(kernel, x0, t_out, args, ctrl, rows: int, show, diagnose):
             buf = np.zeros((rows, stop - m + 1))
             ctrl[2] = max_steps - acc - rej
             tic = time.perf_counter()
-            kernel(x, t_out[m - 1 : stop], *args, ctrl, buf, ist)
+            kernel(x, t_out[m - 1 : stop], *args, ctrl, (buf, ist))
             got = int(ist[3])
             acc, rej = acc + int(ist[1]), rej + int(ist[2])
             bad = ~np.all(np.isfinite(buf[:, :got]), axis=0)

@@ -6,7 +6,7 @@ named tuple of arrays by field name.
 
 from collections import namedtuple
 
-__all__ = ["Steps", "Contacts", "Outputs", "Drive", "Control", "Plan"]
+__all__ = ["Steps", "Contacts", "Outputs", "Drive", "Control", "Plan", "State", "Span", "Sink"]
 
 Steps = namedtuple(
     "Steps", ["E", "G0", "G1", "BT", "CdE", "CvE", "CdG0b", "CvG0b", "Sd", "Sv", "rot", "h"]
@@ -49,3 +49,23 @@ the per-level coefficient tables ``(E, G0, G1, CdE, CvE, Q0d, Q0v, Sd, Sv)`` fil
 (row ``L - 1`` for a non-dyadic step); ``order`` 2 (force held linear over a contact step) or
 4 (quadratic, collocation at ``0, h/2, h``) and ``tab4`` its tables ``(E, Em, W, CdE, CvE,
 CdEm, CvEm, P0d, P0v, S2d, S2v)`` (:func:`rubrotor.core.engine_adaptive._fill4`)."""
+
+State = namedtuple("State", ["y", "F", "Fp", "dprev", "clock", "istate", "stats"])
+"""The engine kernels' state, updated in place: ``y`` (ns,) complex modal coordinates, ``F``,
+``Fp`` (m,) current and previous contact forces (N), ``dprev`` (nc,) last radial displacements
+(m), ``clock`` the fixed-step kernel's ``[z]`` unbalance phasor or the adaptive kernel's ``T_*``
+slots (time s, previous step s, level, counters), ``istate`` the ``I_*`` counters and status,
+``stats`` the fixed-step kernel's ``[h_prev]`` (s)."""
+
+Span = namedtuple("Span", ["n_samples", "save_every", "offset", "omega", "t0"])
+"""What one kernel call covers: ``n_samples`` to write from column ``offset``, every
+``save_every`` steps, at spin ``omega`` (rad/s), the run starting at ``t0`` (s)."""
+
+Sink = namedtuple("Sink", ["out", "ys", "events"])
+"""Where the kernels write: samples ``out`` (channels, samples), modal states ``ys`` (samples,
+ns; empty when not kept) and contact events ``events`` (cap, 2)."""
+
+
+def span(n_samples, save_every, offset, omega, t0=0.0) -> Span:
+    """A :class:`Span` with the scalar types the kernels are compiled for (int, float)."""
+    return Span(int(n_samples), int(save_every), int(offset), float(omega), float(t0))

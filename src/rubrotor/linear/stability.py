@@ -26,6 +26,7 @@ import scipy.optimize
 
 from rubrotor.core.contact import contact_force_jac, pack_contact
 from rubrotor.errors import InputError
+from rubrotor.forces.contact import law_of
 from rubrotor.linear.modes import _modes
 from rubrotor.linear.roots import _check_speed
 from rubrotor.rotors.linear import LinearSystem
@@ -225,7 +226,7 @@ def contact_stability(
     if model.linear == "matrix":
         return general_contact_stability(scenario, indentation, friction=friction)
     c = model.first_contact  # [contact], or the first [[contact]] table
-    if c is None or c.law != "hertz":
+    if c is None or not law_of(c).indentation:
         raise InputError("contact", None if c is None else c.law, "a Hertz [contact] section")
     if isinstance(indentation, bool) or not (
         isinstance(indentation, int | float) and math.isfinite(indentation) and indentation > 0

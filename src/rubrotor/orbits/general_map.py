@@ -41,6 +41,7 @@ from rubrotor.core.engine import (
 from rubrotor.core.engine_tangent import map_tangent
 from rubrotor.engine.driver import _control, _no_drive, _steps, build_plant
 from rubrotor.engine.settings import Integrator
+from rubrotor.engine.structs import Sink, State, span
 from rubrotor.errors import InputError
 
 FD_STEP = 6e-6
@@ -147,11 +148,11 @@ class GeneralMap:
         out = np.zeros((self._nch, n + 1))
         istate = np.zeros(N_ISTATE, np.int64)
         events = np.zeros((1 << 12, 2))
-        wrote = expo_fixed(y, F, F.copy(), np.zeros(m // 2), np.ones(1, complex), istate,
-                           np.array([self._steps.h[0]]), n, save_every, out,
-                           np.zeros((0, ns), complex), 1, self._steps, self.plant.contacts,
-                           self.plant.outputs, self.speed, 0.0, events, self._drive,
-                           self._control)  # fmt: skip
+        state = State(y, F, F.copy(), np.zeros(m // 2), np.ones(1, complex), istate,
+                      np.array([self._steps.h[0]]))  # fmt: skip
+        sink = Sink(out, np.zeros((0, ns), complex), events)
+        wrote = expo_fixed(state, span(n, save_every, 1, self.speed), sink, self._steps,
+                           self.plant.contacts, self.plant.outputs, self._drive, self._control)
         status = int(istate[I_STATUS])
         if status == DIVERGED or (status != OK and wrote < n):
             raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")

@@ -555,10 +555,14 @@ class Rotor:
         if not self.shaft_sections:
             raise InputError("section", (), "at least one shaft section (without position)")
         self._check_point_masses()
-        for name, kind in (("sections", Section), ("disks", Disk), ("bearings", Bearing)):
+        for name, kind in (("sections", Section), ("disks", Disk)):
             for i, item in enumerate(getattr(self, name)):
                 if not isinstance(item, kind):
                     raise InputError(f"{name[:-1]}[{i + 1}]", item, f"a {kind.__name__}")
+        for i, item in enumerate(self.bearings):  # a Bearing or another support term
+            if not all(hasattr(item, a) for a in ("support", "position", "kind", "holds")):
+                raise InputError(f"bearing[{i + 1}]", item, "a Bearing or a support term "
+                                 "(rubrotor.forces.supports)")  # fmt: skip
         if self.theory not in THEORIES:
             raise InputError("rotor.theory", self.theory, " or ".join(f'"{t}"' for t in THEORIES))
         if not isinstance(self.gyroscopic, bool):

@@ -49,6 +49,7 @@ __all__ = [
 ]
 
 CONTACT_LAWS = ("hertz", "linear")
+_LAW_UNITS = {"hertz": ("N/m^1.5", "s/m"), "linear": ("N/m", "N s/m")}  # stiffness, damping
 FRICTION_SIGNS = ("physical", "seed")
 RESTITUTION_MODELS = ("hunt-crossley", "lankarani-nikravesh", "flores")
 BOW_SHAPES = ("arc",)
@@ -244,10 +245,9 @@ class Contact:
             "clearance",
             _number("contact.clearance", self.clearance, "m", minimum=0, strict=True, maximum=1e3),
         )
-        unit_k = "N/m^1.5" if self.law == "hertz" else "N/m"
-        unit_c = "s/m" if self.law == "hertz" else "N s/m"
         if self.law not in CONTACT_LAWS:
             raise InputError("contact.law", self.law, " or ".join(f'"{x}"' for x in CONTACT_LAWS))
+        unit_k, unit_c = _LAW_UNITS[self.law]
         object.__setattr__(
             self,
             "stiffness",

@@ -170,6 +170,10 @@ class Support:
         ``frequency=`` tables. :meth:`coefficients` reads each table on its own axis.
     kind : {"bearing", "seal"}
         A seal carries no static load in API 617's check (ROSS's ``SealElement``).
+    exact : bool
+        True when the coefficients are exactly linear along the axis (a term whose law is, such as
+        a Muszynska fluid ring's cross-coupling ``lambda Omega D_f``): continued linearly beyond
+        the table they stay exact, and no extrapolation warning is given.
     """
 
     dofs: tuple[int, int]
@@ -182,6 +186,7 @@ class Support:
     extrapolation: str = "hold"
     link: tuple[int, int] | None = None
     axis: str = "speed"
+    exact: bool = False
     kind: str = "bearing"
     _pchip: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
@@ -392,7 +397,7 @@ def check_table_axes(system: LinearSystem, what: str, speed=None, frequency=None
     asked = {"speed": speed, "frequency": frequency}
     for sup in system.supports:
         values = asked.get(sup.axis)
-        if values is None or not sup.tabulated or sup.extrapolation == "hold":
+        if values is None or not sup.tabulated or sup.extrapolation == "hold" or sup.exact:
             continue
         v = np.atleast_1d(np.asarray(values, float))
         lo, hi = float(sup.speeds[0]), float(sup.speeds[-1])

@@ -56,6 +56,7 @@ from pathlib import Path
 
 from rubrotor.engine.settings import Integrator
 from rubrotor.errors import InputError, ScenarioError
+from rubrotor.forces.contact import law_named, law_of
 from rubrotor.linear.shaft import first_forward_critical
 from rubrotor.rotors.fe import Rotor
 from rubrotor.rotors.forces import (
@@ -325,23 +326,21 @@ def _build_contact(sec: dict, shaft: Shaft, speed: float) -> Contact:
         stiffness = sec["stiffness"]
     else:
         k_nd = float(sec["stiffness_nd"])
-        stiffness = (
-            nd.contact_stiffness_si(k_nd) if law == "hertz" else nd.linear_stiffness_si(k_nd)
-        )
+        stiffness = law_named(law).stiffness_si(nd, k_nd)
     for key in ("impact_speed", "restitution_model"):
         if key in sec and "restitution" not in sec:
             raise _err(f"contact.{key}", sec[key], "to be given only with contact.restitution")
     if "damping" in sec:
         damping = sec["damping"]
     elif "damping_nd" in sec:
-        if law != "hertz":
+        if not law_named(law).restitution:
             raise _err(
                 "contact.damping_nd", sec["damping_nd"], 'contact.damping (N s/m) for law "linear"'
             )
         _need_speed("contact.damping_nd", sec["damping_nd"], speed)
         damping = nd.contact_damping_si(float(sec["damping_nd"]))
     elif "restitution" in sec:
-        if law != "hertz":
+        if not law_named(law).restitution:
             raise _err(
                 "contact.restitution", sec["restitution"], 'contact.damping for law "linear"'
             )
@@ -763,11 +762,7 @@ class Scenario:
             out["a_contact"] = nd.length_nd(c.position)
             out["g"] = nd.clearance_nd(c.clearance)
             out["mu"] = c.friction
-            if c.law == "hertz":
-                out["k_h"] = nd.contact_stiffness_nd(c.stiffness)
-                out["b_h"] = nd.contact_damping_nd(c.damping)
-            else:
-                out["k_linear"] = nd.linear_stiffness_nd(c.stiffness)
+            out.update(law_of(c).dimensionless(nd, c))
         if self.unbalance is not None:
             out["a_unbalance"] = nd.length_nd(self.unbalance.position)
             out["unbalance_force"] = nd.unbalance_nd(self.unbalance.magnitude)

@@ -13,7 +13,9 @@ description)::
     [[bearing]]       position (m); kyy, kyz, kzy, kzz (N/m); cyy, cyz, czy, czz (N s/m): numbers,
                       or lists tabulated against speeds or frequencies (rad/s); interpolation,
                       extrapolation; myy, myz, mzz (kg); link, on (a point mass); kind
-                      ("bearing" | "pinned"); name
+                      ("bearing" | "pinned"); name; type ("coefficients", or a support model of
+                      rubrotor.forces.supports, e.g. "muszynska" with fluid_stiffness,
+                      fluid_damping, swirl_ratio)
     [[point_mass]]    name; position (m); mass_y, mass_z (kg)
     [rotor]           theory; gyroscopic; shear_coefficient; max_element_length (m)  (optional)
 
@@ -26,7 +28,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from rubrotor.errors import InputError, ScenarioError
-from rubrotor.rotors.fe import COEFFICIENTS, Bearing, Disk, Material, PointMass, Rotor, Section
+from rubrotor.forces.supports import support_term
+from rubrotor.rotors.fe import COEFFICIENTS, Disk, Material, PointMass, Rotor, Section
 from rubrotor.scenario.schema import REQUIRED, ROTOR_SCHEMA, ROTOR_TABLES, check_value, key_row
 
 __all__ = ["ROTOR_TABLES", "ROTOR_SCHEMA", "normalise_rotor_tables", "build_rotor", "rotor_to_dict"]
@@ -153,9 +156,10 @@ def _disk(d: dict, name: str, materials: dict) -> Disk:
     )
 
 
-def _bearing(b: dict) -> Bearing:
-    kwargs = {k: (tuple(v) if isinstance(v, list) else v) for k, v in b.items()}
-    return Bearing(**kwargs)
+def _bearing(b: dict):
+    """The support term of a ``[[bearing]]`` table, by its ``type`` (a :class:`Bearing` of
+    coefficients by default; :data:`rubrotor.forces.supports.SUPPORT_TYPES`)."""
+    return support_term(b)
 
 
 def build_rotor(spec: dict) -> Rotor:
@@ -227,6 +231,9 @@ def rotor_to_dict(rotor: Rotor) -> dict:
     ]
     bearings = []
     for b in rotor.bearings:
+        if hasattr(b, "table_entry"):  # a support term that writes its own table
+            bearings.append(b.table_entry())
+            continue
         item = {"position": b.position, "kind": b.kind, "name": b.name}
         for c in COEFFICIENTS if b.kind != "pinned" else ():
             v = getattr(b, c)

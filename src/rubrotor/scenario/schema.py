@@ -51,6 +51,7 @@ import numpy as np
 
 from rubrotor.engine.settings import METHODS
 from rubrotor.errors import ScenarioError
+from rubrotor.forces.supports import DEFAULT_SUPPORT, SUPPORT_TYPES
 from rubrotor.rotors.fe import BEARING_KINDS, COEFFICIENTS
 from rubrotor.rotors.forces import BOW_SHAPES, CONTACT_LAWS, FRICTION_SIGNS, RESTITUTION_MODELS
 from rubrotor.rotors.linear import EXTRAPOLATIONS, INTERPOLATIONS
@@ -414,6 +415,15 @@ _BEARING = (
        "the shaft to, instead of the ground"),
     _k("bearing", "on", "str", "", "Name of the [[point_mass]] the bearing holds to the ground "
        "(a housing's support; position: the housing's station)"),
+    _k("bearing", "type", "str", "", "Support model: coefficients (kyy ... czz), or a force term "
+       "of rubrotor.forces.supports", choices=tuple(SUPPORT_TYPES), default=DEFAULT_SUPPORT),
+    # type = "muszynska" (rubrotor.forces.muszynska): a fluid ring swirling at lambda Omega
+    _k("bearing", "fluid_stiffness", "number", "N/m", 'Direct fluid stiffness K_f (type = '
+       '"muszynska")', _closed(0.0), default=0.0),
+    _k("bearing", "fluid_damping", "number", "N s/m", 'Direct fluid damping D_f (type = '
+       '"muszynska"); the cross-coupled stiffness is swirl_ratio Omega D_f', _positive()),
+    _k("bearing", "swirl_ratio", "number", "1", 'Average circumferential fluid speed over the '
+       'spin, lambda (type = "muszynska")', (0.0, 1.0, False, True), default=0.5),
 )  # fmt: skip
 _POINT_MASS = (
     _k("point_mass", "name", "str", "", "Label the bearings' link and on refer to",

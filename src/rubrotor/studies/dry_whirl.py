@@ -54,6 +54,7 @@ from rubrotor.analysis.spectra import full_spectrum
 from rubrotor.engine.driver import simulate_general
 from rubrotor.engine.parts import RubStation, Run, Stator
 from rubrotor.errors import InputError
+from rubrotor.forces.contact import law_of
 from rubrotor.rotors.forces import Contact
 from rubrotor.rotors.linear import LinearSystem
 
@@ -144,7 +145,7 @@ class DryWhirlCase:
 
     def __post_init__(self):
         c = self.contact
-        if c.law != "linear" or c.radius is None:
+        if not law_of(c).linear or c.radius is None:
             raise InputError("contact", c, 'law = "linear" with a radius (m)')
         if not (isinstance(self.speed, int | float) and self.speed > 0):
             raise InputError("speed", self.speed, "a number > 0 (rad/s)")

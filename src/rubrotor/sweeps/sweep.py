@@ -59,6 +59,7 @@ from pathlib import Path
 import numpy as np
 
 from rubrotor.errors import InputError
+from rubrotor.forces.contact import law_of
 from rubrotor.modelling import model_of
 from rubrotor.orbits.points import PointScenarios, _point_scenario
 from rubrotor.scenario.load import as_scenario, key_unit
@@ -259,7 +260,7 @@ def _rigid_clearance(scenario) -> float | None:
     so such a run is labelled ``"indentation > clearance"``, not a rub. A linear law stands for
     a compliant seal or stator, whose deflection may exceed the gap: no such label."""
     c = model_of(scenario).seed_contact
-    if c is None or c.law != "hertz":
+    if c is None or not law_of(c).indentation:
         return None
     return c.clearance
 

@@ -1,0 +1,36 @@
+"""Force terms: every force the engine applies, one module per family.
+
+Each term has its parameters as a named structure, its force (and Jacobian where the implicit
+contact step needs it) as one kernel, its states where it has some, and its output variables
+(:mod:`rubrotor.forces.terms` lists the families and where each enters the engine).
+
+- :mod:`~rubrotor.forces.contact`: contact laws (Hertz, linear) and their packed rows;
+- :mod:`~rubrotor.forces.supports`: the ``[[bearing]] type`` table of support terms;
+- :mod:`~rubrotor.forces.muszynska`: Muszynska's fluid-ring force and its whirl threshold;
+- :mod:`~rubrotor.forces.unbalance`, :mod:`~rubrotor.forces.loads`: unbalance, loads, gravity;
+- :mod:`~rubrotor.forces.terms`: :class:`Terms` and :func:`build_terms`, what the model builds.
+
+Importing this package compiles nothing.
+
+``rubrotor.forces`` was the module of the force parameters (``Contact``, ``Unbalance``,
+``RadialLoad``, ...); those names are still read here, with one :class:`FutureWarning`, and live
+in :mod:`rubrotor.rotors.forces`.
+"""
+
+from rubrotor.forces.terms import Terms, build_terms
+
+__all__ = ["Terms", "build_terms"]
+
+_WARNED = set()
+
+
+def __getattr__(name):
+    from rubrotor import _moved
+    from rubrotor.rotors import forces
+
+    if name.startswith("__") or not hasattr(forces, name):
+        raise AttributeError(f"module 'rubrotor.forces' has no attribute {name!r}")
+    if name not in _WARNED:
+        _WARNED.add(name)
+        _moved.moved_warning(f"forces.{name}", f"rotors.forces.{name}")
+    return getattr(forces, name)

@@ -1,0 +1,54 @@
+"""Support force terms: what a ``[[bearing]]`` table becomes, chosen by its ``type`` key.
+
+A support term acts between one rotor station and the ground. Its force is linear in the
+station's deflection and velocity (``F = -K(Omega) q - C(Omega) q'``, ``q = (v, w)``), so it
+enters the rotor's linear system through its coefficients (exactly its Jacobian): every linear
+analysis sees it, and every time run integrates it exactly in the exponential step.
+
+Every support term has ``position`` (m), ``name``, ``kind`` (``"bearing"`` or ``"pinned"``),
+``fail_time`` (s or None), ``holds`` (True when it holds the rotor in both directions),
+``_table`` ``(speeds, K, C)`` (its coefficients tabulated, for scale checks),
+``support(node, name)`` (a :class:`rubrotor.rotors.linear.Support`) and ``table_entry()`` (the
+scenario table that builds it back). :data:`SUPPORT_TYPES` maps the ``type`` key to the term;
+a new support model is one module in ``rubrotor.forces`` and one line here.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from rubrotor.errors import InputError
+from rubrotor.forces.muszynska import MuszynskaSeal
+from rubrotor.rotors.fe import Bearing
+
+__all__ = ["SUPPORT_TYPES", "DEFAULT_SUPPORT", "support_term"]
+
+DEFAULT_SUPPORT = "coefficients"
+SUPPORT_TYPES: dict[str, type] = {
+    DEFAULT_SUPPORT: Bearing,  # kyy ... czz (optionally tabulated against speed), or pinned
+    MuszynskaSeal.type: MuszynskaSeal,
+}
+"""``[[bearing]] type`` -> the support term class built from the table's other keys."""
+
+
+def support_term(row: dict, field: str = "bearing"):
+    """The support term of one ``[[bearing]]`` table (``row``: key -> value, lists allowed).
+
+    Raises
+    ------
+    InputError
+        For an unknown ``type``, or a key the chosen type does not take (naming both).
+    """
+    kwargs = {k: (tuple(v) if isinstance(v, list) else v) for k, v in row.items()}
+    name = kwargs.pop("type", DEFAULT_SUPPORT)
+    cls = SUPPORT_TYPES.get(name) if isinstance(name, str) else None
+    if cls is None:
+        raise InputError(f"{field}.type", name, " or ".join(f'"{t}"' for t in SUPPORT_TYPES))
+    taken = {f.name for f in dataclasses.fields(cls) if f.init}
+    for key, value in kwargs.items():
+        if key not in taken:
+            raise InputError(
+                f"{field}.{key}", value,
+                f'no value with type = "{name}" (its keys: {", ".join(sorted(taken))})',
+            )  # fmt: skip
+    return cls(**kwargs)
