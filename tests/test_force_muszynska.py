@@ -117,7 +117,8 @@ def test_threshold_closed_form_is_the_root_crossing():
 
 
 def test_linear_eigen_analysis_matches_closed_form(tmp_path):
-    from rubrotor.linear.analysis import damped_modes, stability_threshold
+    from rubrotor.linear.modes import damped_modes
+    from rubrotor.linear.stability import stability_threshold
 
     om_th = whirl_threshold(M, K, D, SEAL)
     sc = _scenario(tmp_path, om_th)

@@ -159,6 +159,26 @@ def _forces(system, basis, unbalances, loads, gravity):
     return f0, Pu, unb
 
 
+def _diagnoser(terms_at, n_x: int, nc: int, max_steps: int, stopped: list):
+    """The message of a free-spin run that stopped with a kernel code (recorded in ``stopped``):
+    where it stopped, what the run would need and its stiffest term (key, rate 1/s)."""
+
+    def diagnose(code, saved, t, h, steps=None):
+        stopped[0] = Status(code)
+        normal = np.max(saved[n_x::5], axis=1) if saved.shape[1] else np.zeros(nc)
+        rate, key, _, what = stiffest(terms_at(normal))
+        where = f"at t = {t:.6g} s (step {h:.3g} s); data up to t = {t:.6g} s kept"
+        if code == Status.DIVERGED:
+            return (f"diverged {where}: the state is no longer finite; the stiffest term is "
+                    f"{key} ({what}, rate {rate:.3g} 1/s)")  # fmt: skip
+        more = f"about {steps:.3g} steps" if steps is not None else f"more than {max_steps} steps"
+        return (f"{Status(code).message} {where}: the run needs {more} (at most {max_steps}); the "
+                f"stiffest term is {key} ({what}, rate {rate:.3g} 1/s, stable steps "
+                f"<= {STABILITY / rate:.3g} s)")  # fmt: skip
+
+    return diagnose
+
+
 def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: float,
                   stations=(), free: FreeSpin = _NO_DRIVE, rings=None, unbalances=(), loads=(),
                   gravity=(0.0, 0.0), fail_time: float = math.inf, failing=(), modes=None,
@@ -251,21 +271,8 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     args = (mats, (f0, Pu, unb), (Pc, offs, cp, radius, ring), (float(J), float(free.drag), w, tq))
 
     stopped = [Status.OK]  # the code of the diagnosed stop
-
-    def diagnose(code, saved, t, h, steps=None):
-        stopped[0] = Status(code)
-        normal = np.max(saved[x0.size :: 5], axis=1) if saved.shape[1] else np.zeros(nc)
-        rate, key, _, what = stiffest(stiff_terms(float(J), float(free.drag), Pc, cp, radius, ring,
-                                               normal))  # fmt: skip
-        where = f"at t = {t:.6g} s (step {h:.3g} s); data up to t = {t:.6g} s kept"
-        if code == Status.DIVERGED:
-            return (f"diverged {where}: the state is no longer finite; the stiffest term is "
-                    f"{key} ({what}, rate {rate:.3g} 1/s)")  # fmt: skip
-        more = f"about {steps:.3g} steps" if steps is not None else f"more than {max_steps} steps"
-        return (f"{Status(code).message} {where}: the run needs {more} (at most {max_steps}); the "
-                f"stiffest term is {key} ({what}, rate {rate:.3g} 1/s, stable steps "
-                f"<= {STABILITY / rate:.3g} s)")  # fmt: skip
-
+    terms_at = lambda normal: stiff_terms(float(J), float(free.drag), Pc, cp, radius, ring, normal)  # noqa: E731
+    diagnose = _diagnoser(terms_at, x0.size, nc, max_steps, stopped)
     show = sys.stderr.isatty() if progress is None else progress
     wall = time.perf_counter()
     out, (acc, rej), reason = run_chunks(spin_dopri, x0, t_out, args, ctrl, rows, show, diagnose)
