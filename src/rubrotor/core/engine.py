@@ -32,6 +32,7 @@ import numpy as np
 from numba import njit
 
 from rubrotor.core.contact import _law, force_scale, forces_of
+from rubrotor.core.linalg import lu_solve as _lu_solve
 
 __all__ = [
     "OK",
@@ -110,42 +111,6 @@ def _rdot(row, y):
     for j in range(y.shape[0]):
         acc += row[j].real * y[j].real - row[j].imag * y[j].imag
     return acc
-
-
-@njit(cache=True, inline="always")
-def _lu_solve(a, b):
-    """Solve ``a x = b`` in place (``b`` gets ``x``) by Gaussian elimination with pivoting."""
-    n = b.shape[0]
-    if n == 2:
-        det = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
-        if det == 0.0:
-            return False
-        x0 = (a[1, 1] * b[0] - a[0, 1] * b[1]) / det
-        b[1] = (-a[1, 0] * b[0] + a[0, 0] * b[1]) / det
-        b[0] = x0
-        return True
-    for k in range(n):
-        p = k
-        for i in range(k + 1, n):
-            if abs(a[i, k]) > abs(a[p, k]):
-                p = i
-        if a[p, k] == 0.0:
-            return False
-        if p != k:
-            for j in range(n):
-                a[k, j], a[p, j] = a[p, j], a[k, j]
-            b[k], b[p] = b[p], b[k]
-        for i in range(k + 1, n):
-            f = a[i, k] / a[k, k]
-            for j in range(k, n):
-                a[i, j] -= f * a[k, j]
-            b[i] -= f * b[k]
-    for k in range(n - 1, -1, -1):
-        s = b[k]
-        for j in range(k + 1, n):
-            s -= a[k, j] * b[j]
-        b[k] = s / a[k, k]
-    return True
 
 
 @njit(cache=True, inline="always")

@@ -34,6 +34,7 @@ __all__ = [
     "Energy",
     "AdaptiveStep",
     "AbmStep",
+    "MapStep",
     "Plan",
     "Stepper",
     "STEPPERS",
@@ -99,6 +100,18 @@ AbmStep = namedtuple(
 """Seed ABM scheme: modes ``lam`` (1/s), force inputs (per N) of contact, unbalance and load,
 unbalance amplitude ``fu0`` and load ``fl`` (N), contact rows, ``omega`` (rad/s), ``h`` (s)."""
 
+
+MapStep = namedtuple(
+    "MapStep",
+    ["E", "G0", "G1", "sd", "sv", "cdc", "cvc", "part_c", "part_lc", "vel_cz", "omega", "h",
+     "n_steps", "max_disp"],
+)  # fmt: skip
+"""A map of ``n_steps`` fixed exponential steps with tangents (:func:`rubrotor.core.tangent.expo_tangent`,
+:func:`rubrotor.core.shoot.expo_strobe`): ``E, G0, G1`` (ns,) as :class:`FixedStep`, ``sd, sv``
+contact-station displacement (m/N) and velocity (m/(s N)) per N of the new force, contact rows
+``cdc, cvc`` (ns,), ``part_c`` (m) and ``vel_cz`` (m/s) the particular solution at the contact
+station per unit phasor, ``part_lc`` (m) its constant-load part, ``omega`` (rad/s), ``h`` (s),
+``max_disp`` (m)."""
 
 @dataclass(frozen=True)
 class Plan:
