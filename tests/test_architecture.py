@@ -173,3 +173,18 @@ def test_compiled_kernels_take_named_structures():
                 args = defined[k].args
                 assert len(args.posonlyargs) + len(args.args) > MAX_KERNEL_ARGS, (name, k)
 
+
+def test_one_stepper_table():
+    """Every engine's steppers are named, with their orders, in the one table
+    ``rubrotor.engine.settings.STEPPERS``; the Integrator's methods read their orders there."""
+    from rubrotor.engine import driver, settings, shaft_steppers
+
+    table = settings.STEPPERS
+    general = getattr(driver, "FACTORIES", None) or driver.STEPPERS
+    for engine, factories in (("shaft", shaft_steppers.FACTORIES), ("general", general)):
+        for name in factories:
+            assert name in table and engine in table[name].engines, (engine, name)
+    for name, spec in table.items():
+        assert spec.order in (2, 3, 4) and spec.engines, name
+    assert settings.METHODS == {m: table[m].order for m in settings.METHODS}
+    assert set(settings.SHAFT_INITIAL_STATES) <= set(settings.INITIAL_STATES)

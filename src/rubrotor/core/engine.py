@@ -55,8 +55,7 @@ __all__ = [
     "expo_fixed",
 ]
 
-SAFE_FASTMATH = {"contract", "reassoc", "arcp", "nsz"}
-
+from rubrotor.core.flags import SAFE_FASTMATH  # noqa: E402
 from rubrotor.core.status import CONTACT_FAILED as NEWTON_FAILED  # noqa: E402
 from rubrotor.core.status import DIVERGED, EVENT_BUFFER_FULL, MESSAGES, OK  # noqa: E402
 
@@ -67,7 +66,9 @@ EVENT_MARGIN = 128
 counted, not stored, and stop the run with EVENT_BUFFER_FULL)."""
 
 # slots of the integer state vector
-I_STEP, I_EVENTS, I_STATUS, I_SUBSTEPS, I_NEWTON, I_GRAZE = 0, 1, 2, 3, 4, 5
+from rubrotor.core.status import I_EVENTS, I_STATUS, I_STEP  # noqa: E402
+
+I_SUBSTEPS, I_NEWTON, I_GRAZE = 3, 4, 5
 I_ACCEPTED, I_REJECTED, I_LEVEL = 6, 7, 8
 N_ISTATE = 9
 CONTACT_CHANNELS = 8

@@ -24,11 +24,17 @@ import numpy as np
 from numba import njit
 
 from rubrotor.core.contact import contact_force, solve_contact
-from rubrotor.core.status import CONTACT_FAILED, DIVERGED, EVENT_BUFFER_FULL, MESSAGES, OK
-
-SAFE_FASTMATH = {"contract", "reassoc", "arcp", "nsz"}
-"""LLVM fast-math flags that allow vectorisation but keep NaN and infinity semantics, so the
-divergence checks ``not (d2 <= limit)`` still see a NaN."""
+from rubrotor.core.flags import SAFE_FASTMATH
+from rubrotor.core.status import (
+    CONTACT_FAILED,
+    DIVERGED,
+    EVENT_BUFFER_FULL,
+    I_EVENTS,
+    I_STATUS,
+    I_STEP,
+    MESSAGES,
+    OK,
+)
 
 __all__ = [
     "expo_fixed",
@@ -52,13 +58,15 @@ __all__ = [
 ]
 
 STATUS = dict(enumerate(MESSAGES))
-"""Messages of the status codes (:mod:`rubrotor.core.status`) a kernel leaves in ``istate[I_STATUS]``. ``EVENT_BUFFER_FULL``: before a saved
-sample the event buffer has less room than ``event_reserve`` (no event lost: the driver grows
-the buffer and goes on), or events of the last sample were counted but not stored."""
+"""Messages of the status codes (:mod:`rubrotor.core.status`) a kernel leaves in
+``istate[I_STATUS]``. ``EVENT_BUFFER_FULL``: before a saved sample the event buffer has less
+room than ``event_reserve`` (no event lost: the driver grows the buffer and goes on), or events
+of the last sample were counted but not stored."""
 
-I_STEP, I_EVENTS, I_STATUS, I_LEVEL, I_PREV_LEVEL = 0, 1, 2, 3, 4
-"""Slots of ``istate``: steps taken (saved samples for the adaptive kernel), contact events
-counted, status, and the adaptive kernel's current and previous step levels."""
+I_LEVEL, I_PREV_LEVEL = 3, 4
+"""Slots of ``istate`` after the shared ``I_STEP, I_EVENTS, I_STATUS`` (steps taken, saved
+samples for the adaptive kernel; contact events counted; status): the adaptive kernel's current
+and previous step levels."""
 N_ISTATE = 5
 C_ACCEPTED, C_REJECTED, C_NEWTON = 0, 1, 2
 """Slots of ``counts`` (adaptive kernel): accepted and rejected steps, Newton iterations."""

@@ -8,12 +8,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rubrotor.engine.settings import INITIAL_STATES
 from rubrotor.errors import InputError
 from rubrotor.rotors.forces import Contact, RadialLoad, Unbalance
 
 __all__ = ["Stator", "RubStation", "Run", "INITIAL_STATES"]
 
-INITIAL_STATES = ("rest", "static", "steady")
 RUNUP_REDUCTIONS = ("ritz", "full")
 
 

@@ -1,7 +1,8 @@
 """Steppers of the continuous-shaft simulation (:func:`rubrotor.engine.simulate.simulate_system`).
 
-:data:`STEPPERS` maps each method to a factory ``(plan, state) -> Stepper`` that precomputes the
-method's coefficients once and returns the chunk function the shared loop of
+:data:`FACTORIES` maps each stepper (named in :data:`rubrotor.engine.settings.STEPPERS`, the one
+stepper table with each stepper's order) to a factory ``(plan, state) -> Stepper`` that
+precomputes the method's coefficients once and returns the chunk function the shared loop of
 :mod:`rubrotor.engine.simulate` calls. The compiled kernels (:mod:`rubrotor.core.integrate`) take
 the named tuples defined here; they live outside ``rubrotor.core``, which imports only numpy
 and numba, and numba reads a named tuple of arrays and numbers by field name.
@@ -24,6 +25,7 @@ from rubrotor.core.integrate import (
     expo_adaptive,
     expo_fixed,
 )
+from rubrotor.engine.settings import ADAPTIVE_LEVELS
 from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.errors import InputError
 
@@ -37,12 +39,11 @@ __all__ = [
     "MapStep",
     "Plan",
     "Stepper",
-    "STEPPERS",
+    "FACTORIES",
     "ADAPTIVE_LEVELS",
     "EVENT_MARGIN",
 ]
 
-ADAPTIVE_LEVELS = 21
 EVENT_MARGIN = 4096
 """Free event slots a kernel requires before a saved sample (at most one event per step, so a
 fixed-step sample needs ``min(save_every, EVENT_MARGIN)``); see
@@ -272,7 +273,7 @@ def _abm_factory(plan: Plan, st: RunState) -> Stepper:
     return Stepper(chunk, {"step_s": plan.h}, _steps_taken, lambda state: state.y)
 
 
-STEPPERS = {"exponential": _fixed_factory, "adaptive": _adaptive_factory, "abm": _abm_factory}
-"""Stepper name -> factory ``(plan, state) -> Stepper``: ``"exponential"`` (fixed step),
-``"adaptive"`` (exponential with error control, chosen when no fixed step is given) and
-``"abm"``."""
+FACTORIES = {"exponential": _fixed_factory, "adaptive": _adaptive_factory, "abm": _abm_factory}
+"""Stepper name -> factory ``(plan, state) -> Stepper`` of the continuous shaft:
+``"exponential"`` (fixed step), ``"adaptive"`` (exponential with error control, chosen when no
+fixed step is given) and ``"abm"``; their orders in :data:`rubrotor.engine.settings.STEPPERS`."""
