@@ -316,25 +316,34 @@ def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
     returns the number written. ``work`` accumulates the work of unbalance, load, contact
     force, modal damping (dissipated) and friction. Contact onset (+t) and separation (-t) times
     (s) are located by linear interpolation of ``|P| - g`` within the step.
+
+    The step is :func:`fixed_step`'s (the maps' kernel, :func:`rubrotor.core.tangent.expo_tangent`)
+    written out: through the shared inline step the simulation measured about 10 % slower.
     """
     y, istate, out, events = st.y, st.istate, st.out, st.events
-    cdc, cvc = k.cdc, k.cvc
+    E, G0, G1, sd, sv, cdc, cvc = k.E, k.G0, k.G1, k.sd, k.sv, k.cdc, k.cvc
     omega, h, save_every = k.omega, k.h, k.save_every
+    ns = y.shape[0]
     jac = np.zeros((2, 4))
     qv = np.zeros(en.wv.shape[0], np.complex128)
-    part_c = rows.part_u[0]
-    part_lc = rows.part_l[0]
-    vel_cz = rows.vel_z[0]
-    prop, scal = fixed_coefficients(k.E, k.G0, k.G1, k.sd, k.sv, cdc, cvc, (part_c, part_lc, vel_cz))
-    cpart = (part_c, vel_cz, part_lc)
+    # propagate-and-project vectors: pd = sum(cdE * y) + cdG0 * F, same for the velocity
+    cdE = cdc * E
+    cvE = cvc * E
+    cdG0 = 0j
+    cvG0 = 0j
+    for j in range(ns):
+        cdG0 += cdc[j] * G0[j]
+        cvG0 += cvc[j] * G0[j]
     F = st.cstate[0]
     z = st.cstate[1]
     Fp = st.cstate[2]
     step = istate[I_STEP]
+    part_c = rows.part_u[0]
+    part_lc = rows.part_l[0]
+    vel_cz = rows.vel_z[0]
     g = cp[4]
     maxd2 = k.max_disp * k.max_disp
     rot = complex(math.cos(omega * h), math.sin(omega * h))
-    wh = omega * h
     written = 0
     P = 0j
     V = 0j
@@ -343,17 +352,41 @@ def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
     d_prev = st.cstate[3].real
     pw0 = (0.0, 0.0, 0.0, 0.0, 0.0)
     if en.on:
-        pw0 = _powers(y, (z, F), en, cp, cdc, cvc, cpart, qv)
+        pw0 = _powers(y, (z, F), en, cp, cdc, cvc, (part_c, vel_cz, part_lc), qv)
     for s_i in range(n_samples):
         if _buffer_short(events, istate, k.event_reserve):
             break
         for _ in range(save_every):
             step += 1
-            zn = phasor(z, rot, step, wh)
-            Fn, it, fn_c, ft_c, P, V = fixed_step(y, F, Fp, zn, prop, scal, cp, jac)
+            if step % 1024 == 0:
+                zn = complex(math.cos(omega * h * step), math.sin(omega * h * step))
+            else:
+                zn = z * rot
+            pd = part_c * zn + part_lc
+            ud = vel_cz * zn
+            for j in range(ns):
+                yj = y[j]
+                pd += cdE[j] * yj
+                ud += cvE[j] * yj
+            if F != 0j:
+                pd += cdG0 * F
+                ud += cvG0 * F
+            # Newton start: linear extrapolation of the force history
+            F0 = F
+            if F != 0j and Fp != 0j:
+                F0 = 2.0 * F - Fp
+            Fn, it, fn_c, ft_c = solve_contact(pd, ud, sd, sv, F0, cp, jac)
             if it < 0:
                 istate[I_STATUS] = CONTACT_FAILED
                 break
+            if F != 0j or Fn != 0j:
+                for j in range(ns):
+                    y[j] = E[j] * y[j] + G0[j] * F + G1[j] * Fn
+            else:
+                for j in range(ns):
+                    y[j] = E[j] * y[j]
+            P = pd + sd * Fn
+            V = ud + sv * Fn
             d2 = P.real * P.real + P.imag * P.imag
             d = math.sqrt(d2)
             if (Fn != 0j) != (F != 0j) and cp[0] != 0.0:
@@ -367,7 +400,7 @@ def expo_fixed(st, n_samples, out_offset, k, cp, rows, en):
             F = Fn
             z = zn
             if en.on:
-                pw1 = _powers(y, (z, F), en, cp, cdc, cvc, cpart, qv)
+                pw1 = _powers(y, (z, F), en, cp, cdc, cvc, (part_c, vel_cz, part_lc), qv)
                 for c in range(5):
                     st.work[c] += 0.5 * h * (pw0[c] + pw1[c])
                 pw0 = pw1
