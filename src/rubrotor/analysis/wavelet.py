@@ -455,10 +455,8 @@ class _Plan:
             self._spec_c, k_lo, w, self.omega0, self.gain[j] / self.m, self.h, self.m, z
         )
         work = self._work[: rows * length].reshape(rows, length)
-        mult, add, den = self._twiddle
-        lo, hi = self._tables[1:]
         chunk = max(1024, -(-rows * length // 64) // rows)
-        _kern.fold_band(z, k_lo, mult, add, den, lo, hi, work, chunk)
+        _kern.fold_band(z, k_lo, self._twiddle, self._tables[1:], work, chunk)
         res = sfft.ifft(work, axis=-1, norm="forward", overwrite_x=True, workers=self.workers)
         if np.iscomplexobj(dest):
             _kern.scatter_complex(res, period, self.n, sym, dest)
@@ -483,9 +481,8 @@ class _Plan:
         k_lo, k_hi = self.band(j)
         top = self.n - 1 if self.padding == "symmetric" else self.m // 2
         w = self.scales[j] * (2.0 * np.pi / self.m)
-        e = _kern.band_energy(
-            self.spec, k_lo, k_hi, top, w, self.omega0, float(self.gain[j]), self.h, self.m
-        )
+        filt = (w, self.omega0, float(self.gain[j]), self.h, self.m)
+        e = _kern.band_energy(self.spec, k_lo, k_hi, top, filt)
         return float(e) / self.m
 
     def strip_energy(self, j: int, start: int, stop: int) -> float | None:

@@ -30,6 +30,7 @@ __all__ = [
     "Starts",
     "refine_eigenpairs",
     "ritz_vectors",
+    "response_sweep",
     "unbalance_sweep",
     "frequency_sweep",
 ]
@@ -148,56 +149,22 @@ def _assemble(parts, s, omega, lam, ab):
 
 
 @njit(cache=True, parallel=True)
-def unbalance_sweep(parts, speeds, rhs, out_rows):
-    """Synchronous response at every speed: ``out[s] = R Q`` with
-    ``(K - W^2 M + i W (C + W G)) Q = W^2 rhs`` (``W = speeds[s]``, rad/s).
+def response_sweep(parts, spins, freqs, power, rhs, out_rows):
+    """Forced response at every sweep index: ``out[s] = R Q`` with
+    ``(K + K_s - w^2 M + i w (C + C_s + W G)) Q = w^power rhs`` (``W = spins[s]`` the spin,
+    ``w = freqs[s]`` the excitation frequency, both rad/s; the supports' entries at index ``s``
+    when ``parts`` holds one row per index, else at 0).
 
-    Speeds are shared among the numba threads in blocks (each with its own work arrays).
-    Returns ``(out, status, index)``: ``out`` of shape ``(S, R)``; ``status`` OK, or SINGULAR
-    with the sweep ``index`` of the first singular speed.
-    """
-    n = parts.m.shape[0]
-    kl, ku = parts.kl, parts.ku
-    ns = speeds.size
-    out = np.zeros((ns, out_rows.shape[0]), np.complex128)
-    bad = np.zeros(ns, np.bool_)
-    nblk = min(ns, 64)
-    for blk in prange(nblk):
-        ab = np.empty((n, 2 * kl + ku + 1), np.complex128)
-        ipiv = np.empty(n, np.int64)
-        x = np.empty(n, np.complex128)
-        for s in range(blk * ns // nblk, (blk + 1) * ns // nblk):
-            w = speeds[s]
-            _assemble(parts, s, w, 1j * w, ab)
-            if band_factor(ab, kl, ku, ipiv) != OK:
-                bad[s] = True
-                continue
-            for i in range(n):
-                x[i] = rhs[i] * w * w
-            band_solve(ab, kl, ku, ipiv, x)
-            for r in range(out_rows.shape[0]):
-                acc = 0j
-                for i in range(n):
-                    acc += out_rows[r, i] * x[i]
-                out[s, r] = acc
-    for s in range(ns):
-        if bad[s]:
-            return out, SINGULAR, s
-    return out, OK, -1
-
-
-@njit(cache=True, parallel=True)
-def frequency_sweep(parts, spin, freqs, rhs, out_rows):
-    """Forced response at every excitation frequency at one spin: ``out[s] = R Q`` with
-    ``(K + K_s - w^2 M + i w (C + C_s + spin G)) Q = rhs`` (``w = freqs[s]``, rad/s; the
-    supports' entries at sweep index ``s`` when ``parts`` tabulates them at every frequency,
-    else at index 0; ``spin`` in rad/s).
-
-    Returns ``(out, status, index)`` as :func:`unbalance_sweep`.
+    The synchronous unbalance response is ``freqs = spins`` and ``power = 2``; the forced
+    response at one spin ``power = 0``. Indices are shared among the numba threads in blocks
+    (each with its own work arrays). Returns ``(out, status, index)``: ``out`` of shape
+    ``(S, R)``; ``status`` OK, or SINGULAR with the sweep ``index`` of the first singular
+    matrix.
     """
     n = parts.m.shape[0]
     kl, ku = parts.kl, parts.ku
     ns = freqs.size
+    per_index = parts.sup_k.shape[0] > 1
     out = np.zeros((ns, out_rows.shape[0]), np.complex128)
     bad = np.zeros(ns, np.bool_)
     nblk = min(ns, 64)
@@ -206,12 +173,16 @@ def frequency_sweep(parts, spin, freqs, rhs, out_rows):
         ipiv = np.empty(n, np.int64)
         x = np.empty(n, np.complex128)
         for s in range(blk * ns // nblk, (blk + 1) * ns // nblk):
-            row = s if parts.sup_k.shape[0] == ns else 0
-            _assemble(parts, row, spin, 1j * freqs[s], ab)
+            w = freqs[s]
+            _assemble(parts, s if per_index else 0, spins[s], 1j * w, ab)
             if band_factor(ab, kl, ku, ipiv) != OK:
                 bad[s] = True
                 continue
-            x[:] = rhs
+            for i in range(n):
+                xi = rhs[i]
+                for _ in range(power):
+                    xi = xi * w
+                x[i] = xi
             band_solve(ab, kl, ku, ipiv, x)
             for r in range(out_rows.shape[0]):
                 acc = 0j
@@ -222,6 +193,20 @@ def frequency_sweep(parts, spin, freqs, rhs, out_rows):
         if bad[s]:
             return out, SINGULAR, s
     return out, OK, -1
+
+
+def unbalance_sweep(parts, speeds, rhs, out_rows):
+    """Synchronous response at every speed (:func:`response_sweep` with the spin and frequency
+    ``speeds[s]``, rad/s, and the force ``W^2 rhs``)."""
+    speeds = np.ascontiguousarray(speeds, dtype=np.float64)
+    return response_sweep(parts, speeds, speeds, 2, rhs, out_rows)
+
+
+def frequency_sweep(parts, spin, freqs, rhs, out_rows):
+    """Forced response to ``rhs`` at every excitation frequency ``freqs`` (rad/s) at one
+    ``spin`` (rad/s), the supports at sweep index 0 (:func:`response_sweep`)."""
+    freqs = np.ascontiguousarray(freqs, dtype=np.float64)
+    return response_sweep(parts, np.full(freqs.size, float(spin)), freqs, 0, rhs, out_rows)
 
 
 @njit(cache=True)
@@ -276,14 +261,16 @@ def refine_eigenpairs(parts, speeds, starts, tol, max_iter, out_rows):
     out = Refined(starts.lam.copy(), shapes, np.zeros((ns, nm), np.int64))
     nblk = min(ns, 64)
     for blk in prange(nblk):
-        _refine_block(parts, speeds, starts, tol, max_iter, out_rows, out, blk * ns // nblk,
-                      (blk + 1) * ns // nblk)  # fmt: skip
+        span = (blk * ns // nblk, (blk + 1) * ns // nblk)
+        _refine_block(parts, speeds, starts, (tol, max_iter), out_rows, out, span)
     return out
 
 
 @njit(cache=True)
-def _refine_block(parts, speeds, starts, tol, max_iter, out_rows, out, s0, s1):
-    """Newton on the speeds ``s0 <= s < s1`` of :func:`refine_eigenpairs` (own work arrays)."""
+def _refine_block(parts, speeds, starts, stop, out_rows, out, span):
+    """Newton on the speeds ``s0 <= s < s1`` (``span``) of :func:`refine_eigenpairs` (own work
+    arrays); ``stop = (tol, max_iter)``."""
+    s0, s1 = span
     n = parts.m.shape[0]
     work = _Work(
         np.empty((n, 2 * parts.kl + parts.ku + 1), np.complex128),
@@ -292,7 +279,7 @@ def _refine_block(parts, speeds, starts, tol, max_iter, out_rows, out, s0, s1):
     )
     for s in range(s0, s1):
         for j in range(starts.lam.shape[1]):
-            x = _newton(parts, s, speeds[s], starts, j, tol, max_iter, work, out)
+            x = _newton(parts, s, speeds[s], starts, j, stop, work, out)
             for r in range(out_rows.idx.shape[0]):
                 acc = 0j
                 for k in range(out_rows.idx.shape[1]):
@@ -301,9 +288,11 @@ def _refine_block(parts, speeds, starts, tol, max_iter, out_rows, out, s0, s1):
 
 
 @njit(cache=True)
-def _newton(parts, s, w, starts, j, tol, max_iter, work, out):
-    """Newton iterations of :func:`refine_eigenpairs` for mode ``j`` at sweep index ``s``;
-    writes ``out.lam``, ``out.steps`` and returns the eigenvector."""
+def _newton(parts, s, w, starts, j, stop, work, out):
+    """Newton iterations of :func:`refine_eigenpairs` for mode ``j`` at sweep index ``s`` (spin
+    ``w``, rad/s) until a step is below ``tol |lam|`` or ``max_iter`` passed (``stop = (tol,
+    max_iter)``); writes ``out.lam``, ``out.steps`` and returns the eigenvector."""
+    tol, max_iter = stop
     x = starts.vec[s, j].copy()
     lk = starts.lam[s, j]
     out.steps[s, j] = -max_iter

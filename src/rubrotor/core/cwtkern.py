@@ -92,7 +92,7 @@ def _next_twiddle(t, step, idx, jump, den, left, lo, hi):
 
 
 @njit(cache=True, parallel=True)
-def fold_band(z, k_lo, mult, add, den, lo, hi, work, chunk):
+def fold_band(z, k_lo, twiddle, tables, work, chunk):
     """Fill ``work[r, k'] = sum_{k = k' mod L} z[k - k_lo] * exp(2j*pi*k*(mult*r + add)/den)``.
 
     Parameters
@@ -101,15 +101,17 @@ def fold_band(z, k_lo, mult, add, den, lo, hi, work, chunk):
         Band values (spectrum times filter) for bins ``k_lo .. k_lo + B - 1``.
     k_lo : int
         First bin of the band (may be negative, ``|k_lo| < den``).
-    mult, add, den : int
+    twiddle : tuple of int ``(mult, add, den)``
         Twiddle of residue r is ``exp(2j*pi*k*(mult*r + add)/den)``.
-    lo, hi : complex128 arrays
+    tables : tuple ``(lo, hi)`` of complex128 arrays
         Tables from :func:`twiddle_tables` for ``den``.
     work : complex64 or complex128 [R, L]
         Output (overwritten), one row per residue r = 0..R-1.
     chunk : int
         Columns of ``work`` per parallel task.
     """
+    mult, add, den = twiddle
+    lo, hi = tables
     n_res, length = work.shape
     k_hi = k_lo + z.size - 1
     mask = (1 << TABLE_BITS) - 1
@@ -176,15 +178,16 @@ def scatter_complex(res, period, n, mirror, out):
 
 
 @njit(cache=True, parallel=True)
-def band_energy(spec, k_lo, k_hi, top, w, omega0, gain, h, m):
+def band_energy(spec, k_lo, k_hi, top, filt):
     """Parseval sum ``sum_k |spec[|k|]|**2 * G(k)**2`` over ``k_lo <= k <= k_hi``, ``|k| <= top``.
 
-    ``G`` from :func:`filter_gain`; ``spec`` is the (real or complex) spectrum. The
+    ``G`` from :func:`filter_gain` with ``filt = (w, omega0, gain, h, m)``; ``spec`` is the (real or complex) spectrum. The
     squared Gaussian is advanced by its exact two-term recurrence
     (``G2[k+1] = G2[k] r[k]``, ``r[k+1] = r[k] exp(-2 w^2)``) and re-seeded with ``exp`` at the
     start of every block of 4096 bins, so the rounding stays below 1e-12 relative; blocks run in
     parallel.
     """
+    w, omega0, gain, h, m = filt
     # bins where the truncated Gaussian is non-zero: |w k - omega0| <= h
     a = max(k_lo, -top, int(math.ceil((omega0 - h) / w)))
     b = min(k_hi, top, int(math.floor((omega0 + h) / w)))

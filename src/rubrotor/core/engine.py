@@ -32,6 +32,7 @@ import numpy as np
 from numba import njit
 
 from rubrotor.core.contact import _law, force_scale, forces_of
+from rubrotor.core.linalg import lu_solve as _lu_solve
 
 __all__ = [
     "OK",
@@ -54,8 +55,7 @@ __all__ = [
     "expo_fixed",
 ]
 
-SAFE_FASTMATH = {"contract", "reassoc", "arcp", "nsz"}
-
+from rubrotor.core.flags import SAFE_FASTMATH  # noqa: E402
 from rubrotor.core.status import CONTACT_FAILED as NEWTON_FAILED  # noqa: E402
 from rubrotor.core.status import DIVERGED, EVENT_BUFFER_FULL, MESSAGES, OK  # noqa: E402
 
@@ -66,7 +66,9 @@ EVENT_MARGIN = 128
 counted, not stored, and stop the run with EVENT_BUFFER_FULL)."""
 
 # slots of the integer state vector
-I_STEP, I_EVENTS, I_STATUS, I_SUBSTEPS, I_NEWTON, I_GRAZE = 0, 1, 2, 3, 4, 5
+from rubrotor.core.status import I_EVENTS, I_STATUS, I_STEP  # noqa: E402
+
+I_SUBSTEPS, I_NEWTON, I_GRAZE = 3, 4, 5
 I_ACCEPTED, I_REJECTED, I_LEVEL = 6, 7, 8
 N_ISTATE = 9
 CONTACT_CHANNELS = 8
@@ -110,42 +112,6 @@ def _rdot(row, y):
     for j in range(y.shape[0]):
         acc += row[j].real * y[j].real - row[j].imag * y[j].imag
     return acc
-
-
-@njit(cache=True, inline="always")
-def _lu_solve(a, b):
-    """Solve ``a x = b`` in place (``b`` gets ``x``) by Gaussian elimination with pivoting."""
-    n = b.shape[0]
-    if n == 2:
-        det = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
-        if det == 0.0:
-            return False
-        x0 = (a[1, 1] * b[0] - a[0, 1] * b[1]) / det
-        b[1] = (-a[1, 0] * b[0] + a[0, 0] * b[1]) / det
-        b[0] = x0
-        return True
-    for k in range(n):
-        p = k
-        for i in range(k + 1, n):
-            if abs(a[i, k]) > abs(a[p, k]):
-                p = i
-        if a[p, k] == 0.0:
-            return False
-        if p != k:
-            for j in range(n):
-                a[k, j], a[p, j] = a[p, j], a[k, j]
-            b[k], b[p] = b[p], b[k]
-        for i in range(k + 1, n):
-            f = a[i, k] / a[k, k]
-            for j in range(k, n):
-                a[i, j] -= f * a[k, j]
-            b[i] -= f * b[k]
-    for k in range(n - 1, -1, -1):
-        s = b[k]
-        for j in range(k + 1, n):
-            s -= a[k, j] * b[j]
-        b[k] = s / a[k, k]
-    return True
 
 
 @njit(cache=True, inline="always")

@@ -49,6 +49,7 @@ from rubrotor.core.engine import (
     solve_one,
     workspace,
 )
+from rubrotor.core.linalg import invert
 from rubrotor.core.status import CONTACT_FAILED as NEWTON_FAILED
 from rubrotor.core.status import DIVERGED, OK
 
@@ -56,42 +57,11 @@ __all__ = ["OK", "DIVERGED", "NEWTON_FAILED", "map_tangent"]
 
 
 
-@njit(cache=True)
-def _invert(a, inv):
-    """``inv <- a^-1`` (m x m real) by Gauss-Jordan with partial pivoting; False if singular."""
-    m = a.shape[0]
-    w = a.copy()
-    for r in range(m):
-        for c in range(m):
-            inv[r, c] = 1.0 if r == c else 0.0
-    for k in range(m):
-        p = k
-        for i in range(k + 1, m):
-            if abs(w[i, k]) > abs(w[p, k]):
-                p = i
-        if w[p, k] == 0.0:
-            return False
-        if p != k:
-            for c in range(m):
-                w[k, c], w[p, c] = w[p, c], w[k, c]
-                inv[k, c], inv[p, c] = inv[p, c], inv[k, c]
-        piv = w[k, k]
-        for c in range(m):
-            w[k, c] /= piv
-            inv[k, c] /= piv
-        for i in range(m):
-            if i != k and w[i, k] != 0.0:
-                f = w[i, k]
-                for c in range(m):
-                    w[i, c] -= f * w[k, c]
-                    inv[i, c] -= f * inv[k, c]
-    return True
-
-
 @njit(cache=True, fastmath=SAFE_FASTMATH)
-def _implicit(pd, pv, Fn, Sd, Sv, cp, jp, ju, ainv):
-    """Law Jacobian blocks ``jp, ju`` (m, 2) at the solved forces ``Fn`` and ``ainv`` the
-    inverse of the Newton matrix ``I - J_p S_d - J_u S_v`` there; False if it is singular."""
+def _implicit(pd, pv, Fn, Sd, Sv, cp, lin):
+    """Fill ``lin`` (m, 4 + m) ``= [J_p | J_u | A^-1]``: the law Jacobian blocks (m, 2) at the
+    solved forces ``Fn`` (N) and the inverse of the Newton matrix ``A = I - J_p S_d - J_u S_v``
+    there; False if it is singular."""
     m = Fn.shape[0]
     jac = np.zeros((2, 4))
     for i in range(cp.shape[0]):
@@ -106,24 +76,28 @@ def _implicit(pd, pv, Fn, Sd, Sv, cp, jp, ju, ainv):
         if Fn[k] != 0.0 or Fn[k + 1] != 0.0:
             contact_force_jac_exact(py, pz, uy, uz, cp[i], jac)
         for a in range(2):
-            jp[k + a, 0] = jac[a, 0]
-            jp[k + a, 1] = jac[a, 1]
-            ju[k + a, 0] = jac[a, 2]
-            ju[k + a, 1] = jac[a, 3]
+            lin[k + a, 0] = jac[a, 0]
+            lin[k + a, 1] = jac[a, 1]
+            lin[k + a, 2] = jac[a, 2]
+            lin[k + a, 3] = jac[a, 3]
     a = np.empty((m, m))
     for r in range(m):
         k = 2 * (r // 2)
         for c in range(m):
             a[r, c] = (1.0 if r == c else 0.0) - (
-                jp[r, 0] * Sd[k, c] + jp[r, 1] * Sd[k + 1, c]
-                + ju[r, 0] * Sv[k, c] + ju[r, 1] * Sv[k + 1, c]
+                lin[r, 0] * Sd[k, c] + lin[r, 1] * Sd[k + 1, c]
+                + lin[r, 2] * Sv[k, c] + lin[r, 3] * Sv[k + 1, c]
             )  # fmt: skip
-    return _invert(a, ainv)
+    return invert(a, lin[:, 4:])
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
-def _advance_tangents(lev, steps, Qy, QF, jp, ju, ainv, active, dpd, dpv, dFn):
-    """Advance every tangent column ``(Qy[i], QF[i])`` over one step of level ``lev``."""
+def _advance_tangents(lev, steps, Qy, QF, lin, active, scratch):
+    """Advance every tangent column ``(Qy[i], QF[i])`` over one step of level ``lev``.
+
+    ``lin`` from :func:`_implicit` (used when ``active``: the new step is in contact);
+    ``scratch`` (3, m) work rows ``dpd, dpv, dFn``.
+    """
     E, G0, G1, BT = steps.E[lev], steps.G0[lev], steps.G1[lev], steps.BT
     CdE, CvE, CdG0b, CvG0b = steps.CdE[lev], steps.CvE[lev], steps.CdG0b[lev], steps.CvG0b[lev]
     ns = Qy.shape[1]
@@ -138,31 +112,31 @@ def _advance_tangents(lev, steps, Qy, QF, jp, ju, ainv, active, dpd, dpv, dFn):
                 for c in range(m):
                     a += CdG0b[r, c] * dF[c]
                     b += CvG0b[r, c] * dF[c]
-                dpd[r] = a
-                dpv[r] = b
+                scratch[0, r] = a
+                scratch[1, r] = b
             for r in range(m):  # J_p dpd + J_u dpv, block diagonal per contact
                 k = 2 * (r // 2)
-                dpd_r = jp[r, 0] * dpd[k] + jp[r, 1] * dpd[k + 1]
-                dFn[r] = dpd_r + ju[r, 0] * dpv[k] + ju[r, 1] * dpv[k + 1]
+                dpd_r = lin[r, 0] * scratch[0, k] + lin[r, 1] * scratch[0, k + 1]
+                scratch[2, r] = dpd_r + lin[r, 2] * scratch[1, k] + lin[r, 3] * scratch[1, k + 1]
             for r in range(m):
                 acc = 0.0
                 for c in range(m):
-                    acc += ainv[r, c] * dFn[c]
-                dpd[r] = acc
+                    acc += lin[r, 4 + c] * scratch[2, c]
+                scratch[0, r] = acc
             for r in range(m):
-                dFn[r] = dpd[r]
+                scratch[2, r] = scratch[0, r]
         else:
             for r in range(m):
-                dFn[r] = 0.0
+                scratch[2, r] = 0.0
         for j in range(ns):
             b0 = 0j
             b1 = 0j
             for c in range(m):
                 b0 += BT[c, j] * dF[c]
-                b1 += BT[c, j] * dFn[c]
+                b1 += BT[c, j] * scratch[2, c]
             q[j] = E[j] * q[j] + G0[j] * b0 + G1[j] * b1
         for r in range(m):
-            dF[r] = dFn[r]
+            dF[r] = scratch[2, r]
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
@@ -177,19 +151,19 @@ def _radius2(y, z, F, outputs):
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
-def map_tangent(y, F, Qy, QF, steps, contacts, outputs, omega, n_steps, out):
+def map_tangent(state, tangents, steps, contacts, outputs, omega, n_steps, out):
     """Run ``n_steps`` fixed base steps from ``(y, F)`` at unbalance phase 0, with tangents.
 
     Parameters
     ----------
-    y : ndarray, complex (ns,)
-        Modal coordinates (the engine's shifted ones); overwritten by the end state.
-    F : ndarray (m,)
-        Contact forces on the rotor (N) of the start state; overwritten by the end forces.
-    Qy : ndarray, complex (d, ns)
-        Modal part of ``d`` tangent columns (rows here); overwritten by their images.
-    QF : ndarray (d, m)
-        Force part of the tangent columns (N per unit column); overwritten.
+    state : tuple ``(y, F)``
+        ``y`` ndarray, complex (ns,): modal coordinates (the engine's shifted ones); ``F``
+        ndarray (m,): contact forces on the rotor (N) of the start state; both overwritten by
+        the end state.
+    tangents : tuple ``(Qy, QF)``
+        ``Qy`` ndarray, complex (d, ns): modal part of ``d`` tangent columns (rows here);
+        ``QF`` ndarray (d, m): their force part (N per unit column); both overwritten by their
+        images.
     steps, contacts, outputs : namedtuple
         :class:`rubrotor.engine.structs.Steps`, ``Contacts``, ``Outputs`` of the plant.
     omega : float
@@ -207,6 +181,8 @@ def map_tangent(y, F, Qy, QF, steps, contacts, outputs, omega, n_steps, out):
     int
         Base steps completed.
     """
+    y, F = state
+    Qy, QF = tangents
     E, G0, G1, BT, CdE, CvE = steps.E, steps.G0, steps.G1, steps.BT, steps.CdE, steps.CvE
     CdG0b, CvG0b, Sd, Sv, rot, hs = steps.CdG0b, steps.CvG0b, steps.Sd, steps.Sv, steps.rot, steps.h
     Pu, Pv, d0, cp = contacts.Pu, contacts.Pv, contacts.d0, contacts.cp
@@ -223,12 +199,8 @@ def map_tangent(y, F, Qy, QF, steps, contacts, outputs, omega, n_steps, out):
     fn = np.zeros(nc)
     ft = np.zeros(nc)
     work = workspace(m)
-    jp = np.zeros((m, 2))
-    ju = np.zeros((m, 2))
-    ainv = np.zeros((m, m))
-    dpd = np.zeros(m)
-    dpv = np.zeros(m)
-    dFn = np.zeros(m)
+    lin = np.zeros((m, 4 + m))  # [J_p | J_u | A^-1]
+    scratch = np.zeros((3, m))  # dpd, dpv, dFn
     bF = np.zeros(ns, np.complex128)
     for c in range(m):
         for j in range(ns):
@@ -295,11 +267,11 @@ def map_tangent(y, F, Qy, QF, steps, contacts, outputs, omega, n_steps, out):
                 if Fn[r] != 0.0:
                     new = True
             if new:  # (never on a free step: there F' = 0 and pv was not formed)
-                if not _implicit(pd, pv, Fn, Sd[lev], Sv[lev], cp, jp, ju, ainv):
+                if not _implicit(pd, pv, Fn, Sd[lev], Sv[lev], cp, lin):
                     status = NEWTON_FAILED
                     break
             if Qy.shape[0] > 0:
-                _advance_tangents(lev, steps, Qy, QF, jp, ju, ainv, new, dpd, dpv, dFn)
+                _advance_tangents(lev, steps, Qy, QF, lin, new, scratch)
             if loaded or new:
                 for j in range(ns):
                     b = 0j

@@ -1,8 +1,9 @@
 """Compiled stroboscopic map of the fixed-step exponential scheme and its exact Jacobian.
 
 One call runs the fixed-step exponential step of :func:`rubrotor.core.integrate.expo_fixed`
-(same arithmetic, same contact solve, same phasor recurrence, so the end state is the one a
-simulation from the same start gives) over ``n_steps`` steps, from the contact force of the start
+(the same step kernel, :func:`rubrotor.core.integrate.fixed_step`, run by
+:func:`rubrotor.core.tangent.expo_tangent` without re-orthonormalisation, so the end state is
+the one a simulation from the same start gives) over ``n_steps`` steps, from the contact force of the start
 state, without saving samples; it returns the largest contact-station radius on the way.
 
 With tangent vectors ``Q`` (rows, complex eigen-coordinates) it also propagates the exact
@@ -26,15 +27,13 @@ bifurcations; the collapse of all vectors onto the leading direction that forces
 re-orthonormalisation only matters over the thousands of revolutions of a Lyapunov run.
 """
 
-import math
 
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import contact_force_jac_exact, solve_contact
+from rubrotor.core.contact import contact_force
 from rubrotor.core.integrate import SAFE_FASTMATH
-from rubrotor.core.status import CONTACT_FAILED, DIVERGED, OK
-from rubrotor.core.tangent import _force_tangent, implicit_force_tangent, newton_matrix
+from rubrotor.core.tangent import expo_tangent
 
 __all__ = ["expo_strobe", "phi12"]
 
@@ -49,7 +48,7 @@ def expo_strobe(y, Q, k, cp, out):
         Shifted eigen-coordinates at unbalance phase 0; overwritten by the end state.
     Q : ndarray, complex (m, ns)
         Tangent vectors as rows (``m = 0``: the map alone); overwritten by their images.
-    k : namedtuple (:class:`rubrotor.orbits.shooting.MapStep`)
+    k : namedtuple (:class:`rubrotor.engine.shaft_steppers.MapStep`)
         ``E, G0, G1`` (ns,) step coefficients, ``sd, sv`` contact-station displacement (m/N)
         and velocity (m/(s N)) per N of the new force, contact rows ``cdc, cvc`` (ns,),
         ``part_c`` (m) and ``vel_cz`` (m/s) the particular solution at the contact station per
@@ -66,96 +65,19 @@ def expo_strobe(y, Q, k, cp, out):
     complex
         The unbalance phasor ``exp(i omega t)`` at the end.
     """
-    E, G0, G1, sd, sv, cdc, cvc = k.E, k.G0, k.G1, k.sd, k.sv, k.cdc, k.cvc
-    omega, h = k.omega, k.h
-    part_c, part_lc, vel_cz = k.part_c, k.part_lc, k.vel_cz
-    ns = y.shape[0]
-    m = Q.shape[0]
-    jac = np.zeros((2, 4))
-    jk = np.zeros((2, 4))
-    cdE = cdc * E
-    cvE = cvc * E
-    cdG0 = 0j
-    cvG0 = 0j
-    for j in range(ns):
-        cdG0 += cdc[j] * G0[j]
-        cvG0 += cvc[j] * G0[j]
-    z = 1.0 + 0j
-    P = part_c + part_lc
-    V = vel_cz + 0j
-    for j in range(ns):
+    cdc, cvc = k.cdc, k.cvc
+    P = k.part_c + k.part_lc
+    V = k.vel_cz + 0j
+    for j in range(y.shape[0]):
         P += cdc[j] * y[j]
         V += cvc[j] * y[j]
-    fy, fz, fn, ft = contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
-    F = complex(fy, fz)
-    Fp = 0j
-    rmax2 = P.real * P.real + P.imag * P.imag
-    maxd2 = k.max_disp * k.max_disp
-    rot = complex(math.cos(omega * h), math.sin(omega * h))
-    dFk = np.zeros(m, np.complex128)
-    status = OK
-    nm = (1.0, 0.0, 0.0, 1.0, 1.0)  # I - J S out of contact (unused there)
-    for step in range(1, k.n_steps + 1):
-        if step % 1024 == 0:
-            zn = complex(math.cos(omega * h * step), math.sin(omega * h * step))
-        else:
-            zn = z * rot
-        pd = part_c * zn + part_lc
-        ud = vel_cz * zn
-        for j in range(ns):
-            yj = y[j]
-            pd += cdE[j] * yj
-            ud += cvE[j] * yj
-        if F != 0j:
-            pd += cdG0 * F
-            ud += cvG0 * F
-        for i in range(m):  # force derivative at the current state, per tangent vector
-            dFk[i] = 0j
-            if F != 0j:
-                dP = 0j
-                dV = 0j
-                for j in range(ns):
-                    dP += cdc[j] * Q[i, j]
-                    dV += cvc[j] * Q[i, j]
-                dFk[i] = _force_tangent(jk, dP, dV)
-        F0 = F
-        if F != 0j and Fp != 0j:
-            F0 = 2.0 * F - Fp
-        Fn, it, fn_c, ft_c = solve_contact(pd, ud, sd, sv, F0, cp, jac)
-        if it < 0:
-            status = CONTACT_FAILED
-            break
-        if F != 0j or Fn != 0j:
-            for j in range(ns):
-                y[j] = E[j] * y[j] + G0[j] * F + G1[j] * Fn
-        else:
-            for j in range(ns):
-                y[j] = E[j] * y[j]
-        P = pd + sd * Fn
-        V = ud + sv * Fn
-        if m > 0:
-            jk[:, :] = 0.0
-            if Fn != 0j:
-                contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
-                nm = newton_matrix(jk, sd, sv)
-            for i in range(m):
-                dFn = 0j
-                if Fn != 0j:
-                    dFn = implicit_force_tangent(jk, nm, dFk[i], Q[i], cdE, cvE, cdG0, cvG0)
-                for j in range(ns):
-                    Q[i, j] = E[j] * Q[i, j] + G0[j] * dFk[i] + G1[j] * dFn
-        Fp = F
-        F = Fn
-        z = zn
-        d2 = P.real * P.real + P.imag * P.imag
-        if d2 > rmax2:
-            rmax2 = d2
-        if not (d2 <= maxd2):
-            status = DIVERGED
-            break
-    out[0] = math.sqrt(rmax2)
-    out[1] = status
-    return z
+    fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    cstate = np.array([complex(fy, fz), 1.0 + 0j, 0j, 0j])
+    istate = np.zeros(2, np.int64)
+    expo_tangent(y, cstate, istate, Q, np.zeros(Q.shape[0]), k, cp, 0)
+    out[0] = cstate[3].real
+    out[1] = istate[1]
+    return cstate[1]
 
 
 @njit(cache=True)

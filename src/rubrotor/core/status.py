@@ -46,6 +46,9 @@ __all__ = [
     "MESSAGES",
     "Status",
     "message",
+    "I_STEP",
+    "I_EVENTS",
+    "I_STATUS",
 ]
 
 OK = 0
@@ -95,3 +98,8 @@ def message(code: int) -> str:
     """What status ``code`` means (``"unknown status <code>"`` for a code outside the table)."""
     code = int(code)
     return MESSAGES[code] if 0 <= code < len(MESSAGES) else f"unknown status {code}"
+
+
+I_STEP, I_EVENTS, I_STATUS = 0, 1, 2
+"""Slots every stepper's integer state ``istate`` shares: steps taken (or saved samples),
+contact events counted, and the status code."""

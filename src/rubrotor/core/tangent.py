@@ -24,11 +24,11 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import contact_force_jac_exact, solve_contact
-from rubrotor.core.integrate import SAFE_FASTMATH
+from rubrotor.core.contact import contact_force_jac_exact
+from rubrotor.core.integrate import SAFE_FASTMATH, fixed_coefficients, fixed_step, phasor
 from rubrotor.core.status import CONTACT_FAILED, DIVERGED, OK, TANGENTS_DEGENERATE
 
-__all__ = ["expo_tangent", "orthonormalise"]
+__all__ = ["expo_tangent", "orthonormalise", "force_tangents", "advance_tangents"]
 
 
 @njit(cache=True)
@@ -86,124 +86,148 @@ def newton_matrix(jk, sd, sv):
 
 
 @njit(cache=True, inline="always")
-def implicit_force_tangent(jk, nm, dF, q, cdE, cvE, cdG0, cvG0):
-    """The new force's increment ``dF_{k+1}`` (N) of tangent vector ``q`` (implicit function
+def implicit_force_tangent(jk, nm, dF, Q, i, prop, scal):
+    """The new force's increment ``dF_{k+1}`` (N) of tangent vector ``Q[i]`` (implicit function
     theorem on the contact equation): ``(I - J S)^-1 J (dpd, dud)``, ``nm`` from
-    :func:`newton_matrix`, ``dF`` the old force's increment."""
+    :func:`newton_matrix`, ``dF`` the old force's increment, ``prop, scal`` the step
+    (:func:`rubrotor.core.integrate.fixed_coefficients`)."""
+    cdG0, cvG0 = scal[2], scal[3]
     dpd = cdG0 * dF
     dud = cvG0 * dF
-    for j in range(q.shape[0]):
-        dpd += cdE[j] * q[j]
-        dud += cvE[j] * q[j]
+    for j in range(Q.shape[1]):
+        dpd += prop[3, j] * Q[i, j]
+        dud += prop[4, j] * Q[i, j]
     b = _force_tangent(jk, dpd, dud)
     a11, a12, a21, a22, det = nm
     return complex((a22 * b.real - a12 * b.imag) / det, (-a21 * b.real + a11 * b.imag) / det)
 
 
-@njit(cache=True, fastmath=SAFE_FASTMATH)
-def expo_tangent(
-    y, cstate, istate, n_steps, renorm_every, Q, logs,
-    E, G0, G1, sd, sv, cdc, cvc, cp, part, omega, h, max_disp,
-):  # fmt: skip
-    """Advance the state ``n_steps`` fixed exponential steps with tangent vectors ``Q``.
+@njit(cache=True, inline="always")
+def force_tangents(Q, F, jk, cdc, cvc, dFk):
+    """``dFk[i] = J_k (dP, dV)`` (N) of every tangent row ``Q[i]`` at the current state (zero
+    out of contact): ``jk`` the exact force Jacobian there, ``cdc, cvc`` the contact rows."""
+    for i in range(Q.shape[0]):
+        if F != 0j:
+            dP = 0j
+            dV = 0j
+            for j in range(Q.shape[1]):
+                dP += cdc[j] * Q[i, j]
+                dV += cvc[j] * Q[i, j]
+            dFk[i] = _force_tangent(jk, dP, dV)
+        else:
+            dFk[i] = 0j
 
-    State in/out as :func:`rubrotor.core.integrate.expo_fixed`: ``y`` (shifted eigen-
-    coordinates), ``cstate = [F, z, F_prev]``, ``istate = [step, status]`` (a code of
-    :mod:`rubrotor.core.status`). ``Q`` (m, ns) complex: tangent vectors as rows, orthonormalised
-    every ``renorm_every`` steps and at the end, their log growths added to ``logs`` (m,).
-    ``part = (part_c, part_lc, vel_cz)``: the contact station's particular-solution
-    displacement per unit phasor (m), constant-load displacement (m) and velocity per unit
-    phasor (m/s). Returns the number of steps done.
+
+@njit(cache=True, inline="always")
+def advance_tangents(Q, dFk, new, prop, scal, cp, jk, nm):
+    """Advance the tangent rows ``Q`` over the step :func:`rubrotor.core.integrate.fixed_step`
+    just took (``prop, scal``) to ``new = (F_new, P, V)``: the new force (N) and the
+    contact-station displacement (m) and velocity (m/s); ``dFk`` from :func:`force_tangents`.
+    Updates ``jk`` to the force Jacobian of the new state and returns its Newton matrix (``nm``
+    kept out of contact)."""
+    if Q.shape[0] == 0:
+        return nm
+    Fn, P, V = new
+    jk[:, :] = 0.0
+    if Fn != 0j:
+        contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
+        nm = newton_matrix(jk, scal[0], scal[1])
+    for i in range(Q.shape[0]):
+        dFn = 0j
+        if Fn != 0j:
+            dFn = implicit_force_tangent(jk, nm, dFk[i], Q, i, prop, scal)
+        for j in range(Q.shape[1]):
+            Q[i, j] = prop[0, j] * Q[i, j] + prop[1, j] * dFk[i] + prop[2, j] * dFn
+    return nm
+
+
+@njit(cache=True, fastmath=SAFE_FASTMATH)
+def expo_tangent(y, cstate, istate, Q, logs, k, cp, renorm_every):
+    """Advance the state ``k.n_steps`` fixed exponential steps with tangent vectors ``Q``.
+
+    The one stepping kernel of the continuous shaft's maps: the stroboscopic map of shooting
+    (:func:`rubrotor.core.shoot.expo_strobe`, tangents not re-orthonormalised) and the
+    Lyapunov exponents (re-orthonormalised). Each step is
+    :func:`rubrotor.core.integrate.fixed_step`, the simulation's step.
+
+    Parameters
+    ----------
+    y : ndarray, complex (ns,)
+        Shifted eigen-coordinates; overwritten by the end state.
+    cstate : ndarray, complex (4,)
+        ``[F (N), z, F_prev (N), r]`` in/out: contact force, unbalance phasor
+        ``exp(i omega t)``, previous force, and the largest contact-station radius (m) over
+        the start and every step (real part, kept across calls).
+    istate : ndarray, int (2,)
+        ``[step, status]`` in/out (status a code of :mod:`rubrotor.core.status`).
+    Q : ndarray, complex (m, ns)
+        Tangent vectors as rows, overwritten by their images.
+    logs : ndarray (m,)
+        Log growths of the rows added at every re-orthonormalisation.
+    k : namedtuple (:class:`rubrotor.engine.shaft_steppers.MapStep`)
+        Step coefficients and run length (SI units).
+    cp : ndarray
+        Packed contact law.
+    renorm_every : int
+        Steps between re-orthonormalisations (modified Gram-Schmidt, and once at the end); 0
+        never.
+
+    Returns
+    -------
+    int
+        Steps done.
     """
-    ns = y.shape[0]
-    m = Q.shape[0]
+    cdc, cvc, omega, h = k.cdc, k.cvc, k.omega, k.h
+    part = (k.part_c, k.part_lc, k.vel_cz)
+    prop, scal = fixed_coefficients(k.E, k.G0, k.G1, k.sd, k.sv, cdc, cvc, part)
     jac = np.zeros((2, 4))
     jk = np.zeros((2, 4))  # exact Jacobian at the current state
-    part_c, part_lc, vel_cz = part
-    cdE = cdc * E
-    cvE = cvc * E
-    cdG0 = 0j
-    cvG0 = 0j
-    for j in range(ns):
-        cdG0 += cdc[j] * G0[j]
-        cvG0 += cvc[j] * G0[j]
     F = cstate[0]
     z = cstate[1]
     Fp = cstate[2]
     step = istate[0]
-    maxd2 = max_disp * max_disp
+    maxd2 = k.max_disp * k.max_disp
     rot = complex(math.cos(omega * h), math.sin(omega * h))
+    wh = omega * h
     # the Jacobian at the start state
-    P = part_c * z + part_lc
-    V = vel_cz * z
-    for j in range(ns):
+    P = k.part_c * z + k.part_lc
+    V = k.vel_cz * z
+    for j in range(y.shape[0]):
         P += cdc[j] * y[j]
         V += cvc[j] * y[j]
     contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
-    dFk = np.zeros(m, np.complex128)
+    rmax2 = max(cstate[3].real ** 2, P.real * P.real + P.imag * P.imag)
+    dFk = np.zeros(Q.shape[0], np.complex128)
     nm = (1.0, 0.0, 0.0, 1.0, 1.0)  # I - J S out of contact (unused there)
     done = 0
-    for _ in range(n_steps):
+    for _ in range(k.n_steps):
         step += 1
-        if step % 1024 == 0:
-            zn = complex(math.cos(omega * h * step), math.sin(omega * h * step))
-        else:
-            zn = z * rot
-        pd = part_c * zn + part_lc
-        ud = vel_cz * zn
-        for j in range(ns):
-            pd += cdE[j] * y[j]
-            ud += cvE[j] * y[j]
-        if F != 0j:
-            pd += cdG0 * F
-            ud += cvG0 * F
-        # force derivative at the current state, for every tangent vector
-        for i in range(m):
-            if F != 0j:
-                dP = 0j
-                dV = 0j
-                for j in range(ns):
-                    dP += cdc[j] * Q[i, j]
-                    dV += cvc[j] * Q[i, j]
-                dFk[i] = _force_tangent(jk, dP, dV)
-            else:
-                dFk[i] = 0j
-        F0 = F
-        if F != 0j and Fp != 0j:
-            F0 = 2.0 * F - Fp
-        Fn, it, fn_c, ft_c = solve_contact(pd, ud, sd, sv, F0, cp, jac)
+        zn = phasor(z, rot, step, wh)
+        force_tangents(Q, F, jk, cdc, cvc, dFk)
+        Fn, it, fn_c, ft_c, P, V = fixed_step(y, F, Fp, zn, prop, scal, cp, jac)
         if it < 0:
             istate[1] = CONTACT_FAILED
             break
-        for j in range(ns):
-            y[j] = E[j] * y[j] + G0[j] * F + G1[j] * Fn
-        P = pd + sd * Fn
-        V = ud + sv * Fn
-        jk[:, :] = 0.0
-        if Fn != 0j:
-            contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
-            nm = newton_matrix(jk, sd, sv)
-        for i in range(m):
-            dFn = 0j
-            if Fn != 0j:
-                dFn = implicit_force_tangent(jk, nm, dFk[i], Q[i], cdE, cvE, cdG0, cvG0)
-            for j in range(ns):
-                Q[i, j] = E[j] * Q[i, j] + G0[j] * dFk[i] + G1[j] * dFn
+        nm = advance_tangents(Q, dFk, (Fn, P, V), prop, scal, cp, jk, nm)
         Fp = F
         F = Fn
         z = zn
         done += 1
-        if not (P.real * P.real + P.imag * P.imag <= maxd2):
+        d2 = P.real * P.real + P.imag * P.imag
+        if d2 > rmax2:
+            rmax2 = d2
+        if not (d2 <= maxd2):
             istate[1] = DIVERGED
             break
-        if done % renorm_every == 0:
+        if renorm_every > 0 and done % renorm_every == 0:
             if not orthonormalise(Q, logs):
                 istate[1] = TANGENTS_DEGENERATE
                 break
-    if istate[1] == OK and done % renorm_every != 0:
+    if istate[1] == OK and renorm_every > 0 and done % renorm_every != 0:
         orthonormalise(Q, logs)
     cstate[0] = F
     cstate[1] = z
     cstate[2] = Fp
+    cstate[3] = math.sqrt(rmax2)
     istate[0] = step
     return done

@@ -74,6 +74,7 @@ from rubrotor.engine.reduce import (
 )
 from rubrotor.engine.restart import physical_state
 from rubrotor.engine.result import TimeRun, _jsonable, to_dataset
+from rubrotor.engine.settings import ADAPTIVE_LEVELS
 from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.engine.stream import NetcdfSink, check_size
 from rubrotor.engine.structs import (
@@ -94,7 +95,6 @@ from rubrotor.rotors.scales import explain
 
 __all__ = ["Plant", "EngineResult", "build_plant", "simulate_general", "result_dataset", "STEPPERS"]
 
-ADAPTIVE_LEVELS = 21
 DEFAULT_ADAPTIVE = "collocation"
 """The stepper of a run with ``rtol`` when no method is named."""
 EVENT_BUFFER = 1 << 16

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rubrotor.engine.settings import INITIAL_STATES
 from rubrotor.errors import InputError
 from rubrotor.forces.loads import static_load as _static_load
 from rubrotor.forces.unbalance import unbalance_phasor as _unbalance_phasor
@@ -15,7 +16,6 @@ from rubrotor.rotors.forces import Contact
 
 __all__ = ["Stator", "RubStation", "Run", "INITIAL_STATES"]
 
-INITIAL_STATES = ("rest", "static", "steady")
 RUNUP_REDUCTIONS = ("ritz", "full")
 
 

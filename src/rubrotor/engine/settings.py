@@ -6,15 +6,75 @@ A value object, validated on construction, read by :func:`rubrotor.simulate.simu
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from dataclasses import dataclass
 
 from rubrotor.errors import InputError
 from rubrotor.rotors.forces import _number
 
-__all__ = ["Integrator", "METHODS", "DEFAULT_SAMPLES_PER_REV"]
+__all__ = [
+    "Integrator",
+    "METHODS",
+    "DEFAULT_SAMPLES_PER_REV",
+    "STEPPERS",
+    "StepperSpec",
+    "INITIAL_STATES",
+    "SHAFT_INITIAL_STATES",
+    "ADAPTIVE_LEVELS",
+]
 
-METHODS = {"exponential": 2, "abm": 4}
-"""Methods and their design orders of accuracy."""
+StepperSpec = namedtuple("StepperSpec", ["order", "engines", "adaptive", "summary"])
+"""One stepper: its design ``order`` of accuracy, the ``engines`` that offer it (``"shaft"``:
+the continuous shaft's modal engine, :mod:`rubrotor.engine.shaft_steppers`; ``"general"``: the
+general rotor's engine, :mod:`rubrotor.engine.driver`), whether it chooses its own steps
+(``adaptive``) and a one-line ``summary``."""
+
+STEPPERS = {
+    "exponential": StepperSpec(
+        2, ("shaft", "general"), False,
+        "fixed steps: the linear rotor propagated exactly, the contact force held linear over a "
+        "step and solved implicitly",
+    ),
+    "adaptive": StepperSpec(
+        2, ("shaft",), True,
+        "exponential with error-controlled dyadic steps; the force held quadratic (order 3) "
+        "while the rotor stays in contact at a constant step",
+    ),
+    "abm": StepperSpec(
+        4, ("shaft",), False,
+        "the seed's Adams-Bashforth-Moulton PECE on the modal system, started with RK4",
+    ),
+    "free-flight": StepperSpec(
+        2, ("general",), True,
+        "exact free flight to each sample or located onset, contact steps with the force held "
+        "linear",
+    ),
+    "collocation": StepperSpec(
+        4, ("general",), True,
+        "exact free flight, contact steps by exponential Lobatto collocation (force held "
+        "quadratic)",
+    ),
+    "runup": StepperSpec(
+        2, ("general",), False,
+        "fixed steps at a speed varying in time, the unbalance an input at the varying speed",
+    ),
+}  # fmt: skip
+"""Every stepper of every engine (name -> :class:`StepperSpec`). The engines' factory tables
+(``rubrotor.engine.shaft_steppers.FACTORIES``, the general engine's) are keyed by these names."""
+
+METHODS = {name: STEPPERS[name].order for name in ("exponential", "abm")}
+"""The ``simulation.method`` choices of :class:`Integrator` and their design orders of
+accuracy (``"adaptive"`` is ``"exponential"`` without a fixed step)."""
+
+INITIAL_STATES = ("rest", "static", "steady")
+"""States a run may start from: at rest (zero displacement and velocity), the static deflection
+under the constant loads, or the steady (synchronous unbalance plus static) response. The
+continuous shaft offers :data:`SHAFT_INITIAL_STATES`."""
+SHAFT_INITIAL_STATES = ("rest", "steady")
+"""The initial states of the continuous shaft's runs."""
+
+ADAPTIVE_LEVELS = 21
+"""Dyadic levels of the adaptive steppers: the finest step is ``H / 2^(ADAPTIVE_LEVELS - 1)``."""
 
 DEFAULT_SAMPLES_PER_REV = 256
 

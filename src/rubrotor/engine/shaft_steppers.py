@@ -1,7 +1,8 @@
 """Steppers of the continuous-shaft simulation (:func:`rubrotor.engine.simulate.simulate_system`).
 
-:data:`STEPPERS` maps each method to a factory ``(plan, state) -> Stepper`` that precomputes the
-method's coefficients once and returns the chunk function the shared loop of
+:data:`FACTORIES` maps each stepper (named in :data:`rubrotor.engine.settings.STEPPERS`, the one
+stepper table with each stepper's order) to a factory ``(plan, state) -> Stepper`` that
+precomputes the method's coefficients once and returns the chunk function the shared loop of
 :mod:`rubrotor.engine.simulate` calls. The compiled kernels (:mod:`rubrotor.core.integrate`) take
 the named tuples defined here; they live outside ``rubrotor.core``, which imports only numpy
 and numba, and numba reads a named tuple of arrays and numbers by field name.
@@ -24,6 +25,7 @@ from rubrotor.core.integrate import (
     expo_adaptive,
     expo_fixed,
 )
+from rubrotor.engine.settings import ADAPTIVE_LEVELS
 from rubrotor.engine.shaft_modal import phi_functions
 from rubrotor.errors import InputError
 
@@ -34,14 +36,14 @@ __all__ = [
     "Energy",
     "AdaptiveStep",
     "AbmStep",
+    "MapStep",
     "Plan",
     "Stepper",
-    "STEPPERS",
+    "FACTORIES",
     "ADAPTIVE_LEVELS",
     "EVENT_MARGIN",
 ]
 
-ADAPTIVE_LEVELS = 21
 EVENT_MARGIN = 4096
 """Free event slots a kernel requires before a saved sample (at most one event per step, so a
 fixed-step sample needs ``min(save_every, EVENT_MARGIN)``); see
@@ -99,6 +101,18 @@ AbmStep = namedtuple(
 """Seed ABM scheme: modes ``lam`` (1/s), force inputs (per N) of contact, unbalance and load,
 unbalance amplitude ``fu0`` and load ``fl`` (N), contact rows, ``omega`` (rad/s), ``h`` (s)."""
 
+
+MapStep = namedtuple(
+    "MapStep",
+    ["E", "G0", "G1", "sd", "sv", "cdc", "cvc", "part_c", "part_lc", "vel_cz", "omega", "h",
+     "n_steps", "max_disp"],
+)  # fmt: skip
+"""A map of ``n_steps`` fixed exponential steps with tangents (:func:`rubrotor.core.tangent.expo_tangent`,
+:func:`rubrotor.core.shoot.expo_strobe`): ``E, G0, G1`` (ns,) as :class:`FixedStep`, ``sd, sv``
+contact-station displacement (m/N) and velocity (m/(s N)) per N of the new force, contact rows
+``cdc, cvc`` (ns,), ``part_c`` (m) and ``vel_cz`` (m/s) the particular solution at the contact
+station per unit phasor, ``part_lc`` (m) its constant-load part, ``omega`` (rad/s), ``h`` (s),
+``max_disp`` (m)."""
 
 @dataclass(frozen=True)
 class Plan:
@@ -259,7 +273,7 @@ def _abm_factory(plan: Plan, st: RunState) -> Stepper:
     return Stepper(chunk, {"step_s": plan.h}, _steps_taken, lambda state: state.y)
 
 
-STEPPERS = {"exponential": _fixed_factory, "adaptive": _adaptive_factory, "abm": _abm_factory}
-"""Stepper name -> factory ``(plan, state) -> Stepper``: ``"exponential"`` (fixed step),
-``"adaptive"`` (exponential with error control, chosen when no fixed step is given) and
-``"abm"``."""
+FACTORIES = {"exponential": _fixed_factory, "adaptive": _adaptive_factory, "abm": _abm_factory}
+"""Stepper name -> factory ``(plan, state) -> Stepper`` of the continuous shaft:
+``"exponential"`` (fixed step), ``"adaptive"`` (exponential with error control, chosen when no
+fixed step is given) and ``"abm"``; their orders in :data:`rubrotor.engine.settings.STEPPERS`."""

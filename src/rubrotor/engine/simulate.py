@@ -3,7 +3,7 @@
 :func:`~rubrotor.engine.simulate.simulate_system` is the array-level entry point (shaft, speed, forces,
 integrator); it assembles and diagonalises the modal system (:mod:`rubrotor.engine.shaft_modal`),
 plans the run (rows, particular solution, initial state), asks the stepper table
-:data:`rubrotor.engine.shaft_steppers.STEPPERS` for the method's chunk function, runs one shared chunk loop
+:data:`rubrotor.engine.shaft_steppers.FACTORIES` for the method's chunk function, runs one shared chunk loop
 (progress, Ctrl-C, event-buffer growth and status between chunks, never per step) and returns a
 :class:`SimulationResult`. :func:`rubrotor.engine.result.to_dataset` turns that into an xarray Dataset.
 :class:`PreparedRun` splits that in two, set up once (modal system, rows, coefficients) and run
@@ -33,9 +33,10 @@ from rubrotor.core.integrate import (
 )
 from rubrotor.core.status import Status
 from rubrotor.engine.result import TimeRun
+from rubrotor.engine.settings import SHAFT_INITIAL_STATES as INITIAL_STATES
 from rubrotor.engine.settings import Integrator
 from rubrotor.engine.shaft_modal import ModalSystem, assemble_modal, phi_functions
-from rubrotor.engine.shaft_steppers import STEPPERS, Plan, Rows, RunState
+from rubrotor.engine.shaft_steppers import FACTORIES, Plan, Rows, RunState
 from rubrotor.errors import InputError
 from rubrotor.forces.contact import law_of
 from rubrotor.rotors.forces import Contact, ModalDamping, RadialLoad, Unbalance
@@ -56,7 +57,6 @@ __all__ = [
     "phi_functions",
 ]
 
-INITIAL_STATES = ("rest", "steady")
 EVENT_BUFFER = 200_000
 """Initial length of the contact-event buffer; it doubles when full, up to ``EVENT_BUFFER_MAX``."""
 EVENT_BUFFER_MAX = 1 << 26
@@ -549,9 +549,9 @@ class PreparedRun:
 
     def _stepper_for(self, st: RunState):
         if self.plan.track_energy:
-            return STEPPERS[self.kind](self.plan, st)
+            return FACTORIES[self.kind](self.plan, st)
         if self._stepper is None:
-            self._stepper = STEPPERS[self.kind](self.plan, st)
+            self._stepper = FACTORIES[self.kind](self.plan, st)
         return self._stepper
 
     def run(

@@ -208,8 +208,8 @@ class GeneralMap:
         Qy = np.ascontiguousarray((V[:ns] + 1j * V[ns : 2 * ns]).T)
         QF = np.ascontiguousarray(V[2 * ns :].T)
         out = np.zeros(3)
-        done = map_tangent(y, F, Qy, QF, self._steps, self.plant.contacts, self.plant.outputs,
-                           self.speed, self.k * self.steps, out)  # fmt: skip
+        done = map_tangent((y, F), (Qy, QF), self._steps, self.plant.contacts,
+                           self.plant.outputs, self.speed, self.k * self.steps, out)  # fmt: skip
         if int(out[1]) != OK or done < self.k * self.steps:
             raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")
         jac = np.vstack([Qy.real.T, Qy.imag.T, QF.T])

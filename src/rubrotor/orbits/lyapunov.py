@@ -153,6 +153,7 @@ def lyapunov_exponents(
     LyapunovResult
     """
     from rubrotor.core.tangent import expo_tangent, orthonormalise
+    from rubrotor.engine.shaft_steppers import MapStep
     from rubrotor.engine.simulate import _start_coordinates, _start_force, _state_of
     from rubrotor.scenario.load import as_scenario
 
@@ -184,24 +185,25 @@ def lyapunov_exponents(
         y = _start_coordinates(sysm, start, scenario.load) - (y_u + y_l)
     y = np.ascontiguousarray(y, dtype=complex)
     orows = (cdc[None, :], cvc[None, :], None, None, [part[0]], [part[1]], [part[2]])
-    cstate = np.array([_start_force(y, cp, orows), 1 + 0j, 0j])
+    cstate = np.array([_start_force(y, cp, orows), 1 + 0j, 0j, 0j])
     istate = np.zeros(2, np.int64)
     rng = np.random.default_rng(seed)
     Q = rng.normal(size=(count, ns)) + 1j * rng.normal(size=(count, ns))
     logs = np.zeros(count)
     orthonormalise(Q, logs)
     max_disp = 1000 * scenario.contact.clearance if scenario.contact else 0.1 * sysm.shaft.length
-    args = (E, G0, G1, complex(cdc @ G1), complex(cvc @ G1), cdc, cvc, cp, part, speed, h)
+    k = MapStep(E, G0, G1, complex(cdc @ G1), complex(cvc @ G1), cdc, cvc, *part, speed, h, 0,
+                max_disp)  # fmt: skip
     n_tr = transient_revolutions * steps_per_revolution
     n_av = revolutions * steps_per_revolution
     if n_tr:
-        expo_tangent(y, cstate, istate, n_tr, renorm_every, Q, logs, *args, max_disp)
+        expo_tangent(y, cstate, istate, Q, logs, k._replace(n_steps=n_tr), cp, renorm_every)
     logs[:] = 0.0
     done = 0
     while istate[1] == 0 and done < n_av:  # chunks: a failure keeps the average so far
         n = min(CHUNK_REVOLUTIONS * steps_per_revolution, n_av - done)
         kept = logs.copy()
-        expo_tangent(y, cstate, istate, n, renorm_every, Q, logs, *args, max_disp)
+        expo_tangent(y, cstate, istate, Q, logs, k._replace(n_steps=n), cp, renorm_every)
         if istate[1] != 0:
             logs[:] = kept
         else:

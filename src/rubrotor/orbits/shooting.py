@@ -20,13 +20,13 @@ differences as a second route for the tests.
 from __future__ import annotations
 
 import math
-from collections import namedtuple
 from dataclasses import dataclass
 
 import numpy as np
 
 from rubrotor.core.shoot import expo_strobe, phi12
 from rubrotor.engine.settings import Integrator
+from rubrotor.engine.shaft_steppers import MapStep
 from rubrotor.engine.simulate import (
     RotorState,
     _particular,
@@ -71,12 +71,6 @@ def _integrator(k: int, steps: int, save: bool) -> Integrator:
     )
 
 
-MapStep = namedtuple(
-    "MapStep",
-    ["E", "G0", "G1", "sd", "sv", "cdc", "cvc", "part_c", "part_lc", "vel_cz", "omega", "h",
-     "n_steps", "max_disp"],
-)  # fmt: skip
-"""Coefficients of :func:`rubrotor.core.shoot.expo_strobe` (see there; SI units)."""
 
 
 def _gyroscopic(shaft) -> bool:
