@@ -219,15 +219,9 @@ def test_one_status_enumeration():
 
 
 MAX_KERNEL_ARGS = 8
-# Kernels of the general engine and the free-speed integrator, converted to named structures
-# when their forces become force terms (issue 29 item 1); removed when force terms land.
-KERNEL_ARGS_ALLOWED = {
-    "engine.py": {"_eval", "solve_contacts", "solve_one", "graze_contacts", "_write",
-                  "expo_fixed"},
-    "engine_adaptive.py": {"_fill4", "quad_error", "_fill", "_free_look", "_write_dense",
-                           "_solve_stages", "expo_adaptive"},
-    "spin.py": {"spin_dopri"},
-}  # fmt: skip
+# Kernels allowed more positional arguments: none since the force terms landed (issue 29 item 1
+# converted the general engine's and the free-speed integrator's kernels to named structures).
+KERNEL_ARGS_ALLOWED: dict[str, set[str]] = {}
 
 
 def _is_compiled(node: ast.FunctionDef) -> bool:
