@@ -24,7 +24,6 @@ MOVED = {
     "elements": "rotors.elements",
     "rotor": "rotors.fe",
     "interop": "rotors.ross",
-    "forces": "rotors.forces",
     "seedform": "rotors.seed_form",
     "engine.continuous": "rotors.shaft_system",
     "modal": "linear.shaft",

@@ -1,0 +1,1 @@
+"""Force terms: every force the engine applies, one module each."""
