@@ -8,7 +8,11 @@ contact step needs it) as one kernel, its states where it has some, and its outp
 - :mod:`~rubrotor.forces.supports`: the ``[[bearing]] type`` table of support terms;
 - :mod:`~rubrotor.forces.muszynska`: Muszynska's fluid-ring force and its whirl threshold;
 - :mod:`~rubrotor.forces.unbalance`, :mod:`~rubrotor.forces.loads`: unbalance, loads, gravity;
-- :mod:`~rubrotor.forces.terms`: :class:`Terms` and :func:`build_terms`, what the model builds.
+- :mod:`~rubrotor.forces.terms`: :class:`Terms` and :func:`build_terms`, what the model builds;
+- :mod:`~rubrotor.forces.fluid_film`, :mod:`~rubrotor.forces.reynolds`,
+  :mod:`~rubrotor.forces.magnetic`: short journal bearings and squeeze-film dampers, the finite
+  journal bearing's Reynolds equation, magnetic bearings with their controller (their physics
+  and checks; not yet support types of a scenario).
 
 Importing this package compiles nothing.
 
