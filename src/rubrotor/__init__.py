@@ -32,21 +32,43 @@ from rubrotor import _moved  # noqa: E402
 
 _moved.install()
 
-from rubrotor.analysis.indicators import rub_indicators  # noqa: E402
-from rubrotor.analysis.spectra import amplitude_spectrum, full_spectrum  # noqa: E402
-from rubrotor.analysis.wavelet import cwt, scalogram  # noqa: E402
-from rubrotor.engine.result import load_dataset, save_dataset  # noqa: E402
-from rubrotor.engine.settings import Integrator  # noqa: E402
-from rubrotor.engine.simulate import RotorState, converge, simulate  # noqa: E402
-from rubrotor.errors import InputError, RubrotorError, ScenarioError  # noqa: E402
-from rubrotor.linear.shaft import campbell  # noqa: E402
-from rubrotor.linear.verbs import critical_speeds, damped_modes, linear_system, modes  # noqa: E402
-from rubrotor.orbits.lyapunov import lyapunov_exponents  # noqa: E402
-from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section  # noqa: E402
-from rubrotor.rotors.forces import Contact, ModalDamping, RadialLoad, Unbalance  # noqa: E402
-from rubrotor.rotors.ross import from_ross  # noqa: E402
-from rubrotor.rotors.shaft import Dimensionless, Shaft  # noqa: E402
-from rubrotor.scenario.load import Scenario, load_scenario  # noqa: E402
+# The public names load on first use (PEP 562): ``import rubrotor`` imports neither SciPy, xarray
+# nor numba, so the command line starts in a fraction of a second and a verb imports what it runs.
+_PUBLIC = {
+    "rubrotor.analysis.indicators": ("rub_indicators",),
+    "rubrotor.analysis.spectra": ("amplitude_spectrum", "full_spectrum"),
+    "rubrotor.analysis.wavelet": ("cwt", "scalogram"),
+    "rubrotor.engine.result": ("load_dataset", "save_dataset"),
+    "rubrotor.engine.settings": ("Integrator",),
+    "rubrotor.engine.simulate": ("RotorState", "converge", "simulate"),
+    "rubrotor.errors": ("InputError", "RubrotorError", "ScenarioError"),
+    "rubrotor.linear.shaft": ("campbell",),
+    "rubrotor.linear.verbs": ("critical_speeds", "damped_modes", "linear_system", "modes"),
+    "rubrotor.orbits.lyapunov": ("lyapunov_exponents",),
+    "rubrotor.rotors.fe": ("Bearing", "Disk", "Material", "Rotor", "Section"),
+    "rubrotor.rotors.forces": ("Contact", "ModalDamping", "RadialLoad", "Unbalance"),
+    "rubrotor.rotors.ross": ("from_ross",),
+    "rubrotor.rotors.shaft": ("Dimensionless", "Shaft"),
+    "rubrotor.scenario.load": ("Scenario", "load_scenario"),
+}
+_HOME = {name: module for module, names in _PUBLIC.items() for name in names}
+
+
+def __getattr__(name):
+    """Import a public name's module on first use and keep the name here (PEP 562)."""
+    module = _HOME.get(name)
+    if module is None:
+        raise AttributeError(f"module 'rubrotor' has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
+
 
 __all__ = [
     "__version__",

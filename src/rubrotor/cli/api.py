@@ -9,7 +9,7 @@ import sys
 
 import numpy as np
 
-from rubrotor.cli.common import add_scenario, parse_speeds, print_json, table
+from rubrotor.cli.common import add_scenario, load_scenario, parse_speeds, print_json, table
 from rubrotor.cli.response import (
     figure_path,
     on_rotor,
@@ -18,7 +18,6 @@ from rubrotor.cli.response import (
     write_figure,
 )
 from rubrotor.errors import InputError, ScenarioError
-from rubrotor.scenario.load import load_scenario
 
 
 def _options(parser: argparse.ArgumentParser) -> None:

@@ -45,6 +45,20 @@ class Command:
     outputs: tuple[str, ...] = ()
 
 
+def load_scenario(path):
+    """:func:`rubrotor.scenario.load.load_scenario`, imported when a verb runs (not at ``--help``)."""
+    from rubrotor.scenario.load import load_scenario as load
+
+    return load(path)
+
+
+def shipped_scenarios():
+    """:func:`rubrotor.scenario.load.shipped_scenarios`, imported when called."""
+    from rubrotor.scenario.load import shipped_scenarios as shipped
+
+    return shipped()
+
+
 def print_json(obj) -> None:
     print(json.dumps(obj, indent=2))
 

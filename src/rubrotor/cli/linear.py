@@ -9,13 +9,13 @@ from pathlib import Path
 from rubrotor.cli.common import (
     TWO_PI,
     add_scenario,
+    load_scenario,
     parse_speeds,
     print_json,
     save_atomic,
     table,
 )
 from rubrotor.errors import InputError
-from rubrotor.scenario.load import load_scenario
 
 
 # ---- modes -------------------------------------------------------------------------------------

@@ -9,9 +9,16 @@ from pathlib import Path
 
 import numpy as np
 
-from rubrotor.cli.common import TWO_PI, add_scenario, parse_speeds, print_json, save_atomic, table
+from rubrotor.cli.common import (
+    TWO_PI,
+    add_scenario,
+    load_scenario,
+    parse_speeds,
+    print_json,
+    save_atomic,
+    table,
+)
 from rubrotor.errors import InputError
-from rubrotor.scenario.load import load_scenario
 
 FIGURE_FORMATS = ("png", "pdf", "svg")
 
