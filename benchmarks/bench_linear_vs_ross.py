@@ -39,7 +39,9 @@ with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
     warnings.simplefilter("ignore")
     import ross
 
-from rubrotor.linear.analysis import campbell_data, damped_modes, unbalance_response
+from rubrotor.linear.campbell import campbell_data
+from rubrotor.linear.modes import damped_modes
+from rubrotor.linear.response import unbalance_response
 from rubrotor.rotors.ross import from_ross
 
 warnings.simplefilter("ignore")
@@ -282,7 +284,7 @@ def run_compressor(reps=5):
 
 def main():
     print(f"ROSS {ross.__version__}; numpy {np.__version__}")
-    print("ours: plain scipy.linalg.eigvals / numpy.linalg.solve, then rubrotor.linear.analysis")
+    print("ours: plain scipy.linalg.eigvals / numpy.linalg.solve, then rubrotor.linear (modes, campbell, response)")
     which = [a for a in argv[1:] if a != "modal"] or ["example", "60", "compressor"]
     modal_only = "modal" in argv[1:]
     if "example" in which:

@@ -13,7 +13,9 @@ from pathlib import Path
 import numpy as np
 
 import rubrotor
-from rubrotor.linear.analysis import campbell_data, linear_critical_speeds, unbalance_response
+from rubrotor.linear.campbell import campbell_data
+from rubrotor.linear.critical import linear_critical_speeds
+from rubrotor.linear.response import unbalance_response
 from rubrotor.plotting.linear import campbell_stability_figure, unbalance_response_figure
 
 scenarios = Path(rubrotor.__file__).parent / "scenarios"

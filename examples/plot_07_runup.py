@@ -11,7 +11,7 @@ build the rotor is meshed with two elements per shaft section (60 DOFs) instead 
 default mesh.
 
 The free run-up peaks later and lower than the steady-state resonance (the frequency-domain
-unbalance response of :func:`rubrotor.linear.analysis.unbalance_response`, drawn for
+unbalance response of :func:`rubrotor.linear.response.unbalance_response`, drawn for
 reference): a rotor accelerated through a critical has no time to build the steady amplitude,
 and beats between its free and forced whirl after it. With the seal, the rotor pushes the
 flexible casing around and the contact stiffens it: the resonance moves up by about 60 rad/s
@@ -28,7 +28,7 @@ import numpy as np
 import rubrotor
 from rubrotor.engine.driver import simulate_general
 from rubrotor.engine.parts import RubStation, Run, Stator
-from rubrotor.linear.analysis import unbalance_response
+from rubrotor.linear.response import unbalance_response
 from rubrotor.rotors.forces import Contact, Unbalance
 
 scenarios = Path(rubrotor.__file__).parent / "scenarios"

@@ -19,7 +19,7 @@ from importlib import resources
 
 import numpy as np
 
-from rubrotor.linear.analysis import linear_critical_speeds
+from rubrotor.linear.critical import linear_critical_speeds
 from rubrotor.linear.verbs import linear_system
 from rubrotor.plotting.thermal import growth_figure, spiral_figure
 from rubrotor.scenario.load import load_scenario, scenario_from_dict, scenario_to_dict

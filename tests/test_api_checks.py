@@ -11,15 +11,14 @@ import pytest
 
 import rubrotor
 from rubrotor.errors import InputError
-from rubrotor.linear.analysis import unbalance_response
-from rubrotor.linear.api import (
-    anticipated_cross_coupling,
+from rubrotor.linear.api617 import (
     api617_unbalance,
     clearance_check,
-    level1,
     residual_unbalance,
     vibration_limit,
 )
+from rubrotor.linear.api684 import anticipated_cross_coupling, level1
+from rubrotor.linear.response import unbalance_response
 from rubrotor.linear.verbs import linear_system
 from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section
 from rubrotor.rotors.linear import LinearSystem, NodalBasis, Support

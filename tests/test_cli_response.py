@@ -93,7 +93,7 @@ def test_clearance_and_level1_verbs(capsys, tmp_path):
     """clearance: one entry per [[contact]], verdict consistent with the margin, and a note on
     stderr where the scaled orbit reaches the clearance; level1: Q_A from a stage equals
     anticipated_cross_coupling, and the JSON equals the library's Level I."""
-    from rubrotor.linear.api import anticipated_cross_coupling, level1
+    from rubrotor.linear.api684 import anticipated_cross_coupling, level1
 
     argv = [
         "clearance",

@@ -14,7 +14,8 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.text import Text
 
 import rubrotor
-from rubrotor.linear.analysis import CampbellData, LinearCritical
+from rubrotor.linear.campbell import CampbellData
+from rubrotor.linear.critical import LinearCritical
 from rubrotor.plotting.linear import _LOGDEC_CMAP, campbell_stability_figure
 from rubrotor.plotting.rub import per_revolution
 

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from rubrotor._moved import MOVED
+from rubrotor._moved import MOVED, SPLIT
 
 REFERENCE = Path(__file__).parent / "data" / "seed_summary_before_layout.json"
 
@@ -42,6 +42,48 @@ assert len(mine) == 1 and mine[0].category is FutureWarning, [str(w.message) for
 assert "rubrotor.{MOVED[old]}" in str(mine[0].message)
 assert not [w for w in second if "moved" in str(w.message)]
 assert old is new
+"""
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+
+
+#: the public names of each split module before the split (its ``__all__`` then)
+SPLIT_NAMES = {
+    "linear.analysis": [
+        "DampedMode", "DampedModes", "CampbellData", "LinearCritical", "UnbalanceResponse",
+        "damped_modes", "campbell_data", "linear_critical_speeds", "stability_threshold",
+        "unbalance_response", "CRITICALLY_DAMPED", "OSCILLATING", "OVERDAMPED",
+    ],
+    "linear.api": [
+        "FORWARD_WHIRL_RATIO", "residual_unbalance", "vibration_limit", "api617_unbalance",
+        "ClearanceCheck", "clearance_check", "anticipated_cross_coupling", "Level1", "level1",
+    ],
+}  # fmt: skip
+SPLIT_NAMES["linear_analysis"] = SPLIT_NAMES["linear.analysis"]
+
+
+@pytest.mark.parametrize("old", sorted(SPLIT))
+def test_split_module_path_keeps_its_names_with_one_warning(old):
+    """In a fresh interpreter: a module split by concern still imports under its old path,
+    warning once (FutureWarning naming the new modules), and every public name it had is the
+    same object as in the module that now holds it."""
+    code = f"""
+import warnings, importlib
+warnings.simplefilter("always")
+with warnings.catch_warnings(record=True) as first:
+    old = importlib.import_module("rubrotor.{old}")
+with warnings.catch_warnings(record=True) as second:
+    importlib.import_module("rubrotor.{old}")
+mine = [w for w in first if "rubrotor.{old} was split" in str(w.message)]
+assert len(mine) == 1 and mine[0].category is FutureWarning, [str(w.message) for w in first]
+assert not [w for w in second if "split" in str(w.message)]
+news = [importlib.import_module("rubrotor." + n) for n in {SPLIT[old]!r}]
+for n in {SPLIT[old]!r}:
+    assert "rubrotor." + n in str(mine[0].message)
+for name in {SPLIT_NAMES[old]!r}:
+    homes = [m for m in news if name in vars(m)]
+    assert homes and all(vars(m)[name] is getattr(old, name) for m in homes), name
+    assert name in old.__all__ or name.isupper(), name
 """
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr

@@ -14,14 +14,12 @@ import scipy.linalg
 import rubrotor
 from rubrotor.cli import main
 from rubrotor.errors import InputError
-from rubrotor.linear.analysis import (
-    campbell_data,
-    damped_modes,
-    linear_critical_speeds,
-    stability_threshold,
-    unbalance_response,
-)
+from rubrotor.linear.campbell import campbell_data
+from rubrotor.linear.critical import linear_critical_speeds
+from rubrotor.linear.modes import damped_modes
+from rubrotor.linear.response import unbalance_response
 from rubrotor.linear.shaft import natural_frequencies
+from rubrotor.linear.stability import stability_threshold
 from rubrotor.rotors.linear import LinearSystem, NodalBasis, Support
 
 SCEN = Path(rubrotor.__file__).parent / "scenarios"
@@ -279,7 +277,7 @@ def test_banded_unbalance_solve_equals_the_dense_solve(elements):
     30 elements: a narrow band (really banded); 2 elements: the band is the whole matrix. The
     speeds include ones just off resonances and one above the last table speed (held)."""
     from rubrotor.core.banded import OK, unbalance_sweep
-    from rubrotor.linear.analysis import _band_parts
+    from rubrotor.linear.band import _band_parts
 
     system = _rotor_with_speed_table(elements)
     n = system.n_dof
@@ -374,7 +372,8 @@ def test_newton_modal_route_equals_the_dense_eigen_solve():
     bearing, at rest (pairs of equal frequencies) and spinning: eigenvalues to 1e-9 relative
     (measured ~1e-11), whirl labels exactly, shapes (unit largest deflection, up to a unit
     factor) to 1e-6 (the dense eigenvectors' own accuracy, measured ~1e-9)."""
-    from rubrotor.linear.analysis import _KRYLOV_SIZE, _newton_eig
+    from rubrotor.linear.band import _KRYLOV_SIZE
+    from rubrotor.linear.modes import _newton_eig
 
     system = _rotor_with_speed_table(40)
     assert system.n_dof > _KRYLOV_SIZE
@@ -406,7 +405,7 @@ def test_eigenvalues_then_null_vectors_equal_the_dense_eigen_solve():
     a unit factor) to 1e-6 (the dense eigenvectors' own accuracy). An isotropic Jeffcott rotor at
     rest (a double eigenvalue) must not take the route (``None``) and still equal the dense
     route, with one forward and one backward circular mode (the limit of a slow spin)."""
-    from rubrotor.linear.analysis import _eigvals_then_vectors
+    from rubrotor.linear.modes import _eigvals_then_vectors
 
     system = _rotor_with_speed_table(8)
     for speed in (0.0, 2500.0):
@@ -442,7 +441,7 @@ def test_compiled_band_matmul_and_ritz_vectors():
     ``|T(lam) y|`` is at rounding level relative to ``|T|``; equal eigenvalues get independent
     vectors."""
     from rubrotor.core.banded import band_matmul, ritz_vectors
-    from rubrotor.linear.analysis import _to_band
+    from rubrotor.linear.band import _to_band
 
     rng = np.random.default_rng(7)
     n, kl, ku = 30, 3, 2

@@ -13,8 +13,12 @@ import pytest
 
 import rubrotor
 from rubrotor.errors import InputError, ScenarioError
-from rubrotor.linear.analysis import unbalance_response
-from rubrotor.linear.response import force_vector, frequency_response, scenario_unbalance_response
+from rubrotor.linear.response import (
+    force_vector,
+    frequency_response,
+    scenario_unbalance_response,
+    unbalance_response,
+)
 from rubrotor.linear.shapes import mode_shapes
 from rubrotor.linear.static import STANDARD_GRAVITY, static_analysis
 from rubrotor.linear.ucs import ucs_map

@@ -21,7 +21,8 @@ with warnings.catch_warnings():  # ROSS's import warns about REFPROP (its ccp de
 
 import dataclasses  # noqa: E402
 
-from rubrotor.linear.api import api617_unbalance, clearance_check, level1  # noqa: E402
+from rubrotor.linear.api617 import api617_unbalance, clearance_check  # noqa: E402
+from rubrotor.linear.api684 import level1  # noqa: E402
 from rubrotor.linear.response import frequency_response  # noqa: E402
 from rubrotor.linear.static import static_analysis  # noqa: E402
 from rubrotor.rotors.ross import from_ross  # noqa: E402

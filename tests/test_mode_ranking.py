@@ -13,12 +13,9 @@ import pytest
 import rubrotor
 from rubrotor.cli import main
 from rubrotor.errors import InputError
-from rubrotor.linear.analysis import (
-    CRITICALLY_DAMPED,
-    damped_modes,
-    linear_critical_speeds,
-    unbalance_response,
-)
+from rubrotor.linear.critical import CRITICALLY_DAMPED, linear_critical_speeds
+from rubrotor.linear.modes import damped_modes
+from rubrotor.linear.response import unbalance_response
 from rubrotor.rotors.linear import LinearSystem, NodalBasis, Support
 
 
@@ -185,7 +182,8 @@ def test_n_modes_routes_equal_the_dense_route(dashpot):
     ``|lambda|`` (reference: ``scipy.linalg.eigvals`` of the first-order matrix) to 1e-9."""
     import scipy.linalg
 
-    from rubrotor.linear.analysis import OSCILLATING, OVERDAMPED, _newton_eig
+    from rubrotor.linear.modes import _newton_eig
+    from rubrotor.linear.roots import OSCILLATING, OVERDAMPED
 
     sec = rubrotor.Section(length=0.6, diameter=0.04, material=rubrotor.Material(
         name="steel", youngs_modulus=211e9, poisson_ratio=0.3, density=7810), elements=40)  # fmt: skip

@@ -29,7 +29,7 @@ def test_slow_runup_order_tracking_equals_steady_unbalance_response(tmp_path):
     """1X of a slow contact-free run-up equals the steady unbalance response away from the
     critical speed.
 
-    Reference: :func:`rubrotor.linear.analysis.unbalance_response`, the frequency-domain solve of
+    Reference: :func:`rubrotor.linear.response.unbalance_response`, the frequency-domain solve of
     the full FE rotor at each block's mean speed (an independent route: no time stepping, no
     modal reduction). Measured at ``|Omega / Omega_c - 1| > 0.2``: amplitude within 0.38 %,
     phase within 0.014 rad, complex relative error <= 1.45 % (the run-up's phase lag, largest
@@ -37,7 +37,7 @@ def test_slow_runup_order_tracking_equals_steady_unbalance_response(tmp_path):
     """
     from rubrotor.engine.general import engine_problem
     from rubrotor.engine.simulate import simulate
-    from rubrotor.linear.analysis import unbalance_response
+    from rubrotor.linear.response import unbalance_response
     from rubrotor.scenario.load import load_scenario
 
     path = tmp_path / "slow.toml"
@@ -243,7 +243,7 @@ def test_constant_speed_run_gives_one_steady_phasor(tmp_path):
     """A constant-speed contact-free run started on its steady state: ``dataset_orders`` gives
     one speed per order and the 1X of the steady unbalance response.
 
-    Reference: :func:`rubrotor.linear.analysis.unbalance_response` of the full FE rotor at
+    Reference: :func:`rubrotor.linear.response.unbalance_response` of the full FE rotor at
     200 rad/s. The run keeps 6 modes plus the residual flexibility, exact at steady state:
     measured difference 5.7e-8 (the engine's and the resampling's round-off), tolerance 1e-6.
     2X and 0.5X are absent from a linear response (measured below 1e-12 of 1X).
@@ -251,7 +251,7 @@ def test_constant_speed_run_gives_one_steady_phasor(tmp_path):
     from rubrotor.analysis.orders import dataset_orders
     from rubrotor.engine.general import engine_problem
     from rubrotor.engine.simulate import simulate
-    from rubrotor.linear.analysis import unbalance_response
+    from rubrotor.linear.response import unbalance_response
     from rubrotor.scenario.load import load_scenario
 
     text = SLOW_RUNUP.split("[speed]")[0] + "[speed]\nrad_per_s = 200.0\n"

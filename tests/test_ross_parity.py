@@ -31,12 +31,10 @@ with warnings.catch_warnings():  # ROSS's import warns about REFPROP (its ccp de
         ross = pytest.importorskip("ross")
 
 from rubrotor.errors import InputError  # noqa: E402
-from rubrotor.linear.analysis import (  # noqa: E402
-    campbell_data,
-    damped_modes,
-    linear_critical_speeds,
-    unbalance_response,
-)
+from rubrotor.linear.campbell import campbell_data  # noqa: E402
+from rubrotor.linear.critical import linear_critical_speeds  # noqa: E402
+from rubrotor.linear.modes import damped_modes  # noqa: E402
+from rubrotor.linear.response import unbalance_response  # noqa: E402
 from rubrotor.rotors.ross import from_ross, ross_dof_map  # noqa: E402
 
 pytestmark = pytest.mark.filterwarnings("ignore")  # ROSS warns about extrapolated tables

@@ -3,7 +3,7 @@ spiral growing below its first forward critical speed, slow runs to netCDF, erro
 field.
 
 The independent reference for the critical speed is the Campbell route of
-rubrotor.linear.analysis.linear_critical_speeds (damped frequency = spin); the growth-rate
+rubrotor.linear.critical.linear_critical_speeds (damped frequency = spin); the growth-rate
 numbers themselves are checked against the closed form in test_thermal_model.py.
 """
 

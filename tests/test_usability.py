@@ -273,7 +273,7 @@ def test_cli_stability_reads_contact_tables(tmp_path, capsys):
     bearing at the station with ``kyy = k``, ``kzz = F_n0 / (g + eps) = k eps / (g + eps)``
     (the normal force turning with the position) and ``cyy = c``: the damped modes of the rotor
     with that ``[[bearing]]`` (assembled by the FE rotor, eigenvalues by
-    rubrotor.linear.analysis) equal the pressed-contact eigenvalues of the rotor with a bearing
+    rubrotor.linear.modes) equal the pressed-contact eigenvalues of the rotor with a bearing
     of zero coefficients there (the same mesh) to 1e-8."""
     from rubrotor.cli import main
     from rubrotor.linear.verbs import damped_modes

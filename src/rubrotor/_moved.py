@@ -12,6 +12,7 @@ import importlib
 import importlib.abc
 import importlib.util
 import sys
+import types
 import warnings
 
 #: old module (below ``rubrotor.``) -> its new path (below ``rubrotor.``)
@@ -29,7 +30,6 @@ MOVED = {
     "engine.continuous": "rotors.shaft_system",
     "modal": "linear.shaft",
     "api": "linear.verbs",
-    "linear_analysis": "linear.analysis",
     "stability": "linear.stability",
     "modal_system": "engine.shaft_modal",
     "integrator": "engine.settings",
@@ -61,6 +61,22 @@ MOVED = {
     "study": "studies.seed",
 }
 
+#: old module (below ``rubrotor.``) split by concern -> the modules its names now live in
+_ANALYSIS = (
+    "linear.roots",
+    "linear.band",
+    "linear.modes",
+    "linear.campbell",
+    "linear.critical",
+    "linear.stability",
+    "linear.response",
+)
+SPLIT = {
+    "linear.analysis": _ANALYSIS,
+    "linear_analysis": _ANALYSIS,
+    "linear.api": ("linear.api617", "linear.api684"),
+}
+
 
 def moved_warning(old, new):
     """Warn once that ``rubrotor.OLD`` is now ``rubrotor.NEW`` (a :class:`FutureWarning`)."""
@@ -72,17 +88,39 @@ def moved_warning(old, new):
     )
 
 
+def _split_module(name, old):
+    """A module ``rubrotor.OLD`` holding every name of the modules :data:`SPLIT` gives for it."""
+    new = ", ".join("rubrotor." + n for n in SPLIT[old])
+    warnings.warn(
+        f"rubrotor.{old} was split into {new}; import its names from there "
+        "(the old path will be removed in a later release)",
+        FutureWarning,
+        stacklevel=4,
+    )
+    module = types.ModuleType(name, f"Names of ``rubrotor.{old}``, now in {new}.")
+    names = []
+    for path in SPLIT[old]:
+        part = importlib.import_module("rubrotor." + path)
+        vars(module).update({k: v for k, v in vars(part).items() if not k.startswith("__")})
+        names += getattr(part, "__all__", ())
+    module.__all__ = names
+    return module
+
+
 class _Alias(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Finds an old module path and loads it as the module at its new path."""
+    """Finds an old module path and loads it as the module at its new path (or, for a split
+    module, as a module of the names of its new modules)."""
 
     def find_spec(self, fullname, path=None, target=None):
         old = fullname.removeprefix("rubrotor.")
-        if fullname == old or old not in MOVED:
+        if fullname == old or (old not in MOVED and old not in SPLIT):
             return None
         return importlib.util.spec_from_loader(fullname, self)
 
     def create_module(self, spec):
         old = spec.name.removeprefix("rubrotor.")
+        if old in SPLIT:
+            return _split_module(spec.name, old)
         moved_warning(old, MOVED[old])
         return importlib.import_module("rubrotor." + MOVED[old])
 

@@ -25,7 +25,7 @@ Conventions (SI; phases in rad):
   ``y(t) ~ Re(Y exp(i k theta(t)))`` over the block, ``theta`` the spin angle from the run
   (the keyphasor fires at ``theta = 0 mod 2 pi``). Amplitude ``|Y|`` (zero-to-peak) and phase
   ``arg Y``; the Bently-Nevada phase lag is ``-arg Y`` (mod ``2 pi``). For a linear rotor this
-  equals :func:`rubrotor.linear.analysis.unbalance_response`'s ``Re(Q exp(i Omega t))``.
+  equals :func:`rubrotor.linear.response.unbalance_response`'s ``Re(Q exp(i Omega t))``.
 * The orbit ``z = y + i w`` splits into a forward and a backward circle per order,
   ``z ~ F exp(i k theta) + B exp(-i k theta)`` with ``F = (Y + i W)/2`` and
   ``B = (conj(Y) + i conj(W))/2``.

@@ -53,7 +53,7 @@ def clearance_args(parser: argparse.ArgumentParser) -> None:
 
 
 def clearance_run(args: argparse.Namespace) -> int:
-    from rubrotor.linear.api import clearance_check
+    from rubrotor.linear.api617 import clearance_check
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.response import clearance_figure
 
@@ -132,7 +132,7 @@ def _station(scenario, system) -> float:
 
 
 def level1_run(args: argparse.Namespace) -> int:
-    from rubrotor.linear.api import anticipated_cross_coupling, level1
+    from rubrotor.linear.api684 import anticipated_cross_coupling, level1
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.response import level1_figure
 

@@ -118,11 +118,8 @@ def _general_modes(scenario, speed: float, as_json: bool, station: float | None)
 
 def _general_critical(scenario, as_json: bool, max_speed: float | None) -> int:
     """Critical speeds (1X crossings) and the stability threshold of a general rotor."""
-    from rubrotor.linear.analysis import (
-        CRITICALLY_DAMPED,
-        linear_critical_speeds,
-        stability_threshold,
-    )
+    from rubrotor.linear.critical import CRITICALLY_DAMPED, linear_critical_speeds
+    from rubrotor.linear.stability import stability_threshold
     from rubrotor.linear.verbs import linear_system
 
     top = max_speed if max_speed is not None else max(3.0 * scenario.speed, 100.0)
@@ -282,7 +279,8 @@ def campbell_run(args: argparse.Namespace) -> int:
 
 def _general_campbell(scenario, speeds, out: Path, as_json: bool) -> int:
     """Campbell diagram with stability (log dec in colour) of a general rotor."""
-    from rubrotor.linear.analysis import campbell_data, linear_critical_speeds
+    from rubrotor.linear.campbell import campbell_data
+    from rubrotor.linear.critical import linear_critical_speeds
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.linear import campbell_stability_figure
 

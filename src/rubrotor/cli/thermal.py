@@ -45,7 +45,7 @@ def thermal_args(parser: argparse.ArgumentParser) -> None:
 
 def _first_forward_critical(scenario, top: float):
     """First forward critical speed (rad/s, None if none below ``top``) and all criticals."""
-    from rubrotor.linear.analysis import linear_critical_speeds
+    from rubrotor.linear.critical import linear_critical_speeds
     from rubrotor.linear.verbs import linear_system
 
     crit = linear_critical_speeds(linear_system(scenario), top, n=6)

@@ -4,7 +4,7 @@ A mode ``lambda`` with shape ``(V(x), W(x))`` (complex, m per unit modal amplitu
 station on the ellipse ``v = Re(V e^{i theta})``, ``w = Re(W e^{i theta})``,
 ``theta = omega_d t``. The orbit turns forward (from ``+y`` towards ``+z``, with the spin)
 where ``Im(conj(V) W) < 0`` and backward where it is ``> 0``
-(as ``rubrotor.linear.analysis`` labels modes); a station whose orbit is flat (a line) or negligible
+(as ``rubrotor.linear.roots`` labels modes); a station whose orbit is flat (a line) or negligible
 (below 1e-4 of the largest) has no direction. The semi-axes are
 ``(|V + i W| +- |V - i W|) / 2``.
 """
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rubrotor.linear.analysis import DampedModes, damped_modes
+from rubrotor.linear.modes import DampedModes, damped_modes
 from rubrotor.rotors.linear import LinearSystem
 
 __all__ = ["ModeShapes", "mode_shapes", "node_whirl"]

@@ -22,12 +22,22 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.optimize
 
 from rubrotor.core.contact import contact_force_jac, pack_contact
 from rubrotor.errors import InputError
+from rubrotor.linear.modes import _modes
+from rubrotor.linear.roots import _check_speed
+from rubrotor.rotors.linear import LinearSystem
 from rubrotor.rotors.shaft import FORMULATIONS
 
-__all__ = ["ContactStability", "contact_stability", "general_contact_stability", "GROWTH_RTOL"]
+__all__ = [
+    "ContactStability",
+    "contact_stability",
+    "general_contact_stability",
+    "GROWTH_RTOL",
+    "stability_threshold",
+]
 
 TWO_PI = 2 * math.pi
 
@@ -362,3 +372,44 @@ def general_contact_stability(scenario, indentation: float, *, friction: bool = 
         radial_damping=float(-jac[0, 2]), normal_force=fn,
         eigenvalues=eig[np.argsort(-eig.real, kind="stable")],
     )  # fmt: skip
+
+
+def stability_threshold(
+    system: LinearSystem, max_speed: float, n: int | None = None, points: int = 200
+) -> float | None:
+    """The lowest speed (rad/s) where a mode's damping ratio crosses zero, or None up to
+    ``max_speed``.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor (cross-coupled bearings or seals make thresholds).
+    max_speed : float
+        Upper end of the search (rad/s), > 0.
+    n : int, optional
+        Modes considered (default all).
+    points : int
+        Scan points; the crossing is refined by ``brentq`` to 1e-10 relative.
+
+    Returns
+    -------
+    float or None
+        The threshold speed (rad/s); 0.0 when the rotor is already unstable at rest.
+    """
+    max_speed = _check_speed("max_speed", max_speed)
+    if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
+        raise InputError("n", n, "a number of modes >= 1")
+
+    def least(w):
+        # the n lowest by frequency (the Campbell route): overdamped roots never set the least
+        return min(m.damping_ratio for m in _modes(system, w, n, natural=False).modes)
+
+    if least(0.0) < 0:
+        return 0.0
+    grid = np.linspace(0.0, max_speed, points)
+    prev = grid[0]
+    for w in grid[1:]:
+        if least(float(w)) < 0:
+            return float(scipy.optimize.brentq(least, prev, float(w), xtol=1e-12, rtol=1e-10))
+        prev = float(w)
+    return None

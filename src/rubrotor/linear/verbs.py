@@ -8,8 +8,8 @@ from __future__ import annotations
 import os
 
 from rubrotor.errors import InputError
-from rubrotor.linear.analysis import DampedModes
-from rubrotor.linear.analysis import damped_modes as _damped_modes
+from rubrotor.linear.modes import DampedModes
+from rubrotor.linear.modes import damped_modes as _damped_modes
 from rubrotor.linear.shaft import CriticalSpeed, Mode, natural_frequencies
 from rubrotor.linear.shaft import critical_speeds as _critical_speeds
 from rubrotor.rotors.linear import LinearSystem

@@ -82,7 +82,7 @@ class SpeedFamily:
 
     def __init__(self, system, run, kw, plant: Plant):
         from rubrotor.engine.parts import static_load_vector, unbalance_phasor
-        from rubrotor.linear.analysis import _band_parts
+        from rubrotor.linear.band import _band_parts
 
         self.system, self.run, self.base = system, run, plant
         self.problem = (system, run, kw)
@@ -196,7 +196,7 @@ class SpeedFamily:
 
     def _parts(self, speed: float):
         """Band parts with the supports at ``speed`` (rad/s), and their transpose."""
-        from rubrotor.linear.analysis import _support_values
+        from rubrotor.linear.band import _support_values
 
         _, _, k, c = _support_values(self.system, np.array([speed]))
         parts = self.parts._replace(sup_k=k, sup_c=c)

@@ -8,7 +8,10 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from rubrotor.linear.analysis import CampbellData, DampedMode, LinearCritical, UnbalanceResponse
+from rubrotor.linear.campbell import CampbellData
+from rubrotor.linear.critical import LinearCritical
+from rubrotor.linear.modes import DampedMode
+from rubrotor.linear.response import UnbalanceResponse
 from rubrotor.linear.shapes import ModeShapes, node_whirl
 from rubrotor.linear.ucs import UCSMap
 from rubrotor.rotors.linear import LinearSystem
@@ -40,7 +43,7 @@ def campbell_stability_figure(
     Parameters
     ----------
     data : CampbellData
-        From :func:`rubrotor.linear.analysis.campbell_data`.
+        From :func:`rubrotor.linear.campbell.campbell_data`.
     criticals : list of LinearCritical
         Critical speeds to mark.
     operating_speed : float, optional
@@ -130,7 +133,7 @@ def unbalance_response_figure(
     Parameters
     ----------
     resp : UnbalanceResponse
-        From :func:`rubrotor.linear.analysis.unbalance_response`.
+        From :func:`rubrotor.linear.response.unbalance_response`.
     probe : int
         Index of the probe drawn.
     clearance : float, optional
@@ -232,7 +235,7 @@ def mode_shape_figure(system: LinearSystem, mode: DampedMode, phases: int = 8) -
     system : LinearSystem
         The rotor the mode belongs to.
     mode : DampedMode
-        From :func:`rubrotor.linear.analysis.damped_modes`.
+        From :func:`rubrotor.linear.modes.damped_modes`.
     phases : int
         Snapshots of the deflection over one period.
 

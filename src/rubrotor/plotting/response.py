@@ -8,7 +8,8 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from rubrotor.linear.api import ClearanceCheck, Level1
+from rubrotor.linear.api617 import ClearanceCheck
+from rubrotor.linear.api684 import Level1
 from rubrotor.linear.response import FrequencyResponse
 from rubrotor.linear.static import StaticResult
 
@@ -122,7 +123,7 @@ def clearance_figure(check: ClearanceCheck, title: str = "API 617 close-clearanc
     Parameters
     ----------
     check : ClearanceCheck
-        From :func:`rubrotor.linear.api.clearance_check`.
+        From :func:`rubrotor.linear.api617.clearance_check`.
     title : str
         Figure title.
 
@@ -160,7 +161,7 @@ def level1_figure(result: Level1, title: str = "API 684 Level I stability") -> F
     Parameters
     ----------
     result : Level1
-        From :func:`rubrotor.linear.api.level1`.
+        From :func:`rubrotor.linear.api684.level1`.
     title : str
         Figure title.
 
