@@ -16,7 +16,11 @@ The public surface, each name defined once in its own module:
   :class:`Disk`, :class:`Bearing`, :class:`Material` (finite elements); forces: :class:`Unbalance`, :class:`Contact`,
   :class:`RadialLoad`, :class:`ModalDamping`; integration settings: :class:`Integrator`;
   scenarios: :func:`load_scenario`, :class:`Scenario`;
-* modal analysis: :func:`modes`, :func:`critical_speeds`, :func:`campbell`;
+* linear analyses of any rotor (the continuous shaft, a finite-element rotor, a ROSS import),
+  each returning what the command of the same name prints: :func:`modes`,
+  :func:`critical_speeds`, :func:`campbell`, :func:`static`, :func:`unbalance_response`,
+  :func:`frequency_response`, :func:`clearance_check` (API 617), :func:`level1` (API 684),
+  :func:`ucs`, :func:`mode_shapes`; speed ranges in rad/s, rpm or Hz (``"0:12000rpm:61"``);
 * simulation: :func:`simulate` (returns an ``xarray.Dataset``), :func:`converge`;
 * analysis: :func:`cwt`, :func:`scalogram`, :func:`full_spectrum`, :func:`amplitude_spectrum`,
   :func:`rub_indicators`;
@@ -42,7 +46,10 @@ _PUBLIC = {
     "rubrotor.engine.settings": ("Integrator",),
     "rubrotor.engine.simulate": ("RotorState", "converge", "simulate"),
     "rubrotor.errors": ("InputError", "RubrotorError", "ScenarioError"),
-    "rubrotor.linear.shaft": ("campbell",),
+    "rubrotor.linear.front": (
+        "campbell", "clearance_check", "frequency_response", "level1", "mode_shapes", "static",
+        "ucs", "unbalance_response",
+    ),
     "rubrotor.linear.verbs": ("critical_speeds", "damped_modes", "linear_system", "modes"),
     "rubrotor.orbits.lyapunov": ("lyapunov_exponents",),
     "rubrotor.rotors.fe": ("Bearing", "Disk", "Material", "Rotor", "Section"),
@@ -90,6 +97,13 @@ __all__ = [
     "Shaft",
     "Unbalance",
     "campbell",
+    "static",
+    "unbalance_response",
+    "frequency_response",
+    "clearance_check",
+    "level1",
+    "ucs",
+    "mode_shapes",
     "converge",
     "critical_speeds",
     "load_dataset",

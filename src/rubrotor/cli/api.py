@@ -48,7 +48,8 @@ def clearance_args(parser: argparse.ArgumentParser) -> None:
                         help="response speeds (rad/s); default 0 to 1.25 x the maximum, 251")  # fmt: skip
     parser.add_argument("--probe", type=_probe, action="append", metavar="X[@DEG]",
                         help="vibration probe (m, optional angle); default each bearing, major axis")  # fmt: skip
-    parser.add_argument("--mode", type=int, default=0, help="forward mode placing the unbalance")
+    parser.add_argument("--mode", type=int, default=0, help="forward mode placing the unbalance, counted from 0 (0: the first "
+                        "forward mode, 1: the second, ...; default 0)")
     parser.add_argument("--no-cap", action="store_true", help="no cap of 6 on the scale factor")
 
 

@@ -228,7 +228,7 @@ def campbell_args(parser: argparse.ArgumentParser) -> None:
         "--speeds",
         required=True,
         metavar="START:STOP:COUNT",
-        help="spin speeds (rad/s), e.g. 0:60000:200",
+        help="spin speeds, rad/s or a unit after a number: 0:60000:200, 0:12000rpm:61",
     )
     parser.add_argument("--out", required=True, metavar="FILE.png", help="figure file to write")
     parser.add_argument(

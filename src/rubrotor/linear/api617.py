@@ -103,8 +103,9 @@ def _forward_mode(system: LinearSystem, speed: float, mode: int, count: int, max
     ok = (ratio > FORWARD_WHIRL_RATIO) & (zeta <= (np.inf if max_zeta is None else max_zeta))
     forward = np.flatnonzero(ok)
     if forward.size <= mode:
-        raise InputError("mode", mode, f"a forward mode index below {forward.size} "
-                         f"(forward modes among the {count} lowest at {speed:g} rad/s)")  # fmt: skip
+        raise InputError("mode", mode, f"a forward mode index from 0 (the first forward mode) "
+                         f"to {forward.size - 1} ({forward.size} forward modes among the "
+                         f"{count} lowest at {speed:g} rad/s)")  # fmt: skip
     return shapes, int(forward[mode])
 
 
