@@ -103,9 +103,10 @@ def _forward_mode(system: LinearSystem, speed: float, mode: int, count: int, max
     ok = (ratio > FORWARD_WHIRL_RATIO) & (zeta <= (np.inf if max_zeta is None else max_zeta))
     forward = np.flatnonzero(ok)
     if forward.size <= mode:
+        top = f"to {forward.size - 1}" if forward.size else "(none found)"
         raise InputError("mode", mode, f"a forward mode index from 0 (the first forward mode) "
-                         f"to {forward.size - 1} ({forward.size} forward modes among the "
-                         f"{count} lowest at {speed:g} rad/s)")  # fmt: skip
+                         f"{top} ({forward.size} forward modes among the {count} lowest at "
+                         f"{speed:g} rad/s)")  # fmt: skip
     return shapes, int(forward[mode])
 
 
