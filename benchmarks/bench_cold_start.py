@@ -93,6 +93,12 @@ def _scenarios() -> str:
 
 def _child(report: str, argv: list[str]) -> int:
     """Run ``rubrotor ARGV`` in this process and write its compile times to ``report``."""
+    try:
+        from rubrotor.cli import _one_blas_thread
+
+        _one_blas_thread()  # as the `rubrotor` command does, before numba imports NumPy
+    except ImportError:  # an older package (--src): its command line sets no thread count
+        pass
     from numba.core import event
 
     rows: list[dict] = []
