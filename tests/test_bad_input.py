@@ -255,7 +255,7 @@ def test_no_station_to_save_names_probes(tmp_path, capsys):
     path = _seal(tmp_path, edit=edit)
     assert main(["simulate", str(path), "--out", str(tmp_path / "d.nc")]) == 2
     line = _one_error_line(capsys)
-    assert "simulation.probes = None" in line and "()" not in line
+    assert "simulation.probes is missing" in line and "None" not in line and "()" not in line
 
 
 def test_continuation_ends_on_stop():

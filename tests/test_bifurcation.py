@@ -83,6 +83,7 @@ def test_period_doubling_and_torus_found_by_continuation_confirmed_by_brute_forc
     assert 0 < after["contact_fraction"] < 1  # partial rub on the torus
 
 
+@pytest.mark.slow  # a long physics check: `pytest -m slow` (CI runs it)
 def test_second_period_doubling_and_torus_located_independently_of_the_step(branch):
     """The second period doubling and the Neimark-Sacker point do not depend on the step size.
 
@@ -184,6 +185,7 @@ def test_switched_branch_ends_where_it_meets_the_period_one_branch_again(branch)
 CHAOTIC = load_scenario(resources.files("rubrotor") / "scenarios" / "one_mode_chaotic_rub.toml")
 
 
+@pytest.mark.slow  # a long physics check: `pytest -m slow` (CI runs it)
 def test_chaotic_partial_rub_has_a_converged_positive_exponent_and_periodic_a_negative():
     """Largest Lyapunov exponent: positive and converged in run length on the chaotic rub,
     negative on the period-1 partial rub, and the sweep labels each by it.

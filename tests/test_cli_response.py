@@ -52,8 +52,8 @@ def test_unbalance_json_uses_every_plane(capsys, tmp_path):
     np.testing.assert_allclose(probe["major_m"], ref.major[:, 0], rtol=1e-12)
     np.testing.assert_allclose(probe["phase_z_rad"], ref.phase[:, 0, 1], rtol=1e-12)
     keys = {"position_m", "speed_rad_s", "amplitude_y_m", "phase_y_rad", "amplitude_z_m",
-            "phase_z_rad", "major_m"}  # fmt: skip
-    assert set(probe) == keys
+            "phase_z_rad", "major_m", "amplitude"}  # fmt: skip
+    assert set(probe) == keys and probe["amplitude"] == "0-peak"
     assert (tmp_path / "u.png").exists()
 
 

@@ -145,6 +145,7 @@ def _fd_monodromy(sc, v0, rel=1e-6):
         ("seed rotor impacting period-1 partial rub, Hertz", LOADED),
     ],
 )
+@pytest.mark.slow  # a long physics check: `pytest -m slow` (CI runs it)
 def test_periodic_orbit_exponent_equals_floquet(name, sc):
     """lambda_1 = ln|mu_max| / T on a stable period-1 orbit.
 
@@ -194,6 +195,7 @@ def test_input_errors():
         lyapunov_exponents(one_mode(), steps_per_revolution=4)
 
 
+@pytest.mark.slow  # a long physics check: `pytest -m slow` (CI runs it)
 def test_exponents_of_the_map_converge_to_the_flow_at_second_order():
     """The step map approximates the flow to second order, so do its exponents.
 

@@ -93,6 +93,7 @@ def test_reproduction_summary_and_sweep_point_agree_on_one_run():
     assert m["contact_fraction"] == pytest.approx(pm["contact_fraction"], abs=2 / (revs * n))
 
 
+@pytest.mark.slow  # a long physics check: `pytest -m slow` (CI runs it)
 def test_sweep_points_get_the_exponent():
     sc = one_mode()
     ds = sweep(

@@ -123,6 +123,7 @@ def test_continuation_in_speed_equals_shooting_at_each_speed(tmp_path, capsys):
     assert len(summary["points"]) == 3 and out.exists() and fig.exists()
 
 
+@pytest.mark.slow  # a long physics check: `pytest -m slow` (CI runs it)
 def test_state_carrying_sweep_follows_the_shot_orbits():
     """Up and down state-carrying sweeps of the seal rub in speed (general engine, the state
     carried in aligned modal coordinates): the up chain stays on the rub orbit and the down
@@ -154,6 +155,7 @@ def test_state_carrying_sweep_follows_the_shot_orbits():
         assert ds["max_displacement"].values[1, j] == pytest.approx(off.max_radius(), rel=1e-7)
 
 
+@pytest.mark.slow  # a long physics check: `pytest -m slow` (CI runs it)
 def test_lyapunov_exponents_of_a_general_rotor(tmp_path, orbit):
     """Benettin on the general map (differences along the tangent vectors, QR each revolution).
 

@@ -197,6 +197,7 @@ def test_physical_friction_never_feeds_forward_whirl():
 @pytest.mark.parametrize(
     "gap,bh", [(3e-3, 1e2), (3.5e-3, 1e2), (3.5e-3, 1e3)], ids=["case1", "case2", "case3"]
 )
+@pytest.mark.slow  # a long physics check: `pytest -m slow` (CI runs it)
 def test_seed_cases_stay_bounded_for_1000_revolutions(gap, bh):
     nd = Dimensionless(SEED, OMEGA)
     c = Contact(

@@ -98,6 +98,7 @@ def test_chaotic_synthetic():
 
 
 # ---- real simulations ----------------------------------------------------------------------------
+@pytest.mark.slow  # a long physics check: `pytest -m slow` (CI runs it)
 def test_real_regimes_no_contact_full_and_periodic_partial():
     long = dict(transient_revolutions=100, revolutions=140, samples_per_revolution=64)
     no = sweep(BASE, {"unbalance.magnitude": [1e-4, 3e-3]}, workers=1, **long)

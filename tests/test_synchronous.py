@@ -103,6 +103,7 @@ def test_no_contact_multipliers_equal_exp_lambda_t():
         assert np.min(np.abs(orbit.multipliers - mu)) < 1e-12
 
 
+@pytest.mark.slow  # a long physics check: `pytest -m slow` (CI runs it)
 @pytest.mark.parametrize("modes", [1, 3])
 def test_rub_orbit_and_multipliers_equal_extrapolated_shooting(modes):
     """State and multipliers against shooting at 512 and 1024 steps, Richardson-extrapolated.

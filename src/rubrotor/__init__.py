@@ -16,7 +16,11 @@ The public surface, each name defined once in its own module:
   :class:`Disk`, :class:`Bearing`, :class:`Material` (finite elements); forces: :class:`Unbalance`, :class:`Contact`,
   :class:`RadialLoad`, :class:`ModalDamping`; integration settings: :class:`Integrator`;
   scenarios: :func:`load_scenario`, :class:`Scenario`;
-* modal analysis: :func:`modes`, :func:`critical_speeds`, :func:`campbell`;
+* linear analyses of any rotor (the continuous shaft, a finite-element rotor, a ROSS import),
+  each returning what the command of the same name prints: :func:`modes`,
+  :func:`critical_speeds`, :func:`campbell`, :func:`static`, :func:`unbalance_response`,
+  :func:`frequency_response`, :func:`clearance_check` (API 617), :func:`level1` (API 684),
+  :func:`ucs`, :func:`mode_shapes`; speed ranges in rad/s, rpm or Hz (``"0:12000rpm:61"``);
 * simulation: :func:`simulate` (returns an ``xarray.Dataset``), :func:`converge`;
 * analysis: :func:`cwt`, :func:`scalogram`, :func:`full_spectrum`, :func:`amplitude_spectrum`,
   :func:`rub_indicators`;
@@ -32,21 +36,47 @@ from rubrotor._version import __version__
 
 _moved.install()
 
-from rubrotor.analysis.indicators import rub_indicators  # noqa: E402
-from rubrotor.analysis.spectra import amplitude_spectrum, full_spectrum  # noqa: E402
-from rubrotor.analysis.wavelet import cwt, scalogram  # noqa: E402
-from rubrotor.engine.result import load_dataset, save_dataset  # noqa: E402
-from rubrotor.engine.settings import Integrator  # noqa: E402
-from rubrotor.engine.simulate import RotorState, converge, simulate  # noqa: E402
-from rubrotor.errors import InputError, RubrotorError, ScenarioError  # noqa: E402
-from rubrotor.linear.shaft import campbell  # noqa: E402
-from rubrotor.linear.verbs import critical_speeds, damped_modes, linear_system, modes  # noqa: E402
-from rubrotor.orbits.lyapunov import lyapunov_exponents  # noqa: E402
-from rubrotor.rotors.fe import Bearing, Disk, Material, Rotor, Section  # noqa: E402
-from rubrotor.rotors.forces import Contact, ModalDamping, RadialLoad, Unbalance  # noqa: E402
-from rubrotor.rotors.ross import from_ross  # noqa: E402
-from rubrotor.rotors.shaft import Dimensionless, Shaft  # noqa: E402
-from rubrotor.scenario.load import Scenario, load_scenario  # noqa: E402
+# The public names load on first use (PEP 562): ``import rubrotor`` imports neither SciPy, xarray
+# nor numba, so the command line starts in a fraction of a second and a verb imports what it runs.
+_PUBLIC = {
+    "rubrotor.analysis.indicators": ("rub_indicators",),
+    "rubrotor.analysis.spectra": ("amplitude_spectrum", "full_spectrum"),
+    "rubrotor.analysis.wavelet": ("cwt", "scalogram"),
+    "rubrotor.engine.result": ("load_dataset", "save_dataset"),
+    "rubrotor.engine.settings": ("Integrator",),
+    "rubrotor.engine.simulate": ("RotorState", "converge", "simulate"),
+    "rubrotor.errors": ("InputError", "RubrotorError", "ScenarioError"),
+    "rubrotor.linear.front": (
+        "campbell", "clearance_check", "frequency_response", "level1", "mode_shapes", "static",
+        "ucs", "unbalance_response",
+    ),
+    "rubrotor.linear.verbs": ("critical_speeds", "damped_modes", "linear_system", "modes"),
+    "rubrotor.orbits.lyapunov": ("lyapunov_exponents",),
+    "rubrotor.plotting.geometry": ("draw_rotor",),
+    "rubrotor.rotors.fe": ("Bearing", "Disk", "Material", "Rotor", "Section"),
+    "rubrotor.rotors.forces": ("Contact", "ModalDamping", "RadialLoad", "Unbalance"),
+    "rubrotor.rotors.ross": ("from_ross",),
+    "rubrotor.rotors.shaft": ("Dimensionless", "Shaft"),
+    "rubrotor.scenario.load": ("Scenario", "load_scenario"),
+}
+_HOME = {name: module for module, names in _PUBLIC.items() for name in names}
+
+
+def __getattr__(name):
+    """Import a public name's module on first use and keep the name here (PEP 562)."""
+    module = _HOME.get(name)
+    if module is None:
+        raise AttributeError(f"module 'rubrotor' has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
+
 
 __all__ = [
     "__version__",
@@ -68,6 +98,13 @@ __all__ = [
     "Shaft",
     "Unbalance",
     "campbell",
+    "static",
+    "unbalance_response",
+    "frequency_response",
+    "clearance_check",
+    "level1",
+    "ucs",
+    "mode_shapes",
     "converge",
     "critical_speeds",
     "load_dataset",
@@ -87,11 +124,3 @@ __all__ = [
     "draw_rotor",
 ]
 
-
-def __getattr__(name):
-    # matplotlib is imported only when a figure is asked for: ``rubrotor.draw_rotor``
-    if name == "draw_rotor":
-        from rubrotor.plotting.geometry import draw_rotor
-
-        return draw_rotor
-    raise AttributeError(f"module 'rubrotor' has no attribute {name!r}")

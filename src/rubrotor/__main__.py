@@ -2,7 +2,7 @@
 
 import sys
 
-from rubrotor.cli.app import main
+from rubrotor import cli
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(cli.main())

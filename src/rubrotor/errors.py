@@ -31,7 +31,10 @@ class InputError(RubrotorError, ValueError):
         self.value = value
         self.allowed = allowed
         where = _which_table(field)
-        super().__init__(f"{field} = {value!r} is not allowed{where}: expected {allowed}")
+        if value is None:  # a key or argument that is absent: say so, not "None"
+            super().__init__(f"{field} is missing{where}: expected {allowed}")
+        else:
+            super().__init__(f"{field} = {value!r} is not allowed{where}: expected {allowed}")
 
 
 _ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth",

@@ -9,7 +9,7 @@ import sys
 
 import numpy as np
 
-from rubrotor.cli.common import add_scenario, parse_speeds, print_json, table
+from rubrotor.cli.common import add_scenario, load_scenario, parse_speeds, print_json, table
 from rubrotor.cli.response import (
     figure_path,
     on_rotor,
@@ -18,7 +18,6 @@ from rubrotor.cli.response import (
     write_figure,
 )
 from rubrotor.errors import InputError, ScenarioError
-from rubrotor.scenario.load import load_scenario
 
 
 def _options(parser: argparse.ArgumentParser) -> None:
@@ -49,7 +48,8 @@ def clearance_args(parser: argparse.ArgumentParser) -> None:
                         help="response speeds (rad/s); default 0 to 1.25 x the maximum, 251")  # fmt: skip
     parser.add_argument("--probe", type=_probe, action="append", metavar="X[@DEG]",
                         help="vibration probe (m, optional angle); default each bearing, major axis")  # fmt: skip
-    parser.add_argument("--mode", type=int, default=0, help="forward mode placing the unbalance")
+    parser.add_argument("--mode", type=int, default=0, help="forward mode placing the unbalance, counted from 0 (0: the first "
+                        "forward mode, 1: the second, ...; default 0)")
     parser.add_argument("--no-cap", action="store_true", help="no cap of 6 on the scale factor")
 
 

@@ -33,11 +33,10 @@ from rubrotor.cli import (
     thermal,
 )
 from rubrotor.cli.analyze import load_signals
-from rubrotor.cli.common import Command, parse_speeds
+from rubrotor.cli.common import Command, parse_speeds, shipped_scenarios
 from rubrotor.cli.simulate import run_summary
 from rubrotor.engine.output import claim_output
 from rubrotor.errors import InputError, RubrotorError
-from rubrotor.scenario.load import shipped_scenarios
 
 __all__ = [
     "main",

@@ -45,6 +45,20 @@ class Command:
     outputs: tuple[str, ...] = ()
 
 
+def load_scenario(path):
+    """:func:`rubrotor.scenario.load.load_scenario`, imported when a verb runs (not at ``--help``)."""
+    from rubrotor.scenario.load import load_scenario as load
+
+    return load(path)
+
+
+def shipped_scenarios():
+    """:func:`rubrotor.scenario.load.shipped_scenarios`, imported when called."""
+    from rubrotor.scenario.load import shipped_scenarios as shipped
+
+    return shipped()
+
+
 def print_json(obj) -> None:
     """Print ``obj`` as JSON; a non-finite number in it (never valid JSON, never a result) is
     refused with the path where it sits (:class:`RubrotorError`, exit status 2)."""
@@ -83,13 +97,16 @@ def table(headers: list[str], rows: list[list[str]]) -> str:
     return "\n".join(lines)
 
 
-def parse_speeds(text: str) -> np.ndarray:
+def parse_speeds(text: str, field: str = "--speeds") -> np.ndarray:
     """Parse ``START:STOP:COUNT`` into ``COUNT`` evenly spaced spin speeds (rad/s).
 
     Parameters
     ----------
     text : str
-        E.g. ``"0:60000:200"``: ``0 <= START < STOP`` (rad/s), integer ``COUNT >= 2``.
+        E.g. ``"0:60000:200"`` (rad/s) or ``"0:12000rpm:61"`` (a unit after a number: rad/s,
+        rpm or Hz; see :func:`rubrotor.units.parse_range`).
+    field : str
+        The option named in an error.
 
     Returns
     -------
@@ -101,20 +118,9 @@ def parse_speeds(text: str) -> np.ndarray:
     >>> parse_speeds("0:100:3")
     array([  0.,  50., 100.])
     """
-    allowed = "START:STOP:COUNT with 0 <= START < STOP (rad/s) and an integer COUNT >= 2"
-    parts = text.split(":")
-    if len(parts) != 3:
-        raise InputError("--speeds", text, allowed)
-    try:
-        start, stop = float(parts[0]), float(parts[1])
-        count = int(parts[2])
-    except ValueError:
-        raise InputError("--speeds", text, allowed) from None
-    if not (math.isfinite(start) and math.isfinite(stop)) or not 0 <= start < stop:
-        raise InputError("--speeds", text, allowed)
-    if not 2 <= count <= 1_000_000:
-        raise InputError("--speeds", text, allowed.replace(">= 2", "in 2..1000000"))
-    return np.linspace(start, stop, count)
+    from rubrotor.units import parse_range
+
+    return parse_range(text, field)
 
 
 def save_atomic(fig, out: Path) -> None:

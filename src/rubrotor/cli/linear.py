@@ -9,6 +9,7 @@ from pathlib import Path
 from rubrotor.cli.common import (
     TWO_PI,
     add_scenario,
+    load_scenario,
     parse_speeds,
     print_json,
     save_atomic,
@@ -16,7 +17,6 @@ from rubrotor.cli.common import (
 )
 from rubrotor.errors import InputError
 from rubrotor.modelling import model_of
-from rubrotor.scenario.load import load_scenario
 
 
 # ---- modes -------------------------------------------------------------------------------------
@@ -258,7 +258,7 @@ def campbell_args(parser: argparse.ArgumentParser) -> None:
         "--speeds",
         required=True,
         metavar="START:STOP:COUNT",
-        help="spin speeds (rad/s), e.g. 0:60000:200",
+        help="spin speeds, rad/s or a unit after a number: 0:60000:200, 0:12000rpm:61",
     )
     parser.add_argument("--out", required=True, metavar="FILE.png",
                         help="figure file to write (.png/.pdf/.svg; .html: interactive, general "

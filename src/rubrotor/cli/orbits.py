@@ -11,10 +11,10 @@ import numpy as np
 
 from rubrotor.cli.common import (
     add_scenario,
+    load_scenario,
     print_json,
 )
 from rubrotor.errors import InputError
-from rubrotor.scenario.load import load_scenario
 
 # ---- continuation of periodic orbits ---------------------------------------------------------
 SWITCHES = ("period-doubling",)

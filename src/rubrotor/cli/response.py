@@ -9,9 +9,16 @@ from pathlib import Path
 
 import numpy as np
 
-from rubrotor.cli.common import TWO_PI, add_scenario, parse_speeds, print_json, save_atomic, table
+from rubrotor.cli.common import (
+    TWO_PI,
+    add_scenario,
+    load_scenario,
+    parse_speeds,
+    print_json,
+    save_atomic,
+    table,
+)
 from rubrotor.errors import InputError
-from rubrotor.scenario.load import load_scenario
 
 FIGURE_FORMATS = ("png", "pdf", "svg")
 
@@ -117,7 +124,7 @@ def response_run(args: argparse.Namespace) -> int:
     from rubrotor.plotting.response import frequency_response_figure
 
     out = figure_path(args.figure)
-    freqs = parse_speeds(args.frequencies)
+    freqs = parse_speeds(args.frequencies, "--frequencies")
     scenario = load_scenario(args.scenario)
     on_rotor(scenario, [args.at], "--at")
     probes = on_rotor(scenario, args.probe or [args.at], "--probe")
@@ -133,7 +140,7 @@ def response_run(args: argparse.Namespace) -> int:
         for p, x in enumerate(res.probes):
             k = int(np.argmax(res.major[:, p]))
             rows.append([f"{x:.4g}", f"{res.major[k, p] * 1e6:.4g}", f"{freqs[k]:.6g}"])
-        print(table(["probe x (m)", "peak major semi-axis (µm)", "at frequency (rad/s)"], rows))
+        print(table(["probe x (m)", "peak major semi-axis (µm 0-pk)", "at frequency (rad/s)"], rows))
     write_figure(frequency_response_figure(res), out, args.json)
     return 0
 
@@ -142,7 +149,7 @@ def response_run(args: argparse.Namespace) -> int:
 def unbalance_args(parser: argparse.ArgumentParser) -> None:
     _common(parser)
     parser.add_argument("--speeds", required=True, metavar="START:STOP:COUNT",
-                        help="spin speeds (rad/s)")  # fmt: skip
+                        help="spin speeds (rad/s, or 0:12000rpm:61, 5hz:200hz:40)")  # fmt: skip
     parser.add_argument("--probe", type=float, action="append", required=True, metavar="X",
                         help="probe position (m), repeatable; the figure draws every probe's "
                         "major semi-axis, and the phase and polar plot of the first; a figure "
@@ -176,7 +183,7 @@ def unbalance_run(args: argparse.Namespace) -> int:
         for p, x in enumerate(res.probes):
             k = int(np.argmax(res.major[:, p]))
             rows.append([f"{x:.4g}", f"{res.major[k, p] * 1e6:.4g}", f"{speeds[k]:.6g}"])
-        print(table(["probe x (m)", "peak major semi-axis (µm)", "at speed (rad/s)"], rows))
+        print(table(["probe x (m)", "peak major semi-axis (µm 0-pk)", "at speed (rad/s)"], rows))
     if out is not None:  # the figure on a grid refined at the peaks: smooth polar circles
         x = float(res.probes[0])
         gaps = [c.clearance for c in scenario.contacts if abs(c.position - x) <= 1e-9]

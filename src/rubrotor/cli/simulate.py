@@ -13,12 +13,12 @@ import numpy as np
 
 from rubrotor.cli.common import (
     add_scenario,
+    load_scenario,
     print_json,
     save_atomic,
     table,
 )
 from rubrotor.errors import InputError
-from rubrotor.scenario.load import load_scenario
 
 
 # ---- run (an alias of simulate --out DIR/) ---------------------------------------------------

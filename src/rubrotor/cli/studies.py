@@ -7,10 +7,10 @@ from pathlib import Path
 
 from rubrotor.cli.common import (
     print_json,
+    shipped_scenarios,
     table,
 )
 from rubrotor.errors import InputError
-from rubrotor.scenario.load import shipped_scenarios
 
 
 def scenarios_args(parser: argparse.ArgumentParser) -> None:

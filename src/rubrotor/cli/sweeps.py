@@ -11,11 +11,11 @@ import numpy as np
 
 from rubrotor.cli.common import (
     add_scenario,
+    load_scenario,
     print_json,
     save_atomic,
 )
 from rubrotor.errors import InputError
-from rubrotor.scenario.load import load_scenario
 
 
 # ---- sweep -------------------------------------------------------------------------------------

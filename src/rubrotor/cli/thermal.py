@@ -15,9 +15,15 @@ from pathlib import Path
 
 import numpy as np
 
-from rubrotor.cli.common import add_scenario, parse_speeds, print_json, save_atomic, table
+from rubrotor.cli.common import (
+    add_scenario,
+    load_scenario,
+    parse_speeds,
+    print_json,
+    save_atomic,
+    table,
+)
 from rubrotor.errors import InputError
-from rubrotor.scenario.load import load_scenario
 
 
 def thermal_args(parser: argparse.ArgumentParser) -> None:

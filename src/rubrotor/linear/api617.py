@@ -111,8 +111,10 @@ def _forward_mode(system: LinearSystem, speed: float, mode: int, count: int, max
         forward = np.flatnonzero(ok)
         if forward.size > mode:
             return shapes, int(forward[mode])
-    raise InputError("mode", mode, f"a forward mode index below {forward.size} "
-                     f"(forward modes among the {count} lowest at {speed:g} rad/s)")  # fmt: skip
+    top = f"to {forward.size - 1}" if forward.size else "(none found)"
+    raise InputError("mode", mode, f"a forward mode index from 0 (the first forward mode) "
+                     f"{top} ({forward.size} forward modes among the {count} lowest at "
+                     f"{speed:g} rad/s)")  # fmt: skip
 
 
 def _lobes(sign: np.ndarray, amplitude: np.ndarray) -> list[list[int]]:

@@ -1,5 +1,5 @@
-"""A linear rotor in band storage, and its projection onto a few Ritz vectors: what the compiled
-Newton and frequency-domain loops of :mod:`rubrotor.core.banded` work on.
+"""A linear rotor in band storage, and its projection onto a few Ritz vectors: what the
+Newton and frequency-domain loops of :mod:`rubrotor.linear.lapack` work on.
 
 An FE rotor couples neighbouring nodes only, so its matrices are banded and a banded LU costs
 ``O(n b^2)``. The lowest undamped modes come from a block shift-invert Krylov space on a large
@@ -14,7 +14,8 @@ from collections import namedtuple
 import numpy as np
 import scipy.linalg
 
-from rubrotor.core.banded import BandParts, SparseRows, band_matmul, ritz_vectors
+from rubrotor.core.banded import BandParts, SparseRows
+from rubrotor.linear.lapack import band_matmul, ritz_vectors
 from rubrotor.linear.roots import OSCILLATING
 from rubrotor.rotors.linear import LinearSystem
 
@@ -78,7 +79,7 @@ def _to_band(a: np.ndarray, lower: int, upper: int) -> np.ndarray:
 
 def _band_matmul(band: np.ndarray, kl: int, ku: int, x: np.ndarray) -> np.ndarray:
     """``a @ x`` for ``a`` in :func:`_to_band` storage (``a[i, j]`` at ``band[j, ku + i - j]``),
-    ``kl`` sub- and ``ku`` super-diagonals (compiled: ``O(N (kl + ku) k)`` for ``k`` columns)."""
+    ``kl`` sub- and ``ku`` super-diagonals (sparse: ``O(N (kl + ku) k)`` for ``k`` columns)."""
     x = np.ascontiguousarray(x, dtype=float)
     out = np.empty_like(x)
     band_matmul(np.ascontiguousarray(band), ku, x, out)
@@ -238,7 +239,7 @@ def _ritz_starts(
     """Starting eigenpairs at every speed from a projection onto :func:`_ritz_basis`.
 
     The projected eigenvalues come from :func:`_projected_lam` and the projected shapes from one
-    step of inverse iteration each (:func:`rubrotor.core.banded.ritz_vectors`, compiled;
+    step of inverse iteration each (:func:`rubrotor.linear.lapack.ritz_vectors`, batched;
     cheaper than batched eigenvectors). Returns ``lam0`` (S, n), NaN where fewer than ``n``
     oscillating modes were found, and ``vec0`` (S, n, N) on the free DOFs.
     """

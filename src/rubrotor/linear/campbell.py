@@ -3,7 +3,7 @@ frequencies, logarithmic decrements and whirl of its lowest modes over a sweep o
 
 Starting values from a projection onto the rotor's lowest undamped modes
 (:mod:`rubrotor.linear.band`) are refined by Newton's method on the full banded quadratic
-eigenproblem in one compiled loop; a speed where Newton fails takes the dense route of
+eigenproblem (LAPACK banded LU, :mod:`rubrotor.linear.lapack`); a speed where Newton fails takes the dense route of
 :func:`rubrotor.linear.modes.damped_modes`.
 """
 
@@ -13,9 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rubrotor.core.banded import BandParts, Starts, refine_eigenpairs, ritz_vectors
+from rubrotor.core.banded import BandParts, Starts
 from rubrotor.errors import InputError
 from rubrotor.linear.band import _KRYLOV_SIZE, _band_parts, _projected_lam, _reduced, _sparse_rows
+from rubrotor.linear.lapack import refine_eigenpairs, ritz_vectors
 from rubrotor.linear.modes import _modes
 from rubrotor.linear.roots import (
     OSCILLATING,
@@ -58,7 +59,7 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     :func:`~rubrotor.linear.modes.damped_modes`, to ~1e-12): a projection onto the rotor's lowest
     undamped modes gives starting values at every speed
     (one batched small eigen-solve), which Newton's method on the full quadratic eigenproblem
-    refines with banded LU solves in one compiled loop. A speed where Newton fails falls back
+    refines with LAPACK banded LU solves. A speed where Newton fails falls back
     to the dense route.
 
     Parameters
@@ -100,7 +101,7 @@ def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
     """Eigenvalues (S, n), shapes at the whirl stations (S, n, 2 stations) and a success mask.
 
     Starting values (:func:`_refine_chunk`) refined by Newton on the full banded quadratic
-    eigenproblem (:func:`rubrotor.core.banded.refine_eigenpairs`) until a step is below
+    eigenproblem (:func:`rubrotor.linear.lapack.refine_eigenpairs`) until a step is below
     ``1e-10 |lam|`` (quadratic convergence: the error after it is at rounding level); clusters of
     equal eigenvalues get the shapes of extreme whirl (as in :func:`~rubrotor.linear.modes.damped_modes`).
     """

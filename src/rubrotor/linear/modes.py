@@ -10,16 +10,16 @@ few modes of a large one are wanted, shift-invert Arnoldi otherwise.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
-import numba
 import numpy as np
 import scipy.linalg
 import scipy.sparse.linalg
 
-from rubrotor.core.banded import SparseRows, Starts, refine_eigenpairs, ritz_vectors
+from rubrotor.core.banded import SparseRows, Starts
 from rubrotor.errors import InputError
 from rubrotor.linear.band import Reduced, _band_parts, _reduced, _ritz_starts
+from rubrotor.linear.lapack import refine_eigenpairs, ritz_vectors
 from rubrotor.linear.roots import (
     OSCILLATING,
     OVERDAMPED,
@@ -67,7 +67,13 @@ class DampedMode:
     log_dec: float
     whirl: str
     eigenvalue: complex
-    shape: np.ndarray
+    shape: np.ndarray = field(repr=False)  # printed as its size only (see __repr__)
+
+    def __repr__(self) -> str:
+        return (f"DampedMode(index={self.index}, frequency_hz={self.frequency_hz:.6g}, "
+                f"damping_ratio={self.damping_ratio:.4g}, log_dec={self.log_dec:.4g}, "
+                f"whirl={self.whirl!r}, eigenvalue={self.eigenvalue:.6g}, "
+                f"shape=<{self.shape.size} DOFs>)")  # fmt: skip
 
     @property
     def natural_frequency_hz(self) -> float:
@@ -91,6 +97,11 @@ class DampedModes:
 
     speed_rad_s: float
     modes: tuple[DampedMode, ...]
+
+    def __repr__(self) -> str:
+        rows = "".join(f"\n  {m!r}," for m in self.modes[:8])
+        more = f"\n  ... {len(self.modes) - 8} more" if len(self.modes) > 8 else ""
+        return f"DampedModes(speed_rad_s={self.speed_rad_s:.6g}, modes=({rows}{more}))"
 
     def to_dict(self) -> dict:
         """The JSON form printed by ``rubrotor modes --json`` for a general rotor."""
@@ -178,7 +189,7 @@ def _eigvals_then_vectors(mx, a: np.ndarray, n: int, natural: bool = False):
     """The ``n`` lowest modes of a small dense system: all eigenvalues of the first-order matrix
     ``a`` without eigenvectors (LAPACK ``dgeev`` skips the back-transformation: about half the
     cost), then one null vector of ``lam^2 M + lam D + K`` per kept mode (one step of inverse
-    iteration at the eigenvalue, compiled: :func:`rubrotor.core.banded.ritz_vectors`). ``None``
+    iteration at the eigenvalue: :func:`rubrotor.linear.lapack.ritz_vectors`). ``None``
     when equal eigenvalues (within 1e-7) reach the kept ones: their shapes must span the
     eigenspace as the dense vectors do before :func:`_circularise`, so the caller takes the
     dense route."""
@@ -231,12 +242,7 @@ def _newton_eig(system: LinearSystem, speed: float, n: int, natural: bool = Fals
         return None
     size = system.n_dof
     every = SparseRows(np.arange(size)[:, None], np.ones((size, 1), complex))
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)  # one speed: waking the pool (OpenMP barriers) costs milliseconds
-    try:
-        ref = refine_eigenpairs(parts, speeds, Starts(lam0, vec0), 1e-10, 8, every)
-    finally:
-        numba.set_num_threads(threads)
+    ref = refine_eigenpairs(parts, speeds, Starts(lam0, vec0), 1e-10, 8, every)
     lam, start = ref.lam[0], lam0[0]
     same = np.abs(lam[:, None] - lam[None, :]) <= 1e-7 * np.abs(lam)[:, None]
     apart = np.abs(start[:, None] - start[None, :]) > 1e-5 * np.abs(start)[:, None]

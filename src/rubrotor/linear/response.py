@@ -12,7 +12,7 @@ response ``q = Re(Q e^{i w t})`` with
 
 (each bearing table read on its own axis, as ROSS 3.x reads them: a table against speed at the
 spin ``Omega``, a table against frequency, e.g. a magnetic bearing's, at the excitation ``w``;
-one banded LU solve per frequency, all in one compiled loop). The force ``F = [F_y, F_z]`` of amplitude ``f`` (N) at angle ``theta``
+one banded LU solve per frequency, by LAPACK: :mod:`rubrotor.linear.lapack`). The force ``F = [F_y, F_z]`` of amplitude ``f`` (N) at angle ``theta``
 (rad, from ``+y`` towards ``+z``) is
 
 * ``"fixed"``: ``f [cos theta, sin theta] cos(w t)``, so ``F = f [cos theta, sin theta]``;
@@ -31,9 +31,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rubrotor.core.banded import OK, frequency_sweep, unbalance_sweep
+from rubrotor.core.banded import OK
 from rubrotor.errors import InputError, ScenarioError
 from rubrotor.linear.band import _band_parts
+from rubrotor.linear.lapack import frequency_sweep, unbalance_sweep
 from rubrotor.linear.roots import _speed_array
 from rubrotor.rotors.linear import LinearSystem, check_table_axes
 
@@ -87,7 +88,7 @@ def unbalance_response(system: LinearSystem, speeds, unbalances, probes) -> Unba
     ``f(t) = Re(Fc exp(i Omega t))`` with ``Fc = B(x) [1, -i] m e Omega^2 exp(i phase)``, and the
     response ``q = Re(Q exp(i Omega t))`` solves
     ``(K(Omega) - Omega^2 M + i Omega (C(Omega) + Omega G)) Q = Fc`` at each speed (one exact LU
-    solve per speed, banded for FE rotors, all speeds in one compiled loop).
+    solve per speed, LAPACK banded LU for FE rotors: :mod:`rubrotor.linear.lapack`).
 
     Parameters
     ----------
@@ -202,11 +203,14 @@ class FrequencyResponse:
 
 
 def _probe_dict(position: float, axis: str, values: np.ndarray, resp: np.ndarray) -> dict:
-    """One probe's amplitudes (m), phases (rad) and major semi-axis (m) against ``axis``."""
+    """One probe's amplitudes (m, 0-peak), phases (rad) and major semi-axis (m, 0-peak) against
+    ``axis``; ``"amplitude": "0-peak"`` says so in the JSON (API 617's check is peak-to-peak,
+    its keys end in ``_pp``)."""
     v, w = resp[:, 0], resp[:, 1]
     major = 0.5 * (np.abs(v + 1j * w) + np.abs(v - 1j * w))
     return {
         "position_m": position,
+        "amplitude": "0-peak",
         axis: np.asarray(values, float).tolist(),
         "amplitude_y_m": np.abs(v).tolist(),
         "phase_y_rad": np.angle(v).tolist(),

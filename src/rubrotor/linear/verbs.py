@@ -5,16 +5,22 @@
 
 from __future__ import annotations
 
+import math
+
 from rubrotor.errors import InputError
 from rubrotor.linear.modes import DampedModes
 from rubrotor.linear.modes import damped_modes as _damped_modes
-from rubrotor.linear.shaft import CriticalSpeed, Mode, natural_frequencies
+from rubrotor.linear.shaft import CriticalSpeed, Mode, natural_frequencies  # noqa: F401
 from rubrotor.linear.shaft import critical_speeds as _critical_speeds
 from rubrotor.rotors.linear import LinearSystem
 from rubrotor.rotors.shaft import Shaft
-from rubrotor.scenario.load import Scenario
 
-__all__ = ["modes", "critical_speeds", "linear_system", "damped_modes"]
+__all__ = [
+    "modes",
+    "critical_speeds",
+    "linear_system",
+    "damped_modes",
+]
 
 
 def _model(obj, name: str = "rotor"):
@@ -24,37 +30,45 @@ def _model(obj, name: str = "rotor"):
     return Model.of(obj, name)
 
 
-def _shaft_and_speed(obj) -> tuple[Shaft, float]:
-    try:
-        model = _model(obj)
-    except InputError:
-        model = None
-    if model is not None and model.scenario is not None:
+def _shaft_and_speed(model) -> tuple[Shaft, float]:
+    """The continuous shaft of a closed-form ``model`` and its default speed (rad/s)."""
+    if model.scenario is not None:
         return model.require_shaft("this analysis"), model.scenario.speed
-    shaft = None if model is None else model.shaft
-    if shaft is None:
-        raise InputError(
-            "scenario_or_shaft", obj, "a Scenario, a Shaft or a scenario file's path"
-        )
-    return shaft, 0.0
+    return model.shaft, 0.0
 
 
-def modes(scenario_or_shaft: Scenario | Shaft, speed: float | None = None) -> list[Mode]:
-    """Every whirl frequency of every mode at one spin speed.
+def _speed(model, speed, field: str = "speed") -> float:
+    """``speed`` (rad/s), or the scenario's (0 for a bare rotor), checked finite and >= 0."""
+    default = model.scenario.speed if model.scenario is not None else 0.0
+    value = default if speed is None else speed
+    if isinstance(value, bool) or not isinstance(value, int | float) or not (
+        math.isfinite(value) and value >= 0
+    ):
+        raise InputError(field, speed, "a finite spin speed >= 0 (rad/s)")
+    return float(value)
+
+
+def modes(scenario_or_shaft, speed: float | None = None, n: int | None = 20):
+    """The modes of any rotor at one spin speed, as ``rubrotor modes`` prints them.
 
     Parameters
     ----------
-    scenario_or_shaft : Scenario, Shaft or path-like
+    scenario_or_shaft : Scenario, Shaft, Rotor, LinearSystem or path-like
         The rotor; a path is read with :func:`~rubrotor.load_scenario`.
     speed : float, optional
-        Spin speed ``Omega`` (rad/s), ``>= 0``. Default: the scenario's speed, or 0 (at rest) for
-        a bare shaft.
+        Spin speed ``Omega`` (rad/s), ``>= 0``. Default: the scenario's speed, or 0 (at rest)
+        for a bare rotor.
+    n : int or None
+        Any other rotor than the continuous shaft: keep the ``n`` lowest modes (default 20,
+        as the command's table; None for all).
 
     Returns
     -------
-    list of Mode
-        Sorted by mode number, branch (bending first) and whirl (backward first); frequencies in
-        Hz, positive.
+    list of Mode or DampedModes
+        The continuous shaft: every whirl frequency in closed form (:class:`Mode`, sorted by
+        mode number, branch and whirl; Hz). Any other rotor: its damped modes
+        (:class:`~rubrotor.linear.modes.DampedModes`: frequency, damping ratio, log dec, whirl
+        and shape of each, ranked by undamped natural frequency).
 
     Examples
     --------
@@ -63,25 +77,44 @@ def modes(scenario_or_shaft: Scenario | Shaft, speed: float | None = None) -> li
     >>> round(modes(s)[0].frequency_hz, 1)
     1193.2
     """
-    shaft, default = _shaft_and_speed(scenario_or_shaft)
-    return natural_frequencies(shaft, default if speed is None else speed)
+    model = _model(scenario_or_shaft, "scenario_or_shaft")
+    if model.linear == "closed-form":
+        shaft, default = _shaft_and_speed(model)
+        return natural_frequencies(shaft, default if speed is None else speed)
+    return _damped_modes(model.linear_system(), _speed(model, speed), n)
 
 
-def critical_speeds(scenario_or_shaft: Scenario | Shaft) -> list[CriticalSpeed]:
-    """Forward and backward critical speeds of every mode and branch, in closed form.
+def critical_speeds(scenario_or_shaft, max_speed: float | None = None, n: int = 8) -> list:
+    """Critical speeds of any rotor, as ``rubrotor critical`` prints them.
 
     Parameters
     ----------
-    scenario_or_shaft : Scenario, Shaft or path-like
+    scenario_or_shaft : Scenario, Shaft, Rotor, LinearSystem or path-like
         The rotor; a path is read with :func:`~rubrotor.load_scenario`.
+    max_speed : float, optional
+        Any other rotor than the continuous shaft: search up to this speed (rad/s); default
+        3 x the scenario's speed (at least 100 rad/s).
+    n : int
+        Modes followed on such a rotor (default 8).
 
     Returns
     -------
-    list of CriticalSpeed
-        Sorted by speed (rad/s).
+    list of CriticalSpeed or LinearCritical
+        The continuous shaft: forward and backward critical speeds of every mode and branch in
+        closed form (:class:`CriticalSpeed`), sorted by speed (rad/s). Any other rotor: the
+        speeds where a damped frequency equals the spin
+        (:class:`~rubrotor.linear.critical.LinearCritical`, with damping ratio and whirl).
     """
-    shaft, _ = _shaft_and_speed(scenario_or_shaft)
-    return _critical_speeds(shaft)
+    from rubrotor.linear.critical import linear_critical_speeds
+
+    model = _model(scenario_or_shaft, "scenario_or_shaft")
+    if model.linear == "closed-form":
+        shaft, _ = _shaft_and_speed(model)
+        return _critical_speeds(shaft)
+    top = max_speed if max_speed is not None else max(3.0 * _speed(model, None), 100.0)
+    if not (isinstance(top, int | float) and math.isfinite(top) and top > 0):
+        raise InputError("max_speed", max_speed, "a finite speed > 0 (rad/s)")
+    return linear_critical_speeds(model.linear_system(), float(top), n=n)
 
 
 def linear_system(obj, stations=()) -> LinearSystem:

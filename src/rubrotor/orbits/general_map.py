@@ -86,7 +86,10 @@ class GeneralMap:
                 "speed.profile", "a varying speed", "a constant speed (periodic orbits)"
             )
         if not eng.stations:
-            raise InputError("contact", None, "at least one [[contact]] station")
+            raise InputError(
+                "contact", None, "at least one [contact] or [[contact]] table: sweeps and "
+                "periodic orbits of a general rotor follow its rub (a rotor without a contact "
+                "has no rub to map; its linear response: `rubrotor unbalance`, `rubrotor response`)")
         self.scenario, self.k, self.steps = scenario, int(k), int(steps)
         self.speed = float(scenario.speed if speed is None else speed)
         if family is None:
