@@ -112,12 +112,3 @@ def test_an_absent_value_is_named_missing_not_none(capsys):
     err = capsys.readouterr().err
     assert code == 2 and "None" not in err and "contact is missing" in err
 
-
-def test_a_clearance_in_the_wrong_unit_is_refused_by_name(tmp_path):
-    """``clearance = 150`` (meant as um) used to load as 150 m; now the key is named."""
-    from rubrotor.errors import ScenarioError
-
-    bad = tmp_path / "bad.toml"
-    bad.write_text(SEAL.read_text().replace("clearance = 40e-6", "clearance = 150"))
-    with pytest.raises(ScenarioError, match=r"contact\[1\]\.clearance = 150 .*150e-6.*\(0, 0\.1\]"):
-        rubrotor.load_scenario(bad)

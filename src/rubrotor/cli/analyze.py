@@ -197,7 +197,9 @@ def _results_signals(p: Path) -> dict:
     if text:
         try:
             sc = scenario_from_dict(tomllib.loads(text))
-            entries = mode_entries(modes(sc, float(ds.attrs["speed_rad_s"])))
+            found = modes(sc, float(ds.attrs["speed_rad_s"]))
+            # the shaft's closed-form whirl lines; a general rotor's damped modes are not drawn
+            entries = mode_entries(found) if isinstance(found, list) else []
         except (tomllib.TOMLDecodeError, ScenarioError):
             entries = []
     v, w = _acceleration_channels(ds)

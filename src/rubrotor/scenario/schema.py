@@ -267,9 +267,7 @@ _CONTACT = (
        "Axial station (default midspan on a [shaft], required on a general rotor)",
        _STATION, phrase=_INSIDE),
     _k("contact", "position_nd", "number", "1", "Axial station a/L", _POS_ND, phrase=_INSIDE),
-    # a close clearance: 0.1 m and above is a unit slip (150 for 150 um), refused by name
-    _k("contact", "clearance", "number", "m", "Radial clearance g", _positive(0.1),
-       phrase="a radial clearance in metres (150 um is 150e-6)"),
+    _k("contact", "clearance", "number", "m", "Radial clearance g", _positive(1000.0)),
     _k("contact", "clearance_nd", "number", "1", "Dimensionless clearance g/L", _positive()),
     _k("contact", "stiffness", "number", "N/m^1.5 (hertz) or N/m (linear)",
        "Contact stiffness k_h (hertz) or k (linear)",
