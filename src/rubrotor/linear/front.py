@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 
 from rubrotor.errors import InputError
-from rubrotor.linear.verbs import _closed_form, _loaded, _shaft_and_speed, _speed, linear_system
+from rubrotor.linear.verbs import _loaded, _model, _shaft_and_speed, _speed
 from rubrotor.scenario.load import Scenario
 
 __all__ = [
@@ -52,14 +52,14 @@ def campbell(scenario_or_shaft, speeds, n: int = 8):
     from rubrotor.units import as_speeds
 
     sp = as_speeds(speeds)
-    obj = _loaded(scenario_or_shaft)
-    if _closed_form(obj):
+    model = _model(scenario_or_shaft, "scenario_or_shaft")
+    if model.linear == "closed-form":
         from rubrotor.linear.shaft import campbell as shaft_campbell
 
-        return shaft_campbell(_shaft_and_speed(obj)[0], sp)
+        return shaft_campbell(_shaft_and_speed(model)[0], sp)
     from rubrotor.linear.campbell import campbell_data
 
-    return campbell_data(linear_system(obj), sp, n=n)
+    return campbell_data(model.linear_system(), sp, n=n)
 
 
 def static(obj, speed: float | None = None, gravity=None, loads=None):
@@ -136,11 +136,11 @@ def frequency_response(obj, frequencies, at: float, probes=None, kind: str = "fi
     from rubrotor.linear.response import frequency_response as response
     from rubrotor.units import as_speeds
 
-    obj = _loaded(obj)
+    model = _model(obj)
     probes = [at] if probes is None else list(probes)
-    system = linear_system(obj, (at, *probes))
+    system = model.linear_system((at, *probes))
     return response(system, as_speeds(frequencies, "frequencies"), at, probes, kind, force,
-                    direction, _speed(obj, speed))  # fmt: skip
+                    direction, _speed(model, speed))  # fmt: skip
 
 
 def _gaps(scenario) -> list:
@@ -188,14 +188,15 @@ def clearance_check(scenario, max_speed: float | None = None, min_speed: float |
     from rubrotor.units import as_speeds
 
     scenario = as_scenario(scenario)
-    nmc = _speed(scenario, max_speed, "max_speed")
-    nma = _speed(scenario, 0.7 * nmc if min_speed is None else min_speed, "min_speed")
+    model = _model(scenario, "scenario")
+    nmc = _speed(model, max_speed, "max_speed")
+    nma = _speed(model, 0.7 * nmc if min_speed is None else min_speed, "min_speed")
     if not 0 < nmc or nma > nmc:
         raise InputError("min_speed", nma, f"a speed in [0, {nmc:g}] rad/s (maximum > 0)")
     sp = np.linspace(0.0, 1.25 * nmc, 251) if speeds is None else as_speeds(speeds)
     gaps = _gaps(scenario)
     probes = None if probes is None else [(float(p), a) for p, a in probes]
-    system = linear_system(scenario, [p for p, _ in probes or []])
+    system = model.linear_system([p for p, _ in probes or []])
     probes = probes or [(sup.position, None) for sup in system.supports]
     return check(system, sp, nma, nmc, probes, gaps, mode,
                  scale_factor_cap=6.0 if cap else None)  # fmt: skip
@@ -229,15 +230,12 @@ def level1(scenario, speed: float | None = None, at: float | None = None, stiffn
     from rubrotor.linear.api684 import anticipated_cross_coupling
     from rubrotor.linear.api684 import level1 as level_one
 
-    obj = _loaded(scenario)
-    sp = _speed(obj, speed)
+    model = _model(scenario, "scenario")
+    sp = _speed(model, speed)
     if at is None:
-        rotor = getattr(obj, "rotor", None) if isinstance(obj, Scenario) else obj
-        disks = getattr(rotor, "disks", None) if rotor is not None else None
-        if disks:
-            at = float(max(disks, key=lambda d: d.mass).position)
-        else:
-            system = linear_system(obj)
+        at = model.heaviest_disk()
+        if at is None:
+            system = model.linear_system()
             xs = [s.position for s in system.supports] or [0.0, system.basis.length]
             at = 0.5 * (min(xs) + max(xs))
     if stages:
@@ -246,7 +244,7 @@ def level1(scenario, speed: float | None = None, at: float | None = None, stiffn
         qa = anticipated_cross_coupling(p, sp, d, h, r)
     if qa is not None and not (math.isfinite(qa) and qa > 0):
         raise InputError("qa", qa, "a cross-coupled stiffness > 0 (N/m)")
-    return level_one(linear_system(obj, (at,)), sp, at, stiffness, qa)
+    return level_one(model.linear_system((at,)), sp, at, stiffness, qa)
 
 
 def ucs(obj, stiffness=None, n: int = 4):
@@ -254,7 +252,7 @@ def ucs(obj, stiffness=None, n: int = 4):
     :func:`rubrotor.linear.ucs.ucs_map` (stiffness N/m, speeds rad/s)."""
     from rubrotor.linear.ucs import ucs_map
 
-    return ucs_map(linear_system(_loaded(obj)), stiffness, n)
+    return ucs_map(_model(obj).linear_system(), stiffness, n)
 
 
 def mode_shapes(obj, speed: float | None = None, n: int = 4):
@@ -262,5 +260,5 @@ def mode_shapes(obj, speed: float | None = None, n: int = 4):
     :func:`rubrotor.linear.shapes.mode_shapes` (speed rad/s)."""
     from rubrotor.linear.shapes import mode_shapes as shapes
 
-    obj = _loaded(obj)
-    return shapes(linear_system(obj), _speed(obj, speed), n)
+    model = _model(obj)
+    return shapes(model.linear_system(), _speed(model, speed), n)

@@ -30,6 +30,15 @@ def _model(obj, name: str = "rotor"):
     return Model.of(obj, name)
 
 
+def _loaded(obj):
+    """``obj``, or the scenario read from it when it is a path to a scenario file."""
+    import os
+
+    from rubrotor.scenario.load import load_scenario
+
+    return load_scenario(obj) if isinstance(obj, str | os.PathLike) else obj
+
+
 def _shaft_and_speed(model) -> tuple[Shaft, float]:
     """The continuous shaft of a closed-form ``model`` and its default speed (rad/s)."""
     if model.scenario is not None:
