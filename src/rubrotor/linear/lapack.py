@@ -153,7 +153,8 @@ def _sweep(parts, omegas, lams, index, rhs_scale, rhs, out_rows):
         lu, piv, status = band.factor(complex(lams[s]))
         if status != OK:
             return out, SINGULAR, s
-        out[s] = rows @ band.solve(lu, piv, rhs * rhs_scale[s])
+        with np.errstate(over="ignore", invalid="ignore"):  # the callers check finiteness
+            out[s] = rows @ band.solve(lu, piv, rhs * rhs_scale[s])
     return out, OK, -1
 
 

@@ -57,7 +57,7 @@ def _speed(model, speed, field: str = "speed") -> float:
     return float(value)
 
 
-def modes(scenario_or_shaft, speed: float | None = None, n: int | None = 20):
+def modes(scenario_or_shaft, speed: float | None = None, n: int | None = 20, order: str = "ross"):
     """The modes of any rotor at one spin speed, as ``rubrotor modes`` prints them.
 
     Parameters
@@ -70,6 +70,9 @@ def modes(scenario_or_shaft, speed: float | None = None, n: int | None = 20):
     n : int or None
         Any other rotor than the continuous shaft: keep the ``n`` lowest modes (default 20,
         as the command's table; None for all).
+    order : {"ross", "natural"}
+        Any other rotor: ROSS 3.1's selection and order (the default, as the command prints
+        them) or by ``|lambda|`` (:func:`rubrotor.linear.modes.damped_modes`).
 
     Returns
     -------
@@ -90,7 +93,7 @@ def modes(scenario_or_shaft, speed: float | None = None, n: int | None = 20):
     if model.linear == "closed-form":
         shaft, default = _shaft_and_speed(model)
         return natural_frequencies(shaft, default if speed is None else speed)
-    return _damped_modes(model.linear_system(), _speed(model, speed), n)
+    return _damped_modes(model.linear_system(), _speed(model, speed), n, order)
 
 
 def critical_speeds(scenario_or_shaft, max_speed: float | None = None, n: int = 8) -> list:
