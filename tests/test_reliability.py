@@ -110,7 +110,7 @@ def test_chunked_free_spin_takes_the_steps_of_one_kernel_call(tmp_path, monkeypa
 
     monkeypatch.setattr(kernel, "spin_dopri", single)
     chunked = spin.simulate_spin(system, **kw)
-    assert len(calls) > 3 and chunked.status == "complete"
+    assert len(calls) > 1 and chunked.status == "complete"  # chunked (the count depends on the machine)
     # reference: one call over every output time
     res = {}
 
