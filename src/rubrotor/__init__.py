@@ -18,9 +18,9 @@ The public surface, each name defined once in its own module:
   scenarios: :func:`load_scenario`, :class:`Scenario`;
 * linear analyses of any rotor (the continuous shaft, a finite-element rotor, a ROSS import),
   each returning what the command of the same name prints: :func:`modes`,
-  :func:`critical_speeds`, :func:`campbell`, :func:`static`, :func:`unbalance_response`,
-  :func:`frequency_response`, :func:`clearance_check` (API 617), :func:`level1` (API 684),
-  :func:`ucs`, :func:`mode_shapes`; speed ranges in rad/s, rpm or Hz (``"0:12000rpm:61"``);
+  :func:`critical_speeds`, :func:`campbell`, ``static``, ``unbalance_response``,
+  ``frequency_response``, ``clearance_check`` (API 617), ``level1`` (API 684),
+  ``ucs``, ``mode_shapes``; speed ranges in rad/s, rpm or Hz (``"0:12000rpm:61"``);
 * simulation: :func:`simulate` (returns an ``xarray.Dataset``), :func:`converge`;
 * analysis: :func:`cwt`, :func:`scalogram`, :func:`full_spectrum`, :func:`amplitude_spectrum`,
   :func:`rub_indicators`;

@@ -60,7 +60,7 @@ class ScenarioError(InputError):
 
 
 def path_argument(name: str, value, allowed: str = "a file path (str or os.PathLike)"):
-    """``value`` as a :class:`pathlib.Path`, or :class:`InputError` naming the argument ``name``
+    """``value`` as a :class:`pathlib.Path`, or ``InputError`` naming the argument ``name``
     (``None``, a number, ... given where the Python API takes a path)."""
     import os
     from pathlib import Path
@@ -71,7 +71,7 @@ def path_argument(name: str, value, allowed: str = "a file path (str or os.PathL
 
 
 def instance_argument(name: str, value, kind: type, allowed: str):
-    """``value`` when it is a ``kind`` (or None), else :class:`InputError` naming ``name``."""
+    """``value`` when it is a ``kind`` (or None), else ``InputError`` naming ``name``."""
     if value is not None and not isinstance(value, kind):
         raise InputError(name, value, allowed)
     return value

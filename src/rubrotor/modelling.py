@@ -128,7 +128,7 @@ class Model:
 
     Build it with :meth:`for_scenario` (or :meth:`of`, which also takes a path, a rotor, a
     shaft or a linear system); the fields are those of the scenario's
-    :class:`~rubrotor.scenario.kind.Kind`.
+    ``rubrotor.scenario.kind.Kind``.
 
     Attributes
     ----------
@@ -253,7 +253,7 @@ class Model:
 
     @property
     def runner(self) -> str:
-        """The engine of a time run, one of :data:`RUNNERS`."""
+        """The engine of a time run, one of ``RUNNERS``."""
         return "free-spin" if self.spin == "free" else self.engine
 
     @property
@@ -344,7 +344,7 @@ class Model:
         return float(max(self._fe().disks, key=lambda d: d.mass).position)
 
     def geometry(self) -> Geometry:
-        """What a drawing of the rotor needs (see :class:`Geometry`), for any rotor."""
+        """What a drawing of the rotor needs (see ``Geometry``), for any rotor."""
         if self.rotor == "fe":
             fe = self._fe()
             sections, x0 = [], 0.0
@@ -394,7 +394,7 @@ class Model:
         return continuous_system(self.scenario.shaft, self.scenario.damping)
 
     def forces(self) -> Forces:
-        """The force terms of the scenario (see :class:`Forces`)."""
+        """The force terms of the scenario (see ``Forces``)."""
         sc = self.scenario
         eng = sc.engine
         if self.engine == "general":
@@ -422,7 +422,7 @@ class Model:
         return self.scenario.contact if self.engine == "shaft" else None
 
     def speed_law(self) -> SpeedLaw:
-        """The spin speed against time (see :class:`SpeedLaw`)."""
+        """The spin speed against time (see ``SpeedLaw``)."""
         sc = self.scenario
         eng = sc.engine
         if eng is None:

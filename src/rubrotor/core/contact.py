@@ -1,6 +1,6 @@
 """Compiled rotor-stator contact law on plain floats (SI).
 
-Parameters are packed in a float64 array ``cp`` (see :data:`CP_FIELDS`) so that the kernels take
+Parameters are packed in a float64 array ``cp`` (see ``CP_FIELDS``) so that the kernels take
 one argument for the whole law. Units: displacements m, velocities m/s, forces N.
 """
 
@@ -147,7 +147,7 @@ def contact_force(py, pz, uy, uz, cp):
     uy, uz : float
         Its velocity (m/s).
     cp : ndarray
-        Packed parameters (:data:`CP_FIELDS`).
+        Packed parameters (``CP_FIELDS``).
 
     Returns
     -------

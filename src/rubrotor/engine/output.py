@@ -112,7 +112,7 @@ def _holder(lock: Path) -> int | None:
 
 def _acquire(lock: Path, field: str, path) -> int:
     """Open ``lock`` and take an exclusive ``flock`` on it: the descriptor, or
-    :class:`InputError` naming the live process that holds it.
+    ``InputError`` naming the live process that holds it.
 
     The kernel releases the lock when its process dies, however it dies, so a lock file left
     behind by a killed run is free to take, and there is no window in which a lock being
@@ -149,7 +149,7 @@ def claim_output(path: str | os.PathLike, field: str = "--out", *, folder: bool 
     """Check ``path`` (:func:`check_output`) and hold its lock file while the body runs.
 
     The lock ``.NAME.lock`` (see :func:`lock_path`) is held with an exclusive ``flock``
-    (:func:`_acquire`) and holds ``"PID HOSTNAME"`` (for the message); it is removed when the
+    (``_acquire``) and holds ``"PID HOSTNAME"`` (for the message); it is removed when the
     body ends, however it ends. A lock file left by a run that died is free (the kernel
     released its lock) and taken over.
 

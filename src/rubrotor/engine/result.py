@@ -1,8 +1,8 @@
-"""One time-run result (:class:`TimeRun`), its one Dataset builder, and netCDF I/O.
+"""One time-run result (``TimeRun``), its one Dataset builder, and netCDF I/O.
 
 Every time run (the seed shaft's engine, the general engine, the free-spin engine) returns a
-frozen :class:`TimeRun`; :func:`to_dataset` builds its ``xarray.Dataset`` from the table
-:data:`LAYOUTS`, which says where each variable sits in the run's channel buffer (the Datasets
+frozen ``TimeRun``; :func:`to_dataset` builds its ``xarray.Dataset`` from the table
+``LAYOUTS``, which says where each variable sits in the run's channel buffer (the Datasets
 keep the layout and attributes each engine wrote before, so files written before still load).
 
 Files are written atomically: to a temporary file in the target directory, then renamed, so a
@@ -42,7 +42,7 @@ class TimeRun:
     """The result of every time run (SI units, frozen): one type for every engine.
 
     The sample arrays are views of the compiled kernel's output buffer (no copy); where each
-    variable sits in ``channels`` is the engine's :class:`Layout` (:data:`LAYOUTS`).
+    variable sits in ``channels`` is the engine's ``Layout`` (``LAYOUTS``).
 
     Attributes
     ----------
@@ -68,7 +68,7 @@ class TimeRun:
     final_state : RotorState or ndarray or None
         The state at the end (see the engine), None when unknown.
     restart : dict or None
-        The general engine's full restart state (:mod:`rubrotor.engine.restart`).
+        The general engine's full restart state (``rubrotor.engine.restart``).
     states : ndarray
         Modal states per sample when saved (general engine), else empty.
     engine : {"shaft", "general", "free-spin"}
@@ -376,18 +376,18 @@ LAYOUTS = {
         attrs=_spin_attrs,
     ),
 }
-"""Engine (:attr:`TimeRun.engine`) -> :class:`Layout` of its channels and Dataset."""
+"""Engine (:attr:`TimeRun.engine`) -> ``Layout`` of its channels and Dataset."""
 
 
 def to_dataset(
     result, parameters: dict | None = None, scenario_text: str = "", name: str = "", *,
     coords: dict | None = None, data: dict | None = None, attrs: dict | None = None,
 ) -> xr.Dataset:  # fmt: skip
-    """Build the results Dataset of any time run (:class:`TimeRun`): the one builder.
+    """Build the results Dataset of any time run (``TimeRun``): the one builder.
 
     The sample variables are views of the run's channels (no copy); the seed shaft's unbalance
     force is computed when first read (a closed form of the time). Where each variable sits,
-    and its attributes, is the engine's :class:`Layout` (:data:`LAYOUTS`).
+    and its attributes, is the engine's ``Layout`` (``LAYOUTS``).
 
     Parameters
     ----------

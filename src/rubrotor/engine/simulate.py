@@ -5,7 +5,7 @@ integrator); it assembles and diagonalises the modal system (:mod:`rubrotor.engi
 plans the run (rows, particular solution, initial state), asks the stepper table
 :data:`rubrotor.engine.shaft_steppers.FACTORIES` for the method's chunk function, runs one shared chunk loop
 (progress, Ctrl-C, event-buffer growth and status between chunks, never per step) and returns a
-:class:`SimulationResult`. :func:`rubrotor.engine.result.to_dataset` turns that into an xarray Dataset.
+``SimulationResult``. :func:`rubrotor.engine.result.to_dataset` turns that into an xarray Dataset.
 :class:`PreparedRun` splits that in two, set up once (modal system, rows, coefficients) and run
 many times from different start states: the array-level path of sweeps and continuation.
 """
@@ -492,7 +492,7 @@ class PreparedRun:
     particular (steady) solution, packs the output rows and the contact law, sizes the sample
     grid and precomputes the stepper's coefficients; :meth:`run` then only allocates the
     output buffers, runs the compiled kernel from a start state and wraps its arrays (no copy)
-    in a frozen :class:`SimulationResult`. :func:`simulate_system` is ``PreparedRun(...).run()``;
+    in a frozen ``SimulationResult``. :func:`simulate_system` is ``PreparedRun(...).run()``;
     sweeps, follow sweeps and repeated runs of one model (shooting, continuation) build one per
     parameter point and call :meth:`run` for each start state.
 
@@ -866,7 +866,7 @@ def time_run(
 ) -> TimeRun:
     """Run a scenario on the engine its Model chose and return the one result type.
 
-    The array-level twin of :func:`simulate`: the same run, as a frozen
+    The array-level twin of ``simulate``: the same run, as a frozen
     :class:`~rubrotor.engine.result.TimeRun` (views of the kernel's buffers, no Dataset) for
     every rotor and engine: the seed shaft's, the general one, the free-spin one.
 
@@ -885,7 +885,7 @@ def time_run(
     -------
     TimeRun
         ``status`` ``"complete"`` or ``"partial"``, ``code`` from
-        :class:`rubrotor.core.status.Status`, ``message``; ``to_dataset()`` gives a Dataset.
+        ``rubrotor.core.status.Status``, ``message``; ``to_dataset()`` gives a Dataset.
     """
     from rubrotor.modelling import model_of
     from rubrotor.scenario.load import as_scenario

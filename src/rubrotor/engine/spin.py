@@ -220,7 +220,7 @@ def simulate_spin(system, *, J: float, speed: float, duration: float, spacing: f
     max_steps : int
         Steps allowed (at most ``STEPS_PER_SAMPLE`` per saved sample: a motion that much faster
         than the sampling is not one the run was asked to resolve); a run whose stiffest term
-        (:mod:`rubrotor.engine.spin_guard`) needs more is refused, naming its key, and one that
+        (``rubrotor.engine.spin_guard``) needs more is refused, naming its key, and one that
         comes to need more stops partial.
     progress : bool, optional
         Print a progress line on runs longer than 2 s (default: when stderr is a terminal).

@@ -133,7 +133,7 @@ def estimated_normal(f0, Pc, unb, speed, nc) -> tuple[np.ndarray, str]:
 
 
 def refuse_unresolvable(terms, duration: float, max_steps: int) -> None:
-    """Raise :class:`InputError` naming the stiffest term's key when the run would need more
+    """Raise ``InputError`` naming the stiffest term's key when the run would need more
     than ``max_steps`` stable steps over ``duration`` (s)."""
     rate, key, value, what = stiffest(terms)
     need = duration * rate / STABILITY

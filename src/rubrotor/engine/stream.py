@@ -63,7 +63,7 @@ def _available_memory() -> int:
 
 
 def check_size(n_samples: int, n_channels: int, n_state: int, stream: str | None) -> None:
-    """Raise :class:`InputError` when the output cannot fit (memory, or disk when streamed).
+    """Raise ``InputError`` when the output cannot fit (memory, or disk when streamed).
 
     Parameters
     ----------

@@ -2,15 +2,15 @@
 
 Each term has its parameters as a named structure, its force (and Jacobian where the implicit
 contact step needs it) as one kernel, its states where it has some, and its output variables
-(:mod:`rubrotor.forces.terms` lists the families and where each enters the engine).
+(``rubrotor.forces.terms`` lists the families and where each enters the engine).
 
 - :mod:`~rubrotor.forces.contact`: contact laws (Hertz, linear) and their packed rows;
 - :mod:`~rubrotor.forces.supports`: the ``[[bearing]] type`` table of support terms;
 - :mod:`~rubrotor.forces.muszynska`: Muszynska's fluid-ring force and its whirl threshold;
 - :mod:`~rubrotor.forces.unbalance`, :mod:`~rubrotor.forces.loads`: unbalance, loads, gravity;
-- :mod:`~rubrotor.forces.terms`: :class:`Terms` and :func:`build_terms`, what the model builds;
-- :mod:`~rubrotor.forces.fluid_film`, :mod:`~rubrotor.forces.reynolds`,
-  :mod:`~rubrotor.forces.magnetic`: short journal bearings and squeeze-film dampers, the finite
+- ``rubrotor.forces.terms``: ``Terms`` and :func:`build_terms`, what the model builds;
+- ``rubrotor.forces.fluid_film``, ``rubrotor.forces.reynolds``,
+  ``rubrotor.forces.magnetic``: short journal bearings and squeeze-film dampers, the finite
   journal bearing's Reynolds equation, magnetic bearings with their controller (their physics
   and checks; not yet support types of a scenario).
 
@@ -18,7 +18,7 @@ Importing this package compiles nothing.
 
 ``rubrotor.forces`` was the module of the force parameters (``Contact``, ``Unbalance``,
 ``RadialLoad``, ...); those names are still read here, with one :class:`FutureWarning`, and live
-in :mod:`rubrotor.rotors.forces`.
+in ``rubrotor.rotors.forces``.
 """
 
 from rubrotor.forces.terms import Terms, build_terms

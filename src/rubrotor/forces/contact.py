@@ -1,7 +1,7 @@
 """Contact-law force terms: every question about a contact law is answered here.
 
-A contact station's force is one compiled kernel, :func:`rubrotor.core.contact._law` (force and
-Jacobian, written once), reading one packed parameter row per contact (:data:`CP_FIELDS`). What
+A contact station's force is one compiled kernel, ``rubrotor.core.contact._law`` (force and
+Jacobian, written once), reading one packed parameter row per contact (``CP_FIELDS``). What
 differs between laws outside that kernel (units of the coefficients, the tangent stiffness that
 sizes a step, the stored elastic energy, the dimensionless groups of the seed form, whether the
 coefficient of restitution applies) is a method or attribute of the law's term object here, so
@@ -13,7 +13,7 @@ Laws (``F_n`` normal force, N; ``eps`` penetration, m; ``eps_dot`` its rate, m/s
 - ``"linear"`` (penalty spring-dashpot): ``F_n = k eps + c eps_dot``, ``k`` in N/m, ``c`` in N s/m;
 
 both clipped at zero (no adhesion), with Coulomb friction along the tangent (module docstring of
-:mod:`rubrotor.rotors.forces`).
+``rubrotor.rotors.forces``).
 """
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ class ContactLaw:
     name : str
         The scenario's ``contact.law`` value.
     code : int
-        The ``law`` column of the packed row (:data:`CP_FIELDS`) the kernel reads.
+        The ``law`` column of the packed row (``CP_FIELDS``) the kernel reads.
     exponent : float
         ``a`` in ``F_n = k eps^a`` (dimensionless).
     stiffness_unit, damping_unit : str
@@ -125,11 +125,11 @@ LINEAR = _Linear(
     "linear", 1, 1.0, "N/m", "N s/m", indentation=False, restitution=False, linear=True
 )
 LAWS = {law.name: law for law in (HERTZ, LINEAR)}
-"""Every contact law by its ``contact.law`` name (codes as :data:`CP_FIELDS` ``law``)."""
+"""Every contact law by its ``contact.law`` name (codes as ``CP_FIELDS`` ``law``)."""
 
 
 def law_named(name: str, field: str = "contact.law") -> ContactLaw:
-    """The law called ``name``; an :class:`InputError` naming ``field`` otherwise."""
+    """The law called ``name``; an ``InputError`` naming ``field`` otherwise."""
     try:
         return LAWS[name]
     except (KeyError, TypeError):
@@ -142,7 +142,7 @@ def law_of(contact) -> ContactLaw:
 
 
 def pack_row(contact, surface_speed: float, active: bool = True) -> np.ndarray:
-    """The packed parameter row (:data:`CP_FIELDS`) of ``contact`` sliding at
+    """The packed parameter row (``CP_FIELDS``) of ``contact`` sliding at
     ``surface_speed`` (m/s, ``R Omega``), as the compiled kernels read it."""
     return pack_contact(
         int(active),

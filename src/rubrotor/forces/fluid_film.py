@@ -48,7 +48,7 @@ MAX_ECCENTRICITY = 0.999
 
 
 def _positive(field: str, value, unit: str) -> float:
-    """``value`` as a finite float > 0, or an :class:`InputError` naming ``field``."""
+    """``value`` as a finite float > 0, or an ``InputError`` naming ``field``."""
     try:
         x = float(value)
     except (TypeError, ValueError):

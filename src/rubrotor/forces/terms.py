@@ -2,8 +2,8 @@
 
 :func:`build_terms` is the builder the model calls: it takes the scenario's engine tables (the
 ``EngineSpec`` of ``rubrotor.scenario.dynamics``: contact stations, unbalance planes, loads,
-gravity) and the rotor's support terms, and returns one :class:`Terms`. The engine's plant asks
-:class:`Terms` for the packed contact rows, the unbalance load and the static load; it never asks
+gravity) and the rotor's support terms, and returns one ``Terms``. The engine's plant asks
+``Terms`` for the packed contact rows, the unbalance load and the static load; it never asks
 which law or which support type a term is.
 
 Term families and where they enter the engine
@@ -78,7 +78,7 @@ class Terms:
 
 
 def build_terms(engine=None, rotor=None) -> Terms:
-    """The :class:`Terms` of a scenario's engine tables and rotor.
+    """The ``Terms`` of a scenario's engine tables and rotor.
 
     Parameters
     ----------

@@ -4,7 +4,7 @@ Each takes a :class:`~rubrotor.scenario.Scenario` (or a scenario file's path), a
 sense a :class:`~rubrotor.rotors.fe.Rotor`, a :class:`~rubrotor.rotors.shaft.Shaft` or a
 :class:`~rubrotor.rotors.linear.LinearSystem`, with the command's defaults, and returns the object
 the command prints (``to_dict()`` is its ``--json``). Speed and frequency ranges are arrays in
-rad/s or range strings with a unit (``"0:12000rpm:61"``, :func:`rubrotor.units.parse_range`).
+rad/s or range strings with a unit (``"0:12000rpm:61"``, ``rubrotor.units.parse_range``).
 ``modes`` and ``critical_speeds`` live in :mod:`rubrotor.linear.verbs`; all are in
 ``rubrotor.__all__``.
 """
@@ -38,15 +38,15 @@ def campbell(scenario_or_shaft, speeds, n: int = 8):
         The rotor.
     speeds : array_like or str
         Spin speeds (rad/s), or a range ``"START:STOP:COUNT"`` with an optional unit after a
-        number (``"0:12000rpm:61"``, :func:`rubrotor.units.parse_range`).
+        number (``"0:12000rpm:61"``, ``rubrotor.units.parse_range``).
     n : int
         Modes followed on any other rotor than the continuous shaft (default 8).
 
     Returns
     -------
     dict or CampbellData
-        The continuous shaft: the dict of :func:`rubrotor.linear.shaft.campbell` (closed-form
-        whirl frequencies, Hz). Any other rotor: :class:`~rubrotor.linear.campbell.CampbellData`
+        The continuous shaft: the dict of ``rubrotor.linear.shaft.campbell`` (closed-form
+        whirl frequencies, Hz). Any other rotor: ``rubrotor.linear.campbell.CampbellData``
         (frequencies, log decs and whirl of its ``n`` lowest modes).
     """
     from rubrotor.units import as_speeds

@@ -12,7 +12,7 @@ response ``q = Re(Q e^{i w t})`` with
 
 (each bearing table read on its own axis, as ROSS 3.x reads them: a table against speed at the
 spin ``Omega``, a table against frequency, e.g. a magnetic bearing's, at the excitation ``w``;
-one banded LU solve per frequency, by LAPACK: :mod:`rubrotor.linear.lapack`). The force ``F = [F_y, F_z]`` of amplitude ``f`` (N) at angle ``theta``
+one banded LU solve per frequency, by LAPACK: ``rubrotor.linear.lapack``). The force ``F = [F_y, F_z]`` of amplitude ``f`` (N) at angle ``theta``
 (rad, from ``+y`` towards ``+z``) is
 
 * ``"fixed"``: ``f [cos theta, sin theta] cos(w t)``, so ``F = f [cos theta, sin theta]``;
@@ -88,7 +88,7 @@ def unbalance_response(system: LinearSystem, speeds, unbalances, probes) -> Unba
     ``f(t) = Re(Fc exp(i Omega t))`` with ``Fc = B(x) [1, -i] m e Omega^2 exp(i phase)``, and the
     response ``q = Re(Q exp(i Omega t))`` solves
     ``(K(Omega) - Omega^2 M + i Omega (C(Omega) + Omega G)) Q = Fc`` at each speed (one exact LU
-    solve per speed, LAPACK banded LU for FE rotors: :mod:`rubrotor.linear.lapack`).
+    solve per speed, LAPACK banded LU for FE rotors: ``rubrotor.linear.lapack``).
 
     Parameters
     ----------

@@ -77,9 +77,9 @@ def modes(scenario_or_shaft, speed: float | None = None, n: int | None = 20, ord
     Returns
     -------
     list of Mode or DampedModes
-        The continuous shaft: every whirl frequency in closed form (:class:`Mode`, sorted by
+        The continuous shaft: every whirl frequency in closed form (``Mode``, sorted by
         mode number, branch and whirl; Hz). Any other rotor: its damped modes
-        (:class:`~rubrotor.linear.modes.DampedModes`: frequency, damping ratio, log dec, whirl
+        (``rubrotor.linear.modes.DampedModes``: frequency, damping ratio, log dec, whirl
         and shape of each, ranked by undamped natural frequency).
 
     Examples
@@ -113,9 +113,9 @@ def critical_speeds(scenario_or_shaft, max_speed: float | None = None, n: int = 
     -------
     list of CriticalSpeed or LinearCritical
         The continuous shaft: forward and backward critical speeds of every mode and branch in
-        closed form (:class:`CriticalSpeed`), sorted by speed (rad/s). Any other rotor: the
+        closed form (``CriticalSpeed``), sorted by speed (rad/s). Any other rotor: the
         speeds where a damped frequency equals the spin
-        (:class:`~rubrotor.linear.critical.LinearCritical`, with damping ratio and whirl).
+        (``rubrotor.linear.critical.LinearCritical``, with damping ratio and whirl).
     """
     from rubrotor.linear.critical import linear_critical_speeds
 

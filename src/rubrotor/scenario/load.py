@@ -724,8 +724,7 @@ class Scenario:
 
     def require_seed_engine(self, what: str) -> Shaft:
         """The uniform shaft of a scenario the seed shaft's engine runs, or a ScenarioError
-        naming the key that needs the general engine (:meth:`Kind.require_shaft_engine
-        <rubrotor.scenario.kind.Kind.require_shaft_engine>`).
+        naming the key that needs the general engine (``rubrotor.scenario.kind.Kind.require_shaft_engine``).
 
         Parameters
         ----------
