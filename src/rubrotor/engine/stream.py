@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rubrotor._memory import available_memory as _available_memory
 from rubrotor.errors import InputError
 
 __all__ = [
@@ -49,17 +50,6 @@ CONTACT_VARS = (
     ("stator_y", "m"), ("stator_z", "m"), ("stator_y_dot", "m/s"), ("stator_z_dot", "m/s"),
     ("force_y", "N"), ("force_z", "N"), ("normal_force", "N"), ("friction_force", "N"),
 )  # fmt: skip
-
-
-def _available_memory() -> int:
-    """Bytes of memory available now (Linux ``/proc/meminfo``; physical memory otherwise)."""
-    try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
-            if line.startswith("MemAvailable:"):
-                return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
 def check_size(n_samples: int, n_channels: int, n_state: int, stream: str | None) -> None:
