@@ -268,7 +268,7 @@ def force_scale(cp, sdn):
     tolerance grew with the stiffness (``1e-13 k g``: 4e12 N at ``k = 1e30`` N/m on
     seal_rub.toml) and accepted unconverged forces.
     """
-    if sdn > 0.0:
+    if sdn > 0.0 and cp[4] >= 0.0:  # a row that is not a contact (cp[4] < 0): its own scale
         return min(cp[9], cp[4] / sdn)
     return cp[9]
 

@@ -31,8 +31,9 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import _law, force_scale, forces_of
+from rubrotor.core.contact import force_scale, forces_of
 from rubrotor.core.linalg import lu_solve as _lu_solve
+from rubrotor.core.terms import FREE_RADIUS, can_be_free, length_scale, term, term_jac
 
 __all__ = [
     "OK",
@@ -75,37 +76,6 @@ CONTACT_CHANNELS = 8
 
 
 @njit(cache=True, inline="always")
-def _law_jac(py, pz, uy, uz, cp):
-    """:func:`rubrotor.core.contact._law` with the derivative of the smoothed friction sign
-    added to its Jacobian (a full Newton Jacobian: near rolling, ``v_s ~ 0``, the sign is steep
-    and the quasi-Newton one of the law alone stalls). Same 12-tuple."""
-    r = _law(py, pz, uy, uz, cp)
-    fn = r[2]
-    if fn == 0.0 or cp[6] != 0.0 or cp[5] == 0.0:
-        return r
-    d = math.sqrt(py * py + pz * pz)
-    ny = py / d
-    nz = pz / d
-    vs = cp[7] - nz * uy + ny * uz
-    if vs * vs > 1e6 * cp[8] * cp[8]:
-        return r  # far from rolling: d sigma / d v_s < 1e-9 / v_r, negligible
-    q = vs * vs + cp[8] * cp[8]
-    ds = cp[8] * cp[8] / (q * math.sqrt(q))  # d sigma / d v_s
-    # dF/dsigma = -fn mu J n = -fn mu (-nz, ny)
-    gy = fn * cp[5] * nz * ds
-    gz = -fn * cp[5] * ny * ds
-    p11 = (1.0 - ny * ny) / d
-    p12 = -ny * nz / d
-    p22 = (1.0 - nz * nz) / d
-    # dv_s/dp = -uy dnz/dp + uz dny/dp ; dv_s/du = (-nz, ny)
-    vpy = -uy * p12 + uz * p11
-    vpz = -uy * p22 + uz * p12
-    return (r[0], r[1], r[2], r[3],
-            r[4] + gy * vpy, r[5] + gy * vpz, r[6] - gy * nz, r[7] + gy * ny,
-            r[8] + gz * vpy, r[9] + gz * vpz, r[10] - gz * nz, r[11] + gz * ny)  # fmt: skip
-
-
-@njit(cache=True, inline="always")
 def _rdot(row, y):
     """``Re(row . y)`` without computing the imaginary part."""
     acc = 0.0
@@ -135,7 +105,7 @@ def _eval(lin, F, cp, fn, ft, work):
         u[r] = b
     for i in range(cp.shape[0]):
         k = 2 * i
-        r = _law_jac(p[k], p[k + 1], u[k], u[k + 1], cp[i])
+        r = term_jac(p[k], p[k + 1], u[k], u[k + 1], cp[i])
         f[k] = r[0]
         f[k + 1] = r[1]
         fn[i] = r[2]
@@ -255,7 +225,7 @@ def solve_one(lin, F0, cp, res_out):
     c = cp[0]
     f0y, f0z = F0[0], F0[1]
     if f0y == 0.0 and f0z == 0.0:
-        r = _law(pd[0], pd[1], pv[0], pv[1], c)
+        r = term(pd[0], pd[1], pv[0], pv[1], c)
         if r[2] == 0.0:
             F[0] = 0.0
             F[1] = 0.0
@@ -274,7 +244,7 @@ def solve_one(lin, F0, cp, res_out):
         pz = pd[1] + s10 * fy + s11 * fz
         uy = pv[0] + v00 * fy + v01 * fz
         uz = pv[1] + v10 * fy + v11 * fz
-        r = _law_jac(py, pz, uy, uz, c)
+        r = term_jac(py, pz, uy, uz, c)
         fn[0] = r[2]
         ft[0] = r[3]
         ry = fy - r[0]
@@ -325,6 +295,9 @@ def graze_contacts(lin, cp, res_out, work):
     F, fn, ft = res_out
     m = F.shape[0]
     f, p = work[0], work[1]
+    for i in range(cp.shape[0]):
+        if not can_be_free(cp[i]):
+            return -1  # a film or a magnet has no clearance to place a contact on
     for r in range(m):
         F[r] = 0.0
     for i in range(cp.shape[0]):
@@ -504,7 +477,7 @@ def expo_fixed(state, span, sink, steps, contacts, outputs, drive, control):
     ctl = control.on != 0.0
     gmin = 1e300
     for i in range(nc):
-        gmin = min(gmin, cp[i, 4])
+        gmin = min(gmin, length_scale(cp[i]))
     CdU = contacts.Cd
     CvU = contacts.Cv
     written = 0
@@ -535,7 +508,8 @@ def expo_fixed(state, span, sink, steps, contacts, outputs, drive, control):
             h = hs[lev]
             free = True  # every contact inside its clearance without new force: F = 0 solves
             for i in range(nc):
-                if not (pd[2 * i] ** 2 + pd[2 * i + 1] ** 2 <= cp[i, 4] ** 2):  # NaN: not free
+                g = cp[i, FREE_RADIUS]  # < 0: a row that always acts is never free
+                if not (g >= 0.0 and pd[2 * i] ** 2 + pd[2 * i + 1] ** 2 <= g * g):  # NaN too
                     free = False
             if free and not loaded:
                 # free flight: exact propagation only, no force, no event possible
@@ -661,8 +635,8 @@ def expo_fixed(state, span, sink, steps, contacts, outputs, drive, control):
                     bad = True
                 was = F[2 * i] != 0.0 or F[2 * i + 1] != 0.0
                 now = Fn[2 * i] != 0.0 or Fn[2 * i + 1] != 0.0
-                if was != now and cp[i, 0] != 0.0:
-                    g = cp[i, 4]
+                if was != now and cp[i, 0] != 0.0 and can_be_free(cp[i]):
+                    g = cp[i, FREE_RADIUS]
                     den = d - dprev[i]
                     frac = (g - dprev[i]) / den if den != 0.0 else 1.0
                     frac = min(max(frac, 0.0), 1.0)

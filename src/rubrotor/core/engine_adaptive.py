@@ -56,7 +56,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import _law
+from rubrotor.core.terms import FREE_RADIUS, can_be_free, length_scale, term
 from rubrotor.core.engine import (
     DIVERGED,
     EVENT_BUFFER_FULL,
@@ -334,7 +334,7 @@ def _free_look(y, z, S, omega, contacts, look, scratch):
             A2 += (w2 * math.sqrt(Pu[r].real ** 2 + Pu[r].imag ** 2) + grow * s2) ** 2
         A = math.sqrt(A2)
         py, pz, vy, vz = p0[2 * i], p0[2 * i + 1], v0[2 * i], v0[2 * i + 1]
-        g = cp[i, 4]
+        g = cp[i, FREE_RADIUS]  # < 0 (a row that always acts): never free, hand over
         d = math.sqrt(py * py + pz * pz)
         if not (d <= rmax):  # keeps a NaN
             rmax = d
@@ -401,7 +401,7 @@ def _write_dense(sink, idx, ysmp, z, Fs, contacts, outputs, scratch):
             pbuf[r] += contacts.Rd[r, c] * Fs[c]
             ubuf[r] += contacts.Rv[r, c] * Fs[c]
     for i in range(cp.shape[0]):
-        law = _law(pbuf[2 * i], pbuf[2 * i + 1], ubuf[2 * i], ubuf[2 * i + 1], cp[i])
+        law = term(pbuf[2 * i], pbuf[2 * i + 1], ubuf[2 * i], ubuf[2 * i + 1], cp[i])
         fn[i] = law[2]
         ft[i] = law[3]
     _write(sink, idx, ysmp, z, (Fs, fn, ft), contacts, outputs)
@@ -513,7 +513,7 @@ def expo_adaptive(state, span, sink, plan, contacts, outputs, control):
     kfree = LEVELS_UP + J + 1  # the table row for a non-dyadic step
     gmin = 1e300
     for i in range(nc):
-        gmin = min(gmin, cp[i, 4])
+        gmin = min(gmin, length_scale(cp[i]))
     k0 = istate[I_STEP]
     t_end = (k0 + n_samples) * H
     cap = events.shape[0]
@@ -587,7 +587,8 @@ def expo_adaptive(state, span, sink, plan, contacts, outputs, control):
             for i in range(nc):
                 dprev[i] = math.sqrt(pd[2 * i] ** 2 + pd[2 * i + 1] ** 2)
                 inward = pd[2 * i] * pv[2 * i] + pd[2 * i + 1] * pv[2 * i + 1] > 0.0
-                entering[i] = inward and not (cp[i, 4] - dprev[i] > tol_x)
+                entering[i] = inward and can_be_free(cp[i]) and not (
+                    cp[i, FREE_RADIUS] - dprev[i] > tol_x)
             for r in range(m):
                 Fp[r] = 0.0
                 Fpm[r] = 0.0
@@ -691,9 +692,9 @@ def expo_adaptive(state, span, sink, plan, contacts, outputs, control):
             pmax = max(pmax, dnew[i])
             was = F[2 * i] != 0.0 or F[2 * i + 1] != 0.0
             now = Fn[2 * i] != 0.0 or Fn[2 * i + 1] != 0.0
-            if was != now:
+            if was != now and can_be_free(cp[i]):
                 changed = True
-                g = cp[i, 4]
+                g = cp[i, FREE_RADIUS]
                 # a force released inside the clearance (a dashpot's pull clipped to zero)
                 # passes through zero continuously: no crossing to locate, the error control
                 # refines the kink
@@ -808,8 +809,8 @@ def expo_adaptive(state, span, sink, plan, contacts, outputs, control):
                 bad = True
             was = F[2 * i] != 0.0 or F[2 * i + 1] != 0.0
             now = Fn[2 * i] != 0.0 or Fn[2 * i + 1] != 0.0
-            if was != now and cp[i, 0] != 0.0:
-                g = cp[i, 4]
+            if was != now and cp[i, 0] != 0.0 and can_be_free(cp[i]):
+                g = cp[i, FREE_RADIUS]
                 if abs(dprev[i] - g) <= tol_x:
                     te = t
                 else:

@@ -40,7 +40,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import contact_force_jac_exact
+from rubrotor.core.terms import FREE_RADIUS, term_jac_exact
 from rubrotor.core.engine import (
     SAFE_FASTMATH,
     _rdot,
@@ -74,7 +74,7 @@ def _implicit(pd, pv, Fn, Sd, Sv, cp, lin):
             uz += Sv[k + 1, c] * Fn[c]
         jac[:, :] = 0.0
         if Fn[k] != 0.0 or Fn[k + 1] != 0.0:
-            contact_force_jac_exact(py, pz, uy, uz, cp[i], jac)
+            term_jac_exact(py, pz, uy, uz, cp[i], jac)
         for a in range(2):
             lin[k + a, 0] = jac[a, 0]
             lin[k + a, 1] = jac[a, 1]
@@ -230,7 +230,8 @@ def map_tangent(state, tangents, steps, contacts, outputs, omega, n_steps, out):
             h = hs[lev]
             free = True
             for i in range(nc):
-                if not (pd[2 * i] ** 2 + pd[2 * i + 1] ** 2 <= cp[i, 4] ** 2):
+                g = cp[i, FREE_RADIUS]  # < 0: a row that always acts is never free
+                if not (g >= 0.0 and pd[2 * i] ** 2 + pd[2 * i + 1] ** 2 <= g * g):
                     free = False
             if free:
                 it = 0

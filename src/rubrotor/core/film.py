@@ -34,7 +34,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-__all__ = ["Film", "FULL_FILM", "PI_FILM", "NODES", "film_force", "film_force_jac"]
+__all__ = ["Film", "FULL_FILM", "PI_FILM", "NODES", "film_force", "film_force_jac", "film_sums"]
 
 FULL_FILM = 0
 """Cavitation code: the film carries negative pressures (the whole circle, Sommerfeld)."""
@@ -74,6 +74,64 @@ def _limits(y, z, vy, vz, omega, cavitation, beta, k):
 
 
 @njit(cache=True)
+def film_sums(y, z, vy, vz, omega, film):
+    """Force of a short film on the journal and its Jacobian, as scalars (no allocation).
+
+    Arguments as :func:`film_force_jac`. Returns the 12-tuple ``(fy, fz, dfy/dy, dfy/dz,
+    dfy/dvy, dfy/dvz, dfz/dy, dfz/dz, dfz/dvy, dfz/dvz, dfy/domega, dfz/domega)`` (N, N/m,
+    N s/m, N s); all NaN when the journal touches the bearing (eccentricity ratio >= 1).
+    """
+    c = film.clearance
+    e = math.hypot(y, z)
+    eps = e / c
+    if not eps < 1.0:
+        nan = math.nan
+        return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan
+    beta = math.atan2(z, y)
+    cb, sb = math.cos(beta), math.sin(beta)
+    s1 = math.sqrt(1.0 - eps * eps)
+    k = math.sqrt((1.0 + eps) / (1.0 - eps))
+    xa, xb, loaded = _limits(y, z, vy, vz, omega, film.cavitation, beta, k)
+    if not loaded:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    a = omega * z + 2.0 * vy
+    b = -omega * y + 2.0 * vz
+    scale = -0.5 * film.viscosity * film.length**3 * film.radius
+    half = 0.5 * (xb - xa)
+    mid = 0.5 * (xb + xa)
+    f0 = f1 = j00 = j01 = j02 = j03 = j10 = j11 = j12 = j13 = j04 = j14 = 0.0
+    for i in range(NODES):
+        xi = mid + half * _X[i]
+        cx, sx = math.cos(xi), math.sin(xi)
+        d = 1.0 + eps * cx
+        cphi = (cx + eps) / d
+        sphi = s1 * sx / d
+        ct = cphi * cb - sphi * sb
+        st = sphi * cb + cphi * sb
+        inv_h = d / (c * (1.0 - eps * eps))
+        w = scale * _W[i] * half * (s1 / d) * inv_h**3
+        n = a * ct + b * st
+        f0 += w * n * ct
+        f1 += w * n * st
+        # d/dy and d/dz: N and 1/h^3 (dh/dy = -cos theta, dh/dz = -sin theta)
+        dn_y = -omega * st
+        dn_z = omega * ct
+        g = 3.0 * n * inv_h
+        j00 += w * (dn_y + g * ct) * ct
+        j10 += w * (dn_y + g * ct) * st
+        j01 += w * (dn_z + g * st) * ct
+        j11 += w * (dn_z + g * st) * st
+        j02 += w * 2.0 * ct * ct
+        j12 += w * 2.0 * ct * st
+        j03 += w * 2.0 * st * ct
+        j13 += w * 2.0 * st * st
+        dn_w = z * ct - y * st
+        j04 += w * dn_w * ct
+        j14 += w * dn_w * st
+    return f0, f1, j00, j01, j02, j03, j10, j11, j12, j13, j04, j14
+
+
+@njit(cache=True)
 def film_force_jac(y, z, vy, vz, omega, film):
     """Force of a short film on the journal and its Jacobian.
 
@@ -96,55 +154,9 @@ def film_force_jac(y, z, vy, vz, omega, film):
         Its derivatives with respect to ``y, z`` (N/m), ``vy, vz`` (N s/m) and ``omega`` (N s).
         All NaN when the journal touches the bearing (eccentricity ratio >= 1).
     """
-    f = np.zeros(2)
-    jac = np.zeros((2, 5))
-    c = film.clearance
-    e = math.hypot(y, z)
-    eps = e / c
-    if not eps < 1.0:
-        f[:] = np.nan
-        jac[:, :] = np.nan
-        return f, jac
-    beta = math.atan2(z, y)
-    cb, sb = math.cos(beta), math.sin(beta)
-    s1 = math.sqrt(1.0 - eps * eps)
-    k = math.sqrt((1.0 + eps) / (1.0 - eps))
-    xa, xb, loaded = _limits(y, z, vy, vz, omega, film.cavitation, beta, k)
-    if not loaded:
-        return f, jac
-    a = omega * z + 2.0 * vy
-    b = -omega * y + 2.0 * vz
-    scale = -0.5 * film.viscosity * film.length**3 * film.radius
-    half = 0.5 * (xb - xa)
-    mid = 0.5 * (xb + xa)
-    for i in range(NODES):
-        xi = mid + half * _X[i]
-        cx, sx = math.cos(xi), math.sin(xi)
-        d = 1.0 + eps * cx
-        cphi = (cx + eps) / d
-        sphi = s1 * sx / d
-        ct = cphi * cb - sphi * sb
-        st = sphi * cb + cphi * sb
-        inv_h = d / (c * (1.0 - eps * eps))
-        w = scale * _W[i] * half * (s1 / d) * inv_h**3
-        n = a * ct + b * st
-        f[0] += w * n * ct
-        f[1] += w * n * st
-        # d/dy and d/dz: N and 1/h^3 (dh/dy = -cos theta, dh/dz = -sin theta)
-        dn_y = -omega * st
-        dn_z = omega * ct
-        g = 3.0 * n * inv_h
-        jac[0, 0] += w * (dn_y + g * ct) * ct
-        jac[1, 0] += w * (dn_y + g * ct) * st
-        jac[0, 1] += w * (dn_z + g * st) * ct
-        jac[1, 1] += w * (dn_z + g * st) * st
-        jac[0, 2] += w * 2.0 * ct * ct
-        jac[1, 2] += w * 2.0 * ct * st
-        jac[0, 3] += w * 2.0 * st * ct
-        jac[1, 3] += w * 2.0 * st * st
-        dn_w = z * ct - y * st
-        jac[0, 4] += w * dn_w * ct
-        jac[1, 4] += w * dn_w * st
+    r = film_sums(y, z, vy, vz, omega, film)
+    f = np.array([r[0], r[1]])
+    jac = np.array([[r[2], r[3], r[4], r[5], r[10]], [r[6], r[7], r[8], r[9], r[11]]])
     return f, jac
 
 

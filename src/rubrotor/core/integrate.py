@@ -23,7 +23,8 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import contact_force, solve_contact
+from rubrotor.core.contact import solve_contact
+from rubrotor.core.terms import term_force
 from rubrotor.core.flags import SAFE_FASTMATH
 from rubrotor.core.status import (
     CONTACT_FAILED,
@@ -124,7 +125,7 @@ def _write_sample(out, idx, y, z, F, cp, rows):
     """Write one sample computed from ``y``; the contact forces from station 0's state."""
     P, V, A = _station(y, z, F, 0, rows)
     _put(out, idx, 0, P, V, A)
-    fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    fy, fz, fn, ft = term_force(P.real, P.imag, V.real, V.imag, cp)
     _write_probes(out, idx, y, z, F, rows, fn, ft)
 
 
@@ -173,7 +174,7 @@ def _friction_power(y, z, cp, cdc, cvc, part_c, vel_c_z, part_lc):
     for j in range(y.shape[0]):
         P += cdc[j] * y[j]
         V += cvc[j] * y[j]
-    fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    fy, fz, fn, ft = term_force(P.real, P.imag, V.real, V.imag, cp)
     if fn == 0.0:
         return 0.0
     d = abs(P)
@@ -585,7 +586,7 @@ def _rhs(t, y, k, cp, dy):
     for j in range(y.shape[0]):
         P += k.cdc[j] * y[j]
         V += k.cvc[j] * y[j]
-    fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    fy, fz, fn, ft = term_force(P.real, P.imag, V.real, V.imag, cp)
     F = complex(fy, fz)
     fu = k.fu0 * complex(math.cos(k.omega * t), math.sin(k.omega * t))
     for j in range(y.shape[0]):
@@ -688,7 +689,7 @@ def abm_fixed(st, n_samples, out_offset, k, cp, rows):
         for j in range(ns):
             P += cdc[j] * y[j]
             V += cvc[j] * y[j]
-        fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+        fy, fz, fn, ft = term_force(P.real, P.imag, V.real, V.imag, cp)
         _write_sample(out, out_offset + s_i, y, z, complex(fy, fz), cp, rows)
         written += 1
     st.cstate[0] = F

@@ -31,7 +31,7 @@ re-orthonormalisation only matters over the thousands of revolutions of a Lyapun
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import contact_force
+from rubrotor.core.terms import term_force
 from rubrotor.core.integrate import SAFE_FASTMATH
 from rubrotor.core.tangent import expo_tangent
 
@@ -71,7 +71,7 @@ def expo_strobe(y, Q, k, cp, out):
     for j in range(y.shape[0]):
         P += cdc[j] * y[j]
         V += cvc[j] * y[j]
-    fy, fz, fn, ft = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    fy, fz, fn, ft = term_force(P.real, P.imag, V.real, V.imag, cp)
     cstate = np.array([complex(fy, fz), 1.0 + 0j, 0j, 0j])
     istate = np.zeros(2, np.int64)
     expo_tangent(y, cstate, istate, Q, np.zeros(Q.shape[0]), k, cp, 0)

@@ -14,7 +14,7 @@ bearings' tables) and switched to the ``after`` set from ``fail_time`` (s) on::
     theta' = Omega
 
 ``ft_i`` (N) is the friction force of contact ``i`` along ``i n`` on the rotor (negative when the
-rotor surface slides forward), evaluated by :func:`rubrotor.core.contact._law` with the sliding
+rotor surface slides forward), evaluated by :func:`rubrotor.core.terms.term` with the sliding
 speed ``R_i Omega - r_i omega_ring_i + t . u``. The unbalance force of a plane ``m e`` at angle
 ``theta + phase`` is ``m e (Omega^2 (cos, sin) + Omega' (sin, -cos))``.
 
@@ -33,7 +33,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import _law
+from rubrotor.core.terms import term
 
 __all__ = ["spin_dopri", "SPIN_OK", "SPIN_STEP_TOO_SMALL", "SPIN_DIVERGED", "SPIN_MAX_STEPS"]
 
@@ -114,7 +114,7 @@ def _rhs(t, x, mats, forces, cont, spin, dx, rec):
         for k in range(cp.shape[1]):
             cpi[k] = cp[i, k]
         cpi[7] = radius[i] * om - ring[i, 2] * wr
-        res = _law(py, pz, uy, uz, cpi)
+        res = term(py, pz, uy, uz, cpi)
         fy, fz, fn, ft = res[0], res[1], res[2], res[3]
         for b in range(r):
             dx[r + b] += Pc[2 * i, b] * fy + Pc[2 * i + 1, b] * fz

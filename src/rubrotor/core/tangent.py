@@ -24,7 +24,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.contact import contact_force_jac_exact
+from rubrotor.core.terms import term_jac_exact
 from rubrotor.core.integrate import SAFE_FASTMATH, fixed_coefficients, fixed_step, phasor
 from rubrotor.core.status import CONTACT_FAILED, DIVERGED, OK, TANGENTS_DEGENERATE
 
@@ -130,7 +130,7 @@ def advance_tangents(Q, dFk, new, prop, scal, cp, jk, nm):
     Fn, P, V = new
     jk[:, :] = 0.0
     if Fn != 0j:
-        contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
+        term_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
         nm = newton_matrix(jk, scal[0], scal[1])
     for i in range(Q.shape[0]):
         dFn = 0j
@@ -195,7 +195,7 @@ def expo_tangent(y, cstate, istate, Q, logs, k, cp, renorm_every):
     for j in range(y.shape[0]):
         P += cdc[j] * y[j]
         V += cvc[j] * y[j]
-    contact_force_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
+    term_jac_exact(P.real, P.imag, V.real, V.imag, cp, jk)
     rmax2 = max(cstate[3].real ** 2, P.real * P.real + P.imag * P.imag)
     dFk = np.zeros(Q.shape[0], np.complex128)
     nm = (1.0, 0.0, 0.0, 1.0, 1.0)  # I - J S out of contact (unused there)

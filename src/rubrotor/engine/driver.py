@@ -56,6 +56,7 @@ from rubrotor.core.engine_adaptive import (
     expo_adaptive,
 )
 from rubrotor.core.status import Status
+from rubrotor.core.terms import ROW_WIDTH, length_scales
 from rubrotor.engine import restart
 from rubrotor.engine.parts import (
     RubStation,
@@ -116,7 +117,9 @@ class Plant:
     q_static: np.ndarray  # (n,) m or rad
     q_unbalance: np.ndarray  # (n,) complex amplitude of the steady unbalance response
     speed: float
-    Bmat: np.ndarray  # (n, m) force map of the contact forces
+    Bmat: np.ndarray  # (n, m) force map of the row forces
+    n_contacts: int = 0  # rows 0 .. n_contacts - 1 are contacts, the rest supports
+    supports: tuple = ()  # support rows (``FilmRow``), after the contacts
 
 
 def _stator_modes(st: RubStation):
@@ -174,7 +177,7 @@ def _initial(run: Run, modes: Modes, q_s, Q, speed) -> np.ndarray:
 
 
 def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=(0.0, 0.0),
-                basis=None, dense=False):  # fmt: skip
+                basis=None, dense=False, supports=()):  # fmt: skip
     """Reduce the rotor and assemble rows, particular solutions and initial state.
 
     Parameters
@@ -198,6 +201,9 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     dense : bool
         Always the dense eigen-decomposition (modes exact to rounding, not to ARPACK's
         tolerance: for maps compared across key values, as in continuation).
+    supports : sequence of rubrotor.forces.film_row.FilmRow
+        Nonlinear supports whose linearisation is in ``system``: rows after the contacts, their
+        stations saved after the probes, their constant part in the static load.
 
     Returns
     -------
@@ -205,9 +211,10 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     """
     speed = float(run.speed)
     sm = system.matrices(speed)
-    nc = len(stations)
+    nc = len(stations) + len(supports)
     m = 2 * nc
     Bc = [system.force_map(s.contact.position) for s in stations]
+    Bc += [system.force_map(b.position) for b in supports]
     Bmat = np.hstack(Bc) if nc else np.zeros((sm.M.shape[0], 0))
     try:
         if basis is not None:
@@ -219,7 +226,7 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     except IllConditioned as exc:  # name the scenario key far off the rotor's scale, if any
         raise explain(exc, system.scales) from None
     Rq, Rv = (modes.Rq, modes.Rv) if run.residual else (0 * modes.Rq, 0 * modes.Rv)
-    st_modes = [_stator_modes(s) for s in stations]
+    st_modes = [_stator_modes(s) for s in stations] + [None] * len(supports)
     nsr = modes.size
     ns = nsr + sum(s.size for s in st_modes if s is not None)
     lam = np.concatenate([modes.lam] + [s.lam for s in st_modes if s is not None])
@@ -244,12 +251,19 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
     except NearCritical as exc:  # name the scenario key far off the rotor's scale, if any
         raise explain(exc, system.scales) from None
     f_s = terms.static_load(system)
+    for i, b in enumerate(supports):  # the supports' constant part: F0 + K0 P0
+        f_s = f_s + Bc[len(stations) + i] @ b.static_force(speed)
     q_s = np.linalg.solve(sm.K, f_s) if np.any(f_s) else np.zeros_like(f_s)
-    offs = np.array([[s.offset_y, s.offset_z] for s in stations]).ravel()
+    offs = np.array([[s.offset_y, s.offset_z] for s in stations] + [[0.0, 0.0]] * len(supports))
+    offs = offs.ravel()
     Pu = Bmat.T @ Q
     cps = terms.contact_rows(speed)
+    if supports:
+        cps = np.vstack([np.pad(cps, ((0, 0), (0, ROW_WIDTH - cps.shape[1]))),
+                         [b.row(speed) for b in supports]])  # fmt: skip
     max_d = run.max_displacement or (
         1000 * max((s.contact.clearance for s in stations), default=0.0)
+        or 10 * max((b.scale for b in supports), default=0.0)
         or 0.1 * system.basis.length
     )
     contacts = Contacts(
@@ -257,7 +271,8 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
         Rd=Bmat.T @ Rq @ Bmat, Rv=Bmat.T @ Rv @ Bmat, Pu=Pu, Pv=1j * speed * Pu,
         d0=Bmat.T @ q_s - offs, cp=cps, max_disp=float(max_d),
     )  # fmt: skip
-    positions = np.array([s.contact.position for s in stations] + list(run.probes), float)
+    positions = np.array([s.contact.position for s in stations] + list(run.probes)
+                         + [b.position for b in supports], float)  # fmt: skip
     orow = np.vstack([system.output_rows(x) for x in positions]) if len(positions) else None
     if orow is None:
         raise InputError(
@@ -270,11 +285,12 @@ def build_plant(system, run: Run, stations=(), unbalances=(), loads=(), gravity=
         Od=Od, Ov=Od * lam[None, :], ORd=orow @ Rq @ Bmat, ORv=orow @ Rv @ Bmat,
         OPu=orow @ Q, OPv=1j * speed * (orow @ Q), Od0=orow @ q_s,
         Sd=np.ascontiguousarray(Sd), Sv=np.ascontiguousarray(Sd * lam[None, :]),
-        flex=np.array([float(s.stator is not None) for s in stations]),
+        flex=np.array([float(s.stator is not None) for s in stations] + [0.0] * len(supports)),
     )  # fmt: skip
     y0 = np.zeros(ns, complex)
     y0[:nsr] = _initial(run, modes, q_s, Q, speed)
-    return Plant(lam, beta, contacts, outputs, positions, y0, modes, nsr, q_s, Q, speed, Bmat)
+    return Plant(lam, beta, contacts, outputs, positions, y0, modes, nsr, q_s, Q, speed, Bmat,
+                 len(stations), tuple(supports))  # fmt: skip
 
 
 def stiffness_hint(plant: Plant, h: float, status: int) -> str:
@@ -293,7 +309,7 @@ def stiffness_hint(plant: Plant, h: float, status: int) -> str:
         return ""
     Sd = _steps(plant, h, 1).Sd[0]
     worst, which = 0.0, 0
-    for i in range(c.cp.shape[0]):
+    for i in range(plant.n_contacts):
         ks = c.cp[i, 9] / c.cp[i, 4] * np.max(np.abs(Sd[2 * i : 2 * i + 2, 2 * i : 2 * i + 2]))
         if ks > worst:
             worst, which = ks, i
@@ -351,6 +367,7 @@ class Problem:
     unbalances: tuple
     loads: tuple
     gravity: tuple
+    supports: tuple = ()
 
 
 def _no_drive(ns: int) -> Drive:
@@ -406,7 +423,7 @@ def _plan(plant: Plant, run: Run, levels: int, order: int = 2) -> Plan:
             np.zeros((o4, 6, ns), complex), *(np.zeros((o4, m, ns), complex) for _ in range(4)),
             np.zeros((o4, 2 * m, m)), np.zeros((o4, 2 * m, m)), np.zeros((o4, 2 * m, 2 * m)),
             np.zeros((o4, 2 * m, 2 * m)))  # fmt: skip
-    gmin = float(np.min(c.cp[:, 4])) if m else 0.0
+    gmin = float(np.min(length_scales(c.cp))) if m else 0.0
     H = float(run.step)
     return Plan(
         lam=lam, BT=np.ascontiguousarray(beta.T),
@@ -831,6 +848,7 @@ def simulate_general(
     attrs: dict | None = None,
     resume: dict | None = None,
     t0: float = 0.0,
+    supports=(),
 ) -> EngineResult:
     """Simulate a linear rotor with rub at several stations (see the module docstring).
 
@@ -868,6 +886,8 @@ def simulate_general(
         ``x`` (constant speed only).
     t0 : float
         Time (s) of the first sample in a streamed file (a continued run's start).
+    supports : sequence of rubrotor.forces.film_row.FilmRow
+        Nonlinear supports (see ``build_plant``); their outputs are the ``bearing`` variables.
 
     Returns
     -------
@@ -879,7 +899,11 @@ def simulate_general(
         Bad input, or an output too large for memory (or disk when streamed), before running.
     """
     method = _check_call(method, stations, run, chunk_samples)
-    problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity))
+    problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity),
+                      tuple(supports))  # fmt: skip
+    if supports and (stream is not None or resume is not None or run.speed_end is not None):
+        raise InputError("bearing.type", "film", "a constant-speed run in memory: streamed, "
+                         "restarted and run-up runs do not take film bearings yet")  # fmt: skip
     if run.speed_end is not None:
         method = "runup"
         if not isinstance(run.initial, str) or run.initial not in ("rest", "static"):
@@ -888,12 +912,12 @@ def simulate_general(
             )
         plant = build_plant(system, run, stations, (), loads, gravity)
     elif plant is None:
-        plant = build_plant(system, run, stations, unbalances, loads, gravity)
+        plant = build_plant(system, run, stations, unbalances, loads, gravity, supports=supports)
     sample_dt = run.step * run.save_every
     n_samples = int(math.floor(run.duration / sample_dt + 1e-9))
     if n_samples < 1:
         raise InputError("simulation.duration", run.duration, f">= one sample ({sample_dt:g} s)")
-    nst, nc = len(plant.stations), len(stations)
+    nst, nc = len(plant.stations), len(plant.outputs.flex)
     nch = 4 * nst + CONTACT_CHANNELS * nc
     check_size(n_samples + 1, nch, plant.lam.size if run.save_state else 0, stream)
     width = min(chunk_samples, n_samples) if stream is not None else n_samples
@@ -962,10 +986,11 @@ def _run(chunk, final, stats, state, plant, run, method, opts) -> EngineResult:
         stats["stream"] = str(stream)
         n_out = 0
     return TimeRun(
-        time=np.arange(n_out) * sample_dt, stations=plant.stations, n_contacts=nc,
+        time=np.arange(n_out) * sample_dt, stations=plant.stations, n_contacts=plant.n_contacts,
         channels=state.out[:, :n_out], events=events, states=state.ys[:n_out], status=status,
         message=msg, stats=stats, speed=plant.speed, final_state=keep.x, restart=keep.snap,
         engine="general", code=Status(int(state.istate[I_STATUS])),
+        extras={"supports": plant.supports} if plant.supports else {},
     )  # fmt: skip
 
 

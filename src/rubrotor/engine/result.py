@@ -309,6 +309,28 @@ def _general_attrs(run, parameters, scenario_text, name) -> dict:
     }
 
 
+def _general_extra(run, t) -> dict:
+    """The nonlinear supports' outputs on ``(bearing, time)``: each support term's own
+    variables (``outputs``) of its journal's samples (its station, after the probes)."""
+    supports = run.extras.get("supports", ())
+    if not supports:
+        return {}
+    ch, S, nb = run.channels, len(run.stations), len(supports)
+    per = {}
+    for j, b in enumerate(supports):
+        s = S - nb + j
+        p, u = ch[4 * s : 4 * s + 2], ch[4 * s + 2 : 4 * s + 4]
+        for key, value in b.outputs(p, u, run.speed).items():
+            per.setdefault(key, []).append(value)
+    units = dict(getattr(type(supports[0]), "OUTPUT_UNITS", {}))
+    out = {k: _var(("bearing", "time"), np.array(v), {"units": units.get(k, "")})
+           for k, v in per.items()}  # fmt: skip
+    out["bearing_name"] = _var("bearing", np.array([b.name for b in supports]), {})
+    out["bearing_position"] = _var("bearing", np.array([b.position for b in supports]),
+                                   {"units": "m"})  # fmt: skip
+    return out
+
+
 def _spin_extra(run, t) -> dict:
     return {
         "spin_speed": _var("time", run.spin_speed, {"units": "rad/s", "long_name": "spin speed"}),
@@ -358,7 +380,7 @@ LAYOUTS = {
                 "station": {"units": "m", "long_name": "axial position"},
                 "contact": {"long_name": "contact index"}},  # fmt: skip
         in_contact={},
-        extra=lambda run, t: {},
+        extra=_general_extra,
         events=_general_events,
         attrs=_general_attrs,
     ),
