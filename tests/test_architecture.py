@@ -271,3 +271,30 @@ def test_one_stepper_table():
         assert spec.order in (2, 3, 4) and spec.engines, name
     assert settings.METHODS == {m: table[m].order for m in settings.METHODS}
     assert set(settings.SHAFT_INITIAL_STATES) <= set(settings.INITIAL_STATES)
+
+
+FORCE_KERNELS = {"_law", "contact_force", "contact_force_jac", "contact_force_jac_exact",
+                 "solve_contact", "film_sums", "film_force", "film_force_jac", "magnet_force"}
+"""The compiled force kernels of the terms: called only through the dispatch."""
+
+
+def test_force_kernels_called_only_through_the_dispatch():
+    """A term's force kernel is called by its own module, by ``rubrotor.forces`` and by the one
+    dispatch ``core/terms.py``; the engine, orbits, linear analyses and studies call
+    ``rubrotor.core.terms`` (``term``, ``term_jac``, ``term_jac_exact``, ``term_force``) and never
+    name a law or a film. The shaft's own complex single-contact Newton (``solve_contact``,
+    ``core/integrate.py``) is the one exception left, listed here."""
+    root = Path(rubrotor.__file__).parent
+    allowed = {root / "core" / n for n in ("contact.py", "film.py", "amb.py", "terms.py")}
+    allowed |= {root / "core" / "integrate.py"}  # solve_contact: the seed shaft's exact route
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        if path in allowed or path.is_relative_to(root / "forces"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Call):
+                f = node.func
+                name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+                if name in FORCE_KERNELS:
+                    found.append(f"{path.relative_to(root)}:{node.lineno} {name}")
+    assert not found, found

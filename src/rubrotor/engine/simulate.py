@@ -162,12 +162,12 @@ def _state_of(sysm: ModalSystem, y_full: np.ndarray, phase: float) -> RotorState
 
 def _start_force(y: np.ndarray, cp: np.ndarray, orows) -> complex:
     """Contact force (N) of the start state (the held force of the first exponential step)."""
-    from rubrotor.core.contact import contact_force
+    from rubrotor.core.terms import term_force
 
     rows_d, rows_v, _, _, part_u, part_l, vel_z = orows[:7]
     P = complex(rows_d[0] @ y + part_u[0] + part_l[0])
     V = complex(rows_v[0] @ y + vel_z[0])
-    fy, fz, _, _ = contact_force(P.real, P.imag, V.real, V.imag, cp)
+    fy, fz, _, _ = term_force(P.real, P.imag, V.real, V.imag, cp)
     return complex(fy, fz)
 
 

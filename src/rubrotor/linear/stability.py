@@ -3,7 +3,7 @@
 The rotor is held at a static contact position ``P0 = (g + eps0) e_y`` (the force that holds it,
 e.g. a radial load, does not enter the perturbation equations) with zero whirl velocity. The
 contact force is linearised there with the engine's own Jacobian
-(``rubrotor.core.contact.contact_force_jac``): radial stiffness ``1.5 k_h eps0^0.5``,
+(``rubrotor.core.terms.term``): radial stiffness ``1.5 k_h eps0^0.5``,
 Hunt-Crossley damping ``k_h eps0^1.5 b_h`` (N s/m), the geometric term of the normal force turning
 with the position (``F_n0 / (g + eps0)``) and the friction ``mu`` times all of these along the
 tangent; the derivative of the smoothed friction sign is neglected (the surface speed
@@ -24,7 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.optimize
 
-from rubrotor.core.contact import contact_force_jac, pack_contact
+from rubrotor.core.contact import pack_contact
+from rubrotor.core.terms import term
 from rubrotor.errors import InputError
 from rubrotor.forces.contact import law_of
 from rubrotor.linear.modes import _modes
@@ -254,8 +255,7 @@ def contact_stability(
     )
     if linearisation not in ("radial", "isotropic"):
         raise InputError("linearisation", linearisation, '"radial" or "isotropic"')
-    jac = np.zeros((2, 4))
-    contact_force_jac(c.clearance + indentation, 0.0, 0.0, 0.0, cp, jac)
+    jac = np.reshape(term(c.clearance + indentation, 0.0, 0.0, 0.0, cp)[4:], (2, 4))
     if linearisation == "isotropic":
         a_, c_ = complex(jac[0, 0], jac[1, 0]), complex(jac[0, 2], jac[1, 2])
         jac = np.array(
@@ -282,9 +282,8 @@ def _pressed_jacobian(station, speed: float, indentation: float, friction: bool)
     cp = pack_contact(1, c.law_code, c.stiffness, c.damping or 0.0, c.clearance,
                       c.friction if friction else 0.0, c.sign_code, c.radius * speed,
                       c.friction_regularization)  # fmt: skip
-    jac = np.zeros((2, 4))
-    fn = contact_force_jac(c.clearance + indentation, 0.0, 0.0, 0.0, cp, jac)[2]
-    return jac, float(fn)
+    r = term(c.clearance + indentation, 0.0, 0.0, 0.0, cp)
+    return np.reshape(r[4:], (2, 4)), float(r[2])
 
 
 def _with_stator(mats, fmap: np.ndarray, stator):
@@ -312,7 +311,7 @@ def general_contact_stability(scenario, indentation: float, *, friction: bool = 
     contact law linearised at ``p = (g + eps) e_y`` relative to the stator centre (any offset:
     only the relative position enters), at rest relative to it, and the stator's two DOFs when
     it is flexible: ``M x'' + (D - E J_u E^T) x' + (K - E J_p E^T) x = 0`` with ``J`` the law's
-    Jacobian (``rubrotor.core.contact.contact_force_jac``) and ``p = E^T x``. The force
+    Jacobian (``rubrotor.core.terms.term``) and ``p = E^T x``. The force
     that holds the rotor there (a load, gravity) does not enter the perturbation.
 
     Parameters

@@ -35,7 +35,7 @@ import math
 import numpy as np
 import scipy.linalg
 
-from rubrotor.core.contact import contact_force_jac_exact
+from rubrotor.core.terms import term_jac_exact
 from rubrotor.engine.simulate import _particular, contact_parameters
 from rubrotor.errors import InputError
 from rubrotor.orbits.shooting import (
@@ -125,7 +125,7 @@ class Field:
         p = self._part_c + self._cdc @ ys
         u = self._vel_c + self._cvc @ ys
         jk = np.zeros((2, 4))
-        fy, fz, _, _ = contact_force_jac_exact(p.real, p.imag, u.real, u.imag, self._cp, jk)
+        fy, fz, _, _ = term_jac_exact(p.real, p.imag, u.real, u.imag, self._cp, jk)
         return p, complex(fy, fz), jk
 
     def evaluate(self, x: np.ndarray, jacobian: bool = False):
