@@ -441,8 +441,34 @@ class Model:
             return ()
         return sups[0].law.linearisation.states(float(speed))
 
+    def nonlinear_supports(self) -> tuple:
+        """``(index, type)`` of each ``[[bearing]]`` whose support is nonlinear (a fluid film:
+        ``short_journal``, ``squeeze_film``, ``finite_journal``), index counted from 1."""
+        if self.rotor != "fe":
+            return ()
+        return tuple((i + 1, b.type) for i, b in enumerate(self._fe().bearings)
+                     if getattr(b, "nonlinear", False))  # fmt: skip
+
     def forces(self) -> Forces:
-        """The force terms of the scenario (see ``Forces``)."""
+        """The force terms of the scenario (see ``Forces``).
+
+        Raises
+        ------
+        ScenarioError
+            For a scenario with a fluid-film support: the time runs do not yet carry its
+            nonlinear force (the engine's film row, issue 36), and a run on its linearisation
+            alone would be a wrong answer; the linear verbs and ``static`` take it.
+        """
+        films = self.nonlinear_supports()
+        if films:
+            from rubrotor.errors import ScenarioError
+
+            i, kind = films[0]
+            raise ScenarioError(f"bearing[{i}].type", kind,
+                                "a linear support type for a time run: fluid-film supports "
+                                "run in static, bearings and the linear verbs (modes, campbell, "
+                                "critical, unbalance, clearance, level1, stability); the time "
+                                "runs do not carry their nonlinear force yet")  # fmt: skip
         sc = self.scenario
         eng = sc.engine
         if self.engine == "general":
