@@ -469,6 +469,9 @@ class Model:
                                 "run in static, bearings and the linear verbs (modes, campbell, "
                                 "critical, unbalance, clearance, level1, stability); the time "
                                 "runs do not carry their nonlinear force yet")  # fmt: skip
+        return self._forces()
+
+    def _forces(self) -> Forces:
         sc = self.scenario
         eng = sc.engine
         if self.engine == "general":
@@ -479,7 +482,7 @@ class Model:
     @property
     def contact_stations(self) -> tuple:
         """The general engine's contact stations (empty on the seed shaft's engine)."""
-        return self.forces().stations if self.engine == "general" else ()
+        return self._forces().stations if self.engine == "general" else ()
 
     @property
     def first_contact(self):

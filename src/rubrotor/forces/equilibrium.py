@@ -33,7 +33,8 @@ import numpy as np
 from rubrotor.errors import InputError
 from rubrotor.forces.fluid_film import MAX_ECCENTRICITY
 
-__all__ = ["SupportLinearisation", "Linearisation", "nonlinear_supports", "solve_equilibrium"]
+__all__ = ["SupportLinearisation", "Linearisation", "nonlinear_supports", "solve_equilibrium",
+           "first_speed"]
 
 
 @dataclass(frozen=True)
@@ -85,6 +86,14 @@ class SupportLinearisation:
 def nonlinear_supports(system) -> tuple:
     """The supports of ``system`` that carry a nonlinear term, in their order."""
     return tuple(s for s in system.supports if getattr(s.term, "nonlinear", False))
+
+
+def first_speed(system, max_speed: float, points: int) -> float:
+    """Where a speed scan from rest starts (rad/s): 0, or with journal bearings (no film
+    without spin) the scan's first step ``max_speed / (points - 1)``."""
+    if any(s.term.spins for s in nonlinear_supports(system)):
+        return float(max_speed) / max(points - 1, 1)
+    return 0.0
 
 
 def _linear_stiffness(system, speed: float) -> np.ndarray:

@@ -61,6 +61,10 @@ def support_term(row: dict, field: str = "bearing"):
                 f"{field}.{key}", value,
                 f'no value with type = "{name}" (its keys: {", ".join(sorted(taken))})',
             )  # fmt: skip
+    for f in dataclasses.fields(cls):
+        if f.init and f.name not in kwargs and f.default is dataclasses.MISSING \
+                and f.default_factory is dataclasses.MISSING:  # fmt: skip
+            raise InputError(f"{field}.{f.name}", None, f'a value with type = "{name}"')
     label = kwargs.get("name", "")
     try:
         return cls(**kwargs)

@@ -378,7 +378,7 @@ def general_contact_stability(scenario, indentation: float, *, friction: bool = 
 
 def stability_threshold(
     system: LinearSystem, max_speed: float, n: int | None = None, points: int = 200,
-    min_speed: float = 0.0,
+    min_speed: float | None = None,
 ) -> float | None:
     """The lowest speed (rad/s) where a mode's damping ratio crosses zero, or None up to
     ``max_speed``.
@@ -393,9 +393,9 @@ def stability_threshold(
         Modes considered (default all).
     points : int
         Scan points; the crossing is refined by ``brentq`` to 1e-10 relative.
-    min_speed : float
-        Lower end of the search (rad/s), >= 0, below ``max_speed`` (a journal bearing has no
-        coefficients at rest: start above 0).
+    min_speed : float, optional
+        Lower end of the search (rad/s), >= 0, below ``max_speed``; default 0, or with journal
+        bearings (no film at rest) the scan's first step ``max_speed / (points - 1)``.
 
     Returns
     -------
@@ -403,6 +403,10 @@ def stability_threshold(
         The threshold speed (rad/s); ``min_speed`` when the rotor is already unstable there.
     """
     max_speed = _check_speed("max_speed", max_speed)
+    if min_speed is None:
+        from rubrotor.forces.equilibrium import first_speed
+
+        min_speed = first_speed(system, max_speed, points)
     min_speed = _check_speed("min_speed", min_speed)
     if not min_speed < max_speed:
         raise InputError("min_speed", min_speed, f"a speed below max_speed = {max_speed:g} rad/s")
