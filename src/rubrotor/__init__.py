@@ -20,7 +20,7 @@ The public surface, each name defined once in its own module:
   each returning what the command of the same name prints: :func:`modes`,
   :func:`critical_speeds`, :func:`campbell`, ``static``, ``unbalance_response``,
   ``frequency_response``, ``clearance_check`` (API 617), ``level1`` (API 684),
-  ``ucs``, ``mode_shapes``; speed ranges in rad/s, rpm or Hz (``"0:12000rpm:61"``);
+  ``ucs``, ``mode_shapes``, ``bearings`` (fluid films at each speed); speed ranges in rad/s, rpm or Hz (``"0:12000rpm:61"``);
 * simulation: :func:`simulate` (returns an ``xarray.Dataset``), :func:`converge`;
 * analysis: :func:`cwt`, :func:`scalogram`, :func:`full_spectrum`, :func:`amplitude_spectrum`,
   :func:`rub_indicators`;
@@ -47,7 +47,7 @@ _PUBLIC = {
     "rubrotor.engine.simulate": ("RotorState", "converge", "simulate"),
     "rubrotor.errors": ("InputError", "RubrotorError", "ScenarioError"),
     "rubrotor.linear.front": (
-        "campbell", "clearance_check", "frequency_response", "level1", "mode_shapes", "static",
+        "bearings", "campbell", "clearance_check", "frequency_response", "level1", "mode_shapes", "static",
         "ucs", "unbalance_response",
     ),
     "rubrotor.linear.verbs": ("critical_speeds", "damped_modes", "linear_system", "modes"),
@@ -97,6 +97,7 @@ __all__ = [
     "ScenarioError",
     "Shaft",
     "Unbalance",
+    "bearings",
     "campbell",
     "static",
     "unbalance_response",

@@ -388,13 +388,90 @@ class Model:
         if self.rotor == "fe":
             sc = self.scenario
             base = () if only or sc is None else tuple(sc.stations)
-            return self._fe().linear_system(base + tuple(stations))
+            return self._linearised(self._fe().linear_system(base + tuple(stations)))
         if self.scenario is None:
             return continuous_system(self.source)
         return continuous_system(self.scenario.shaft, self.scenario.damping)
 
+    def _linearised(self, system):
+        """``system`` with its nonlinear supports (fluid films) given their law: linearised at
+        the rotor's static equilibrium under the scenario's gravity and loads (those of its time
+        runs) at each speed asked (:mod:`rubrotor.forces.equilibrium`)."""
+        import dataclasses
+
+        from rubrotor.forces.equilibrium import Linearisation, gravity_load, nonlinear_supports
+
+        sups = nonlinear_supports(system)
+        if not sups:
+            return system
+        sc = self.scenario
+        gravity = (sc.gravity if sc is not None else None) or (0.0, 0.0)
+        loads = tuple(sc.loads) if sc is not None else ()
+        lin = Linearisation(system, gravity_load(system, gravity, loads))
+        index = {id(s): i for i, s in enumerate(sups)}
+        new = tuple(dataclasses.replace(s, law=lin.law(index[id(s)]), term=s.term)
+                    if id(s) in index else s for s in system.supports)  # fmt: skip
+        out = dataclasses.replace(system, supports=new)
+        lin.system = out
+        return out
+
+    def support_linearisation(self, speed: float, system=None) -> tuple:
+        """Each nonlinear support (fluid film) at the rotor's static equilibrium at ``speed``.
+
+        Parameters
+        ----------
+        speed : float
+            Spin speed (rad/s), > 0 with journal bearings.
+        system : LinearSystem, optional
+            A system this Model built (:meth:`linear_system`, e.g. the engine's own mesh);
+            default the scenario's.
+
+        Returns
+        -------
+        tuple of rubrotor.forces.equilibrium.SupportLinearisation
+            In the order of the supports: node DOFs, static journal position ``p0`` (m, from the
+            bearing centre), ``K0`` (N/m) and ``C0`` (N s/m) as they enter the linear system at
+            that speed, the film's parameters; empty without nonlinear supports.
+        """
+        from rubrotor.forces.equilibrium import nonlinear_supports
+
+        system = self.linear_system() if system is None else system
+        sups = nonlinear_supports(system)
+        if not sups:
+            return ()
+        return sups[0].law.linearisation.states(float(speed))
+
+    def nonlinear_supports(self) -> tuple:
+        """``(index, type)`` of each ``[[bearing]]`` whose support is nonlinear (a fluid film:
+        ``short_journal``, ``squeeze_film``, ``finite_journal``), index counted from 1."""
+        if self.rotor != "fe":
+            return ()
+        return tuple((i + 1, b.type) for i, b in enumerate(self._fe().bearings)
+                     if getattr(b, "nonlinear", False))  # fmt: skip
+
     def forces(self) -> Forces:
-        """The force terms of the scenario (see ``Forces``)."""
+        """The force terms of the scenario (see ``Forces``).
+
+        Raises
+        ------
+        ScenarioError
+            For a scenario with a fluid-film support: the time runs do not yet carry its
+            nonlinear force (the engine's film row, issue 36), and a run on its linearisation
+            alone would be a wrong answer; the linear verbs and ``static`` take it.
+        """
+        films = self.nonlinear_supports()
+        if films:
+            from rubrotor.errors import ScenarioError
+
+            i, kind = films[0]
+            raise ScenarioError(f"bearing[{i}].type", kind,
+                                "a linear support type for a time run: fluid-film supports "
+                                "run in static, bearings and the linear verbs (modes, campbell, "
+                                "critical, unbalance, clearance, level1, stability); the time "
+                                "runs do not carry their nonlinear force yet")  # fmt: skip
+        return self._forces()
+
+    def _forces(self) -> Forces:
         sc = self.scenario
         eng = sc.engine
         if self.engine == "general":
@@ -405,7 +482,7 @@ class Model:
     @property
     def contact_stations(self) -> tuple:
         """The general engine's contact stations (empty on the seed shaft's engine)."""
-        return self.forces().stations if self.engine == "general" else ()
+        return self._forces().stations if self.engine == "general" else ()
 
     @property
     def first_contact(self):

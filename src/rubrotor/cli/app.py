@@ -22,6 +22,7 @@ from rubrotor._version import __version__
 from rubrotor.cli import (
     analyze,
     api,
+    bearings,
     draw,
     linear,
     orbits,
@@ -79,6 +80,13 @@ COMMANDS: list[Command] = [
         "static deflection under gravity and loads, and the bearing reactions",
         response.static_args,
         response.static_run,
+        outputs=("figure",),
+    ),
+    Command(
+        "bearings",
+        "fluid-film bearings at each speed: static eccentricity and linearised coefficients",
+        bearings.bearings_args,
+        bearings.bearings_run,
         outputs=("figure",),
     ),
     Command(

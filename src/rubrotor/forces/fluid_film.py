@@ -20,11 +20,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
 from rubrotor.core.film import FULL_FILM, PI_FILM, Film, film_force_jac
 from rubrotor.errors import InputError
+from rubrotor.rotors.linear import Support
 
 __all__ = [
     "CAVITATION",
@@ -118,6 +120,9 @@ class _ShortFilm:
                           ("viscosity", "Pa s")):  # fmt: skip
             object.__setattr__(self, key, _positive(f"{self.name}.{key}", getattr(self, key), unit))
         _cavitation(f"{self.name}.cavitation", self.cavitation)
+        pos = getattr(self, "position", 0.0)
+        if isinstance(pos, bool) or not isinstance(pos, int | float) or not math.isfinite(pos):
+            raise InputError(f"{self.name}.position", pos, "a finite axial station (m)")
         if self.radial_clearance >= 0.5 * self.diameter:
             raise InputError(f"{self.name}.radial_clearance", self.radial_clearance,
                              f"a clearance well below the radius {0.5 * self.diameter} m (m)")  # fmt: skip
@@ -126,6 +131,40 @@ class _ShortFilm:
             raise InputError(f"{self.name}.length", self.length,
                              f"at most the diameter {self.diameter} m for the short-film model "
                              f"(L/D = {ratio:.3g} > 1)")  # fmt: skip
+
+    # ---- the support-term protocol (rubrotor.forces.supports) ------------------------------
+    kind: ClassVar[str] = "bearing"
+    fail_time: ClassVar[None] = None
+    on: ClassVar[None] = None  # between the rotor and the ground
+    link: ClassVar[None] = None
+    mass_matrix: ClassVar[np.ndarray] = np.zeros((2, 2))
+    nonlinear: ClassVar[bool] = True
+    """A nonlinear support: the Model linearises it at the rotor's static equilibrium."""
+
+    @property
+    def _table(self) -> tuple:
+        """No table: the coefficients come from the static equilibrium at each speed."""
+        return None, np.zeros((1, 2, 2)), np.zeros((1, 2, 2))
+
+    def support(self, node: int, name: str, dofs=None, link=None) -> Support:
+        """A placeholder :class:`rubrotor.rotors.linear.Support` on node ``node`` (or ``dofs``)
+        with zero coefficients: :meth:`rubrotor.modelling.Model.linear_system` gives it its
+        law (the film linearised at the rotor's static equilibrium at each speed)."""
+        if link is not None:
+            raise InputError("bearing.link", link, f'none with type = "{self.type}"')
+        zero = np.zeros((1, 2, 2))
+        return Support(dofs=tuple(dofs) if dofs is not None else (4 * node, 4 * node + 1),
+                       k=zero, c=zero, position=float(self.position), name=name, term=self)  # fmt: skip
+
+    def table_entry(self) -> dict:
+        """The ``[[bearing]]`` table that builds this term again."""
+        out = {"position": self.position, "type": self.type}
+        for key in self._keys():
+            out[key] = getattr(self, key)
+        return out
+
+    def _keys(self) -> tuple:
+        return ("name", "diameter", "length", "radial_clearance", "viscosity", "cavitation")
 
     @property
     def film(self) -> Film:
@@ -176,8 +215,31 @@ class ShortJournal(_ShortFilm):
     cavitation : str
         ``"half_sommerfeld"`` (Gumbel, pi-film: the default) or ``"full_film"``.
     name : str
-        The key prefix used in error messages, e.g. ``"bearing[1]"``.
+        The key prefix used in error messages, e.g. ``"bearing[1]"``; a label in a scenario.
+    position : float
+        Axial station (m) of a ``[[bearing]]`` table.
     """
+
+    type: ClassVar[str] = "short_journal"
+    spins: ClassVar[bool] = True
+    position: float = 0.0
+
+    @property
+    def holds(self) -> bool:
+        """True: a loaded journal bearing holds the rotor."""
+        return True
+
+    def static_force(self, position, spin: float) -> tuple[np.ndarray, np.ndarray]:
+        """Film force (N) on the journal at rest at ``position`` (m) and spin ``spin`` (rad/s),
+        and its stiffness ``K = -df/dq`` (N/m): the compiled film's exact Jacobian."""
+        f, jac = self._force_jac(position, (0.0, 0.0), spin)
+        return f, -jac[:, 0:2]
+
+    def linearise(self, position, spin: float) -> tuple[np.ndarray, np.ndarray]:
+        """``(K, C)`` (N/m, N s/m) of the film about the journal at rest at ``position`` (m),
+        spin ``spin`` (rad/s): ``-df/dq`` and ``-df/dq'``, the compiled film's exact Jacobian."""
+        co = self.coefficients(position, spin)
+        return co.stiffness, co.damping
 
     def equilibrium(self, load, spin: float) -> JournalEquilibrium:
         """Static position under the external ``load`` (N, y and z) at ``spin`` (rad/s).
@@ -240,12 +302,55 @@ class SqueezeFilm(_ShortFilm):
         As :class:`ShortJournal`; ``cavitation = "half_sommerfeld"`` is the pi-film damper.
     centering_stiffness : float
         The centring spring in parallel with the film (N/m); 0 for an uncentred damper.
+    position : float
+        Axial station (m) of a ``[[bearing]]`` table.
+
+    Notes
+    -----
+    At rest the film carries no load (no spin, no squeeze): the static position is set by the
+    centring spring alone. Linearised there (:meth:`linearise`) the damper is the spring
+    ``centering_stiffness I`` and the film's damping ``-df/dq'``: the full film's exact Jacobian,
+    and for the pi-film (``"half_sommerfeld"``) half of it, the pi-film's equivalent damping of a
+    small whirl (at the centre, ``pi mu R L^3 / (2 c^3)``: half the full film's). A pi-film's
+    force is not differentiable at rest (its half circle turns with the velocity), so this is a
+    choice, not a Jacobian; the time runs use the nonlinear force.
     """
 
+    type: ClassVar[str] = "squeeze_film"
+    spins: ClassVar[bool] = False
     centering_stiffness: float = 0.0
+    position: float = 0.0
 
     def __post_init__(self):
         super().__post_init__()
         k = self.centering_stiffness
-        if not (isinstance(k, (int, float)) and math.isfinite(k) and k >= 0.0):
+        if not (isinstance(k, (int, float)) and not isinstance(k, bool) and math.isfinite(k)
+                and k >= 0.0):  # fmt: skip
             raise InputError(f"{self.name}.centering_stiffness", k, "a finite number >= 0 (N/m)")
+
+    @property
+    def holds(self) -> bool:
+        """True with a centring spring (an uncentred damper does not hold the rotor)."""
+        return self.centering_stiffness > 0.0
+
+    def _keys(self) -> tuple:
+        return super()._keys() + ("centering_stiffness",)
+
+    def static_force(self, position, spin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """Force (N) of the centring spring on the journal at rest at ``position`` (m) and its
+        stiffness (N/m); the film carries nothing at rest (``spin`` is ignored: the damper's
+        journal does not spin)."""
+        q = np.asarray(position, float)
+        k = self.centering_stiffness * np.eye(2)
+        return -k @ q, k
+
+    def linearise(self, position, spin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """``(K, C)`` (N/m, N s/m) about the journal at rest at ``position`` (m): the spring and
+        the film's damping (class notes); ``spin`` is ignored."""
+        y, z = (float(v) for v in position)
+        full = self.film._replace(cavitation=FULL_FILM)
+        _, jac = film_force_jac(y, z, 0.0, 0.0, 0.0, full)
+        c = -jac[:, 2:4]
+        if CAVITATION[self.cavitation] == PI_FILM:
+            c = 0.5 * c
+        return self.centering_stiffness * np.eye(2), c

@@ -9,7 +9,14 @@ Every support term has ``position`` (m), ``name``, ``kind`` (``"bearing"`` or ``
 ``fail_time`` (s or None), ``holds`` (True when it holds the rotor in both directions),
 ``_table`` ``(speeds, K, C)`` (its coefficients tabulated, for scale checks),
 ``support(node, name)`` (a :class:`rubrotor.rotors.linear.Support`) and ``table_entry()`` (the
-scenario table that builds it back). :data:`SUPPORT_TYPES` maps the ``type`` key to the term;
+scenario table that builds it back).
+
+A *nonlinear* support (``nonlinear = True``: the fluid films ``short_journal``,
+``squeeze_film``, ``finite_journal``) also has ``static_force(p, spin)`` (its force on the
+journal at rest and ``-dF/dp``), ``linearise(p, spin)`` (``K``, ``C``), ``radial_clearance`` and
+``spins`` (whether its journal turns with the rotor); its support carries the term, and the
+Model gives it its coefficients at the rotor's static equilibrium at each speed
+(:mod:`rubrotor.forces.equilibrium`). :data:`SUPPORT_TYPES` maps the ``type`` key to the term;
 a new support model is one module in ``rubrotor.forces`` and one line here.
 """
 
@@ -18,6 +25,7 @@ from __future__ import annotations
 import dataclasses
 
 from rubrotor.errors import InputError
+from rubrotor.forces.fluid_film import ShortJournal, SqueezeFilm
 from rubrotor.forces.muszynska import MuszynskaSeal
 from rubrotor.rotors.fe import Bearing
 
@@ -27,6 +35,8 @@ DEFAULT_SUPPORT = "coefficients"
 SUPPORT_TYPES: dict[str, type] = {
     DEFAULT_SUPPORT: Bearing,  # kyy ... czz (optionally tabulated against speed), or pinned
     MuszynskaSeal.type: MuszynskaSeal,
+    ShortJournal.type: ShortJournal,  # Ocvirk's short journal bearing (nonlinear)
+    SqueezeFilm.type: SqueezeFilm,  # the short squeeze-film damper (nonlinear)
 }
 """``[[bearing]] type`` -> the support term class built from the table's other keys."""
 
@@ -51,4 +61,15 @@ def support_term(row: dict, field: str = "bearing"):
                 f"{field}.{key}", value,
                 f'no value with type = "{name}" (its keys: {", ".join(sorted(taken))})',
             )  # fmt: skip
-    return cls(**kwargs)
+    for f in dataclasses.fields(cls):
+        if f.init and f.name not in kwargs and f.default is dataclasses.MISSING \
+                and f.default_factory is dataclasses.MISSING:  # fmt: skip
+            raise InputError(f"{field}.{f.name}", None, f'a value with type = "{name}"')
+    label = kwargs.get("name", "")
+    try:
+        return cls(**kwargs)
+    except InputError as exc:  # a film names its keys after its label: name them by the table
+        head, dot, rest = str(exc.field).partition(".")
+        if dot and head in (label, "film"):
+            raise InputError(f"{field}.{rest}", exc.value, exc.allowed) from None
+        raise

@@ -98,7 +98,9 @@ def linear_critical_speeds(
     harmonic : float
         Excitation order (> 0).
     points : int
-        Scan points before the roots are refined by ``brentq`` (to 1e-10 relative).
+        Scan points before the roots are refined by ``brentq`` (to 1e-10 relative); the scan
+        starts at rest, or at ``max_speed / (points - 1)`` with journal bearings (whose film
+        carries nothing at rest: a critical speed below that is not found).
 
     Returns
     -------
@@ -109,7 +111,10 @@ def linear_critical_speeds(
     max_speed = _check_speed("max_speed", max_speed)
     if max_speed <= 0 or not harmonic > 0:
         raise InputError("max_speed / harmonic", (max_speed, harmonic), "values > 0")
-    grid = np.linspace(0.0, max_speed, points)
+    from rubrotor.forces.equilibrium import first_speed
+
+    # from rest, or from the first step with journal bearings (no film without spin)
+    grid = np.linspace(first_speed(system, max_speed, points), max_speed, points)
     data = campbell_data(system, grid, n=n)
     out = []
     for j in range(n):

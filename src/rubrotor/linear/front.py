@@ -83,6 +83,28 @@ def static(obj, speed: float | None = None, gravity=None, loads=None):
     return static_analysis(_loaded(obj), speed, gravity, loads)
 
 
+def bearings(obj, speeds):
+    """Each fluid-film support's static position and linearised coefficients at each speed
+    (``rubrotor bearings``); see :func:`rubrotor.linear.bearings.bearing_coefficients`.
+
+    Parameters
+    ----------
+    obj : Scenario or path-like
+    speeds : array_like or str
+        Spin speeds (rad/s), or ``"START:STOP:COUNT"`` (rad/s, rpm or Hz).
+
+    Returns
+    -------
+    BearingsResult
+        With ``to_dict()``.
+    """
+    from rubrotor.linear.bearings import bearing_coefficients
+    from rubrotor.units import parse_range
+
+    sp = parse_range(speeds, "speeds") if isinstance(speeds, str) else speeds
+    return bearing_coefficients(_model(_loaded(obj)), sp)
+
+
 def unbalance_response(scenario, speeds, probes=None):
     """Unbalance response of a scenario's every unbalance plane at probes, over spin speed
     (``rubrotor unbalance``).

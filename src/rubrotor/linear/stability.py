@@ -376,7 +376,8 @@ def general_contact_stability(scenario, indentation: float, *, friction: bool = 
 
 
 def stability_threshold(
-    system: LinearSystem, max_speed: float, n: int | None = None, points: int = 200
+    system: LinearSystem, max_speed: float, n: int | None = None, points: int = 200,
+    min_speed: float | None = None,
 ) -> float | None:
     """The lowest speed (rad/s) where a mode's damping ratio crosses zero, or None up to
     ``max_speed``.
@@ -391,13 +392,23 @@ def stability_threshold(
         Modes considered (default all).
     points : int
         Scan points; the crossing is refined by ``brentq`` to 1e-10 relative.
+    min_speed : float, optional
+        Lower end of the search (rad/s), >= 0, below ``max_speed``; default 0, or with journal
+        bearings (no film at rest) the scan's first step ``max_speed / (points - 1)``.
 
     Returns
     -------
     float or None
-        The threshold speed (rad/s); 0.0 when the rotor is already unstable at rest.
+        The threshold speed (rad/s); ``min_speed`` when the rotor is already unstable there.
     """
     max_speed = _check_speed("max_speed", max_speed)
+    if min_speed is None:
+        from rubrotor.forces.equilibrium import first_speed
+
+        min_speed = first_speed(system, max_speed, points)
+    min_speed = _check_speed("min_speed", min_speed)
+    if not min_speed < max_speed:
+        raise InputError("min_speed", min_speed, f"a speed below max_speed = {max_speed:g} rad/s")
     if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
         raise InputError("n", n, "a number of modes >= 1")
 
@@ -405,9 +416,9 @@ def stability_threshold(
         # the n lowest by frequency (the Campbell route): overdamped roots never set the least
         return min(m.damping_ratio for m in _modes(system, w, n, natural=False).modes)
 
-    if least(0.0) < 0:
-        return 0.0
-    grid = np.linspace(0.0, max_speed, points)
+    if least(min_speed) < 0:
+        return min_speed
+    grid = np.linspace(min_speed, max_speed, points)
     prev = grid[0]
     for w in grid[1:]:
         if least(float(w)) < 0:

@@ -10,9 +10,15 @@ shaft's distributed mass and the disks (the consistent load ``M r`` of a finite-
 point loads ``B(x) [F_y, F_z]``. Damping and the gyroscopic matrix do not act on a static
 deflection; cross-coupled bearings (``kyz``, ``kzy``) do, and deflect the rotor sideways.
 
+With fluid-film supports (``short_journal``, ``squeeze_film``, ``finite_journal``) the problem is
+nonlinear: ``K q - f - sum_b B_b^T F_b(B_b q, Omega) = 0``, solved by Newton's method with the
+films' Jacobians (:mod:`rubrotor.forces.equilibrium`); each film then also reports its journal's
+eccentricity ratio and attitude angle.
+
 Reactions are the forces (N) the supports apply to the rotor:
 
 * a bearing or seal: ``-K_s(Omega) [v, w]`` at its station;
+* a fluid film: its force on the journal at the static position;
 * a pinned support (an exact constraint): the residual ``K q - f`` on its DOFs;
 * the continuous shaft, pinned at both ends: the two end forces from the balance of forces and
   moments (it is statically determinate).
@@ -31,6 +37,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 
 from rubrotor.errors import InputError
+from rubrotor.forces.equilibrium import nonlinear_supports, solve_equilibrium
 from rubrotor.rotors.linear import LinearSystem, NodalBasis
 
 __all__ = ["STANDARD_GRAVITY", "BearingReaction", "StaticResult", "static_analysis"]
@@ -51,12 +58,20 @@ class BearingReaction:
         Axial position (m).
     force_y, force_z : float
         Force components (N) along ``y`` and ``z`` on the rotor.
+    eccentricity_ratio : float or None
+        A fluid film's journal eccentricity over its radial clearance (1); None for a support
+        of coefficients.
+    attitude_angle_rad : float or None
+        A fluid film's angle from the load on the journal to its eccentricity, positive in the
+        spin's sense (rad); None for a support of coefficients.
     """
 
     name: str
     position: float
     force_y: float
     force_z: float
+    eccentricity_ratio: float | None = None
+    attitude_angle_rad: float | None = None
 
 
 @dataclass(frozen=True)
@@ -98,16 +113,18 @@ class StaticResult:
             "x_m": self.x.tolist(),
             "deflection_y_m": self.deflection[:, 0].tolist(),
             "deflection_z_m": self.deflection[:, 1].tolist(),
-            "bearings": [
-                {
-                    "name": b.name,
-                    "position_m": b.position,
-                    "force_y_N": b.force_y,
-                    "force_z_N": b.force_z,
-                }
-                for b in self.bearings
-            ],
+            "bearings": [_reaction_dict(b) for b in self.bearings],
         }
+
+
+def _reaction_dict(b: BearingReaction) -> dict:
+    out = {"name": b.name, "position_m": b.position, "force_y_N": b.force_y,
+           "force_z_N": b.force_z}  # fmt: skip
+    if b.eccentricity_ratio is not None:
+        out["eccentricity_ratio"] = b.eccentricity_ratio
+        att = b.attitude_angle_rad  # NaN without load (a damper's spring carrying nothing)
+        out["attitude_angle_rad"] = att if math.isfinite(att) else None
+    return out
 
 
 def _gravity_nodal(system: LinearSystem, g: np.ndarray) -> np.ndarray:
@@ -148,17 +165,25 @@ def _solve(system: LinearSystem, speed: float, f_free: np.ndarray) -> np.ndarray
 
 
 def _reactions(system: LinearSystem, speed: float, q_full: np.ndarray, f_full: np.ndarray):
-    """Forces (N) of the spring supports and of the pinned DOFs of a nodal rotor."""
+    """Forces (N) of the spring supports, the fluid films and the pinned DOFs of a nodal rotor."""
+    from rubrotor.forces.equilibrium import linearise
+
     out = []
     for s in system.supports:
+        if getattr(s.term, "nonlinear", False):
+            st = linearise(s, q_full, speed)
+            out.append(BearingReaction(s.name, float(s.position), float(st.force[0]),
+                                       float(st.force[1]), st.eccentricity_ratio,
+                                       st.attitude_angle_rad))  # fmt: skip
+            continue
         ks, _ = s.coefficients(speed)
         force = -ks @ q_full[list(s.dofs)]
         out.append(BearingReaction(s.name, float(s.position), float(force[0]), float(force[1])))
     if system.fixed:
-        k = system.K.copy()
-        for s in system.supports:
-            k[np.ix_(s.dofs, s.dofs)] += s.coefficients(speed)[0]
-        residual = k @ q_full - f_full
+        from rubrotor.forces.equilibrium import _film_sum, _linear_stiffness, nonlinear_supports
+
+        films, _ = _film_sum(system, nonlinear_supports(system), q_full, speed)
+        residual = _linear_stiffness(system, speed) @ q_full - f_full - films
         nodes = system.basis.nodes
         fixed = sorted(system.fixed)
         for node in sorted({d // 4 for d in fixed}):
@@ -268,8 +293,12 @@ def static_analysis(obj, speed: float | None = None, gravity=None, loads=None) -
         f_full, weight = np.zeros(n), np.zeros(2)
     for x, f in points:
         f_full = f_full + system.basis.rows(x).T @ f
-    q = _solve(system, speed, f_full[system.free])
-    q_full = system.expand(q)
+    if nonlinear_supports(system):  # fluid films: Newton on the nonlinear static problem
+        q_full = solve_equilibrium(system, speed, f_full)
+        q = q_full[system.free]
+    else:
+        q = _solve(system, speed, f_full[system.free])
+        q_full = system.expand(q)
     if shaft is not None:
         x = np.linspace(0.0, shaft.length, 201)
         bearings = _end_reactions(shaft.length, points + [(shaft.length / 2, weight)])

@@ -174,6 +174,12 @@ class Support:
         True when the coefficients are exactly linear along the axis (a term whose law is, such as
         a Muszynska fluid ring's cross-coupling ``lambda Omega D_f``): continued linearly beyond
         the table they stay exact, and no extrapolation warning is given.
+    law : callable, optional
+        ``law(speed) -> (K, C)`` (2x2 each, N/m and N s/m) evaluated exactly at every speed
+        asked (rad/s), instead of a table: a nonlinear support (a fluid film) linearised at the
+        rotor's static equilibrium at that speed. ``k``, ``c`` are then unused placeholders.
+    term : object, optional
+        The nonlinear support term this support linearises (None for a linear support).
     """
 
     dofs: tuple[int, int]
@@ -188,6 +194,8 @@ class Support:
     axis: str = "speed"
     exact: bool = False
     kind: str = "bearing"
+    law: object = field(default=None, repr=False, compare=False)
+    term: object = field(default=None, repr=False, compare=False)
     _pchip: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -204,8 +212,9 @@ class Support:
 
     @property
     def tabulated(self) -> bool:
-        """True when its coefficients vary along its axis (a table of two or more points)."""
-        return self.speeds is not None and len(self.speeds) > 1
+        """True when its coefficients vary along its axis (a table of two or more points, or a
+        speed law)."""
+        return self.law is not None or (self.speeds is not None and len(self.speeds) > 1)
 
     @property
     def all_dofs(self) -> tuple[int, ...]:
@@ -223,6 +232,10 @@ class Support:
     def tabulate(self, speeds) -> tuple[np.ndarray, np.ndarray]:
         """``(K, C)`` of shape ``(S, 2, 2)`` (N/m, N s/m) at each of ``speeds`` (rad/s)."""
         s = np.atleast_1d(np.asarray(speeds, float))
+        if self.law is not None:
+            pairs = [self.law(float(v)) for v in s]
+            return (np.array([np.asarray(k, float) for k, _ in pairs]).reshape(s.size, 2, 2),
+                    np.array([np.asarray(c, float) for _, c in pairs]).reshape(s.size, 2, 2))
         if self.speeds is None or len(self.speeds) == 1:
             return (np.broadcast_to(self.k[0], (s.size, 2, 2)).copy(),
                     np.broadcast_to(self.c[0], (s.size, 2, 2)).copy())  # fmt: skip
@@ -397,7 +410,8 @@ def check_table_axes(system: LinearSystem, what: str, speed=None, frequency=None
     asked = {"speed": speed, "frequency": frequency}
     for sup in system.supports:
         values = asked.get(sup.axis)
-        if values is None or not sup.tabulated or sup.extrapolation == "hold" or sup.exact:
+        if (values is None or not sup.tabulated or sup.law is not None
+                or sup.extrapolation == "hold" or sup.exact):
             continue
         v = np.atleast_1d(np.asarray(values, float))
         lo, hi = float(sup.speeds[0]), float(sup.speeds[-1])

@@ -424,6 +424,21 @@ _BEARING = (
        '"muszynska"); the cross-coupled stiffness is swirl_ratio Omega D_f', _positive()),
     _k("bearing", "swirl_ratio", "number", "1", 'Average circumferential fluid speed over the '
        'spin, lambda (type = "muszynska")', (0.0, 1.0, False, True), default=0.5),
+    # type = "short_journal" | "squeeze_film" (rubrotor.forces.fluid_film) | "finite_journal"
+    # (rubrotor.forces.finite_journal): fluid films linearised at the static equilibrium
+    _k("bearing", "diameter", "number", "m", 'Journal diameter D (type = "short_journal", '
+       '"squeeze_film", "finite_journal")', _LENGTH),
+    _k("bearing", "length", "number", "m", "Film length L (fluid films; L/D <= 1 for the short "
+       'films, 1/16 to 4 for "finite_journal")', _LENGTH),
+    _k("bearing", "radial_clearance", "number", "m", "Radial clearance c (fluid films), below "
+       "the journal's radius", _positive(1.0)),
+    _k("bearing", "viscosity", "number", "Pa s", "Lubricant dynamic viscosity mu (fluid films)",
+       _positive(1e3)),
+    _k("bearing", "cavitation", "str", "", 'Cavitation: "half_sommerfeld" (Gumbel, pi-film), '
+       '"full_film" (Sommerfeld); "reynolds" (Swift-Stieber) for "finite_journal" only',
+       choices=("half_sommerfeld", "gumbel", "pi_film", "full_film", "sommerfeld", "reynolds")),
+    _k("bearing", "centering_stiffness", "number", "N/m", "Centring spring in parallel with a "
+       'squeeze-film damper, 0 for an uncentred one (type = "squeeze_film")', _closed(0.0, 1e13)),
 )  # fmt: skip
 _POINT_MASS = (
     _k("point_mass", "name", "str", "", "Label the bearings' link and on refer to",
