@@ -31,6 +31,7 @@ by the engine from these three.
 from __future__ import annotations
 
 import os
+import dataclasses
 from dataclasses import dataclass, field
 
 from rubrotor.errors import InputError
@@ -59,6 +60,9 @@ class Forces:
         ``(g_y, g_z)`` (m/s^2).
     contact : rubrotor.rotors.forces.Contact or None
         The seed shaft engine's one contact (None on the general engine).
+    supports : tuple of rubrotor.forces.film_row.FilmRow
+        The nonlinear supports' rows of the implicit step at the run's speed (fluid films,
+        linearised in the linear system; empty without them).
     """
 
     stations: tuple = ()
@@ -66,6 +70,7 @@ class Forces:
     loads: tuple = ()
     gravity: tuple = (0.0, 0.0)
     contact: object = None
+    supports: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -449,27 +454,44 @@ class Model:
         return tuple((i + 1, b.type) for i, b in enumerate(self._fe().bearings)
                      if getattr(b, "nonlinear", False))  # fmt: skip
 
-    def forces(self) -> Forces:
+    def forces(self, speed: float | None = None, system=None) -> Forces:
         """The force terms of the scenario (see ``Forces``).
+
+        Parameters
+        ----------
+        speed : float, optional
+            The run's constant spin speed (rad/s): the fluid-film supports become rows of the
+            implicit step, linearised at the rotor's static equilibrium at this speed
+            (:meth:`support_linearisation`). Without it a scenario with a film is refused.
+        system : LinearSystem, optional
+            The system the run uses (the engine's mesh), built by this Model.
 
         Raises
         ------
         ScenarioError
-            For a scenario with a fluid-film support: the time runs do not yet carry its
-            nonlinear force (the engine's film row, issue 36), and a run on its linearisation
-            alone would be a wrong answer; the linear verbs and ``static`` take it.
+            A fluid-film support without ``speed`` (the free-speed run, whose speed is a
+            state), or a support whose force has no compiled row (``finite_journal``).
         """
         films = self.nonlinear_supports()
-        if films:
-            from rubrotor.errors import ScenarioError
+        if not films:
+            return self._forces()
+        from rubrotor.errors import ScenarioError
 
-            i, kind = films[0]
+        i, kind = films[0]
+        if speed is None:
             raise ScenarioError(f"bearing[{i}].type", kind,
-                                "a linear support type for a time run: fluid-film supports "
-                                "run in static, bearings and the linear verbs (modes, campbell, "
-                                "critical, unbalance, clearance, level1, stability); the time "
-                                "runs do not carry their nonlinear force yet")  # fmt: skip
-        return self._forces()
+                                "a linear support type for a free-speed run (its speed is a "
+                                "state; fluid films run at a constant speed)")  # fmt: skip
+        rows = []
+        for (i, kind), lin in zip(films, self.support_linearisation(speed, system), strict=True):
+            row = getattr(lin.term, "engine_row", None)
+            if row is None:
+                raise ScenarioError(f"bearing[{i}].type", kind,
+                                    '"short_journal" or "squeeze_film" for a time run (this '
+                                    "film's force has no compiled row: use it in static, "
+                                    "bearings and the linear verbs)")  # fmt: skip
+            rows.append(row(lin))
+        return dataclasses.replace(self._forces(), supports=tuple(rows))
 
     def _forces(self) -> Forces:
         sc = self.scenario

@@ -259,11 +259,12 @@ def _problem(scenario, integrator=None):
     from rubrotor.modelling import model_of
 
     model = model_of(scenario)  # it builds the rotor, the force terms and the speed law
-    law, forces = model.speed_law(), model.forces()
+    law = model.speed_law()
     speed, end, table = law.speed, law.speed_end, law.table
     if speed <= 0:
         raise ScenarioError("speed", speed, "a spin speed > 0 (rad/s) for a time simulation")
     system = _system(scenario, integ.probes)
+    forces = model.forces(speed, system)
     step = integ.step_seconds(speed)
     if step is None and (end is not None or table):  # a profile needs a fixed step
         top = max([speed, end or 0.0, *(w for _, w in table or ())])
@@ -292,7 +293,7 @@ def _problem(scenario, integrator=None):
     )  # fmt: skip
     _check_one_sample(integ, run)
     kwargs = dict(stations=forces.stations, unbalances=unb, loads=forces.loads,
-                  gravity=forces.gravity)  # fmt: skip
+                  gravity=forces.gravity, supports=forces.supports)  # fmt: skip
     return system, run, kwargs, t0, snap
 
 

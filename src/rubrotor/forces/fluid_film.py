@@ -26,6 +26,7 @@ import numpy as np
 
 from rubrotor.core.film import FULL_FILM, PI_FILM, Film, film_force_jac
 from rubrotor.errors import InputError
+from rubrotor.forces.film_row import FilmRow
 from rubrotor.rotors.linear import Support
 
 __all__ = [
@@ -165,6 +166,16 @@ class _ShortFilm:
 
     def _keys(self) -> tuple:
         return ("name", "diameter", "length", "radial_clearance", "viscosity", "cavitation")
+
+    def engine_row(self, lin) -> FilmRow:
+        """The film's row of the engine's implicit step, about its linearisation ``lin``
+        (:class:`rubrotor.forces.equilibrium.SupportLinearisation` at the run's speed): the
+        row carries the film's force less the film's part of ``K0``, ``C0`` (a damper's centring
+        spring is linear, all in the linear system)."""
+        spring = float(getattr(self, "centering_stiffness", 0.0)) * np.eye(2)
+        return FilmRow(lin.name, float(lin.position), self.film, self.spins,
+                       tuple(np.asarray(lin.p0, float)), np.asarray(lin.K0) - spring,
+                       np.asarray(lin.C0))  # fmt: skip
 
     @property
     def film(self) -> Film:

@@ -116,7 +116,7 @@ class GeneralMap:
         self._drive = _no_drive(plant.lam.size)
         self.ns, self.m = plant.lam.size, plant.beta.shape[1]
         self.dim = 2 * self.ns + self.m
-        self._nch = 4 * len(plant.stations) + CONTACT_CHANNELS * len(kw["stations"])
+        self._nch = 4 * len(plant.stations) + CONTACT_CHANNELS * len(plant.outputs.flex)
 
     def at_speed(self, speed: float) -> GeneralMap:
         """The same map at another spin speed (rad/s), its modes aligned with this map's (or

@@ -109,6 +109,7 @@ class SpeedFamily:
             and all(np.array_equal(a[f], a[f].T) for a in (system.M, system.K, system.C))
             and np.array_equal(system.G[f], -system.G[f].T)
             and all(getattr(sup, "link", None) is None for sup in system.supports)
+            and not plant.supports  # film rows and their linearisation change with the speed
         )
         b1 = np.zeros(n, complex)
         for u in kw["unbalances"]:
