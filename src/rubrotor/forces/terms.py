@@ -13,9 +13,13 @@ family (module)              enters as                        states / outputs
 ===========================  ==============================  ===============================
 supports (``supports``,      coefficients in the linear       none / bearing reactions
 ``muszynska``)               system (exact in every step)     (linear analyses)
+fluid films (``fluid_film``, linearisation at the static     none / film force, eccentricity
+``film_row``,                equilibrium in the linear        ratio (``bearing`` variables)
+``equilibrium``)             system, the rest as rows of the
+                             implicit step (``core.terms``)
 contacts and stators         packed rows of the implicit      stator modes / stator
 (``contact``)                contact step (force + Jacobian   deflection and velocity, force,
-                             kernel ``core.contact._law``)    normal and friction force
+                             through ``core.terms.term``)     normal and friction force
 unbalance (``unbalance``)    particular solution or input     none
 loads, gravity (``loads``)   static deflection                none
 thermal bow, drive torque,   ``rubrotor.studies.thermal``,    bow / spin speed and ring
