@@ -43,6 +43,7 @@ SCENARIO = pathlib.Path(rubrotor.__file__).parent / "scenarios" / "oil_whip_rub.
 def _problem():
     text = SCENARIO.read_text().replace("rad_per_s = 1000.0", "rad_per_s = 600.0")
     text = text.replace("magnitude = 2e-5", "magnitude = 2e-4")
+    text += '\n[initial]\nstate = "static"\n'  # both start in static equilibrium
     sc = _load_text(text)
     integ = Integrator(revolutions=REVS, dt=2e-5, save_every=5, probes=(0.4,))
     system, run, kw, _ = engine_problem(sc, integ)
