@@ -328,6 +328,8 @@ def _general_extra(run, t) -> dict:
     out["bearing_name"] = _var("bearing", np.array([b.name for b in supports]), {})
     out["bearing_position"] = _var("bearing", np.array([b.position for b in supports]),
                                    {"units": "m"})  # fmt: skip
+    out["bearing_clearance"] = _var("bearing", np.array([b.scale for b in supports]),
+                                    {"units": "m", "long_name": "radial clearance"})  # fmt: skip
     return out
 
 

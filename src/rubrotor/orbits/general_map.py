@@ -39,6 +39,7 @@ from rubrotor.core.engine import (
     expo_fixed,
 )
 from rubrotor.core.engine_tangent import map_tangent
+from rubrotor.core.terms import FORCE_SCALE
 from rubrotor.engine.driver import _control, _no_drive, _steps, build_plant
 from rubrotor.engine.settings import Integrator
 from rubrotor.engine.structs import Sink, State, span
@@ -116,6 +117,13 @@ class GeneralMap:
         self._drive = _no_drive(plant.lam.size)
         self.ns, self.m = plant.lam.size, plant.beta.shape[1]
         self.dim = 2 * self.ns + self.m
+        # the state holds each row force over its scale: 1 for a contact (zero when free), the
+        # force scale (N) for a support's row, whose remainder about a load of hundreds of N
+        # carries that load's round-off: in N it would hold the shooting tolerance hostage
+        fs = np.ones(self.m)
+        nc = plant.n_contacts
+        fs[2 * nc :] = np.repeat(plant.contacts.cp[nc:, FORCE_SCALE], 2)
+        self._fs = fs
         self._nch = 4 * len(plant.stations) + CONTACT_CHANNELS * len(plant.outputs.flex)
 
     def at_speed(self, speed: float) -> GeneralMap:
@@ -146,7 +154,7 @@ class GeneralMap:
         """Run the kernel over the map from ``x``: end vector, samples, events, status."""
         ns, m = self.ns, self.m
         y = x[:ns] + 1j * x[ns : 2 * ns]
-        F = np.array(x[2 * ns :], float)
+        F = np.array(x[2 * ns :], float) * self._fs
         n = self.k * self.steps // save_every
         out = np.zeros((self._nch, n + 1))
         istate = np.zeros(N_ISTATE, np.int64)
@@ -160,7 +168,7 @@ class GeneralMap:
         if status == DIVERGED or (status != OK and wrote < n):
             raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")
         events = events[: min(int(istate[I_EVENTS]), len(events))]
-        return np.concatenate([y.real, y.imag, F]), out, events
+        return np.concatenate([y.real, y.imag, F / self._fs]), out, events
 
     def _run(self, x: np.ndarray):
         px, out, _ = self._kernel(x)
@@ -206,17 +214,17 @@ class GeneralMap:
         (the whole Jacobian)."""
         ns = self.ns
         y = x[:ns] + 1j * x[ns : 2 * ns]
-        F = np.array(x[2 * ns :], float)
+        F = np.array(x[2 * ns :], float) * self._fs
         V = np.eye(self.dim) if columns is None else np.asarray(columns, float)
         Qy = np.ascontiguousarray((V[:ns] + 1j * V[ns : 2 * ns]).T)
-        QF = np.ascontiguousarray(V[2 * ns :].T)
+        QF = np.ascontiguousarray(V[2 * ns :].T * self._fs[None, :])
         out = np.zeros(3)
         done = map_tangent((y, F), (Qy, QF), self._steps, self.plant.contacts,
                            self.plant.outputs, self.speed, self.k * self.steps, out)  # fmt: skip
         if int(out[1]) != OK or done < self.k * self.steps:
             raise InputError("shooting.start", "a diverging run", "a guess near a bounded orbit")
-        jac = np.vstack([Qy.real.T, Qy.imag.T, QF.T])
-        return np.concatenate([y.real, y.imag, F]), jac, float(out[0]), int(out[2])
+        jac = np.vstack([Qy.real.T, Qy.imag.T, QF.T / self._fs[:, None]])
+        return np.concatenate([y.real, y.imag, F / self._fs]), jac, float(out[0]), int(out[2])
 
     def differences(self, x: np.ndarray):
         """``(P(x), dP/dx, radius m)`` with the Jacobian by central differences (``2 dim``

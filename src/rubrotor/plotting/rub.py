@@ -1,6 +1,8 @@
 """Figure of a general-engine results Dataset (:mod:`rubrotor.engine.general`): orbit at the
 first contact relative to its stator, normal forces against time, and the full spectrum (constant
-speed) or the per-revolution envelope of the amplitude against speed (run-up or coast-down)."""
+speed) or the per-revolution envelope of the amplitude against speed (run-up or coast-down); with
+fluid-film bearings a second row: the journals' orbits in their clearance circles, their
+eccentricity ratios and film forces against time."""
 
 from __future__ import annotations
 
@@ -13,6 +15,7 @@ from matplotlib.figure import Figure
 __all__ = ["engine_figure", "per_revolution"]
 
 UM = 1e6  # m -> um
+_LINES = ("-", "--", ":")  # bearings that coincide (a symmetric rotor) stay visible
 
 
 def _relative(ds, i: int) -> tuple[np.ndarray, np.ndarray, float]:
@@ -69,6 +72,55 @@ def _spectrum(ax, ds) -> None:
     ax.set_xlabel("whirl frequency (Hz; < 0 backward)")
     ax.set_ylabel("amplitude, y + i z (um)")
     ax.set_title("full spectrum at the contact (second half)")
+
+
+def _journal_index(ds, j: int) -> int:
+    """Station index of bearing ``j``'s journal (the supports' stations come last)."""
+    return ds.sizes["station"] - ds.sizes["bearing"] + j
+
+
+def _journals(ax, ds) -> None:
+    """Each fluid-film journal's orbit in its clearance circle (the last quarter)."""
+    phi = np.linspace(0, 2 * math.pi, 361)
+    n = ds.sizes["time"]
+    tail = slice(int(0.75 * n), n)
+    for j in range(ds.sizes["bearing"]):
+        s = _journal_index(ds, j)
+        c = float(ds["bearing_clearance"].values[j])
+        y, z = ds["v"].values[s][tail], ds["w"].values[s][tail]
+        name = str(ds["bearing_name"].values[j])
+        ax.plot(z / c, y / c, lw=0.8, color=f"C{j}", ls=_LINES[j % 3],
+                label=f"{name} (c = {c * UM:.3g} µm)")  # fmt: skip
+    ax.plot(np.cos(phi), np.sin(phi), "k--", lw=1, label="clearance circle")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("z / radial clearance (1)")
+    ax.set_ylabel("y / radial clearance (1)")
+    ax.set_title("journal orbits in the bearings (last quarter)")
+    ax.legend(loc="upper right", fontsize=7)
+
+
+def _eccentricity(ax, ds) -> None:
+    t = ds["time"].values
+    for j in range(ds.sizes["bearing"]):
+        ax.plot(t, ds["eccentricity_ratio"].values[j], lw=0.7, color=f"C{j}", ls=_LINES[j % 3],
+                label=str(ds["bearing_name"].values[j]))  # fmt: skip
+    ax.axhline(1.0, color="k", ls=":", lw=1, label="metal contact")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("eccentricity ratio (1)")
+    ax.set_title("journal eccentricity")
+    ax.legend(loc="lower right", fontsize=7)
+
+
+def _film_forces(ax, ds) -> None:
+    t = ds["time"].values
+    for j in range(ds.sizes["bearing"]):
+        f = np.hypot(ds["film_force_y"].values[j], ds["film_force_z"].values[j])
+        ax.plot(t, f, lw=0.7, color=f"C{j}", ls=_LINES[j % 3],
+                label=str(ds["bearing_name"].values[j]))  # fmt: skip
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("film force magnitude (N)")
+    ax.set_title("fluid-film force on each journal")
+    ax.legend(loc="upper right", fontsize=7)
 
 
 def per_revolution(tau: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -138,14 +190,20 @@ def engine_figure(ds, *, title: str | None = None, rpm: bool = False) -> Figure:
 
     if ds.sizes.get("contact", 0) == 0 or "contacts" not in ds.attrs:
         raise InputError("results", ds.attrs.get("scenario_name", ""), "a run with a contact")
-    fig = Figure(figsize=(13, 4.2), layout="constrained")
-    axes = fig.subplots(1, 3)
-    _orbit(axes[0], ds)
-    _forces(axes[1], ds)
+    films = ds.sizes.get("bearing", 0) > 0
+    fig = Figure(figsize=(13, 8.4 if films else 4.2), layout="constrained")
+    axes = fig.subplots(2 if films else 1, 3)
+    top = axes[0] if films else axes
+    _orbit(top[0], ds)
+    _forces(top[1], ds)
     if "speed_end_rad_s" in ds.attrs:
-        _runup(axes[2], ds, rpm)
+        _runup(top[2], ds, rpm)
     else:
-        _spectrum(axes[2], ds)
+        _spectrum(top[2], ds)
+    if films:
+        _journals(axes[1][0], ds)
+        _eccentricity(axes[1][1], ds)
+        _film_forces(axes[1][2], ds)
     name = ds.attrs.get("scenario_name", "")
     fig.suptitle(title or f"{name}{_speed_text(ds.attrs)} ({ds.attrs['status']})")
     return fig
