@@ -1,7 +1,7 @@
 """A rotor in short journal bearings rubbing on a seal: rubrotor against SciPy DOP853, equal error.
 
 The case is ``oil_whip_rub.toml`` (0.8 m rotor, two Ocvirk short journal bearings, a seal at the
-disk) run at 600 rad/s, below its oil-whirl threshold (725 rad/s), with ten times its unbalance
+disk) run at 600 rad/s, below its oil-whirl threshold (725 rad/s), with thirty times its unbalance
 so that the disk rubs the seal, over ``REVS`` revolutions from its static equilibrium (above the
 threshold the whip with rub is chaotic, and two trajectories part whatever the integrator).
 The same equations for both: the finite-element model with the whole film force at each
@@ -42,7 +42,7 @@ SCENARIO = pathlib.Path(rubrotor.__file__).parent / "scenarios" / "oil_whip_rub.
 
 def _problem():
     text = SCENARIO.read_text().replace("rad_per_s = 1000.0", "rad_per_s = 600.0")
-    text = text.replace("magnitude = 2e-5", "magnitude = 2e-4")
+    text = text.replace("magnitude = 2e-5", "magnitude = 6e-4")
     text += '\n[initial]\nstate = "static"\n'  # both start in static equilibrium
     sc = _load_text(text)
     integ = Integrator(revolutions=REVS, dt=2e-5, save_every=5, probes=(0.4,))
@@ -129,7 +129,7 @@ def main():
     print(f"reference DOP853 rtol 1e-10: {cpu_ref:.1f} s CPU, {nfev} evaluations")
     print(f"rubrotor (dt {run.step:g} s): error {err_ours:.2e} of the clearance, "
           f"{cpu_ours:.3f} s CPU")
-    for rtol in (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9):
+    for rtol in (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9):
         q, cpu, nfev = scipy_run(rhs, x0, rows, t, rtol)
         err = np.max(np.abs(q - ref)) / clearance
         print(f"DOP853 rtol {rtol:g}: error {err:.2e}, {cpu:.2f} s CPU, {nfev} evaluations")

@@ -40,7 +40,7 @@ def references():
 def test_growing_event_buffer_changes_nothing(name, references, monkeypatch):
     """A 2-slot buffer that doubles between chunks gives the default run bit for bit."""
     monkeypatch.setattr(simulation, "EVENT_BUFFER", 2)
-    monkeypatch.setattr(steppers, "EVENT_MARGIN", 1)
+    monkeypatch.setattr(steppers, "SHAFT_EVENT_RESERVE", 1)
     ref = references[name]
     r = _run(METHODS[name])
     assert ref.events.size > 2  # the buffer had to grow
@@ -55,7 +55,7 @@ def test_full_event_buffer_stops_the_run_and_says_so(name, references, monkeypat
     """With the buffer capped at 2 events the run stops, says why, and keeps a prefix."""
     monkeypatch.setattr(simulation, "EVENT_BUFFER", 2)
     monkeypatch.setattr(simulation, "EVENT_BUFFER_MAX", 2)
-    monkeypatch.setattr(steppers, "EVENT_MARGIN", 1)
+    monkeypatch.setattr(steppers, "SHAFT_EVENT_RESERVE", 1)
     ref = references[name]
     r = _run(METHODS[name])
     assert r.status == "partial" and r.final_state is None

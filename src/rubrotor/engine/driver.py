@@ -902,8 +902,12 @@ def simulate_general(
     problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity),
                       tuple(supports))  # fmt: skip
     if supports and (stream is not None or resume is not None or run.speed_end is not None):
-        raise InputError("bearing.type", "film", "a constant-speed run in memory: streamed, "
-                         "restarted and run-up runs do not take film bearings yet")  # fmt: skip
+        what = ("a streamed run (shorten it: simulation.revolutions, save_every)" if stream
+                else "a restarted run" if resume is not None else "a run-up")  # fmt: skip
+        raise InputError(f"bearing[{supports[0].name}]", "fluid film",
+                         f"a support type this run takes: {what} does not carry fluid-film "
+                         "bearings yet; constant-speed runs held in memory, continuation and "
+                         "shooting do")  # fmt: skip
     if run.speed_end is not None:
         method = "runup"
         if not isinstance(run.initial, str) or run.initial not in ("rest", "static"):

@@ -41,12 +41,12 @@ __all__ = [
     "Stepper",
     "FACTORIES",
     "ADAPTIVE_LEVELS",
-    "EVENT_MARGIN",
+    "SHAFT_EVENT_RESERVE",
 ]
 
-EVENT_MARGIN = 4096
+SHAFT_EVENT_RESERVE = 4096
 """Free event slots a kernel requires before a saved sample (at most one event per step, so a
-fixed-step sample needs ``min(save_every, EVENT_MARGIN)``); see
+fixed-step sample needs ``min(save_every, SHAFT_EVENT_RESERVE)``); see
 :data:`rubrotor.core.integrate.STATUS`."""
 
 Rows = namedtuple("Rows", ["d", "v", "a", "acc_fc", "part_u", "part_l", "vel_z", "acc_z", "acc_c"])
@@ -204,7 +204,7 @@ def _fixed_factory(plan: Plan, st: RunState) -> Stepper:
     k = FixedStep(
         np.exp(lam * h), (h * p1 - h * p2) * beta_c, G1, complex(cdc @ G1), complex(cvc @ G1),
         cdc, cvc, plan.speed, h, plan.save_every, plan.max_disp,
-        min(plan.save_every, EVENT_MARGIN),
+        min(plan.save_every, SHAFT_EVENT_RESERVE),
     )  # fmt: skip
     en, e0 = _energy(plan, st.y)
     rows, cp = plan.rows, plan.cp
@@ -235,7 +235,7 @@ def _adaptive_coefficients(plan: Plan) -> AdaptiveStep:
         errc=np.abs(G0 @ cdc), rot=np.exp(1j * speed * hs), cdc=cdc, cvc=cvc,
         Q0=Q0, Qm=Qm, Q1=Q1, cdQ0=Q0 @ cdc, cvQ0=Q0 @ cvc, cdQm=Qm @ cdc, cvQm=Qm @ cvc,
         sdq=c(Q1 @ cdc), svq=c(Q1 @ cvc), omega=speed, H=H, max_disp=plan.max_disp,
-        rtol=plan.rtol, atol=plan.atol, event_reserve=EVENT_MARGIN,
+        rtol=plan.rtol, atol=plan.atol, event_reserve=SHAFT_EVENT_RESERVE,
     )  # fmt: skip
 
 
@@ -263,7 +263,7 @@ def _abm_factory(plan: Plan, st: RunState) -> Stepper:
     cdc, cvc = _cd_cv(plan)
     k = AbmStep(
         plan.sysm.lam, plan.beta_c, plan.beta_u, plan.beta_l, plan.fu0, plan.fl, cdc, cvc,
-        plan.speed, plan.h, plan.save_every, plan.max_disp, min(plan.save_every, EVENT_MARGIN),
+        plan.speed, plan.h, plan.save_every, plan.max_disp, min(plan.save_every, SHAFT_EVENT_RESERVE),
     )  # fmt: skip
     rows, cp = plan.rows, plan.cp
 

@@ -319,6 +319,11 @@ def prepared_map(scenario, k: int, steps: int, reference=None):
     return _Map(scenario, k, steps)
 
 
+STALL = 1e-9
+"""Newton on a periodic orbit also stops when its step stops shrinking (no longer quadratic:
+round-off) below this fraction of the state."""
+
+
 def newton_orbit(scenario, x0, k=1, steps=STEPS_PER_REVOLUTION, tol=1e-12, max_iter=30):
     """Newton iterations on ``P(x) - x = 0``; returns ``(x, jac, residual, iterations)``.
 
@@ -326,15 +331,20 @@ def newton_orbit(scenario, x0, k=1, steps=STEPS_PER_REVOLUTION, tol=1e-12, max_i
     """
     mp = scenario if hasattr(scenario, "run") else prepared_map(scenario, k, steps)
     x = np.asarray(x0, float).copy()
+    last = math.inf
     for it in range(1, max_iter + 1):
         px, jac, _ = mp.run(x, True)
         r = px - x
         dx = np.linalg.solve(jac - np.eye(x.size), -r)
         x = x + dx
-        if np.linalg.norm(dx) <= tol * max(np.linalg.norm(x), 1e-30):
+        step, size = np.linalg.norm(dx), max(np.linalg.norm(x), 1e-30)
+        # converged: below the tolerance, or stalled at the round-off floor of a state near
+        # zero (a nearly linear orbit is the particular solution: x ~ 0) far below 1e-9 of it
+        if step <= tol * size or (step >= 0.5 * last and step <= STALL * size):
             px, jac, _ = mp.run(x, True)
-            res = np.linalg.norm(px - x) / max(np.linalg.norm(x), 1e-30)
+            res = np.linalg.norm(px - x) / size
             return x, jac, res, it
+        last = step
     raise InputError(
         "shooting", f"no convergence in {max_iter} Newton iterations", "a closer guess"
     )
