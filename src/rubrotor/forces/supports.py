@@ -25,6 +25,7 @@ from __future__ import annotations
 import dataclasses
 
 from rubrotor.errors import InputError
+from rubrotor.forces.finite_journal import FiniteJournal
 from rubrotor.forces.fluid_film import ShortJournal, SqueezeFilm
 from rubrotor.forces.muszynska import MuszynskaSeal
 from rubrotor.rotors.fe import Bearing
@@ -37,6 +38,7 @@ SUPPORT_TYPES: dict[str, type] = {
     MuszynskaSeal.type: MuszynskaSeal,
     ShortJournal.type: ShortJournal,  # Ocvirk's short journal bearing (nonlinear)
     SqueezeFilm.type: SqueezeFilm,  # the short squeeze-film damper (nonlinear)
+    FiniteJournal.type: FiniteJournal,  # Reynolds' equation with feed grooves (nonlinear)
 }
 """``[[bearing]] type`` -> the support term class built from the table's other keys."""
 
