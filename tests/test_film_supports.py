@@ -289,3 +289,26 @@ def test_squeeze_film_linearisation():
     np.testing.assert_allclose(c, 0.5 * full * np.eye(2), rtol=1e-12, atol=1e-9 * full)
     with pytest.raises(InputError, match="bearing.centering_stiffness"):
         support_term(dict(row, centering_stiffness=-1.0))
+
+
+def test_support_linearisation_on_the_engines_mesh(tmp_path):
+    """What the engine reads (``Model.support_linearisation`` on its own mesh, built with
+    ``only=True``): the same static position and coefficients as the verbs' mesh (two bearings:
+    statically determinate), and ``K0``, ``C0`` inside that system's matrices at the speed."""
+    path = _write(tmp_path)
+    model = Model.of(path)
+    engine_system = model.linear_system((0.25,), only=True)
+    speed = 400.0
+    on_engine = model.support_linearisation(speed, engine_system)
+    on_verbs = model.support_linearisation(speed)
+    for a, b in zip(on_engine, on_verbs, strict=True):
+        np.testing.assert_allclose(a.p0, b.p0, rtol=1e-9)
+        np.testing.assert_allclose(a.K0, b.K0, rtol=1e-9)
+        assert a.film == b.film and a.term.spins
+    mx = engine_system.matrices(speed)
+    free = list(engine_system.free)
+    for st in on_engine:
+        i = [free.index(d) for d in st.dofs]
+        bare = engine_system.K[np.ix_(st.dofs, st.dofs)]
+        np.testing.assert_allclose(mx.K[np.ix_(i, i)] - bare, st.K0, rtol=1e-12)
+        np.testing.assert_allclose(mx.C[np.ix_(i, i)], st.C0, rtol=1e-12)
