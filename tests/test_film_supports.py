@@ -312,3 +312,25 @@ def test_support_linearisation_on_the_engines_mesh(tmp_path):
         bare = engine_system.K[np.ix_(st.dofs, st.dofs)]
         np.testing.assert_allclose(mx.K[np.ix_(i, i)] - bare, st.K0, rtol=1e-12)
         np.testing.assert_allclose(mx.C[np.ix_(i, i)], st.C0, rtol=1e-12)
+
+
+def test_three_bearings_statically_indeterminate_balance(tmp_path):
+    """Three journals on a flexible shaft, the disk off centre: the static solution shares the
+    load by the shaft's flexibility; whatever the share, the film forces balance the weight
+    and its moment (statics, 1e-9), and the lateral (cross-coupled) forces sum to zero."""
+    extra = ('[[bearing]]\nposition = 0.25\ntype = "short_journal"\nname = "middle"\n'
+             f"diameter = {D!r}\nlength = {LB!r}\nradial_clearance = {CR!r}\nviscosity = {MU!r}\n")  # fmt: skip
+    path = _write(tmp_path, extra=extra)
+    path.write_text(path.read_text().replace("[[disk]]\nposition = 0.25", "[[disk]]\nposition = 0.3"))
+    sc = rubrotor.load_scenario(path)
+    res = rubrotor.static(sc)
+    m_s = sc.rotor.mass - 10.0
+    weight = sc.rotor.mass * G
+    moment = (m_s * 0.25 + 10.0 * 0.3) * G  # about x = 0
+    fy = np.array([b.force_y for b in res.bearings])
+    fz = np.array([b.force_z for b in res.bearings])
+    x = np.array([b.position for b in res.bearings])
+    assert fy.sum() == pytest.approx(weight, rel=1e-9)
+    assert (x * fy).sum() == pytest.approx(moment, rel=1e-9)
+    assert abs(fz.sum()) <= 1e-9 * weight and np.abs(fz).max() > 1e-3 * weight
+    assert len({round(v, 6) for v in fy}) == 3  # a share set by the shaft, not by symmetry
