@@ -16,7 +16,7 @@ A *nonlinear* support (``nonlinear = True``: the fluid films ``short_journal``,
 journal at rest and ``-dF/dp``), ``linearise(p, spin)`` (``K``, ``C``), ``radial_clearance`` and
 ``spins`` (whether its journal turns with the rotor); its support carries the term, and the
 Model gives it its coefficients at the rotor's static equilibrium at each speed
-(:mod:`rubrotor.forces.equilibrium`). :data:`SUPPORT_TYPES` maps the ``type`` key to the term;
+(``rubrotor.forces.equilibrium``). :data:`SUPPORT_TYPES` maps the ``type`` key to the term;
 a new support model is one module in ``rubrotor.forces`` and one line here.
 """
 
