@@ -9,10 +9,12 @@ contact step needs it) as one kernel, its states where it has some, and its outp
 - :mod:`~rubrotor.forces.muszynska`: Muszynska's fluid-ring force and its whirl threshold;
 - :mod:`~rubrotor.forces.unbalance`, :mod:`~rubrotor.forces.loads`: unbalance, loads, gravity;
 - ``rubrotor.forces.terms``: ``Terms`` and :func:`build_terms`, what the model builds;
-- ``rubrotor.forces.fluid_film``, ``rubrotor.forces.reynolds``,
-  ``rubrotor.forces.magnetic``: short journal bearings and squeeze-film dampers, the finite
-  journal bearing's Reynolds equation, magnetic bearings with their controller (their physics
-  and checks; not yet support types of a scenario).
+- ``rubrotor.forces.fluid_film``, ``rubrotor.forces.finite_journal``: the fluid-film support
+  types ``short_journal``, ``squeeze_film`` and ``finite_journal`` (``rubrotor.forces.reynolds``:
+  the finite film in its load-line frame), linearised at the rotor's static equilibrium by
+  ``rubrotor.forces.equilibrium`` for the linear analyses (the time runs do not carry them yet);
+- ``rubrotor.forces.magnetic``: magnetic bearings with their controller (physics and checks;
+  not yet a support type of a scenario).
 
 Importing this package compiles nothing.
 

@@ -149,11 +149,15 @@ def _start(system, sups, k_lin, f_full, speed):
         if not s.term.spins:
             continue  # a damper's spring is linear: Newton's first step is exact
         load = springs[s.name] * q[list(s.dofs)]
-        if np.hypot(*load) > 0:
-            eq = s.term.equilibrium(load, speed)
-            q[list(s.dofs)] = eq.position
+        w = float(np.hypot(*load))
+        c = s.term.radial_clearance
+        if w > 0:
+            try:
+                q[list(s.dofs)] = s.term.equilibrium(load, speed).position
+            except InputError:  # more than it carries alone: start deep along the load
+                q[list(s.dofs)] = 0.9 * c * load / w
         else:
-            q[list(s.dofs)] = 0.5 * s.term.radial_clearance * np.array([1.0, 0.0])
+            q[list(s.dofs)] = 0.5 * c * np.array([1.0, 0.0])
     return q
 
 

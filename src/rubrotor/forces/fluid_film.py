@@ -3,8 +3,9 @@
 Both are the same film (:mod:`rubrotor.core.film`): a journal bearing's journal spins with the
 rotor, a damper's journal does not (its outer ring is kept from turning) and it may sit on a
 centring spring. This module holds their parameters (validated, SI), their static equilibrium
-under a load and their linearised stiffness and damping there; the time runs evaluate the same
-compiled force.
+under a load and their linearised stiffness and damping there; as ``[[bearing]] type =
+"short_journal"`` and ``"squeeze_film"`` they are support terms (:mod:`rubrotor.forces.supports`)
+the Model linearises at the rotor's static equilibrium (:mod:`rubrotor.forces.equilibrium`).
 
 References
 ----------

@@ -16,7 +16,7 @@ A *nonlinear* support (``nonlinear = True``: the fluid films ``short_journal``,
 journal at rest and ``-dF/dp``), ``linearise(p, spin)`` (``K``, ``C``), ``radial_clearance`` and
 ``spins`` (whether its journal turns with the rotor); its support carries the term, and the
 Model gives it its coefficients at the rotor's static equilibrium at each speed
-(:mod:`rubrotor.forces.equilibrium`). :data:`SUPPORT_TYPES` maps the ``type`` key to the term;
+(``rubrotor.forces.equilibrium``). :data:`SUPPORT_TYPES` maps the ``type`` key to the term;
 a new support model is one module in ``rubrotor.forces`` and one line here.
 """
 
@@ -25,6 +25,7 @@ from __future__ import annotations
 import dataclasses
 
 from rubrotor.errors import InputError
+from rubrotor.forces.finite_journal import FiniteJournal
 from rubrotor.forces.fluid_film import ShortJournal, SqueezeFilm
 from rubrotor.forces.muszynska import MuszynskaSeal
 from rubrotor.rotors.fe import Bearing
@@ -37,6 +38,7 @@ SUPPORT_TYPES: dict[str, type] = {
     MuszynskaSeal.type: MuszynskaSeal,
     ShortJournal.type: ShortJournal,  # Ocvirk's short journal bearing (nonlinear)
     SqueezeFilm.type: SqueezeFilm,  # the short squeeze-film damper (nonlinear)
+    FiniteJournal.type: FiniteJournal,  # Reynolds' equation with feed grooves (nonlinear)
 }
 """``[[bearing]] type`` -> the support term class built from the table's other keys."""
 

@@ -85,7 +85,7 @@ def static(obj, speed: float | None = None, gravity=None, loads=None):
 
 def bearings(obj, speeds):
     """Each fluid-film support's static position and linearised coefficients at each speed
-    (``rubrotor bearings``); see :func:`rubrotor.linear.bearings.bearing_coefficients`.
+    (``rubrotor bearings``); see ``rubrotor.linear.bearings.bearing_coefficients``.
 
     Parameters
     ----------

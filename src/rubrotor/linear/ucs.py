@@ -133,7 +133,25 @@ def _crossing(logk, crit, speeds, kb):
     return w, float(np.interp(w, speeds, kb))
 
 
-def _curve(s: Support) -> BearingCurve:
+def _curve(s: Support, span=(1.0, 1.0)) -> BearingCurve:
+    """A support's ``kyy``, ``kzz`` against speed. A fluid film's (``s.law``: coefficients at the
+    static equilibrium of each speed, see ``rubrotor bearings``) at 40 speeds spaced
+    logarithmically over ``span`` (rad/s: the map's critical speeds), those where its film carries
+    the load; zero where none does."""
+    if s.law is not None:
+        from rubrotor.errors import InputError as _Refused
+
+        rows = []
+        for w in np.geomspace(max(span[0], 1e-3), max(span[1], 2e-3), 40):
+            try:
+                k, _ = s.tabulate([w])
+            except _Refused:  # below the speed at which the film carries its load
+                continue
+            rows.append((w, k[0, 0, 0], k[0, 1, 1]))
+        if rows:
+            w, kyy, kzz = (np.array(col) for col in zip(*rows, strict=True))
+            return BearingCurve(s.name, float(s.position), w, kyy, kzz)
+        return BearingCurve(s.name, float(s.position), np.zeros(1), np.zeros(1), np.zeros(1))
     speeds = np.zeros(1) if s.speeds is None else np.asarray(s.speeds, float)
     return BearingCurve(s.name, float(s.position), speeds, s.k[:, 0, 0].copy(), s.k[:, 1, 1].copy())
 
@@ -206,11 +224,13 @@ def ucs_map(system: LinearSystem, stiffness=None, n: int = 4) -> UCSMap:
     zero = np.zeros((1, 2, 2))
     for i, ki in enumerate(k):
         springs = tuple(
-            dataclasses.replace(s, k=ki * np.eye(2)[None], c=zero, speeds=None)
+            dataclasses.replace(s, k=ki * np.eye(2)[None], c=zero, speeds=None, law=None)
             for s in system.supports
         )
         mx = dataclasses.replace(system, supports=springs).matrices(0.0)
         p = np.ix_(plane, plane)
         lam = scipy.linalg.eigh(mx.K[p], mx.M[p], eigvals_only=True, subset_by_index=[0, count - 1])
         out[i] = np.sqrt(np.maximum(lam, 0.0))
-    return UCSMap(k, out, tuple(_curve(s) for s in system.supports))
+    positive = out[out > 0]
+    span = (float(positive.min()), float(positive.max())) if positive.size else (1.0, 1.0)
+    return UCSMap(k, out, tuple(_curve(s, span) for s in system.supports))

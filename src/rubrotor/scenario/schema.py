@@ -437,6 +437,10 @@ _BEARING = (
     _k("bearing", "cavitation", "str", "", 'Cavitation: "half_sommerfeld" (Gumbel, pi-film), '
        '"full_film" (Sommerfeld); "reynolds" (Swift-Stieber) for "finite_journal" only',
        choices=("half_sommerfeld", "gumbel", "pi_film", "full_film", "sommerfeld", "reynolds")),
+    _k("bearing", "groove_angles", "list", "rad", "Axial oil-feed grooves' angles in the "
+       'bearing\'s frame, from y towards z (type = "finite_journal")', _closed(-1e3, 1e3)),
+    _k("bearing", "supply_pressure", "number", "Pa", "Oil supply pressure held in the grooves "
+       '(type = "finite_journal")', _closed(0.0, 1e9), default=0.0),
     _k("bearing", "centering_stiffness", "number", "N/m", "Centring spring in parallel with a "
        'squeeze-film damper, 0 for an uncentred one (type = "squeeze_film")', _closed(0.0, 1e13)),
 )  # fmt: skip
