@@ -69,6 +69,7 @@ from rubrotor.rotors.forces import (
 )
 from rubrotor.rotors.shaft import Dimensionless, Shaft
 from rubrotor.scenario.dynamics import Builders, EngineSpec, engine_spec_or_none, split_engine_keys
+from rubrotor.scenario import plausible
 from rubrotor.scenario.kind import Kind
 from rubrotor.scenario.rotor import build_rotor, normalise_rotor_tables, rotor_to_dict
 from rubrotor.scenario.schema import (
@@ -800,7 +801,9 @@ def scenario_from_dict(mapping: Mapping, source_text: str = "") -> Scenario:
     parts = _build(spec, mapping)
     engine, full = engine_spec_or_none(mapping, extras, parts, Builders(_position, _build_contact))
     spec = full if extras else spec
-    return Scenario(**parts, engine=engine, source=source_text, _spec=spec)
+    scenario = Scenario(**parts, engine=engine, source=source_text, _spec=spec)
+    plausible.check(scenario)  # across keys, before anything is meshed or solved
+    return scenario
 
 
 def scenario_to_dict(scenario: Scenario, resolved: bool = False) -> dict:
@@ -870,6 +873,8 @@ def _resolved_parts(sc: Scenario, out: dict) -> dict:
         c = dataclasses.asdict(sc.contact)
         out["contact"] = {k: v for k, v in c.items() if v is not None}
     out["initial"] = {"state": sc.initial}
+    if sc._spec and "checks" in sc._spec:  # the plausibility checks a study switched off
+        out["checks"] = copy.deepcopy(sc._spec["checks"])
     if sc.thermal is not None:
         out["thermal"] = dataclasses.asdict(sc.thermal)
     if sc.simulation is not None:

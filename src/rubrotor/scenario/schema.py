@@ -56,6 +56,7 @@ from rubrotor.rotors.fe import BEARING_KINDS, COEFFICIENTS
 from rubrotor.rotors.forces import BOW_SHAPES, CONTACT_LAWS, FRICTION_SIGNS, RESTITUTION_MODELS
 from rubrotor.rotors.linear import EXTRAPOLATIONS, INTERPOLATIONS
 from rubrotor.rotors.shaft import FORMULATIONS, PLAUSIBLE_RANGES, SHEAR_COEFFICIENTS, THEORIES
+from rubrotor.scenario.plausible import CHECKS
 
 __all__ = [
     "Key",
@@ -77,9 +78,10 @@ __all__ = [
     "markdown_table",
 ]
 
-KINDS = ("number", "int", "bool", "str", "number|str", "list", "number|list")
+KINDS = ("number", "int", "bool", "str", "number|str", "list", "number|list", "strlist")
 """Kinds of values: a finite number (int or float, not bool), an integer, true/false, a string,
-a number or a string (a named choice), a non-empty list of numbers, a number or such a list."""
+a number or a string (a named choice), a non-empty list of numbers, a number or such a list, a
+list of strings (each one of the choices)."""
 
 _NUMERIC = ("number", "int", "number|str", "list", "number|list")
 
@@ -534,6 +536,13 @@ _THERMAL = (
 )  # fmt: skip
 """Keys of the thermal bow (:class:`rubrotor.rotors.forces.ThermalBow`)."""
 
+_CHECKS = (
+    _k("checks", "skip", "strlist", "",
+       "Plausibility checks across keys to switch off, by name (rubrotor.scenario.plausible)",
+       choices=tuple(CHECKS)),
+)  # fmt: skip
+"""Keys of ``[checks]`` (:mod:`rubrotor.scenario.plausible`)."""
+
 TABLES: tuple[Table, ...] = (
     Table("meta", "table", "any", "Name and description"),
     Table("shaft", "table", "shaft", "A uniform, simply supported continuous shaft",
@@ -571,13 +580,16 @@ TABLES: tuple[Table, ...] = (
     Table("rotor", "table", "general", "Settings of the general rotor"),
     Table("thermal", "table", "any",
           "Thermal bow at the rubbing stations (rubrotor thermal; general rotors)"),
+    Table("checks", "table", "any",
+          "Plausibility checks across keys (a clearance against the radius, a speed against the "
+          "surface speed ...) a deliberate study switches off"),
 )  # fmt: skip
 """Every scenario table, in the order the docs list them."""
 
 _ORDER = {t.name: i for i, t in enumerate(TABLES)}
 KEYS: tuple[Key, ...] = tuple(sorted((
     *_META, *_SHAFT, *_SPEED, *_UNBALANCE, *_LOAD, *_CONTACT, *_DAMPING, *_INITIAL,
-    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_POINT_MASS, *_ROTOR, *_THERMAL,
+    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_POINT_MASS, *_ROTOR, *_THERMAL, *_CHECKS,
 ), key=lambda row: _ORDER[row.table]))  # fmt: skip
 """Every key of every scenario table, grouped by table: the one source of the schema."""
 
@@ -653,6 +665,8 @@ def allowed_text(row: Key) -> str:
     """What ``row`` accepts, as error messages say it (``"a number in [1e-09, 1000] (m)"``)."""
     if row.kind == "bool":
         return "true or false"
+    if row.kind == "strlist":
+        return "a list of " + (" / ".join(f'"{c}"' for c in row.choices) or "strings")
     if row.kind == "str":
         return " or ".join(f'"{c}"' for c in row.choices) if row.choices else "a string"
     what = {
@@ -719,6 +733,11 @@ def check_value(name: str, value, row: Key):
         Naming ``name``, the value and :func:`allowed_text` of the row.
     """
     kind = row.kind
+    if kind == "strlist":
+        ok = isinstance(value, list | tuple) and all(isinstance(v, str) for v in value)
+        if not ok or any(row.choices and v not in row.choices for v in value):
+            raise ScenarioError(name, value, allowed_text(row))
+        return list(value)
     if kind == "bool":
         if not isinstance(value, bool):
             raise ScenarioError(name, value, allowed_text(row))
@@ -758,6 +777,8 @@ def _allowed_cell(row: Key) -> str:
     """The "allowed" column of the docs: the kind with its choices or range (no unit)."""
     if row.kind == "bool":
         text = "true or false"
+    elif row.kind == "strlist":
+        text = allowed_text(row)
     elif row.kind in ("str", "number|str") and row.choices:
         text = " or ".join(f'"{c}"' for c in row.choices)
         if row.kind == "number|str":
