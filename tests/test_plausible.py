@@ -27,7 +27,13 @@ def _rotor_mass(d: dict) -> float:
     cylinder, the lumped balance disk."""
     m = 0.0
     for s in d["section"]:
-        m += RHO * math.pi / 4 * (s["diameter"] ** 2 - s.get("bore_diameter", 0.0) ** 2) * s["length"]
+        m += (
+            RHO
+            * math.pi
+            / 4
+            * (s["diameter"] ** 2 - s.get("bore_diameter", 0.0) ** 2)
+            * s["length"]
+        )
     imp = d["disk"][0]
     return m + RHO * math.pi / 4 * imp["outer_diameter"] ** 2 * imp["width"] + d["disk"][1]["mass"]
 

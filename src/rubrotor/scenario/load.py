@@ -68,8 +68,8 @@ from rubrotor.rotors.forces import (
     restitution_damping,
 )
 from rubrotor.rotors.shaft import Dimensionless, Shaft
-from rubrotor.scenario.dynamics import Builders, EngineSpec, engine_spec_or_none, split_engine_keys
 from rubrotor.scenario import plausible
+from rubrotor.scenario.dynamics import Builders, EngineSpec, engine_spec_or_none, split_engine_keys
 from rubrotor.scenario.kind import Kind
 from rubrotor.scenario.rotor import build_rotor, normalise_rotor_tables, rotor_to_dict
 from rubrotor.scenario.schema import (
@@ -84,6 +84,7 @@ from rubrotor.scenario.schema import (
     key_row,
     key_unit,
     table_row,
+    unknown_key_text,
 )
 
 __all__ = [
@@ -155,8 +156,8 @@ def _normalise(mapping: Mapping) -> dict:
         if section in ROTOR_TABLES:
             continue
         if section not in SCHEMA:
-            known = ", ".join([*SCHEMA, *ROTOR_TABLES])
-            raise _err(str(section), "...", "one of the sections " + known)
+            raise _err(str(section), "...", unknown_key_text(section, [*SCHEMA, *ROTOR_TABLES],
+                                                             "", "section"))
         if not isinstance(body, Mapping):
             raise _err(section, body, "a table of keys")
         allowed = SCHEMA[section]
@@ -164,7 +165,7 @@ def _normalise(mapping: Mapping) -> dict:
         for key, value in body.items():
             name = f"{section}.{key}"
             if key not in allowed:
-                raise _err(name, value, f"one of the keys {', '.join(allowed)} of [{section}]")
+                raise _err(name, value, unknown_key_text(key, allowed, f"[{section}]"))
             sec[key] = check_value(name, value, key_row(section, key))
         out[section] = sec
     for section in _REQUIRED_TABLES:
@@ -591,11 +592,7 @@ class Scenario:
                 spec.pop(section, None)
                 continue
             if key not in schema[section]:
-                raise _err(
-                    dotted_key,
-                    value,
-                    f"one of the keys {', '.join(schema[section])} of [{section}]",
-                )
+                raise _err(dotted_key, value, unknown_key_text(key, schema[section], f"[{section}]"))
             sec = spec.setdefault(section, {})
             if not isinstance(sec, dict):
                 raise _err(dotted_key, value, f"a key of a single [{section}] table (not [[...]])")

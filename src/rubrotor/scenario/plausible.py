@@ -111,6 +111,20 @@ def _field(spec: dict, table: str, index: int, key: str) -> str:
     return f"{table}[{index + 1}].{key}" if isinstance(spec.get(table), list) else f"{table}.{key}"
 
 
+def _rows(spec: dict, table: str) -> list:
+    """The tables ``[table]`` / ``[[table]]`` of the spec, as a list."""
+    rows = spec.get(table, [])
+    return rows if isinstance(rows, list) else [rows]
+
+
+def _dimensionless(spec: dict, table: str, index: int, key: str) -> bool:
+    """Whether ``table[index]`` gives ``key`` in the seed's dimensionless form (``key_nd``):
+    such a value has no unit to slip, and resolves with the speed (a sweep of the speed at a
+    fixed ``magnitude_nd`` moves the unbalance in kg m on purpose)."""
+    rows = _rows(spec, table)
+    return index < len(rows) and f"{key}_nd" in rows[index]
+
+
 def _skip_text(name: str) -> str:
     return f' (if deliberate: [checks] skip = ["{name}"])'
 
@@ -157,6 +171,8 @@ def _geometry(sc) -> _Geometry:
 def _clearance(sc, geo: _Geometry, spec: dict) -> list[Finding]:
     out = []
     for i, c in enumerate(sc.contacts):
+        if _dimensionless(spec, "contact", i, "clearance"):
+            continue
         r = c.radius if getattr(c, "radius", None) else geo.radius_at(c.position)
         ratio = c.clearance / r
         if ratio <= CLEARANCE_RATIO[0]:
@@ -164,8 +180,10 @@ def _clearance(sc, geo: _Geometry, spec: dict) -> list[Finding]:
         refuse = ratio > CLEARANCE_RATIO[1]
         name = _field(spec, "contact", i, "clearance")
         v = c.clearance
-        msg = (f"{name} = {v:g} m: a radial clearance of {ratio:.3g} times the {r:.4g} m "
-               f"radius at x = {c.position:g} m (seals and bearings run at about 0.001)")
+        msg = (
+            f"{name} = {v:g} m: a radial clearance of {ratio:.3g} times the {r:.4g} m "
+            f"radius at x = {c.position:g} m (seals and bearings run at about 0.001)"
+        )
         if refuse:
             msg += f": did you mean {v:g} mm = {v * 1e-3:g} m?"
         out.append(Finding("clearance_vs_radius", name, v, msg, refuse))
@@ -177,8 +195,10 @@ def _diameters(sc, geo: _Geometry, spec: dict) -> list[Finding]:
     if geo.length > ROTOR_LENGTH:
         table = "shaft" if sc.rotor is None else "section"
         name = f"{table}.length" if sc.rotor is None else "section[*].length"
-        msg = (f"{name}: a rotor {geo.length:g} m long (the longest machine trains are about "
-               f"60 m): are the lengths in mm? {geo.length:g} mm = {geo.length * 1e-3:g} m")
+        msg = (
+            f"{name}: a rotor {geo.length:g} m long (the longest machine trains are about "
+            f"60 m): are the lengths in mm? {geo.length:g} mm = {geo.length * 1e-3:g} m"
+        )
         out.append(Finding("diameter_vs_length", name, geo.length, msg, True))
     rows = []
     if sc.rotor is None:
@@ -192,8 +212,10 @@ def _diameters(sc, geo: _Geometry, spec: dict) -> list[Finding]:
                 rows.append((f"disk[{i + 1}].outer_diameter", row["outer_diameter"], "disk"))
     for name, d, what in rows:
         if d > DIAMETER_RATIO * geo.length:
-            msg = (f"{name} = {d:g} m: a {what} {d / geo.length:.3g} times as wide as the "
-                   f"rotor is long ({geo.length:.4g} m): did you mean {d:g} mm = {d * 1e-3:g} m?")
+            msg = (
+                f"{name} = {d:g} m: a {what} {d / geo.length:.3g} times as wide as the "
+                f"rotor is long ({geo.length:.4g} m): did you mean {d:g} mm = {d * 1e-3:g} m?"
+            )
             out.append(Finding("diameter_vs_length", name, d, msg, True))
     return out
 
@@ -209,16 +231,22 @@ def _disk_mass(sc, geo: _Geometry, spec: dict) -> list[Finding]:
             continue
         if d.polar_inertia > 0:
             width = d.mass**2 / (2 * math.pi * geo.density * d.polar_inertia)
-            implied = (f"a uniform disk of density {geo.density:g} kg/m^3 with that mass and "
-                       f"polar inertia {d.polar_inertia:g} kg m^2 is {width:.3g} m wide")
+            implied = (
+                f"a uniform disk of density {geo.density:g} kg/m^3 with that mass and "
+                f"polar inertia {d.polar_inertia:g} kg m^2 is {width:.3g} m wide"
+            )
         else:
             width = d.mass / (geo.density * geo.length**2)
-            implied = (f"a block of density {geo.density:g} kg/m^3 as wide as the rotor is long "
-                       f"would be {width:.3g} m thick")
+            implied = (
+                f"a block of density {geo.density:g} kg/m^3 as wide as the rotor is long "
+                f"would be {width:.3g} m thick"
+            )
         if width > DISK_WIDTH_RATIO * geo.length:
             name = _field(spec, "disk", i, "mass")
-            msg = (f"{name} = {d.mass:g} kg: {implied}, on a {geo.length:.4g} m rotor: did you "
-                   f"mean {d.mass:g} g = {d.mass * 1e-3:g} kg?")
+            msg = (
+                f"{name} = {d.mass:g} kg: {implied}, on a {geo.length:.4g} m rotor: did you "
+                f"mean {d.mass:g} g = {d.mass * 1e-3:g} kg?"
+            )
             out.append(Finding("disk_mass_vs_dimensions", name, d.mass, msg, True))
     return out
 
@@ -233,12 +261,16 @@ def _speed(sc, geo: _Geometry, spec: dict) -> list[Finding]:
         return []
     refuse = v > SURFACE_SPEED[1]
     name = f"speed.{key}"
-    msg = (f"{name} = {given:g}: {omega:.4g} rad/s moves the {geo.rim:.4g} m radius at "
-           f"{v:.4g} m/s (steel impellers stay below about 600 m/s)")
+    msg = (
+        f"{name} = {given:g}: {omega:.4g} rad/s moves the {geo.rim:.4g} m radius at "
+        f"{v:.4g} m/s (steel impellers stay below about 600 m/s)"
+    )
     if refuse and key in ("rad_per_s", "hz"):
         unit = "rad/s" if key == "rad_per_s" else "Hz"
-        msg += (f": is {given:g} an rpm figure in a {unit} key? {given:g} rpm = "
-                f"{given * 2 * math.pi / 60:.4g} rad/s")
+        msg += (
+            f": is {given:g} an rpm figure in a {unit} key? {given:g} rpm = "
+            f"{given * 2 * math.pi / 60:.4g} rad/s"
+        )
     out = [Finding("speed_vs_surface", name, float(given), msg, refuse)]
     return out
 
@@ -278,9 +310,11 @@ def _sag(sc, geo: _Geometry, spec: dict) -> list[Finding]:
     refuse = sag > SAG[1]
     i, k = min(stiff, key=lambda t: t[1])
     name = f"bearing[{i + 1}].{key}"
-    msg = (f"{name} = {k:g} N/m: the rotor's weight {weight:.4g} N on {len(stiff)} bearings of "
-           f"total {key} {total:.4g} N/m sags {sag * 1e3:.3g} mm on average (fluid-film and "
-           f"rolling bearings: micrometres to a tenth of a millimetre)")
+    msg = (
+        f"{name} = {k:g} N/m: the rotor's weight {weight:.4g} N on {len(stiff)} bearings of "
+        f"total {key} {total:.4g} N/m sags {sag * 1e3:.3g} mm on average (fluid-film and "
+        f"rolling bearings: micrometres to a tenth of a millimetre)"
+    )
     if refuse:
         msg += f": did you mean {k:g} N/mm = {k * 1e3:g} N/m?"
     return [Finding("bearing_sag", name, k, msg, refuse)]
@@ -288,7 +322,8 @@ def _sag(sc, geo: _Geometry, spec: dict) -> list[Finding]:
 
 def _unbalance(sc, geo: _Geometry, spec: dict) -> list[Finding]:
     planes = sc.unbalances
-    if not planes or geo.mass <= 0:
+    if not planes or geo.mass <= 0 or any(_dimensionless(spec, "unbalance", i, "magnitude")
+                                          for i in range(len(planes))):  # fmt: skip
         return []
     total = sum(abs(u.magnitude) for u in planes)
     i, big = max(enumerate(planes), key=lambda t: abs(t[1].magnitude))
@@ -296,18 +331,22 @@ def _unbalance(sc, geo: _Geometry, spec: dict) -> list[Finding]:
     e = total / geo.mass
     omega = max(abs(sc.speed), abs(getattr(sc.engine, "speed_end", None) or 0.0))
     grade = e * omega * 1e3  # mm/s
-    slip = (f": did you mean {big.magnitude:g} g mm = {big.magnitude * 1e-6:g} kg m?")
+    slip = f": did you mean {big.magnitude:g} g mm = {big.magnitude * 1e-6:g} kg m?"
     u = big.magnitude
     if e > geo.rim:
-        msg = (f"{name} = {u:g} kg m: a mass eccentricity U / m = {e:.4g} m on the "
-               f"{geo.mass:.4g} kg rotor, beyond its {geo.rim:.4g} m outer radius" + slip)
+        msg = (
+            f"{name} = {u:g} kg m: a mass eccentricity U / m = {e:.4g} m on the "
+            f"{geo.mass:.4g} kg rotor, beyond its {geo.rim:.4g} m outer radius" + slip
+        )
         return [Finding("unbalance_grade", name, u, msg, True)]
     if grade <= BALANCE_GRADE[0]:
         return []
     refuse = grade > BALANCE_GRADE[1]
-    msg = (f"{name} = {u:g} kg m: eccentricity e = U / m = {e:.4g} m on the {geo.mass:.4g} kg "
-           f"rotor, balance grade G = e Omega = {grade:.4g} mm/s at {omega:.4g} rad/s "
-           f"(ISO 21940-11: G 2.5 to G 6.3 for turbomachinery, G 4000 the coarsest grade)")
+    msg = (
+        f"{name} = {u:g} kg m: eccentricity e = U / m = {e:.4g} m on the {geo.mass:.4g} kg "
+        f"rotor, balance grade G = e Omega = {grade:.4g} mm/s at {omega:.4g} rad/s "
+        f"(ISO 21940-11: G 2.5 to G 6.3 for turbomachinery, G 4000 the coarsest grade)"
+    )
     return [Finding("unbalance_grade", name, u, msg + (slip if refuse else ""), refuse)]
 
 

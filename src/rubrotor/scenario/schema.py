@@ -76,6 +76,7 @@ __all__ = [
     "check_value",
     "allowed_text",
     "markdown_table",
+    "unknown_key_text",
 ]
 
 KINDS = ("number", "int", "bool", "str", "number|str", "list", "number|list", "strlist")
@@ -685,6 +686,37 @@ def allowed_text(row: Key) -> str:
     if row.kind == "number|str":
         text = " or ".join([*(f'"{c}"' for c in row.choices), text])
     return text
+
+
+def unknown_key_text(key: str, allowed, table: str, what: str = "key") -> str:
+    """What an error says is allowed instead of an unknown ``key`` of ``[table]``: the nearest
+    valid key (:func:`difflib.get_close_matches`, case-insensitive) when one is near, e.g.
+    ``"a key of [contact]: did you mean `clearance`?"``, else the list of valid keys.
+
+    Parameters
+    ----------
+    key : str
+        The key that was given.
+    allowed : iterable of str
+        The valid keys (or tables, with ``what="table"``).
+    table : str
+        How the message names where the key was, e.g. ``"[contact]"``; ``""`` for the file's
+        top level.
+    what : str
+        ``"key"`` or ``"table"``.
+    """
+    import difflib
+
+    allowed = list(allowed)
+    lower = {a.lower(): a for a in allowed}
+    near = difflib.get_close_matches(str(key).lower(), list(lower), n=3, cutoff=0.6)
+    score = [difflib.SequenceMatcher(None, str(key).lower(), n).ratio() for n in near]
+    near = [n for n, r in zip(near, score, strict=True) if r == score[0]]  # the nearest, ties
+    where = f" of {table}" if table else ""
+    if near:
+        names = " or ".join(f"`{lower[n]}`" for n in near)
+        return f"a {what}{where}: did you mean {names}?"
+    return f"one of the {what}s {', '.join(allowed)}{where}"
 
 
 def _is_number(v) -> bool:
