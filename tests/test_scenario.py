@@ -8,8 +8,6 @@ import math
 from importlib import resources
 
 import pytest
-
-from rubrotor.scenario.plausible import CHECKS
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -18,6 +16,7 @@ from rubrotor.linear.verbs import critical_speeds, modes
 from rubrotor.rotors.forces import restitution_damping
 from rubrotor.rotors.shaft import Dimensionless, Shaft
 from rubrotor.scenario import Scenario, load_scenario, scenario_from_dict, scenario_to_dict
+from rubrotor.scenario.plausible import CHECKS
 
 SCENARIOS = resources.files("rubrotor") / "scenarios"
 
