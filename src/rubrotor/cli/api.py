@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import sys
 
@@ -122,8 +123,9 @@ def _stage(text: str) -> tuple[float, float, float, float]:
 def level1_args(parser: argparse.ArgumentParser) -> None:
     _options(parser)
     parser.add_argument("--at", type=float, metavar="X",
-                        help="station of the cross-coupling (m); default the heaviest disk, "
-                        "else midway between the outermost bearings")  # fmt: skip
+                        help="station of the cross-coupling (m); default mid-span between the "
+                        "outermost bearings, or the heaviest overhung disk (the stage) of an "
+                        "overhung rotor")  # fmt: skip
     parser.add_argument("--stiffness", metavar="START:STOP:COUNT",
                         help="cross-coupled stiffness (N/m, log-spaced); default 1e4:1e9:41")  # fmt: skip
     group = parser.add_mutually_exclusive_group()
@@ -132,14 +134,11 @@ def level1_args(parser: argparse.ArgumentParser) -> None:
                        help="a compressor stage for Q_A (W, m, m, discharge/suction density)")  # fmt: skip
 
 
-def _station(scenario, system) -> float:
+def _station(scenario) -> tuple[float, str]:
+    from rubrotor.linear.front import level1_station
     from rubrotor.modelling import model_of
 
-    disk = model_of(scenario).heaviest_disk()
-    if disk is not None:
-        return disk
-    xs = [s.position for s in system.supports] or [0.0, system.basis.length]
-    return 0.5 * (min(xs) + max(xs))
+    return level1_station(model_of(scenario))
 
 
 def level1_run(args: argparse.Namespace) -> int:
@@ -151,7 +150,7 @@ def level1_run(args: argparse.Namespace) -> int:
     q = parse_stiffness(args.stiffness) if args.stiffness else None
     scenario = load_scenario(args.scenario)
     speed = speed_or_default(args.max_speed, scenario.speed, "--max-speed")
-    at = args.at if args.at is not None else _station(scenario, linear_system(scenario))
+    at, location = (args.at, "given") if args.at is not None else _station(scenario)
     on_rotor(scenario, [at], "--at")
     system = linear_system(scenario, (at,))
     qa = args.qa
@@ -161,7 +160,7 @@ def level1_run(args: argparse.Namespace) -> int:
     if qa is not None and not (math.isfinite(qa) and qa > 0):
         raise InputError("--qa", qa, "a cross-coupled stiffness > 0 (N/m)")
     try:
-        res = level1(system, speed, at, q, qa)
+        res = dataclasses.replace(level1(system, speed, at, q, qa), location=location)
     except InputError as exc:
         if exc.field != "stiffness":
             raise
@@ -170,7 +169,8 @@ def level1_run(args: argparse.Namespace) -> int:
         print_json(res.to_dict())
     else:
         print(
-            f"{scenario.name}: API 684 Level I at {speed:.5g} rad/s, cross-coupling at x = {at:g} m"
+            f"{scenario.name}: API 684 Level I at {speed:.5g} rad/s, cross-coupling at x = {at:g} m "
+            f"({location})"
         )
         pick = np.unique(np.linspace(0, res.stiffness.size - 1, 9).round().astype(int))
         print(table(["Q (N/m)", "log dec", "frequency (Hz)"],
