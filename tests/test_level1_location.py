@@ -62,4 +62,6 @@ def test_default_station_rules():
     assert default_station([], [], 2.0) == (1.0, "mid-span")  # no bearings: the two ends
     # two overhung disks: the heavier one; a disk on a bearing is not overhung
     assert default_station([0.2, 1.0], [(0.0, 5.0), (1.2, 9.0), (1.0, 50.0)], 1.2) == (
-        1.2, "overhung stage")
+        1.2,
+        "overhung stage",
+    )

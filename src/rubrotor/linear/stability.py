@@ -38,6 +38,8 @@ __all__ = [
     "general_contact_stability",
     "GROWTH_RTOL",
     "stability_threshold",
+    "is_undamped",
+    "ZETA_ROUNDOFF",
 ]
 
 TWO_PI = 2 * math.pi
@@ -48,6 +50,11 @@ TWO_PI = 2 * math.pi
 #: condition number. For the seed rotor (``|s|`` up to 1.7e5 rad/s) that is 1.7e-5 1/s, a time
 #: constant of 16 hours; undamped whirls computed at +3e-11 1/s are neutral, not unstable.
 GROWTH_RTOL = 1e-10
+
+#: Damping ratios of modulus at or below this are round-off: ``|Re s| <= 1e-9 |s|``. An
+#: undamped rotor's modes come out of the eigensolver with ratios of +-1e-17 to +-1e-26; they
+#: are "undamped", neither unstable nor a stability threshold at 0 rad/s.
+ZETA_ROUNDOFF = 1e-9
 
 
 @dataclass(frozen=True)
@@ -396,22 +403,64 @@ def stability_threshold(
     Returns
     -------
     float or None
-        The threshold speed (rad/s); 0.0 when the rotor is already unstable at rest.
+        The threshold speed (rad/s); 0.0 when the rotor is already unstable at rest. A damping
+        ratio counts as negative below ``-ZETA_ROUNDOFF`` (``Re s > 1e-9 |s|``): an undamped
+        rotor (ratios at round-off, see :func:`is_undamped`) has no threshold (None).
     """
     max_speed = _check_speed("max_speed", max_speed)
-    if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
-        raise InputError("n", n, "a number of modes >= 1")
+    _check_count(n)
 
     def least(w):
         # the n lowest by frequency (the Campbell route): overdamped roots never set the least
-        return min(m.damping_ratio for m in _modes(system, w, n, natural=False).modes)
+        return _least_ratio(system, w, n)
 
-    if least(0.0) < 0:
+    def shifted(w):  # "< 0" where the ratio is below the round-off band
+        return least(w) + ZETA_ROUNDOFF
+
+    z_prev = least(0.0)
+    if z_prev < -ZETA_ROUNDOFF:
         return 0.0
     grid = np.linspace(0.0, max_speed, points)
     prev = grid[0]
     for w in grid[1:]:
-        if least(float(w)) < 0:
-            return float(scipy.optimize.brentq(least, prev, float(w), xtol=1e-12, rtol=1e-10))
-        prev = float(w)
+        z = least(float(w))
+        if z < -ZETA_ROUNDOFF:
+            # the zero crossing itself where the bracket holds it, else the band's edge
+            f = least if z_prev >= 0 else shifted
+            return float(scipy.optimize.brentq(f, prev, float(w), xtol=1e-12, rtol=1e-10))
+        prev, z_prev = float(w), z
     return None
+
+
+def _check_count(n) -> None:
+    if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
+        raise InputError("n", n, "a number of modes >= 1")
+
+
+def _least_ratio(system: LinearSystem, speed: float, n: int | None) -> float:
+    return min(m.damping_ratio for m in _modes(system, speed, n, natural=False).modes)
+
+
+def is_undamped(system: LinearSystem, speeds, n: int | None = None) -> bool:
+    """Whether every mode is undamped at every one of ``speeds``: each damping ratio of
+    modulus at most ``ZETA_ROUNDOFF`` (``|Re s| <= 1e-9 |s|``, round-off of an eigensolver).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor.
+    speeds : sequence of float
+        Spin speeds (rad/s) to look at.
+    n : int, optional
+        Modes considered (default all), the lowest by frequency.
+
+    Returns
+    -------
+    bool
+    """
+    _check_count(n)
+    for w in speeds:
+        ratios = [m.damping_ratio for m in _modes(system, float(w), n, natural=False).modes]
+        if max(abs(z) for z in ratios) > ZETA_ROUNDOFF:
+            return False
+    return True
