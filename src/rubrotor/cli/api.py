@@ -52,10 +52,32 @@ def clearance_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--mode", type=int, default=0, help="forward mode placing the unbalance, counted from 0 (0: the first "
                         "forward mode, 1: the second, ...; default 0)")
     parser.add_argument("--no-cap", action="store_true", help="no cap of 6 on the scale factor")
+    parser.add_argument("--trip-speed", type=float, metavar="RAD_PER_S",
+                        help="trip speed (rad/s) of the critical speeds' clearance check; "
+                        "default 1.05 x the maximum")  # fmt: skip
+
+
+def _print_criticals(res) -> None:
+    """The critical speeds of API 617 (response peaks at the probes) with their verdicts."""
+    top = max(res.trip_speed, 1.25 * res.max_speed)
+    print(f"API 617 critical speeds up to {top:.5g} rad/s (response peaks at the probes, AF by "
+          f"the half-power method >= 2.5; clearances checked up to the trip speed "
+          f"{res.trip_speed:.5g} rad/s):")  # fmt: skip
+    if not res.criticals:
+        print("  none: no response peak with AF >= 2.5")
+        return
+    rows = [[f"{c.speed_rad_s:.5g}", f"{c.whirl} ({c.mode_whirl} mode)", str(c.probe + 1),
+             f"{c.amplification_factor:.3g}", f"{100 * c.required_margin:.3g}",
+             f"{100 * c.actual_margin:.3g}",
+             ", ".join(f"{m * 1e6:.4g}" for m in c.clearance_margins) or "-", c.verdict]
+            for c in res.criticals]  # fmt: skip
+    print(table(["N_c (rad/s)", "whirl at probe", "probe", "AF", "SM req (%)", "SM (%)",
+                 "clearance margin (µm)", "verdict"], rows))  # fmt: skip
 
 
 def clearance_run(args: argparse.Namespace) -> int:
     from rubrotor.linear.api617 import clearance_check
+    from rubrotor.linear.front import with_criticals
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.response import clearance_figure
 
@@ -75,6 +97,10 @@ def clearance_run(args: argparse.Namespace) -> int:
     on_rotor(scenario, [p for p, _ in probes], "--probe")
     res = clearance_check(system, speeds, nma, nmc, probes, gaps, args.mode,
                           scale_factor_cap=None if args.no_cap else 6.0)  # fmt: skip
+    trip = speed_or_default(args.trip_speed, 1.05 * nmc, "--trip-speed")
+    if trip < nmc:
+        raise InputError("--trip-speed", args.trip_speed, f"a speed >= {nmc:g} rad/s (N_mc)")
+    res = with_criticals(res, system, probes, gaps, trip)
     d = res.to_dict()
     if args.json:
         print_json(d)
@@ -98,6 +124,7 @@ def clearance_run(args: argparse.Namespace) -> int:
                  f"{c['margin_m'] * 1e6:.4g}", c["verdict"]] for c in d["clearances"]]  # fmt: skip
         print(table(["clearance", "2c (µm)", "scaled (µm pp)", "at (rad/s)", "margin (µm)",
                      "verdict"], rows))  # fmt: skip
+        _print_criticals(res)
     for c in d["clearances"]:
         if c["touching_speeds_rad_s"]:
             s = c["touching_speeds_rad_s"]

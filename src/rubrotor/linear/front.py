@@ -155,7 +155,8 @@ def _gaps(scenario) -> list:
 
 
 def clearance_check(scenario, max_speed: float | None = None, min_speed: float | None = None,
-                    speeds=None, probes=None, mode: int = 0, cap: bool = True):  # fmt: skip
+                    speeds=None, probes=None, mode: int = 0, cap: bool = True,
+                    trip_speed: float | None = None, criticals: bool = True):  # fmt: skip
     """API 617 close-clearance check of the unbalance response at every contact
     (``rubrotor clearance``); see :func:`rubrotor.linear.api617.clearance_check`.
 
@@ -176,6 +177,10 @@ def clearance_check(scenario, max_speed: float | None = None, min_speed: float |
         Forward mode placing the unbalance, counted from 0 (0: the first forward mode).
     cap : bool
         Cap the scale factor at 6 (API 617).
+    trip_speed : float, optional
+        Trip speed (rad/s) of the criticals' clearance check; default 1.05 ``N_mc``.
+    criticals : bool
+        Also find every critical speed as API 617 defines it (``ClearanceCheck.criticals``).
 
     Returns
     -------
@@ -199,8 +204,21 @@ def clearance_check(scenario, max_speed: float | None = None, min_speed: float |
     probes = None if probes is None else [(float(p), a) for p, a in probes]
     system = model.linear_system([p for p, _ in probes or []])
     probes = probes or [(sup.position, None) for sup in system.supports]
-    return check(system, sp, nma, nmc, probes, gaps, mode,
-                 scale_factor_cap=6.0 if cap else None)  # fmt: skip
+    res = check(system, sp, nma, nmc, probes, gaps, mode,
+                scale_factor_cap=6.0 if cap else None)  # fmt: skip
+    if not criticals:
+        return res
+    return with_criticals(res, system, probes, gaps, trip_speed)
+
+
+def with_criticals(res, system, probes, gaps, trip_speed=None):
+    """``res`` (a ClearanceCheck) with API 617's critical speeds from the response at the
+    probes (:func:`rubrotor.linear.api617_criticals.response_criticals`)."""
+    from rubrotor.linear.api617_criticals import response_criticals
+
+    trip = 1.05 * res.max_speed if trip_speed is None else float(trip_speed)
+    found = response_criticals(system, res.min_speed, res.max_speed, probes, gaps, trip)
+    return dataclasses.replace(res, criticals=found, trip_speed=trip)
 
 
 def level1(scenario, speed: float | None = None, at: float | None = None, stiffness=None,
