@@ -161,16 +161,7 @@ def _general_critical(scenario, as_json: bool, max_speed: float | None) -> int:
         print_json(
             {
                 "max_speed_rad_s": top,
-                "critical_speeds": [
-                    {
-                        "index": c.index,
-                        "whirl": c.whirl,
-                        "speed_rad_s": c.speed_rad_s,
-                        "damping_ratio": c.damping_ratio,
-                        "critically_damped": c.critically_damped,
-                    }
-                    for c in crit
-                ],
+                "critical_speeds": [c.to_dict() for c in crit],
                 "critically_damped_above": CRITICALLY_DAMPED,
                 "stability_threshold_rad_s": threshold,
                 "undamped": undamped,
@@ -355,15 +346,7 @@ def _general_campbell(scenario, speeds, out: Path, as_json: bool, band) -> int:
     else:
         save_atomic(campbell_stability_figure(data, crit, scenario.speed, title, band), out)
     if as_json:
-        print_json(
-            {
-                "speed_rad_s": data.speeds.tolist(),
-                "frequency_hz": data.frequency_hz.tolist(),
-                "log_dec": data.log_dec.tolist(),
-                "whirl": data.whirl.tolist(),
-                "figure": str(out),
-            }
-        )
+        print_json({**data.to_dict(), "figure": str(out)})
     else:
         print(f"wrote {out}")
     return 0

@@ -127,6 +127,10 @@ class ContactStability:
         """Signed frequency (Hz) of the eigenvalue with the largest growth rate."""
         return float(self.eigenvalues[0].imag / TWO_PI)
 
+    def to_dict(self) -> dict:
+        """JSON-ready form (:meth:`as_dict`: the name every result type shares)."""
+        return self.as_dict()
+
     def as_dict(self) -> dict:
         """JSON-ready form (SI units; eigenvalues as ``[growth 1/s, frequency Hz]`` pairs)."""
         return {
