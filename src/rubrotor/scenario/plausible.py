@@ -63,8 +63,9 @@ DISK_WIDTH_RATIO = 2.0
 SURFACE_SPEED = (600.0, 800.0)
 """Surface speed (m/s): warn above the first (beyond steel impellers), refuse above the second
 (the centre stress ``(3 + nu)/8 rho v^2`` of a solid steel disk then exceeds 2 GPa). Checked
-when the speed is given in rad/s, rpm or Hz (a multiple of a critical speed has no unit to
-slip)."""
+on general rotors when the speed is given in rad/s, rpm or Hz (a multiple of a critical speed
+has no unit to slip; the seed's uniform ``[shaft]`` runs at 2.4 times its first critical, 800
+m/s on its surface, and its studies continue the speed further)."""
 SAG = (1e-3, 3e-3)
 """Mean static sag (m) on the bearings: warn above the first, refuse above the second (bearing
 clearances are 1e-4 to 1e-3 of the shaft diameter; ROSS's example rotors, on 1e6 N/m
@@ -259,7 +260,7 @@ def _speed(sc, geo: _Geometry, spec: dict) -> list[Finding]:
     if v <= SURFACE_SPEED[0]:
         return []
     key, given = sc.speed_spec
-    if key not in ("rad_per_s", "rpm", "hz"):
+    if key not in ("rad_per_s", "rpm", "hz") or sc.rotor is None:
         return []
     refuse = v > SURFACE_SPEED[1]
     name = f"speed.{key}"
