@@ -80,7 +80,7 @@ class UnbalanceResponse:
     complex_response: np.ndarray
 
     def to_dict(self) -> dict:
-        """JSON form printed by ``rubrotor unbalance --json`` (:func:`unbalance_to_dict`)."""
+        """JSON form printed by ``rubrotor unbalance --json`` (``unbalance_to_dict``)."""
         return unbalance_to_dict(self)
 
 

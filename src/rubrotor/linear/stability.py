@@ -128,7 +128,7 @@ class ContactStability:
         return float(self.eigenvalues[0].imag / TWO_PI)
 
     def to_dict(self) -> dict:
-        """JSON-ready form (:meth:`as_dict`: the name every result type shares)."""
+        """JSON-ready form (``as_dict``: the name every result type shares)."""
         return self.as_dict()
 
     def as_dict(self) -> dict:

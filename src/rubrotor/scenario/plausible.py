@@ -4,7 +4,7 @@ Each key of a scenario is checked alone against its widest range by
 :func:`rubrotor.scenario.schema.check_value`; a clearance of 0.25 m, a diameter of 90 m or a
 speed of 6000 rad/s each pass that check, and only their relation to other keys shows the slip
 (mm written as m, rpm written as rad/s, g as kg). :func:`check` compares them, once, when a
-scenario is loaded (:func:`rubrotor.scenario.load.scenario_from_dict`), before any mesh is built:
+scenario is loaded (:func:`rubrotor.scenario.scenario_from_dict`), before any mesh is built:
 
 ========================  ========================================================================
 check                     what is compared

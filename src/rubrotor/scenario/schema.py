@@ -690,7 +690,7 @@ def allowed_text(row: Key) -> str:
 
 def unknown_key_text(key: str, allowed, table: str, what: str = "key") -> str:
     """What an error says is allowed instead of an unknown ``key`` of ``[table]``: the nearest
-    valid key (:func:`difflib.get_close_matches`, case-insensitive) when one is near, e.g.
+    valid key (``difflib.get_close_matches``, case-insensitive) when one is near, e.g.
     ``"a key of [contact]: did you mean `clearance`?"``, else the list of valid keys.
 
     Parameters
