@@ -170,3 +170,12 @@ def test_mesh_beyond_memory_names_the_diameter(tmp_path, capsys, monkeypatch):
     assert main(["modes", str(path)]) == 2
     err = capsys.readouterr().err
     assert "a mesh that fits in memory" in err and "section[3].diameter = 90 m" in err
+
+
+def test_python_api_refuses_bad_arguments_by_name():
+    from rubrotor.errors import InputError
+
+    with pytest.raises(InputError, match="scenario"):
+        plausible.findings("seal_rub.toml")
+    with pytest.raises(InputError, match="skip"):
+        plausible.findings(load_scenario("seal_rub"), skip=["clearance"])

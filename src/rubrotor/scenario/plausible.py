@@ -36,7 +36,7 @@ import math
 import warnings
 from dataclasses import dataclass
 
-from rubrotor.errors import ScenarioError
+from rubrotor.errors import InputError, ScenarioError
 
 __all__ = ["CHECKS", "Finding", "PlausibilityWarning", "findings", "check"]
 
@@ -378,6 +378,10 @@ def findings(scenario, skip=()) -> list[Finding]:
     -------
     list of Finding
     """
+    if not hasattr(scenario, "_spec") or not hasattr(scenario, "contacts"):
+        raise InputError("scenario", scenario, "a built rubrotor.Scenario")
+    if isinstance(skip, str) or any(name not in CHECKS for name in skip):
+        raise InputError("skip", skip, "names of checks: " + ", ".join(CHECKS))
     spec = scenario._spec or {}
     skip = set(skip) | set(spec.get("checks", {}).get("skip", ()))
     geo = _geometry(scenario)
