@@ -117,7 +117,10 @@ def test_clearance_and_level1_verbs(capsys, tmp_path):
     sc = load_scenario(SEAL)
     qa = anticipated_cross_coupling(2e6, sc.speed, 0.3, 0.015, 1.4)
     assert out["qa_N_m"] == pytest.approx(qa, rel=1e-12)
-    ref = level1(linear_system(sc, (0.45,)), sc.speed, 0.45, np.logspace(4, 7, 7), qa)
+    # the default station: mid-span between the bearings at 0.05 and 1.25 m (API 684 for a
+    # between-bearing rotor; tests/test_level1_location.py)
+    assert out["position_m"] == pytest.approx(0.65) and out["location"] == "mid-span"
+    ref = level1(linear_system(sc, (0.65,)), sc.speed, 0.65, np.logspace(4, 7, 7), qa)
     np.testing.assert_allclose(out["log_dec"], ref.log_dec, rtol=1e-9)
     assert out["verdict"] == ref.verdict
     assert (tmp_path / "c.png").exists() and (tmp_path / "l1.png").exists()

@@ -17,8 +17,8 @@ def test_every_row_is_consistent(row):
     assert row.kind in KINDS
     assert row.table in {t.name for t in TABLES}
     assert row.description
-    assert not row.choices or row.kind in ("str", "number|str")
-    assert (row.unit == "") == (row.kind in ("str", "bool"))
+    assert not row.choices or row.kind in ("str", "number|str", "strlist")
+    assert (row.unit == "") == (row.kind in ("str", "bool", "strlist"))
     if row.minimum is not None and row.maximum is not None:
         assert row.minimum < row.maximum
     if row.default is not None:
@@ -132,7 +132,7 @@ def test_views_are_generated_from_the_rows():
     flat = {f"{t}.{k}": kind for tables in (schema.SCHEMA, schema.ROTOR_SCHEMA)
             for t, keys in tables.items() for k, kind in keys.items()}  # fmt: skip
     assert flat == {k.dotted: k.kind for k in KEYS}
-    assert {k for k in flat if flat[k] not in ("str", "bool")} == set(schema.KEY_UNITS)
+    assert {k for k in flat if flat[k] not in ("str", "bool", "strlist")} == set(schema.KEY_UNITS)
     assert schema.key_unit("contact.clearance") == "m" and schema.key_unit("shaft.kappa") == "1"
     assert schema.REQUIRED["shaft"] == ("length", "youngs_modulus", "density")
 

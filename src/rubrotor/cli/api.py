@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import sys
 
@@ -51,10 +52,32 @@ def clearance_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--mode", type=int, default=0, help="forward mode placing the unbalance, counted from 0 (0: the first "
                         "forward mode, 1: the second, ...; default 0)")
     parser.add_argument("--no-cap", action="store_true", help="no cap of 6 on the scale factor")
+    parser.add_argument("--trip-speed", type=float, metavar="RAD_PER_S",
+                        help="trip speed (rad/s) of the critical speeds' clearance check; "
+                        "default 1.05 x the maximum")  # fmt: skip
+
+
+def _print_criticals(res) -> None:
+    """The critical speeds of API 617 (response peaks at the probes) with their verdicts."""
+    top = max(res.trip_speed, 1.25 * res.max_speed)
+    print(f"API 617 critical speeds up to {top:.5g} rad/s (response peaks at the probes, AF by "
+          f"the half-power method >= 2.5; clearances checked up to the trip speed "
+          f"{res.trip_speed:.5g} rad/s):")  # fmt: skip
+    if not res.criticals:
+        print("  none: no response peak with AF >= 2.5")
+        return
+    rows = [[f"{c.speed_rad_s:.5g}", f"{c.whirl} ({c.mode_whirl} mode)", str(c.probe + 1),
+             f"{c.amplification_factor:.3g}", f"{100 * c.required_margin:.3g}",
+             f"{100 * c.actual_margin:.3g}",
+             ", ".join(f"{m * 1e6:.4g}" for m in c.clearance_margins) or "-", c.verdict]
+            for c in res.criticals]  # fmt: skip
+    print(table(["N_c (rad/s)", "whirl at probe", "probe", "AF", "SM req (%)", "SM (%)",
+                 "clearance margin (µm)", "verdict"], rows))  # fmt: skip
 
 
 def clearance_run(args: argparse.Namespace) -> int:
     from rubrotor.linear.api617 import clearance_check
+    from rubrotor.linear.front import with_criticals
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.response import clearance_figure
 
@@ -74,6 +97,10 @@ def clearance_run(args: argparse.Namespace) -> int:
     on_rotor(scenario, [p for p, _ in probes], "--probe")
     res = clearance_check(system, speeds, nma, nmc, probes, gaps, args.mode,
                           scale_factor_cap=None if args.no_cap else 6.0)  # fmt: skip
+    trip = speed_or_default(args.trip_speed, 1.05 * nmc, "--trip-speed")
+    if trip < nmc:
+        raise InputError("--trip-speed", args.trip_speed, f"a speed >= {nmc:g} rad/s (N_mc)")
+    res = with_criticals(res, system, probes, gaps, trip)
     d = res.to_dict()
     if args.json:
         print_json(d)
@@ -97,6 +124,7 @@ def clearance_run(args: argparse.Namespace) -> int:
                  f"{c['margin_m'] * 1e6:.4g}", c["verdict"]] for c in d["clearances"]]  # fmt: skip
         print(table(["clearance", "2c (µm)", "scaled (µm pp)", "at (rad/s)", "margin (µm)",
                      "verdict"], rows))  # fmt: skip
+        _print_criticals(res)
     for c in d["clearances"]:
         if c["touching_speeds_rad_s"]:
             s = c["touching_speeds_rad_s"]
@@ -122,8 +150,9 @@ def _stage(text: str) -> tuple[float, float, float, float]:
 def level1_args(parser: argparse.ArgumentParser) -> None:
     _options(parser)
     parser.add_argument("--at", type=float, metavar="X",
-                        help="station of the cross-coupling (m); default the heaviest disk, "
-                        "else midway between the outermost bearings")  # fmt: skip
+                        help="station of the cross-coupling (m); default mid-span between the "
+                        "outermost bearings, or the heaviest overhung disk (the stage) of an "
+                        "overhung rotor")  # fmt: skip
     parser.add_argument("--stiffness", metavar="START:STOP:COUNT",
                         help="cross-coupled stiffness (N/m, log-spaced); default 1e4:1e9:41")  # fmt: skip
     group = parser.add_mutually_exclusive_group()
@@ -132,14 +161,11 @@ def level1_args(parser: argparse.ArgumentParser) -> None:
                        help="a compressor stage for Q_A (W, m, m, discharge/suction density)")  # fmt: skip
 
 
-def _station(scenario, system) -> float:
+def _station(scenario) -> tuple[float, str]:
+    from rubrotor.linear.front import level1_station
     from rubrotor.modelling import model_of
 
-    disk = model_of(scenario).heaviest_disk()
-    if disk is not None:
-        return disk
-    xs = [s.position for s in system.supports] or [0.0, system.basis.length]
-    return 0.5 * (min(xs) + max(xs))
+    return level1_station(model_of(scenario))
 
 
 def level1_run(args: argparse.Namespace) -> int:
@@ -151,7 +177,7 @@ def level1_run(args: argparse.Namespace) -> int:
     q = parse_stiffness(args.stiffness) if args.stiffness else None
     scenario = load_scenario(args.scenario)
     speed = speed_or_default(args.max_speed, scenario.speed, "--max-speed")
-    at = args.at if args.at is not None else _station(scenario, linear_system(scenario))
+    at, location = (args.at, "given") if args.at is not None else _station(scenario)
     on_rotor(scenario, [at], "--at")
     system = linear_system(scenario, (at,))
     qa = args.qa
@@ -161,7 +187,7 @@ def level1_run(args: argparse.Namespace) -> int:
     if qa is not None and not (math.isfinite(qa) and qa > 0):
         raise InputError("--qa", qa, "a cross-coupled stiffness > 0 (N/m)")
     try:
-        res = level1(system, speed, at, q, qa)
+        res = dataclasses.replace(level1(system, speed, at, q, qa), location=location)
     except InputError as exc:
         if exc.field != "stiffness":
             raise
@@ -170,7 +196,8 @@ def level1_run(args: argparse.Namespace) -> int:
         print_json(res.to_dict())
     else:
         print(
-            f"{scenario.name}: API 684 Level I at {speed:.5g} rad/s, cross-coupling at x = {at:g} m"
+            f"{scenario.name}: API 684 Level I at {speed:.5g} rad/s, cross-coupling at x = {at:g} m "
+            f"({location})"
         )
         pick = np.unique(np.linspace(0, res.stiffness.size - 1, 9).round().astype(int))
         print(table(["Q (N/m)", "log dec", "frequency (Hz)"],

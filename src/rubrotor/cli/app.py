@@ -17,6 +17,7 @@ import argparse
 import contextlib
 import os
 import sys
+import warnings
 
 from rubrotor._version import __version__
 from rubrotor.cli import (
@@ -244,20 +245,39 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:  # argparse already printed its message
         return int(exc.code or 0)
     try:
-        return _run(args._command, args)
+        with warnings.catch_warnings():  # "rubrotor: warning: ..." once each, no source line
+            warnings.showwarning = _show_warning({})
+            return _run(args._command, args)
     except RubrotorError as exc:
         print(f"rubrotor: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # e.g. output piped into `head` (before OSError, its base class)
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1
     except (OSError, RuntimeError) as exc:  # a full disk (a streamed file is kept, partial)
         why = _disk_full(exc, args)
         if why is None:
             raise
         print(f"rubrotor: error: {why}", file=sys.stderr)
         return 1
-    except BrokenPipeError:  # e.g. output piped into `head`
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+    except MemoryError as exc:  # an allocation the size checks did not foresee
+        print(f"rubrotor: error: out of memory ({exc or 'an allocation failed'}): the rotor's "
+              "mesh or the run is too large for this machine", file=sys.stderr)
         return 1
+
+
+def _show_warning(seen: dict):
+    """A ``warnings.showwarning`` printing ``rubrotor: warning: MESSAGE`` on stderr, once per
+    message."""
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = str(message)
+        if text not in seen:
+            seen[text] = True
+            print(f"rubrotor: warning: {text}", file=sys.stderr)
+
+    return show
 
 
 def _disk_full(exc: BaseException, args: argparse.Namespace) -> str | None:

@@ -149,29 +149,22 @@ def _general_modes(
 def _general_critical(scenario, as_json: bool, max_speed: float | None) -> int:
     """Critical speeds (1X crossings) and the stability threshold of a general rotor."""
     from rubrotor.linear.critical import CRITICALLY_DAMPED, linear_critical_speeds
-    from rubrotor.linear.stability import stability_threshold
+    from rubrotor.linear.stability import ZETA_ROUNDOFF, is_undamped, stability_threshold
     from rubrotor.linear.verbs import linear_system
 
     top = max_speed if max_speed is not None else max(3.0 * scenario.speed, 100.0)
     system = linear_system(scenario)
     crit = linear_critical_speeds(system, top, n=8)
     threshold = stability_threshold(system, top, n=8)
+    undamped = threshold is None and is_undamped(system, (0.0, 0.5 * top, top), n=8)
     if as_json:
         print_json(
             {
                 "max_speed_rad_s": top,
-                "critical_speeds": [
-                    {
-                        "index": c.index,
-                        "whirl": c.whirl,
-                        "speed_rad_s": c.speed_rad_s,
-                        "damping_ratio": c.damping_ratio,
-                        "critically_damped": c.critically_damped,
-                    }
-                    for c in crit
-                ],
+                "critical_speeds": [c.to_dict() for c in crit],
                 "critically_damped_above": CRITICALLY_DAMPED,
                 "stability_threshold_rad_s": threshold,
+                "undamped": undamped,
             }
         )
         return 0
@@ -193,10 +186,13 @@ def _general_critical(scenario, as_json: bool, max_speed: float | None) -> int:
             f"critically damped: damping ratio > {CRITICALLY_DAMPED:g} (API 684: amplification "
             "factor < 2.5), no resonance peak to keep a separation margin from"
         )
-    print(
-        "stability threshold: "
-        + (f"{threshold:.6g} rad/s" if threshold is not None else f"none up to {top:.6g} rad/s")
-    )
+    if undamped:
+        print(f"stability threshold: none, the rotor is undamped (every damping ratio within "
+              f"+-{ZETA_ROUNDOFF:g}, the eigensolver's round-off, up to {top:.6g} rad/s)")
+    else:
+        print("stability threshold: "
+              + (f"{threshold:.6g} rad/s" if threshold is not None
+                 else f"none up to {top:.6g} rad/s"))  # fmt: skip
     return 0
 
 
@@ -350,15 +346,7 @@ def _general_campbell(scenario, speeds, out: Path, as_json: bool, band) -> int:
     else:
         save_atomic(campbell_stability_figure(data, crit, scenario.speed, title, band), out)
     if as_json:
-        print_json(
-            {
-                "speed_rad_s": data.speeds.tolist(),
-                "frequency_hz": data.frequency_hz.tolist(),
-                "log_dec": data.log_dec.tolist(),
-                "whirl": data.whirl.tolist(),
-                "figure": str(out),
-            }
-        )
+        print_json({**data.to_dict(), "figure": str(out)})
     else:
         print(f"wrote {out}")
     return 0

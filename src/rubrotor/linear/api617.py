@@ -53,6 +53,7 @@ __all__ = [
     "residual_unbalance",
     "vibration_limit",
     "api617_unbalance",
+    "shape_unbalance",
     "ClearanceCheck",
     "clearance_check",
 ]
@@ -204,6 +205,25 @@ def api617_unbalance(
         Damped natural frequency of the mode (rad/s).
     """
     shapes, k = _forward_mode(system, max_speed, mode, modes, max_damping_ratio)
+    planes, weights = shape_unbalance(system, shapes, k, max_speed)
+    return planes, weights, 2 * math.pi * shapes.modes.modes[k].frequency_hz
+
+
+def shape_unbalance(system: LinearSystem, shapes, k: int, max_speed: float):
+    """API 617's unbalance planes for mode ``k`` of ``shapes`` (steps 1 and 2 of the module
+    docstring): ``(planes, loads)`` as :func:`api617_unbalance` returns them.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor (its journal loads give ``W``).
+    shapes : rubrotor.linear.shapes.ModeShapes
+        Mode shapes along the rotor.
+    k : int
+        Index of the mode among them.
+    max_speed : float
+        Maximum continuous speed ``N_mc`` (rad/s) of ``U_r``.
+    """
     v, w, x = shapes.v[k], shapes.w[k], shapes.x
     amp = shapes.major[k]
     ref = int(np.argmax(amp))
@@ -234,7 +254,7 @@ def api617_unbalance(
         phase = 0.0 if sign[i] == sign[ref] else math.pi
         planes.append((float(x[i]), 2 * residual_unbalance(weight, max_speed), phase))
         weights.append(weight)
-    return planes, weights, 2 * math.pi * shapes.modes.modes[k].frequency_hz
+    return planes, weights
 
 
 @dataclass(frozen=True)
@@ -266,6 +286,13 @@ class ClearanceCheck:
         ``damping_ratio``, ``amplification_factor`` (``1 / (2 zeta)``, API 684's single-mode
         estimate), ``separation_margin`` (its distance to the operating range
         ``[min_speed, max_speed]``, relative to the nearer end; 0 inside) and ``whirl``.
+        This is the mode ROSS 3.1's ``run_clearance_analysis`` places the unbalance for.
+    criticals : list of rubrotor.linear.api617_criticals.ResponseCritical or None
+        Every critical speed as API 617 defines it (response peaks at the probes with a
+        half-power AF >= 2.5 up to the analysis range's top), each with its own unbalance,
+        separation margins, clearance margins and verdict; None when not computed.
+    trip_speed : float or None
+        Trip speed (rad/s) of the criticals' clearance check.
     """
 
     speeds: np.ndarray
@@ -281,6 +308,8 @@ class ClearanceCheck:
     clearances: np.ndarray
     scaled: np.ndarray
     mode: dict | None = None
+    criticals: list | None = None
+    trip_speed: float | None = None
 
     @property
     def margin(self) -> np.ndarray:
@@ -306,6 +335,8 @@ class ClearanceCheck:
                 {"position_m": p, "magnitude_kg_m": m, "phase_rad": f} for p, m, f in self.planes
             ],  # fmt: skip
             "mode": self.mode,
+            "trip_speed_rad_s": self.trip_speed,
+            "criticals": None if self.criticals is None else [c.to_dict() for c in self.criticals],
             "vibration_limit_m_pp": self.vibration_limit,
             "max_probe_amplitude_m_pp": self.max_probe_amplitude,
             "scale_factor": self.scale_factor,

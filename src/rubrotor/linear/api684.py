@@ -30,7 +30,7 @@ from rubrotor.linear.critical import CRITICALLY_DAMPED
 from rubrotor.linear.modes import damped_modes
 from rubrotor.rotors.linear import LinearSystem, Support
 
-__all__ = ["anticipated_cross_coupling", "Level1", "level1"]
+__all__ = ["anticipated_cross_coupling", "Level1", "level1", "default_station"]
 
 
 def anticipated_cross_coupling(power, speed_rad_s, diameter, width, density_ratio=1.0, bc=3.0):
@@ -68,6 +68,42 @@ def anticipated_cross_coupling(power, speed_rad_s, diameter, width, density_rati
     return float(np.sum(bc * p / speed_rad_s / (d * h) * r))
 
 
+def default_station(bearings, disks, length: float) -> tuple[float, str]:
+    """Where Level I applies its cross-coupling by default, and why (API 684 2.8.3.1: at
+    mid-span for a between-bearing rotor, at the stage, for an overhung one).
+
+    Parameters
+    ----------
+    bearings : sequence of float
+        Stations (m) of the bearings that carry the rotor (no seals); empty: the two ends.
+    disks : sequence of (float, float)
+        ``(position m, mass kg)`` of each disk.
+    length : float
+        Rotor length (m).
+
+    Returns
+    -------
+    position : float
+        Station (m): the heaviest disk outside the outermost bearings when there is one (an
+        overhung stage), else midway between the outermost bearings.
+    location : str
+        ``"overhung stage"`` or ``"mid-span"``.
+
+    Examples
+    --------
+    >>> default_station([0.1, 0.9], [(0.5, 30.0)], 1.0)
+    (0.5, 'mid-span')
+    >>> default_station([0.1, 0.5], [(0.3, 30.0), (0.9, 20.0)], 1.0)
+    (0.9, 'overhung stage')
+    """
+    xs = [float(x) for x in bearings] or [0.0, float(length)]
+    lo, hi, tol = min(xs), max(xs), 1e-9 * max(float(length), 1.0)
+    overhung = [(float(m), float(x)) for x, m in disks if x < lo - tol or x > hi + tol]
+    if overhung:
+        return max(overhung)[1], "overhung stage"
+    return 0.5 * (lo + hi), "mid-span"
+
+
 @dataclass(frozen=True)
 class Level1:
     """API 684 Level I stability: log dec of the first forward mode against added ``Q``.
@@ -88,6 +124,9 @@ class Level1:
         ``Q`` (N/m) where the log dec crosses zero (interpolated in ``log Q``), None if never.
     qa : float or None
         Anticipated cross-coupling ``Q_A`` (N/m), when given.
+    location : str
+        Why the cross-coupling is at ``position``: ``"mid-span"`` (between-bearing rotor) or
+        ``"overhung stage"`` (see :func:`default_station`), ``"given"`` when it was chosen.
     """
 
     speed_rad_s: float
@@ -97,6 +136,7 @@ class Level1:
     frequency_hz: np.ndarray
     q0: float | None
     qa: float | None
+    location: str = "given"
 
     @property
     def log_dec_at_qa(self) -> float | None:
@@ -119,6 +159,7 @@ class Level1:
         return {
             "speed_rad_s": self.speed_rad_s,
             "position_m": self.position,
+            "location": self.location,
             "cross_coupling_N_m": self.stiffness.tolist(),
             "log_dec": self.log_dec.tolist(),
             "frequency_hz": self.frequency_hz.tolist(),

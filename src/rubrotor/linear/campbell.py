@@ -51,6 +51,15 @@ class CampbellData:
     log_dec: np.ndarray
     whirl: np.ndarray
 
+    def to_dict(self) -> dict:
+        """JSON form printed by ``rubrotor campbell --json`` (without its ``figure`` key)."""
+        return {
+            "speed_rad_s": self.speeds.tolist(),
+            "frequency_hz": self.frequency_hz.tolist(),
+            "log_dec": self.log_dec.tolist(),
+            "whirl": self.whirl.tolist(),
+        }
+
 
 def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     """Frequencies, logarithmic decrements and whirl of the ``n`` lowest modes over ``speeds``.

@@ -71,6 +71,11 @@ class LinearCritical:
     speed_rad_s: float
     damping_ratio: float = float("nan")
 
+    def to_dict(self) -> dict:
+        """JSON form (one of the ``critical_speeds`` of ``rubrotor critical --json``)."""
+        return {"index": self.index, "whirl": self.whirl, "speed_rad_s": self.speed_rad_s,
+                "damping_ratio": self.damping_ratio, "critically_damped": self.critically_damped}  # fmt: skip
+
     @property
     def critically_damped(self) -> bool:
         """True when ``damping_ratio > CRITICALLY_DAMPED`` (API 684's ``AF < 2.5``)."""

@@ -11,6 +11,7 @@ rad/s or range strings with a unit (``"0:12000rpm:61"``, ``rubrotor.units.parse_
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 from rubrotor.errors import InputError
@@ -176,7 +177,8 @@ def _gaps(scenario) -> list:
 
 
 def clearance_check(scenario, max_speed: float | None = None, min_speed: float | None = None,
-                    speeds=None, probes=None, mode: int = 0, cap: bool = True):  # fmt: skip
+                    speeds=None, probes=None, mode: int = 0, cap: bool = True,
+                    trip_speed: float | None = None, criticals: bool = True):  # fmt: skip
     """API 617 close-clearance check of the unbalance response at every contact
     (``rubrotor clearance``); see :func:`rubrotor.linear.api617.clearance_check`.
 
@@ -197,6 +199,10 @@ def clearance_check(scenario, max_speed: float | None = None, min_speed: float |
         Forward mode placing the unbalance, counted from 0 (0: the first forward mode).
     cap : bool
         Cap the scale factor at 6 (API 617).
+    trip_speed : float, optional
+        Trip speed (rad/s) of the criticals' clearance check; default 1.05 ``N_mc``.
+    criticals : bool
+        Also find every critical speed as API 617 defines it (``ClearanceCheck.criticals``).
 
     Returns
     -------
@@ -220,8 +226,21 @@ def clearance_check(scenario, max_speed: float | None = None, min_speed: float |
     probes = None if probes is None else [(float(p), a) for p, a in probes]
     system = model.linear_system([p for p, _ in probes or []])
     probes = probes or [(sup.position, None) for sup in system.supports]
-    return check(system, sp, nma, nmc, probes, gaps, mode,
-                 scale_factor_cap=6.0 if cap else None)  # fmt: skip
+    res = check(system, sp, nma, nmc, probes, gaps, mode,
+                scale_factor_cap=6.0 if cap else None)  # fmt: skip
+    if not criticals:
+        return res
+    return with_criticals(res, system, probes, gaps, trip_speed)
+
+
+def with_criticals(res, system, probes, gaps, trip_speed=None):
+    """``res`` (a ClearanceCheck) with API 617's critical speeds from the response at the
+    probes (:func:`rubrotor.linear.api617_criticals.response_criticals`)."""
+    from rubrotor.linear.api617_criticals import response_criticals
+
+    trip = 1.05 * res.max_speed if trip_speed is None else float(trip_speed)
+    found = response_criticals(system, res.min_speed, res.max_speed, probes, gaps, trip)
+    return dataclasses.replace(res, criticals=found, trip_speed=trip)
 
 
 def level1(scenario, speed: float | None = None, at: float | None = None, stiffness=None,
@@ -235,8 +254,9 @@ def level1(scenario, speed: float | None = None, at: float | None = None, stiffn
     speed : float, optional
         Maximum continuous speed (rad/s); default the scenario's.
     at : float, optional
-        Station of the cross-coupling (m); default the heaviest disk, else midway between the
-        outermost bearings.
+        Station of the cross-coupling (m); default midway between the outermost bearings for a
+        between-bearing rotor, the heaviest overhung disk for an overhung one (the result's
+        ``location`` says which).
     stiffness : array_like, optional
         Cross-coupled stiffness values (N/m); default 1e4..1e9, 41 log-spaced.
     qa : float, optional
@@ -254,19 +274,32 @@ def level1(scenario, speed: float | None = None, at: float | None = None, stiffn
 
     model = _model(scenario, "scenario")
     sp = _speed(model, speed)
+    location = "given"
     if at is None:
-        at = model.heaviest_disk()
-        if at is None:
-            system = model.linear_system()
-            xs = [s.position for s in system.supports] or [0.0, system.basis.length]
-            at = 0.5 * (min(xs) + max(xs))
+        at, location = level1_station(model)
     if stages:
         rows = [tuple(st) + (1.0,) * (4 - len(st)) for st in stages]
         p, d, h, r = zip(*rows, strict=True)
         qa = anticipated_cross_coupling(p, sp, d, h, r)
     if qa is not None and not (math.isfinite(qa) and qa > 0):
         raise InputError("qa", qa, "a cross-coupled stiffness > 0 (N/m)")
-    return level_one(model.linear_system((at,)), sp, at, stiffness, qa)
+    res = level_one(model.linear_system((at,)), sp, at, stiffness, qa)
+    return dataclasses.replace(res, location=location)
+
+
+def level1_station(model) -> tuple[float, str]:
+    """Level I's default station (m) on a model and why: mid-span between the outermost
+    bearings, or the heaviest overhung disk (:func:`rubrotor.linear.api684.default_station`)."""
+    from rubrotor.linear.api684 import default_station
+
+    system = model.linear_system()
+    if model.rotor == "fe":
+        fe = model._fe()
+        bearings = [b.position for b in fe.bearings if b.kind != "seal" and b.on is None]
+        disks = [(d.position, d.mass) for d in fe.disks]
+        return default_station(bearings, disks, fe.length)
+    bearings = [s.position for s in system.supports if s.kind != "seal"]
+    return default_station(bearings, [], system.basis.length)
 
 
 def ucs(obj, stiffness=None, n: int = 4):

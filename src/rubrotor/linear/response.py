@@ -79,6 +79,10 @@ class UnbalanceResponse:
     major: np.ndarray
     complex_response: np.ndarray
 
+    def to_dict(self) -> dict:
+        """JSON form printed by ``rubrotor unbalance --json`` (``unbalance_to_dict``)."""
+        return unbalance_to_dict(self)
+
 
 def unbalance_response(system: LinearSystem, speeds, unbalances, probes) -> UnbalanceResponse:
     """Steady response to rotating unbalance, solved in the frequency domain.

@@ -39,6 +39,8 @@ __all__ = [
     "general_contact_stability",
     "GROWTH_RTOL",
     "stability_threshold",
+    "is_undamped",
+    "ZETA_ROUNDOFF",
 ]
 
 TWO_PI = 2 * math.pi
@@ -49,6 +51,11 @@ TWO_PI = 2 * math.pi
 #: condition number. For the seed rotor (``|s|`` up to 1.7e5 rad/s) that is 1.7e-5 1/s, a time
 #: constant of 16 hours; undamped whirls computed at +3e-11 1/s are neutral, not unstable.
 GROWTH_RTOL = 1e-10
+
+#: Damping ratios of modulus at or below this are round-off: ``|Re s| <= 1e-9 |s|``. An
+#: undamped rotor's modes come out of the eigensolver with ratios of +-1e-17 to +-1e-26; they
+#: are "undamped", neither unstable nor a stability threshold at 0 rad/s.
+ZETA_ROUNDOFF = 1e-9
 
 
 @dataclass(frozen=True)
@@ -120,6 +127,10 @@ class ContactStability:
     def dominant_frequency_hz(self) -> float:
         """Signed frequency (Hz) of the eigenvalue with the largest growth rate."""
         return float(self.eigenvalues[0].imag / TWO_PI)
+
+    def to_dict(self) -> dict:
+        """JSON-ready form (``as_dict``: the name every result type shares)."""
+        return self.as_dict()
 
     def as_dict(self) -> dict:
         """JSON-ready form (SI units; eigenvalues as ``[growth 1/s, frequency Hz]`` pairs)."""
@@ -399,7 +410,9 @@ def stability_threshold(
     Returns
     -------
     float or None
-        The threshold speed (rad/s); ``min_speed`` when the rotor is already unstable there.
+        The threshold speed (rad/s); ``min_speed`` when the rotor is already unstable there. A
+        damping ratio counts as negative below ``-ZETA_ROUNDOFF`` (``Re s > 1e-9 |s|``): an
+        undamped rotor (ratios at round-off, see :func:`is_undamped`) has no threshold (None).
     """
     max_speed = _check_speed("max_speed", max_speed)
     if min_speed is None:
@@ -409,19 +422,59 @@ def stability_threshold(
     min_speed = _check_speed("min_speed", min_speed)
     if not min_speed < max_speed:
         raise InputError("min_speed", min_speed, f"a speed below max_speed = {max_speed:g} rad/s")
-    if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
-        raise InputError("n", n, "a number of modes >= 1")
+    _check_count(n)
 
     def least(w):
         # the n lowest by frequency (the Campbell route): overdamped roots never set the least
-        return min(m.damping_ratio for m in _modes(system, w, n, natural=False).modes)
+        return _least_ratio(system, w, n)
 
-    if least(min_speed) < 0:
+    def shifted(w):  # "< 0" where the ratio is below the round-off band
+        return least(w) + ZETA_ROUNDOFF
+
+    z_prev = least(min_speed)
+    if z_prev < -ZETA_ROUNDOFF:
         return min_speed
     grid = np.linspace(min_speed, max_speed, points)
     prev = grid[0]
     for w in grid[1:]:
-        if least(float(w)) < 0:
-            return float(scipy.optimize.brentq(least, prev, float(w), xtol=1e-12, rtol=1e-10))
-        prev = float(w)
+        z = least(float(w))
+        if z < -ZETA_ROUNDOFF:
+            # the zero crossing itself where the bracket holds it, else the band's edge
+            f = least if z_prev >= 0 else shifted
+            return float(scipy.optimize.brentq(f, prev, float(w), xtol=1e-12, rtol=1e-10))
+        prev, z_prev = float(w), z
     return None
+
+
+def _check_count(n) -> None:
+    if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
+        raise InputError("n", n, "a number of modes >= 1")
+
+
+def _least_ratio(system: LinearSystem, speed: float, n: int | None) -> float:
+    return min(m.damping_ratio for m in _modes(system, speed, n, natural=False).modes)
+
+
+def is_undamped(system: LinearSystem, speeds, n: int | None = None) -> bool:
+    """Whether every mode is undamped at every one of ``speeds``: each damping ratio of
+    modulus at most ``ZETA_ROUNDOFF`` (``|Re s| <= 1e-9 |s|``, round-off of an eigensolver).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor.
+    speeds : sequence of float
+        Spin speeds (rad/s) to look at.
+    n : int, optional
+        Modes considered (default all), the lowest by frequency.
+
+    Returns
+    -------
+    bool
+    """
+    _check_count(n)
+    for w in speeds:
+        ratios = [m.damping_ratio for m in _modes(system, float(w), n, natural=False).modes]
+        if max(abs(z) for z in ratios) > ZETA_ROUNDOFF:
+            return False
+    return True

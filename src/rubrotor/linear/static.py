@@ -285,8 +285,11 @@ def static_analysis(obj, speed: float | None = None, gravity=None, loads=None) -
         weight = g * shaft.mass_per_length * shaft.length
     elif isinstance(system.basis, NodalBasis) and len(system.dof_labels) == n:
         f_full = _gravity_nodal(system, g)
-        ones = np.array([1.0 if s.startswith("v@") else 0.0 for s in system.dof_labels])
-        weight = g * float(ones @ system.M @ ones)
+        # the translational mass along each axis (point masses may differ along y and z)
+        mass = [float(t @ system.M @ t) for t in
+                (np.array([1.0 if s.startswith(a) else 0.0 for s in system.dof_labels])
+                 for a in ("v@", "w@"))]  # fmt: skip
+        weight = g * np.array(mass)
     elif np.any(g != 0):
         raise InputError("gravity", tuple(g), "(0, 0) for a rotor without nodal DOF labels")
     else:

@@ -118,7 +118,9 @@ def campbell_stability_figure(
     f, ld = data.frequency_hz, data.log_dec
     fmax = float(np.nanmax(f)) * 1.05
     real = np.isfinite(f) & (f > 1e-9 * fmax)  # overdamped roots carry no frequency
-    stable = real & (ld >= 0)
+    from rubrotor.linear.stability import ZETA_ROUNDOFF
+
+    stable = real & (ld >= -2 * math.pi * ZETA_ROUNDOFF)  # round-off damping is undamped
     backward = np.asarray(data.whirl) == "backward"
     sc = None
     for mask, marker, name in (

@@ -795,10 +795,15 @@ class Rotor:
         need, avail = 8.0 * MESH_MATRICES * dof**2, available_memory()
         if need > 0.8 * avail:
             fewer = "larger" if key == "rotor.max_element_length" else "fewer"
+            why = ""
+            if value is None:  # the default mesh: its element length follows the diameters
+                i, s = max(enumerate(self.shaft_sections), key=lambda t: t[1].diameter)
+                why = (f" (the default mesh refines with the diameters: the largest is "
+                       f"section[{i + 1}].diameter = {s.diameter:g} m)")
             raise InputError(
                 key, value, f"a mesh that fits in memory (about {total} elements, {dof} DOFs: "
                 f"{need / 2**30:.3g} GiB of dense matrices, {avail / 2**30:.3g} GiB available); "
-                f"give {fewer} {key.split('.')[-1]}"
+                f"give {fewer} {key.split('.')[-1]}{why}"
             )  # fmt: skip
 
     # ---- assembly --------------------------------------------------------------------------

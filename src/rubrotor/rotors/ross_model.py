@@ -261,6 +261,11 @@ def read_ross_file(path) -> RossModel:
         raise InputError(
             "ROTOR_FILE", str(path), f"a readable ROSS rotor file ({exc.strerror})"
         ) from None
+    except UnicodeDecodeError as exc:  # an image, an archive, a pickle: not text
+        raise InputError(
+            "ROTOR_FILE", str(path), "a TOML or JSON file saved by ROSS (this one is not UTF-8 "
+            f"text: byte {exc.object[exc.start]:#04x} at offset {exc.start})",
+        ) from None
     try:
         data = json.loads(text) if p.suffix.lower() == ".json" else tomllib.loads(text)
     except (ValueError, tomllib.TOMLDecodeError) as exc:

@@ -43,7 +43,14 @@ from typing import NamedTuple
 from rubrotor.engine.parts import RubStation, Stator
 from rubrotor.errors import InputError, ScenarioError
 from rubrotor.rotors.forces import RadialLoad, Unbalance
-from rubrotor.scenario.schema import ALTERNATIVES, SCHEMA, Key, check_value, key_row
+from rubrotor.scenario.schema import (
+    ALTERNATIVES,
+    SCHEMA,
+    Key,
+    check_value,
+    key_row,
+    unknown_key_text,
+)
 
 __all__ = ["ENGINE_KEYS", "EngineSpec", "split_engine_keys", "build_engine", "needs_engine"]
 
@@ -347,8 +354,7 @@ def _contacts(items: list[dict], span, speed: float, builders: Builders) -> tupl
                 if key.endswith("_nd") and not hasattr(span, "slenderness"):
                     raise _err(name, val, f"contact.{key[:-3]} in SI units for a general rotor")
                 if key not in SCHEMA["contact"]:
-                    allowed = ", ".join(SCHEMA["contact"])
-                    raise _err(name, val, f"one of the keys {allowed} of [[contact]]")
+                    raise _err(name, val, unknown_key_text(key, SCHEMA["contact"], "[[contact]]"))
                 base[key] = check_value(name, val, key_row("contact", key))
             for group, required in ALTERNATIVES["contact"]:
                 given = [k for k in group if k in base]
@@ -407,7 +413,7 @@ def _gravity(g) -> tuple[float, float]:
         raise _err("gravity", g, "a table with y and z (m/s^2)")
     for key, val in g.items():
         if key not in ("y", "z"):
-            raise _err(f"gravity.{key}", val, "one of the keys y, z (m/s^2) of [gravity]")
+            raise _err(f"gravity.{key}", val, unknown_key_text(key, ("y", "z"), "[gravity]"))
     return tuple(float(_value(f"gravity.{a}", g.get(a, 0.0))) for a in "yz")
 
 
@@ -448,8 +454,8 @@ def _given(ini: dict) -> tuple:
 def _initial(ini: dict) -> tuple[str, str | None]:
     for key in ini:
         if key not in ("state", "path", "positions", *_GIVEN, *_MODAL):
-            raise _err(f"initial.{key}", ini[key], "one of the keys state, path, positions, v, "
-                       "w, v_dot, w_dot, modes, amplitudes, modal_velocities of [initial]")  # fmt: skip
+            allowed = ("state", "path", "positions", *_GIVEN, *_MODAL)
+            raise _err(f"initial.{key}", ini[key], unknown_key_text(key, allowed, "[initial]"))
     state = _value("initial.state", ini.get("state", "rest"))
     allowed = ("rest", "steady", *ENGINE_INITIAL)
     if state not in allowed:

@@ -48,6 +48,8 @@ def _value(row: Key) -> dict:
     string = {"type": "string", **({"enum": list(row.choices)} if row.choices else {})}
     if kind == "str":
         return string
+    if kind == "strlist":
+        return {"type": "array", "items": string}
     if kind == "number|str":
         return {"anyOf": [_number(row), string]}
     if kind == "list":

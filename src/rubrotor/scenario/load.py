@@ -68,6 +68,7 @@ from rubrotor.rotors.forces import (
     restitution_damping,
 )
 from rubrotor.rotors.shaft import Dimensionless, Shaft
+from rubrotor.scenario import plausible
 from rubrotor.scenario.dynamics import Builders, EngineSpec, engine_spec_or_none, split_engine_keys
 from rubrotor.scenario.kind import Kind
 from rubrotor.scenario.rotor import build_rotor, normalise_rotor_tables, rotor_to_dict
@@ -83,6 +84,7 @@ from rubrotor.scenario.schema import (
     key_row,
     key_unit,
     table_row,
+    unknown_key_text,
 )
 
 __all__ = [
@@ -154,8 +156,8 @@ def _normalise(mapping: Mapping) -> dict:
         if section in ROTOR_TABLES:
             continue
         if section not in SCHEMA:
-            known = ", ".join([*SCHEMA, *ROTOR_TABLES])
-            raise _err(str(section), "...", "one of the sections " + known)
+            raise _err(str(section), "...", unknown_key_text(section, [*SCHEMA, *ROTOR_TABLES],
+                                                             "", "section"))
         if not isinstance(body, Mapping):
             raise _err(section, body, "a table of keys")
         allowed = SCHEMA[section]
@@ -163,7 +165,7 @@ def _normalise(mapping: Mapping) -> dict:
         for key, value in body.items():
             name = f"{section}.{key}"
             if key not in allowed:
-                raise _err(name, value, f"one of the keys {', '.join(allowed)} of [{section}]")
+                raise _err(name, value, unknown_key_text(key, allowed, f"[{section}]"))
             sec[key] = check_value(name, value, key_row(section, key))
         out[section] = sec
     for section in _REQUIRED_TABLES:
@@ -590,11 +592,7 @@ class Scenario:
                 spec.pop(section, None)
                 continue
             if key not in schema[section]:
-                raise _err(
-                    dotted_key,
-                    value,
-                    f"one of the keys {', '.join(schema[section])} of [{section}]",
-                )
+                raise _err(dotted_key, value, unknown_key_text(key, schema[section], f"[{section}]"))
             sec = spec.setdefault(section, {})
             if not isinstance(sec, dict):
                 raise _err(dotted_key, value, f"a key of a single [{section}] table (not [[...]])")
@@ -800,7 +798,9 @@ def scenario_from_dict(mapping: Mapping, source_text: str = "") -> Scenario:
     parts = _build(spec, mapping)
     engine, full = engine_spec_or_none(mapping, extras, parts, Builders(_position, _build_contact))
     spec = full if extras else spec
-    return Scenario(**parts, engine=engine, source=source_text, _spec=spec)
+    scenario = Scenario(**parts, engine=engine, source=source_text, _spec=spec)
+    plausible.check(scenario)  # across keys, before anything is meshed or solved
+    return scenario
 
 
 def scenario_to_dict(scenario: Scenario, resolved: bool = False) -> dict:
@@ -870,6 +870,8 @@ def _resolved_parts(sc: Scenario, out: dict) -> dict:
         c = dataclasses.asdict(sc.contact)
         out["contact"] = {k: v for k, v in c.items() if v is not None}
     out["initial"] = {"state": sc.initial}
+    if sc._spec and "checks" in sc._spec:  # the plausibility checks a study switched off
+        out["checks"] = copy.deepcopy(sc._spec["checks"])
     if sc.thermal is not None:
         out["thermal"] = dataclasses.asdict(sc.thermal)
     if sc.simulation is not None:

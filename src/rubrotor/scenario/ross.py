@@ -15,7 +15,10 @@ Each ROSS element becomes a scenario table that every verb reads:
 * bearings and seals: ``[[bearing]]`` with their tables (``speeds`` or ``frequencies``),
   ``interpolation`` as ROSS's, ``extrapolation = "linear"`` (ROSS 3.x's end slope), bearing
   mass ``myy, myz, mzz``; linked to a housing: ``link``; a housing's support: ``on``;
-* point masses: ``[[point_mass]]`` (at the station of the shaft node their housing joins).
+* point masses: ``[[point_mass]]`` (at the station of the shaft node their housing joins);
+* axes: ROSS's ``x, y`` (lateral, ``y`` up in its static analysis) are rubrotor's ``y, z``, its
+  axial ``z`` rubrotor's ``x``; gravity as ROSS's ``run_static`` applies it, along its ``-y``:
+  ``[gravity] z = -9.8065`` (m/s^2), so the rotor sags along rubrotor's ``-z``.
 
 Refused, naming the element: tapered shaft elements, beam switches that differ between
 elements, rotor-wide damping (``Rotor(alpha=, beta=)``, modal damping), a speed-dependent or
@@ -31,7 +34,11 @@ import numpy as np
 from rubrotor.errors import InputError
 from rubrotor.rotors.ross_model import RossModel, read_ross_file, ross_model
 
-__all__ = ["ross_scenario_dict", "ross_mapping"]
+__all__ = ["ross_scenario_dict", "ross_mapping", "ROSS_GRAVITY"]
+
+ROSS_GRAVITY = 9.8065
+"""Gravity (m/s^2) of ROSS's ``run_static``, along ROSS's ``-y``: the imported scenario's
+``[gravity] z = -9.8065`` (ROSS's ``x, y`` are rubrotor's ``y, z``)."""
 
 _THEORY = {(True, True): "timoshenko", (False, True): "rayleigh", (False, False): "euler-bernoulli"}
 _OURS = {"kyy": (0, 0), "kyz": (0, 1), "kzy": (1, 0), "kzz": (1, 1)}
@@ -211,8 +218,8 @@ def ross_scenario_dict(model: RossModel, speed: float = 0.0, name: str = "ross_r
     Returns
     -------
     dict
-        ``meta``, ``materials``, ``section``, ``disk``, ``bearing``, ``point_mass``, ``rotor``
-        and ``speed`` tables.
+        ``meta``, ``materials``, ``section``, ``disk``, ``bearing``, ``point_mass``, ``rotor``,
+        ``speed`` and ``gravity`` tables.
     """
     nodes = model.nodes_pos
     materials, names = _materials(model)
@@ -233,6 +240,8 @@ def ross_scenario_dict(model: RossModel, speed: float = 0.0, name: str = "ross_r
                              for n, (nm, x) in housings.items()]  # fmt: skip
     out["rotor"] = _rotor_table(model)
     out["speed"] = {"rad_per_s": float(speed)}
+    # ROSS's x, y are our y, z; its run_static pulls along its -y with g = 9.8065 m/s^2
+    out["gravity"] = {"y": 0.0, "z": -ROSS_GRAVITY}
     return out
 
 

@@ -30,7 +30,14 @@ from collections.abc import Mapping
 from rubrotor.errors import InputError, ScenarioError
 from rubrotor.forces.supports import support_term
 from rubrotor.rotors.fe import COEFFICIENTS, Disk, Material, PointMass, Rotor, Section
-from rubrotor.scenario.schema import REQUIRED, ROTOR_SCHEMA, ROTOR_TABLES, check_value, key_row
+from rubrotor.scenario.schema import (
+    REQUIRED,
+    ROTOR_SCHEMA,
+    ROTOR_TABLES,
+    check_value,
+    key_row,
+    unknown_key_text,
+)
 
 __all__ = ["ROTOR_TABLES", "ROTOR_SCHEMA", "normalise_rotor_tables", "build_rotor", "rotor_to_dict"]
 
@@ -47,9 +54,7 @@ def _keys(name: str, body, table: str) -> dict:
     out = {}
     for key, value in body.items():
         if key not in allowed:
-            raise ScenarioError(
-                f"{name}.{key}", value, f"one of the keys {', '.join(allowed)} of [{table}]"
-            )
+            raise ScenarioError(f"{name}.{key}", value, unknown_key_text(key, allowed, f"[{table}]"))
         out[key] = check_value(f"{name}.{key}", value, key_row(table, key))
     for key in REQUIRED.get(table, ()):
         if key not in out:

@@ -56,6 +56,7 @@ from rubrotor.rotors.fe import BEARING_KINDS, COEFFICIENTS
 from rubrotor.rotors.forces import BOW_SHAPES, CONTACT_LAWS, FRICTION_SIGNS, RESTITUTION_MODELS
 from rubrotor.rotors.linear import EXTRAPOLATIONS, INTERPOLATIONS
 from rubrotor.rotors.shaft import FORMULATIONS, PLAUSIBLE_RANGES, SHEAR_COEFFICIENTS, THEORIES
+from rubrotor.scenario.plausible import CHECKS
 
 __all__ = [
     "Key",
@@ -75,11 +76,13 @@ __all__ = [
     "check_value",
     "allowed_text",
     "markdown_table",
+    "unknown_key_text",
 ]
 
-KINDS = ("number", "int", "bool", "str", "number|str", "list", "number|list")
+KINDS = ("number", "int", "bool", "str", "number|str", "list", "number|list", "strlist")
 """Kinds of values: a finite number (int or float, not bool), an integer, true/false, a string,
-a number or a string (a named choice), a non-empty list of numbers, a number or such a list."""
+a number or a string (a named choice), a non-empty list of numbers, a number or such a list, a
+list of strings (each one of the choices)."""
 
 _NUMERIC = ("number", "int", "number|str", "list", "number|list")
 
@@ -553,6 +556,13 @@ _THERMAL = (
 )  # fmt: skip
 """Keys of the thermal bow (:class:`rubrotor.rotors.forces.ThermalBow`)."""
 
+_CHECKS = (
+    _k("checks", "skip", "strlist", "",
+       "Plausibility checks across keys to switch off, by name (rubrotor.scenario.plausible)",
+       choices=tuple(CHECKS)),
+)  # fmt: skip
+"""Keys of ``[checks]`` (:mod:`rubrotor.scenario.plausible`)."""
+
 TABLES: tuple[Table, ...] = (
     Table("meta", "table", "any", "Name and description"),
     Table("shaft", "table", "shaft", "A uniform, simply supported continuous shaft",
@@ -590,13 +600,16 @@ TABLES: tuple[Table, ...] = (
     Table("rotor", "table", "general", "Settings of the general rotor"),
     Table("thermal", "table", "any",
           "Thermal bow at the rubbing stations (rubrotor thermal; general rotors)"),
+    Table("checks", "table", "any",
+          "Plausibility checks across keys (a clearance against the radius, a speed against the "
+          "surface speed ...) a deliberate study switches off"),
 )  # fmt: skip
 """Every scenario table, in the order the docs list them."""
 
 _ORDER = {t.name: i for i, t in enumerate(TABLES)}
 KEYS: tuple[Key, ...] = tuple(sorted((
     *_META, *_SHAFT, *_SPEED, *_UNBALANCE, *_LOAD, *_CONTACT, *_DAMPING, *_INITIAL,
-    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_POINT_MASS, *_ROTOR, *_THERMAL,
+    *_SIMULATION, *_ENGINE, *_MATERIALS, *_SECTION, *_DISK, *_BEARING, *_POINT_MASS, *_ROTOR, *_THERMAL, *_CHECKS,
 ), key=lambda row: _ORDER[row.table]))  # fmt: skip
 """Every key of every scenario table, grouped by table: the one source of the schema."""
 
@@ -672,6 +685,8 @@ def allowed_text(row: Key) -> str:
     """What ``row`` accepts, as error messages say it (``"a number in [1e-09, 1000] (m)"``)."""
     if row.kind == "bool":
         return "true or false"
+    if row.kind == "strlist":
+        return "a list of " + (" / ".join(f'"{c}"' for c in row.choices) or "strings")
     if row.kind == "str":
         return " or ".join(f'"{c}"' for c in row.choices) if row.choices else "a string"
     what = {
@@ -690,6 +705,37 @@ def allowed_text(row: Key) -> str:
     if row.kind == "number|str":
         text = " or ".join([*(f'"{c}"' for c in row.choices), text])
     return text
+
+
+def unknown_key_text(key: str, allowed, table: str, what: str = "key") -> str:
+    """What an error says is allowed instead of an unknown ``key`` of ``[table]``: the nearest
+    valid key (``difflib.get_close_matches``, case-insensitive) when one is near, e.g.
+    ``"a key of [contact]: did you mean `clearance`?"``, else the list of valid keys.
+
+    Parameters
+    ----------
+    key : str
+        The key that was given.
+    allowed : iterable of str
+        The valid keys (or tables, with ``what="table"``).
+    table : str
+        How the message names where the key was, e.g. ``"[contact]"``; ``""`` for the file's
+        top level.
+    what : str
+        ``"key"`` or ``"table"``.
+    """
+    import difflib
+
+    allowed = list(allowed)
+    lower = {a.lower(): a for a in allowed}
+    near = difflib.get_close_matches(str(key).lower(), list(lower), n=3, cutoff=0.6)
+    score = [difflib.SequenceMatcher(None, str(key).lower(), n).ratio() for n in near]
+    near = [n for n, r in zip(near, score, strict=True) if r == score[0]]  # the nearest, ties
+    where = f" of {table}" if table else ""
+    if near:
+        names = " or ".join(f"`{lower[n]}`" for n in near)
+        return f"a {what}{where}: did you mean {names}?"
+    return f"one of the {what}s {', '.join(allowed)}{where}"
 
 
 def _is_number(v) -> bool:
@@ -738,6 +784,11 @@ def check_value(name: str, value, row: Key):
         Naming ``name``, the value and :func:`allowed_text` of the row.
     """
     kind = row.kind
+    if kind == "strlist":
+        ok = isinstance(value, list | tuple) and all(isinstance(v, str) for v in value)
+        if not ok or any(row.choices and v not in row.choices for v in value):
+            raise ScenarioError(name, value, allowed_text(row))
+        return list(value)
     if kind == "bool":
         if not isinstance(value, bool):
             raise ScenarioError(name, value, allowed_text(row))
@@ -777,6 +828,8 @@ def _allowed_cell(row: Key) -> str:
     """The "allowed" column of the docs: the kind with its choices or range (no unit)."""
     if row.kind == "bool":
         text = "true or false"
+    elif row.kind == "strlist":
+        text = allowed_text(row)
     elif row.kind in ("str", "number|str") and row.choices:
         text = " or ".join(f'"{c}"' for c in row.choices)
         if row.kind == "number|str":
