@@ -7,8 +7,6 @@ import argparse
 import math
 import sys
 
-import numpy as np
-
 from rubrotor.cli.common import add_scenario, load_scenario, parse_speeds, print_json, table
 from rubrotor.cli.response import (
     figure_path,
@@ -54,6 +52,8 @@ def clearance_args(parser: argparse.ArgumentParser) -> None:
 
 
 def clearance_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.api617 import clearance_check
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.response import clearance_figure
@@ -143,6 +143,8 @@ def _station(scenario, system) -> float:
 
 
 def level1_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.api684 import anticipated_cross_coupling, level1
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.response import level1_figure

@@ -9,10 +9,12 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from rubrotor.errors import InputError, RubrotorError
+
+if TYPE_CHECKING:  # annotations only: numpy is imported when a verb runs, not at --help
+    import numpy as np
 
 TWO_PI = 2 * math.pi
 

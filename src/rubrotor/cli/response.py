@@ -6,8 +6,7 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from rubrotor.cli.common import (
     TWO_PI,
@@ -19,6 +18,9 @@ from rubrotor.cli.common import (
     table,
 )
 from rubrotor.errors import InputError
+
+if TYPE_CHECKING:  # annotations only: numpy is imported when a verb runs, not at --help
+    import numpy as np
 
 FIGURE_FORMATS = ("png", "pdf", "svg")
 
@@ -81,6 +83,8 @@ def static_args(parser: argparse.ArgumentParser) -> None:
 
 
 def static_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.static import static_analysis
     from rubrotor.plotting.response import static_figure
 
@@ -119,6 +123,8 @@ def response_args(parser: argparse.ArgumentParser) -> None:
 
 
 def response_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.response import frequency_response
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.response import frequency_response_figure
@@ -157,6 +163,8 @@ def unbalance_args(parser: argparse.ArgumentParser) -> None:
 
 
 def unbalance_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.response import scenario_unbalance_response, unbalance_to_dict
     from rubrotor.plotting.linear import (
         amplification_factors,
@@ -215,6 +223,8 @@ def parse_stiffness(text: str) -> np.ndarray:
     >>> parse_stiffness("1e6:1e8:3")
     array([1.e+06, 1.e+07, 1.e+08])
     """
+    import numpy as np
+
     allowed = "START:STOP:COUNT with 0 < START < STOP (N/m) and an integer COUNT in 2..10000"
     try:
         start, stop, count = (float(v) for v in text.split(":"))
@@ -233,6 +243,8 @@ def ucs_args(parser: argparse.ArgumentParser) -> None:
 
 
 def ucs_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.ucs import ucs_map
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.linear import ucs_figure
@@ -268,6 +280,8 @@ def shapes_args(parser: argparse.ArgumentParser) -> None:
 
 
 def shapes_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.shapes import mode_shapes, node_whirl
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.linear import mode_shapes_3d_figure

@@ -14,7 +14,7 @@ from collections import namedtuple
 import numpy as np
 import scipy.linalg
 
-from rubrotor.core.banded import BandParts, SparseRows
+from rubrotor.core.bandtypes import BandParts, SparseRows
 from rubrotor.linear.lapack import band_matmul, ritz_vectors
 from rubrotor.linear.roots import OSCILLATING
 from rubrotor.rotors.linear import LinearSystem

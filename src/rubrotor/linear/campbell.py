@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rubrotor.core.banded import BandParts, Starts
+from rubrotor.core.bandtypes import BandParts, Starts
 from rubrotor.errors import InputError
 from rubrotor.linear.band import _KRYLOV_SIZE, _band_parts, _projected_lam, _reduced, _sparse_rows
 from rubrotor.linear.lapack import refine_eigenpairs, ritz_vectors

@@ -24,9 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.optimize
 
-from rubrotor.core.contact import contact_force_jac, pack_contact
 from rubrotor.errors import InputError
-from rubrotor.forces.contact import law_of
 from rubrotor.linear.modes import _modes
 from rubrotor.linear.roots import _check_speed
 from rubrotor.rotors.linear import LinearSystem
@@ -217,7 +215,10 @@ def contact_stability(
     InputError
         No Hertz contact, a non-positive indentation, an unknown formulation.
     """
+    # the compiled contact law (numba): imported by the pressed-contact analyses only
+    from rubrotor.core.contact import contact_force_jac, pack_contact
     from rubrotor.engine.simulate import assemble
+    from rubrotor.forces.contact import law_of
     from rubrotor.modelling import model_of
     from rubrotor.scenario.load import as_scenario
 
@@ -278,6 +279,9 @@ def contact_stability(
 def _pressed_jacobian(station, speed: float, indentation: float, friction: bool):
     """``d(F_y, F_z) / d(p_y, p_z, u_y, u_z)`` (2 x 4) of a station's contact law at
     ``p = (g + eps) e_y`` relative to its stator centre, at rest relative to it; and ``F_n0``."""
+    # the compiled contact law (numba): imported by the pressed-contact analyses only
+    from rubrotor.core.contact import contact_force_jac, pack_contact
+
     c = station.contact
     cp = pack_contact(1, c.law_code, c.stiffness, c.damping or 0.0, c.clearance,
                       c.friction if friction else 0.0, c.sign_code, c.radius * speed,
