@@ -393,9 +393,14 @@ def stability_threshold(
     max_speed : float
         Upper end of the search (rad/s), > 0.
     n : int, optional
-        Modes considered (default all).
+        Modes considered (default all): the ``n`` lowest by frequency, overdamped roots left
+        out (they never set the threshold).
     points : int
-        Scan points; the crossing is refined by ``brentq`` to 1e-10 relative.
+        Scan points; the crossing is refined by ``brentq`` to 1e-10 relative. With ``n`` given
+        the scan is one batched Campbell sweep over the points
+        (:func:`~rubrotor.linear.campbell.campbell_data`: projected starts refined by Newton,
+        each speed's neighbours' mean as the start between them), not a modal analysis per
+        point; ``brentq`` then solves the same modes densely on the bracket.
 
     Returns
     -------
@@ -406,16 +411,24 @@ def stability_threshold(
     if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
         raise InputError("n", n, "a number of modes >= 1")
 
+    from rubrotor.linear.campbell import _dense_modes, campbell_data
+
     def least(w):
-        # the n lowest by frequency (the Campbell route): overdamped roots never set the least
-        return min(m.damping_ratio for m in _modes(system, w, n, natural=False).modes)
+        # the n lowest by frequency (the Campbell rows): overdamped roots never set the least
+        if n is None:
+            return min(m.damping_ratio for m in _modes(system, w, n, natural=False).modes)
+        return min(m.damping_ratio for m in _dense_modes(system, w, n))
 
     if least(0.0) < 0:
         return 0.0
     grid = np.linspace(0.0, max_speed, points)
-    prev = grid[0]
-    for w in grid[1:]:
-        if least(float(w)) < 0:
-            return float(scipy.optimize.brentq(least, prev, float(w), xtol=1e-12, rtol=1e-10))
-        prev = float(w)
+    if n is None:
+        unstable = (least(float(w)) < 0 for w in grid[1:])
+    else:  # log dec and damping ratio share their sign
+        with np.errstate(invalid="ignore"):
+            unstable = iter(np.nanmin(campbell_data(system, grid, n).log_dec[1:], axis=1) < 0)
+    for k, below in enumerate(unstable, start=1):
+        if below and least(float(grid[k])) < 0:
+            lo, hi = float(grid[k - 1]), float(grid[k])
+            return float(scipy.optimize.brentq(least, lo, hi, xtol=1e-12, rtol=1e-10))
     return None
