@@ -240,15 +240,15 @@ def main(argv: list[str] | None = None) -> int:
     except RubrotorError as exc:
         print(f"rubrotor: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # e.g. output piped into `head` (an OSError: caught first)
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1
     except (OSError, RuntimeError) as exc:  # a full disk (a streamed file is kept, partial)
         why = _disk_full(exc, args)
         if why is None:
             raise
         print(f"rubrotor: error: {why}", file=sys.stderr)
-        return 1
-    except BrokenPipeError:  # e.g. output piped into `head`
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
         return 1
 
 

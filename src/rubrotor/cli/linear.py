@@ -24,9 +24,9 @@ def modes_args(parser: argparse.ArgumentParser) -> None:
     add_scenario(parser)
     parser.add_argument(
         "--speed",
-        type=float,
-        metavar="RAD_PER_S",
-        help="spin speed (rad/s); default: the scenario's speed",
+        metavar="SPEED",
+        help="spin speed, rad/s or a unit after the number (12000rpm, 200hz); default: the "
+        "scenario's speed",
     )
     parser.add_argument(
         "--station",
@@ -72,9 +72,10 @@ def _modal_masses(scenario, speed: float, station: float | None, out: dict | Non
 
 def modes_run(args: argparse.Namespace) -> int:
     from rubrotor.linear.verbs import modes
+    from rubrotor.units import parse_speed
 
     scenario = load_scenario(args.scenario)
-    speed = scenario.speed if args.speed is None else args.speed
+    speed = scenario.speed if args.speed is None else parse_speed(args.speed, "--speed")
     if not math.isfinite(speed) or speed < 0:
         raise InputError("--speed", args.speed, "a finite spin speed >= 0 (rad/s)")
     if model_of(scenario).linear == "matrix":

@@ -40,8 +40,13 @@ def figure_path(text: str | None, flag: str = "--figure", formats=FIGURE_FORMATS
     return out
 
 
-def speed_or_default(value: float | None, default: float, flag: str = "--speed") -> float:
-    speed = default if value is None else value
+def speed_or_default(value, default: float, flag: str = "--speed") -> float:
+    """``value`` (rad/s, or text with a unit after the number: ``12000rpm``) or ``default``."""
+    from rubrotor.units import parse_speed
+
+    speed = (
+        default if value is None else parse_speed(value, flag) if isinstance(value, str) else value
+    )
     if not (math.isfinite(speed) and speed >= 0):
         raise InputError(flag, value, "a finite spin speed >= 0 (rad/s)")
     return float(speed)
@@ -64,7 +69,7 @@ def on_rotor(scenario, values, flag: str) -> list[float]:
 def _common(parser: argparse.ArgumentParser, speed_help: str | None = None) -> None:
     add_scenario(parser)
     if speed_help:
-        parser.add_argument("--speed", type=float, metavar="RAD_PER_S", help=speed_help)
+        parser.add_argument("--speed", metavar="SPEED", help=speed_help)
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
     parser.add_argument("--figure", metavar="FILE.png", help="also write a figure (.png/.pdf/.svg)")
 
@@ -79,7 +84,11 @@ def write_figure(fig, out: Path | None, as_json: bool) -> None:
 
 # ---- static ------------------------------------------------------------------------------------
 def static_args(parser: argparse.ArgumentParser) -> None:
-    _common(parser, "spin speed for speed-dependent bearings (rad/s); default the scenario's")
+    _common(
+        parser,
+        "spin speed for speed-dependent bearings (rad/s, or a unit after the number: "
+        "12000rpm); default the scenario's",
+    )
 
 
 def static_run(args: argparse.Namespace) -> int:
@@ -109,7 +118,9 @@ def static_run(args: argparse.Namespace) -> int:
 
 # ---- response ----------------------------------------------------------------------------------
 def response_args(parser: argparse.ArgumentParser) -> None:
-    _common(parser, "spin speed (rad/s); default the scenario's")
+    _common(
+        parser, "spin speed (rad/s, or a unit after the number: 12000rpm); default the scenario's"
+    )
     parser.add_argument("--at", type=float, required=True, metavar="X", help="force station (m)")
     parser.add_argument("--frequencies", required=True, metavar="START:STOP:COUNT",
                         help="excitation frequencies (rad/s), independent of the spin")  # fmt: skip
@@ -146,7 +157,9 @@ def response_run(args: argparse.Namespace) -> int:
         for p, x in enumerate(res.probes):
             k = int(np.argmax(res.major[:, p]))
             rows.append([f"{x:.4g}", f"{res.major[k, p] * 1e6:.4g}", f"{freqs[k]:.6g}"])
-        print(table(["probe x (m)", "peak major semi-axis (µm 0-pk)", "at frequency (rad/s)"], rows))
+        print(
+            table(["probe x (m)", "peak major semi-axis (µm 0-pk)", "at frequency (rad/s)"], rows)
+        )
     write_figure(frequency_response_figure(res), out, args.json)
     return 0
 
@@ -275,7 +288,9 @@ def ucs_run(args: argparse.Namespace) -> int:
 
 # ---- shapes ------------------------------------------------------------------------------------
 def shapes_args(parser: argparse.ArgumentParser) -> None:
-    _common(parser, "spin speed (rad/s); default the scenario's")
+    _common(
+        parser, "spin speed (rad/s, or a unit after the number: 12000rpm); default the scenario's"
+    )
     parser.add_argument("--modes", type=int, default=4, help="number of modes (default 4)")
 
 
