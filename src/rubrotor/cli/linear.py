@@ -344,7 +344,8 @@ def _general_campbell(scenario, speeds, out: Path | None, as_json: bool, band) -
 
     system = linear_system(scenario)
     data = campbell_data(system, speeds, n=8)
-    crit = linear_critical_speeds(system, float(speeds[-1]), n=8) if speeds[-1] > 0 else []
+    # the critical speeds are marked on the figure only (JSON alone: not searched)
+    crit = linear_critical_speeds(system, float(speeds[-1]), n=8) if out and speeds[-1] > 0 else []
     title = f"Campbell diagram: {scenario.name}"
     if out is None:  # no figure asked for (--json alone)
         pass
