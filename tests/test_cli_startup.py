@@ -53,3 +53,32 @@ def test_linear_verb_on_a_general_rotor_imports_no_numba(verb, tmp_path):
     assert "numpy" in run["loaded"] and "scipy" in run["loaded"]  # it did solve something
     for heavy in ("numba", "xarray", "matplotlib", "dask"):
         assert heavy not in run["loaded"], f"{verb} imported {heavy}"
+
+
+def _compile_event(seconds: float) -> None:
+    """A numba ``numba:compile`` event lasting ``seconds`` (what a compilation emits)."""
+    import time
+
+    from numba.core import event as ev
+
+    with ev.trigger_event("numba:compile", data={"dispatcher": None, "args": None}):
+        time.sleep(seconds)
+
+
+def test_compile_notice_says_once_when_compiling_is_long(capsys):
+    from rubrotor.cli.common import compile_notice
+
+    with compile_notice(after=0.05):
+        _compile_event(0.5)
+        _compile_event(0.5)
+    err = capsys.readouterr().err
+    assert err.count("compiling the rub engine: first run only") == 1
+
+
+def test_compile_notice_is_silent_for_cache_loads(capsys):
+    from rubrotor.cli.common import compile_notice
+
+    with compile_notice(after=5.0):
+        _compile_event(0.01)
+    _compile_event(0.01)  # outside the block: no listener left behind
+    assert capsys.readouterr().err == ""

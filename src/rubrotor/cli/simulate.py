@@ -141,7 +141,15 @@ def _outputs(text: str) -> tuple[Path, Path | None]:
 
 def simulate_run(args: argparse.Namespace) -> int:
     """Simulate any scenario into one netCDF file (or DIR/results.nc and DIR/summary.json);
-    long general-engine runs stream to it."""
+    long general-engine runs stream to it. A first run that compiles for more than a few
+    seconds says so on stderr (:func:`~rubrotor.cli.common.compile_notice`)."""
+    from rubrotor.cli.common import compile_notice
+
+    with compile_notice():
+        return _simulate_run(args)
+
+
+def _simulate_run(args: argparse.Namespace) -> int:
     import dataclasses
 
     from rubrotor.engine.result import save_dataset
