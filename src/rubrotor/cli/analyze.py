@@ -217,8 +217,15 @@ def _results_signals(p: Path) -> dict:
         "spin_hz": None if _varying(rng) else float(ds.attrs["speed_hz"]),
         "modes": entries, "unit": "m/s^2", "names": ["v_ddot", "w_ddot"], "source": str(p),
         "scenario_name": ds.attrs.get("scenario_name", ""), "spin": spin,
-        "speed_range_rad_s": rng, "dataset": ds,
+        "speed_range_rad_s": rng, "dataset": ds, "at": _first_station(ds),
     }  # fmt: skip
+
+
+def _first_station(ds) -> str | None:
+    """``"x = 0.75 m"``: where the results file's first station (the analysed one) is."""
+    if "station" not in ds.coords or ds["station"].size == 0:
+        return None
+    return f"x = {float(ds['station'].values[0]):.4g} m"
 
 
 def _file_signals(p: Path, ext: str, fs, columns, spin_hz) -> dict:
@@ -475,8 +482,9 @@ def analyze_run(args: argparse.Namespace) -> int:
     extra, tracks = _orders_and_verdict(sig, orders, c)
     d |= extra
     name = sig["scenario_name"] or Path(args.input).name
+    at = f" at {sig['at']}" if sig.get("at") else ""  # the station the channels were taken at
     fig = analysis_figure(
-        a, title=f"{name}: {' + i '.join(sig['names'])} (fs = {fs / 1e3:.4g} kHz)"
+        a, title=f"{name}: {' + i '.join(sig['names'])}{at} (fs = {fs / 1e3:.4g} kHz)"
     )
     if _varying(rng):  # the orders follow the run's speed on the map
         from rubrotor.plotting.diagnostics import mark_orders
