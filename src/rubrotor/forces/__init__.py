@@ -28,6 +28,10 @@ __all__ = ["Terms", "build_terms"]
 _WARNED = set()
 
 
+def __dir__():
+    return sorted(set(globals()) | set(__all__))  # the lazy names too (the API reference)
+
+
 def __getattr__(name):
     if name in __all__:  # the terms, imported on first use (numba behind them)
         from rubrotor.forces import terms
