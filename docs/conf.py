@@ -1,10 +1,15 @@
 """Sphinx configuration of the rubrotor documentation site.
 
-Build (warnings are errors, cross-references nitpicky)::
+Build (warnings are errors, cross-references nitpicky), the README's command::
 
-    python -m pip install -e ".[docs]"
-    python docs/run_pages.py      # the tutorial's and how-to pages' commands and their figures
-    python -m sphinx -W -n --keep-going -b html docs docs/_build/html
+    python -m pip install -e ".[docs]" && python -m sphinx -W -n --keep-going -b html docs docs/_build/html
+
+The build first runs the tutorial's and how-to pages' commands (``docs/run_pages.py``), whose
+figures and output the pages show: the pages not yet run, or whose folder changed since they
+last passed (a fresh clone runs them all; ``RUBROTOR_DOCS_PAGES=all`` runs every page, ``skip``
+none). A page whose commands fail is a build warning, so an error with ``-W``. Running them here
+rather than as a second command keeps the README's one command whole: it was the cause of a
+fresh clone's build failing on the figures it had not made.
 
 Intersphinx inventories of NumPy, SciPy, xarray and matplotlib are fetched only when
 ``RUBROTOR_DOCS_INTERSPHINX=1`` (the build machines of this project have no web access); without
@@ -23,6 +28,7 @@ sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(Path(__file__).parent))
 
 import cli_reference  # noqa: E402
+import run_pages  # noqa: E402
 
 import rubrotor  # noqa: E402
 from rubrotor.scenario.schema import markdown_table  # noqa: E402
@@ -105,3 +111,25 @@ for _name, _text in (
     _target = _generated / _name
     if not _target.exists() or _target.read_text() != _text:
         _target.write_text(_text)
+
+
+def _run_pages(app) -> None:
+    """Run the page scripts the build needs (module docstring); a failing one is a warning."""
+    from sphinx.util import logging
+
+    mode = os.environ.get("RUBROTOR_DOCS_PAGES", "stale")
+    if mode not in ("stale", "all", "skip"):
+        raise ValueError(f"RUBROTOR_DOCS_PAGES={mode!r}: one of 'stale' (default), 'all', 'skip'")
+    if mode == "skip":
+        return
+    found = run_pages.scripts()
+    names = [n for n, s in found.items() if mode == "all" or run_pages.stale(n, s)]
+    for name in names:
+        if not run_pages.run(name, found[name]):
+            logging.getLogger(__name__).warning(
+                "page %s: its commands failed (docs/_pages/%s/output.txt)", name, name
+            )
+
+
+def setup(app):
+    app.connect("builder-inited", _run_pages)

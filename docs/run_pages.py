@@ -8,14 +8,21 @@ the figures it writes are copied to ``docs/_pages/NAME/`` for the site to show, 
 in ``docs/_pages/NAME/output.txt``. A failing command fails the run (exit status 1) and prints the
 script's output.
 
+A page that passed leaves ``docs/_pages/NAME/passed`` holding a digest of its folder's files;
+``--stale`` runs only the pages without one or whose folder changed since. The Sphinx build
+(``docs/conf.py``) runs those itself, so that the README's one docs command builds the site in a
+fresh clone; ``RUBROTOR_DOCS_PAGES=all`` makes it run every page (what CI does), ``skip`` none.
+
 Usage::
 
     python docs/run_pages.py            # every page
+    python docs/run_pages.py --stale    # the pages not run since their folder last changed
     python docs/run_pages.py first-rotor api617-clearance
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import shutil
 import signal
@@ -38,6 +45,20 @@ def scripts() -> dict[str, Path]:
             if script.stem == script.parent.name:
                 found[script.stem] = script
     return found
+
+
+def digest(script: Path) -> str:
+    """SHA-256 of the page folder's files (their paths and contents)."""
+    h = hashlib.sha256()
+    for f in sorted(p for p in script.parent.rglob("*") if p.is_file()):
+        h.update(f.relative_to(script.parent).as_posix().encode() + b"\0" + f.read_bytes())
+    return h.hexdigest()
+
+
+def stale(name: str, script: Path) -> bool:
+    """True when the page has not passed since its folder last changed."""
+    stamp = OUT / name / "passed"
+    return not stamp.exists() or stamp.read_text().strip() != digest(script)
 
 
 def run(name: str, script: Path, timeout: float = 1800.0) -> bool:
@@ -70,6 +91,8 @@ def run(name: str, script: Path, timeout: float = 1800.0) -> bool:
         for pattern in KEPT:
             for f in work.rglob(pattern):
                 shutil.copy2(f, dest / f.relative_to(work).as_posix().replace("/", "-"))
+    if proc.returncode == 0:
+        (dest / "passed").write_text(digest(script) + "\n")
     status = "ok" if proc.returncode == 0 else f"FAILED (exit {proc.returncode})"
     print(f"{name}: {status} in {took:.0f} s", flush=True)
     if proc.returncode != 0:
@@ -79,6 +102,10 @@ def run(name: str, script: Path, timeout: float = 1800.0) -> bool:
 
 def main(argv: list[str]) -> int:
     found = scripts()
+    if argv == ["--stale"]:
+        argv = [n for n, s in found.items() if stale(n, s)]
+        if not argv:
+            return 0
     names = argv or list(found)
     unknown = [n for n in names if n not in found]
     if unknown:

@@ -95,7 +95,7 @@ def test_branch_figure_draws_the_clearance_and_says_why_the_radius_exceeds_it():
 
     geometry = contact_geometry(rubrotor.load_scenario("seal_rub.toml"))
     assert geometry["clearance"] == 40e-6 and geometry["offset"] == pytest.approx(25e-6)
-    assert geometry["why"] == ["stator centre offset 25 um", "gravity sag", "flexible stator"]
+    assert geometry["why"] == ["stator centre offset 25 µm", "gravity sag", "flexible stator"]
     fig = branch_figure(_seal_like_branch(), geometry=geometry)
     ax = fig.axes[0]
     assert any(np.allclose(line.get_ydata(), 40.0) for line in ax.lines)

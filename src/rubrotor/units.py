@@ -15,7 +15,7 @@ import numpy as np
 
 from rubrotor.errors import InputError
 
-__all__ = ["TO_RAD_PER_S", "parse_range", "as_speeds"]
+__all__ = ["TO_RAD_PER_S", "parse_range", "parse_speed", "as_speeds"]
 
 TO_RAD_PER_S = {"rad/s": 1.0, "rpm": 2 * math.pi / 60, "hz": 2 * math.pi}
 """Factor from each accepted unit (lower case) to rad/s."""
@@ -29,6 +29,23 @@ def _value(text: str, field: str, allowed: str) -> tuple[float, str | None]:
     if m is None:
         raise InputError(field, text, allowed)
     return float(m.group(1)), (m.group(2).lower() if m.group(2) else None)
+
+
+def parse_speed(text: str, field: str = "--speed") -> float:
+    """One spin speed, ``"500"`` (rad/s) or with a unit after the number (``"12000rpm"``,
+    ``"200hz"``, ``"500rad/s"``), in rad/s: finite and >= 0, else an InputError naming ``field``.
+
+    Examples
+    --------
+    >>> round(parse_speed("12000rpm"), 6)
+    1256.637061
+    """
+    allowed = "a finite spin speed >= 0: rad/s, or a unit after the number (12000rpm, 200hz)"
+    value, unit = _value(str(text), field, allowed)
+    speed = value * TO_RAD_PER_S[unit or "rad/s"]
+    if not (math.isfinite(speed) and speed >= 0):
+        raise InputError(field, text, allowed)
+    return speed
 
 
 def parse_range(text: str, field: str = "--speeds", minimum: float = 0.0) -> np.ndarray:

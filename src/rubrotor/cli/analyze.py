@@ -7,14 +7,16 @@ import json
 import math
 import sys
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from rubrotor.cli.common import (
     print_json,
     table,
 )
 from rubrotor.errors import InputError
+
+if TYPE_CHECKING:  # annotations only: numpy is imported when a verb runs, not at --help
+    import numpy as np
 
 # ---- analyze / scenarios / reproduce -----------------------------------------------------------
 _SIGNAL_EXTENSIONS = (".nc", ".csv", ".npy", ".wav")
@@ -74,6 +76,8 @@ def analyze_args(parser: argparse.ArgumentParser) -> None:
 
 def _read_table(path: Path, ext: str, fs):
     """Channels of a signal file as {name: array}, plus the file's own rate (WAV) or None."""
+    import numpy as np
+
     if ext == ".npy":
         try:
             data = np.load(path, allow_pickle=False)
@@ -175,6 +179,8 @@ def _results_signals(p: Path) -> dict:
     """The signals of a results file (see :func:`load_signals`)."""
     import tomllib
 
+    import numpy as np
+
     from rubrotor.analysis.orders import spin_from_dataset
     from rubrotor.analysis.overview import mode_entries
     from rubrotor.engine.result import load_dataset
@@ -211,12 +217,21 @@ def _results_signals(p: Path) -> dict:
         "spin_hz": None if _varying(rng) else float(ds.attrs["speed_hz"]),
         "modes": entries, "unit": "m/s^2", "names": ["v_ddot", "w_ddot"], "source": str(p),
         "scenario_name": ds.attrs.get("scenario_name", ""), "spin": spin,
-        "speed_range_rad_s": rng, "dataset": ds,
+        "speed_range_rad_s": rng, "dataset": ds, "at": _first_station(ds),
     }  # fmt: skip
+
+
+def _first_station(ds) -> str | None:
+    """``"x = 0.75 m"``: where the results file's first station (the analysed one) is."""
+    if "station" not in ds.coords or ds["station"].size == 0:
+        return None
+    return f"x = {float(ds['station'].values[0]):.4g} m"
 
 
 def _file_signals(p: Path, ext: str, fs, columns, spin_hz) -> dict:
     """The signals of a CSV, NPY or WAV file (see :func:`load_signals`)."""
+    import numpy as np
+
     from rubrotor.analysis.measured import spin_from_table, time_column
     from rubrotor.analysis.orders import spin_from_speed
 
@@ -254,6 +269,8 @@ def _file_signals(p: Path, ext: str, fs, columns, spin_hz) -> dict:
 def _acceleration_channels(ds) -> tuple[np.ndarray, np.ndarray]:
     """``v_ddot, w_ddot`` (m/s^2) at the contact station: the first station of a results
     file (derived from the velocities by central differences when streamed without them)."""
+    import numpy as np
+
     if "v_ddot" in ds.variables:
         v, w = ds["v_ddot"].values, ds["w_ddot"].values
     else:
@@ -302,6 +319,8 @@ def _parse_orders(text: str) -> tuple[float, ...]:
 
 def _signal_orders(sig: dict, orders) -> tuple[list[dict], dict]:
     """Order rows and order tracks ({probe: track}) of a signal file with a spin angle."""
+    import numpy as np
+
     from rubrotor.analysis.orders import track_orders
 
     tr = track_orders(sig["spin"], sig["v"], sig["w"], orders=orders)
@@ -346,6 +365,8 @@ def _orders_and_verdict(sig: dict, orders, clearance) -> tuple[dict, dict]:
 
 def _dataset_orders(ds, orders) -> tuple[list[dict], dict]:
     """Order rows of a results Dataset and, for a run with varying speed, the tracks drawn."""
+    import numpy as np
+
     from rubrotor.analysis.orders import dataset_orders, spin_from_dataset, track_orders
 
     rows = dataset_orders(ds, orders)
@@ -359,6 +380,8 @@ def _dataset_orders(ds, orders) -> tuple[list[dict], dict]:
 
 def _order_figures(sig: dict, tracks: dict, args: argparse.Namespace, out: Path) -> list[Path]:
     """``orders.png`` (transient Bode of 1X) and ``cascade.png`` of a run with varying speed."""
+    import numpy as np
+
     from rubrotor.analysis.diagnostics import cascade
     from rubrotor.plotting.diagnostics import bode_figure, cascade_figure
 
@@ -459,8 +482,9 @@ def analyze_run(args: argparse.Namespace) -> int:
     extra, tracks = _orders_and_verdict(sig, orders, c)
     d |= extra
     name = sig["scenario_name"] or Path(args.input).name
+    at = f" at {sig['at']}" if sig.get("at") else ""  # the station the channels were taken at
     fig = analysis_figure(
-        a, title=f"{name}: {' + i '.join(sig['names'])} (fs = {fs / 1e3:.4g} kHz)"
+        a, title=f"{name}: {' + i '.join(sig['names'])}{at} (fs = {fs / 1e3:.4g} kHz)"
     )
     if _varying(rng):  # the orders follow the run's speed on the map
         from rubrotor.plotting.diagnostics import mark_orders

@@ -8,8 +8,6 @@ import dataclasses
 import math
 import sys
 
-import numpy as np
-
 from rubrotor.cli.common import add_scenario, load_scenario, parse_speeds, print_json, table
 from rubrotor.cli.response import (
     figure_path,
@@ -76,6 +74,8 @@ def _print_criticals(res) -> None:
 
 
 def clearance_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.api617 import clearance_check
     from rubrotor.linear.front import with_criticals
     from rubrotor.linear.verbs import linear_system
@@ -169,6 +169,8 @@ def _station(scenario) -> tuple[float, str]:
 
 
 def level1_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.api684 import anticipated_cross_coupling, level1
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.response import level1_figure

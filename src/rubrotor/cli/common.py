@@ -6,13 +6,18 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
+import threading
 from collections.abc import Callable
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from rubrotor.errors import InputError, RubrotorError
+
+if TYPE_CHECKING:  # annotations only: numpy is imported when a verb runs, not at --help
+    import numpy as np
 
 TWO_PI = 2 * math.pi
 
@@ -132,3 +137,51 @@ def save_atomic(fig, out: Path) -> None:
         raise InputError("--out", str(out), "a file in an existing directory")
     fmt = out.suffix.lstrip(".").lower() or "png"
     atomic_write(out, lambda tmp: fig.savefig(tmp, format=fmt, dpi=150))
+
+
+COMPILE_NOTICE_AFTER = 3.0
+"""Seconds numba may spend compiling before :func:`compile_notice` says so (cache loads are
+shorter)."""
+
+
+@contextmanager
+def compile_notice(what: str = "the rub engine", after: float = COMPILE_NOTICE_AFTER):
+    """Print one line on stderr when numba compiles for longer than ``after`` seconds inside the
+    block ("compiling the rub engine: first run only ..."), at most once.
+
+    numba's ``numba:compile`` events mark each compilation (and each load from its cache,
+    which is quick); a timer started at the first outermost event prints the line if that event
+    is still running when it fires.
+    """
+    from numba.core import event as ev
+
+    state = {"said": False, "depth": 0, "timer": None}
+
+    def say():
+        if state["depth"] > 0 and not state["said"]:
+            state["said"] = True
+            print(f"compiling {what}: first run only (the compiled code is cached for the next "
+                  "runs)", file=sys.stderr, flush=True)  # fmt: skip
+
+    class Notice(ev.Listener):
+        def on_start(self, event):
+            state["depth"] += 1
+            if state["depth"] == 1 and not state["said"] and state["timer"] is None:
+                state["timer"] = threading.Timer(after, say)
+                state["timer"].daemon = True
+                state["timer"].start()
+
+        def on_end(self, event):
+            state["depth"] -= 1
+            if state["depth"] == 0 and state["timer"] is not None:
+                state["timer"].cancel()
+                state["timer"] = None
+
+    listener = Notice()
+    ev.register("numba:compile", listener)
+    try:
+        yield
+    finally:
+        ev.unregister("numba:compile", listener)
+        if state["timer"] is not None:
+            state["timer"].cancel()

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from rubrotor.cli.common import add_scenario, save_atomic
+from rubrotor.cli.common import add_scenario, load_scenario, save_atomic
 from rubrotor.cli.response import figure_path
-from rubrotor.scenario.load import load_scenario
 
 
 def draw_args(parser: argparse.ArgumentParser) -> None:

@@ -24,9 +24,9 @@ def modes_args(parser: argparse.ArgumentParser) -> None:
     add_scenario(parser)
     parser.add_argument(
         "--speed",
-        type=float,
-        metavar="RAD_PER_S",
-        help="spin speed (rad/s); default: the scenario's speed",
+        metavar="SPEED",
+        help="spin speed, rad/s or a unit after the number (12000rpm, 200hz); default: the "
+        "scenario's speed",
     )
     parser.add_argument(
         "--station",
@@ -72,9 +72,10 @@ def _modal_masses(scenario, speed: float, station: float | None, out: dict | Non
 
 def modes_run(args: argparse.Namespace) -> int:
     from rubrotor.linear.verbs import modes
+    from rubrotor.units import parse_speed
 
     scenario = load_scenario(args.scenario)
-    speed = scenario.speed if args.speed is None else args.speed
+    speed = scenario.speed if args.speed is None else parse_speed(args.speed, "--speed")
     if not math.isfinite(speed) or speed < 0:
         raise InputError("--speed", args.speed, "a finite spin speed >= 0 (rad/s)")
     if model_of(scenario).linear == "matrix":
@@ -256,11 +257,11 @@ def campbell_args(parser: argparse.ArgumentParser) -> None:
         metavar="START:STOP:COUNT",
         help="spin speeds, rad/s or a unit after a number: 0:60000:200, 0:12000rpm:61",
     )
-    parser.add_argument("--out", required=True, metavar="FILE.png",
+    parser.add_argument("--out", metavar="FILE.png",
                         help="figure file to write (.png/.pdf/.svg; .html: interactive, general "
-                        "rotor, needs the 'interactive' extra)")  # fmt: skip
+                        "rotor, needs the 'interactive' extra); no figure without it")  # fmt: skip
     parser.add_argument(
-        "--json", action="store_true", help="also print the diagram data as JSON on stdout"
+        "--json", action="store_true", help="print the diagram data as JSON on stdout"
     )
     parser.add_argument("--run-range", metavar="MIN:MAX",
                         help="minimum operating and maximum continuous speed (rad/s), shaded with "
@@ -284,12 +285,13 @@ def run_range(text: str | None, speed: float) -> tuple[float, float]:
 
 def campbell_run(args: argparse.Namespace) -> int:
     from rubrotor.linear.shaft import campbell
-    from rubrotor.plotting.linear import campbell_figure
 
     speeds = parse_speeds(args.speeds)
-    out = Path(args.out)
-    fmt = out.suffix.lstrip(".").lower()
-    if fmt not in ("png", "pdf", "svg", "html"):
+    if args.out is None and not args.json:
+        raise InputError("--out", None, "a figure file (--out FILE.png), --json, or both")
+    out = None if args.out is None else Path(args.out)
+    fmt = None if out is None else out.suffix.lstrip(".").lower()
+    if out is not None and fmt not in ("png", "pdf", "svg", "html"):
         raise InputError("--out", args.out, "a file name ending in .png, .pdf, .svg or .html")
     scenario = load_scenario(args.scenario)
     model = model_of(scenario)
@@ -299,8 +301,10 @@ def campbell_run(args: argparse.Namespace) -> int:
     if fmt == "html":
         raise InputError("--out", args.out, "a .png, .pdf or .svg file for a [shaft] scenario")
     shaft = model.require_shaft("the Campbell diagram")
-    fig = campbell_figure(shaft, speeds, operating_speed=scenario.speed)
-    save_atomic(fig, out)
+    if out is not None:  # the figure only when asked for: drawing it costs more than the solve
+        from rubrotor.plotting.linear import campbell_figure
+
+        save_atomic(campbell_figure(shaft, speeds, operating_speed=scenario.speed), out)
     if args.json:
         data = campbell(shaft, speeds)
         curves = []
@@ -319,7 +323,7 @@ def campbell_run(args: argparse.Namespace) -> int:
                 "speed_rad_s": data["speed_rad_s"].tolist(),
                 "operating_speed_rad_s": scenario.speed,
                 "modes": curves,
-                "figure": str(out),
+                "figure": None if out is None else str(out),
             }
         )
     else:
@@ -327,26 +331,30 @@ def campbell_run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _general_campbell(scenario, speeds, out: Path, as_json: bool, band) -> int:
+def _general_campbell(scenario, speeds, out: Path | None, as_json: bool, band) -> int:
     """Campbell diagram with stability (log dec in colour) of a general rotor; an interactive
-    HTML page when ``out`` ends in .html."""
+    HTML page when ``out`` ends in .html, no figure when ``out`` is None."""
     from rubrotor.linear.campbell import campbell_data
     from rubrotor.linear.critical import linear_critical_speeds
     from rubrotor.linear.verbs import linear_system
-    from rubrotor.plotting.linear import campbell_stability_figure
 
     system = linear_system(scenario)
     data = campbell_data(system, speeds, n=8)
-    crit = linear_critical_speeds(system, float(speeds[-1]), n=8) if speeds[-1] > 0 else []
+    # the critical speeds are marked on the figure only (JSON alone: not searched)
+    crit = linear_critical_speeds(system, float(speeds[-1]), n=8) if out and speeds[-1] > 0 else []
     title = f"Campbell diagram: {scenario.name}"
-    if out.suffix.lower() == ".html":
+    if out is None:  # no figure asked for (--json alone)
+        pass
+    elif out.suffix.lower() == ".html":
         from rubrotor.plotting.interactive import campbell_html, write_html
 
         write_html(campbell_html(data, crit, scenario.speed, title, band), out)
     else:
+        from rubrotor.plotting.linear import campbell_stability_figure
+
         save_atomic(campbell_stability_figure(data, crit, scenario.speed, title, band), out)
     if as_json:
-        print_json({**data.to_dict(), "figure": str(out)})
+        print_json({**data.to_dict(), "figure": None if out is None else str(out)})
     else:
         print(f"wrote {out}")
     return 0

@@ -7,8 +7,6 @@ import math
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from rubrotor.cli.common import (
     add_scenario,
     load_scenario,
@@ -84,6 +82,8 @@ def _parse_range(text: str) -> tuple[str, float, float]:
 
 
 def continue_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.engine.result import save_dataset
     from rubrotor.orbits.continuation import STOPS, branches_dataset, continue_orbit
 

@@ -6,8 +6,7 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from rubrotor.cli.common import (
     TWO_PI,
@@ -19,6 +18,9 @@ from rubrotor.cli.common import (
     table,
 )
 from rubrotor.errors import InputError
+
+if TYPE_CHECKING:  # annotations only: numpy is imported when a verb runs, not at --help
+    import numpy as np
 
 FIGURE_FORMATS = ("png", "pdf", "svg")
 
@@ -38,8 +40,13 @@ def figure_path(text: str | None, flag: str = "--figure", formats=FIGURE_FORMATS
     return out
 
 
-def speed_or_default(value: float | None, default: float, flag: str = "--speed") -> float:
-    speed = default if value is None else value
+def speed_or_default(value, default: float, flag: str = "--speed") -> float:
+    """``value`` (rad/s, or text with a unit after the number: ``12000rpm``) or ``default``."""
+    from rubrotor.units import parse_speed
+
+    speed = (
+        default if value is None else parse_speed(value, flag) if isinstance(value, str) else value
+    )
     if not (math.isfinite(speed) and speed >= 0):
         raise InputError(flag, value, "a finite spin speed >= 0 (rad/s)")
     return float(speed)
@@ -62,7 +69,7 @@ def on_rotor(scenario, values, flag: str) -> list[float]:
 def _common(parser: argparse.ArgumentParser, speed_help: str | None = None) -> None:
     add_scenario(parser)
     if speed_help:
-        parser.add_argument("--speed", type=float, metavar="RAD_PER_S", help=speed_help)
+        parser.add_argument("--speed", metavar="SPEED", help=speed_help)
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
     parser.add_argument("--figure", metavar="FILE.png", help="also write a figure (.png/.pdf/.svg)")
 
@@ -77,10 +84,16 @@ def write_figure(fig, out: Path | None, as_json: bool) -> None:
 
 # ---- static ------------------------------------------------------------------------------------
 def static_args(parser: argparse.ArgumentParser) -> None:
-    _common(parser, "spin speed for speed-dependent bearings (rad/s); default the scenario's")
+    _common(
+        parser,
+        "spin speed for speed-dependent bearings (rad/s, or a unit after the number: "
+        "12000rpm); default the scenario's",
+    )
 
 
 def static_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.static import static_analysis
     from rubrotor.plotting.response import static_figure
 
@@ -105,7 +118,9 @@ def static_run(args: argparse.Namespace) -> int:
 
 # ---- response ----------------------------------------------------------------------------------
 def response_args(parser: argparse.ArgumentParser) -> None:
-    _common(parser, "spin speed (rad/s); default the scenario's")
+    _common(
+        parser, "spin speed (rad/s, or a unit after the number: 12000rpm); default the scenario's"
+    )
     parser.add_argument("--at", type=float, required=True, metavar="X", help="force station (m)")
     parser.add_argument("--frequencies", required=True, metavar="START:STOP:COUNT",
                         help="excitation frequencies (rad/s), independent of the spin")  # fmt: skip
@@ -119,6 +134,8 @@ def response_args(parser: argparse.ArgumentParser) -> None:
 
 
 def response_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.response import frequency_response
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.response import frequency_response_figure
@@ -140,7 +157,9 @@ def response_run(args: argparse.Namespace) -> int:
         for p, x in enumerate(res.probes):
             k = int(np.argmax(res.major[:, p]))
             rows.append([f"{x:.4g}", f"{res.major[k, p] * 1e6:.4g}", f"{freqs[k]:.6g}"])
-        print(table(["probe x (m)", "peak major semi-axis (µm 0-pk)", "at frequency (rad/s)"], rows))
+        print(
+            table(["probe x (m)", "peak major semi-axis (µm 0-pk)", "at frequency (rad/s)"], rows)
+        )
     write_figure(frequency_response_figure(res), out, args.json)
     return 0
 
@@ -157,6 +176,8 @@ def unbalance_args(parser: argparse.ArgumentParser) -> None:
 
 
 def unbalance_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.response import scenario_unbalance_response, unbalance_to_dict
     from rubrotor.plotting.linear import (
         amplification_factors,
@@ -215,6 +236,8 @@ def parse_stiffness(text: str) -> np.ndarray:
     >>> parse_stiffness("1e6:1e8:3")
     array([1.e+06, 1.e+07, 1.e+08])
     """
+    import numpy as np
+
     allowed = "START:STOP:COUNT with 0 < START < STOP (N/m) and an integer COUNT in 2..10000"
     try:
         start, stop, count = (float(v) for v in text.split(":"))
@@ -233,6 +256,8 @@ def ucs_args(parser: argparse.ArgumentParser) -> None:
 
 
 def ucs_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.ucs import ucs_map
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.linear import ucs_figure
@@ -263,11 +288,15 @@ def ucs_run(args: argparse.Namespace) -> int:
 
 # ---- shapes ------------------------------------------------------------------------------------
 def shapes_args(parser: argparse.ArgumentParser) -> None:
-    _common(parser, "spin speed (rad/s); default the scenario's")
+    _common(
+        parser, "spin speed (rad/s, or a unit after the number: 12000rpm); default the scenario's"
+    )
     parser.add_argument("--modes", type=int, default=4, help="number of modes (default 4)")
 
 
 def shapes_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from rubrotor.linear.shapes import mode_shapes, node_whirl
     from rubrotor.linear.verbs import linear_system
     from rubrotor.plotting.linear import mode_shapes_3d_figure

@@ -9,8 +9,6 @@ import os
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from rubrotor.cli.common import (
     add_scenario,
     load_scenario,
@@ -56,6 +54,8 @@ def speed_profile(attrs: dict) -> dict:
 def _speed_end(attrs: dict, duration_s: float) -> dict:
     """``speed_end_rad_s`` (the law's speed at the last sample) and ``speed_profile`` of a run
     whose speed varies; nothing for a constant speed."""
+    import numpy as np
+
     law = speed_profile(attrs)
     if law["kind"] == "constant":
         return {}
@@ -70,6 +70,8 @@ def run_summary(ds) -> dict:
     """Short JSON-able summary of a results Dataset (SI units in the key names); for a run-up,
     coast-down or speed table ``speed_rad_s`` is the start speed, ``speed_end_rad_s`` the end
     speed and ``speed_profile`` the law (:func:`speed_profile`)."""
+    import numpy as np
+
     p = np.hypot(ds["v"].values, ds["w"].values)
     fn = ds["normal_force"].values
     stats = json.loads(ds.attrs["integrator_stats"])
@@ -139,7 +141,15 @@ def _outputs(text: str) -> tuple[Path, Path | None]:
 
 def simulate_run(args: argparse.Namespace) -> int:
     """Simulate any scenario into one netCDF file (or DIR/results.nc and DIR/summary.json);
-    long general-engine runs stream to it."""
+    long general-engine runs stream to it. A first run that compiles for more than a few
+    seconds says so on stderr (:func:`~rubrotor.cli.common.compile_notice`)."""
+    from rubrotor.cli.common import compile_notice
+
+    with compile_notice():
+        return _simulate_run(args)
+
+
+def _simulate_run(args: argparse.Namespace) -> int:
     import dataclasses
 
     from rubrotor.engine.result import save_dataset

@@ -7,8 +7,6 @@ import json
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from rubrotor.cli.common import (
     add_scenario,
     load_scenario,
@@ -157,6 +155,8 @@ def sweep_run(args: argparse.Namespace) -> int:
 
 def _regime_counts(ds, regime_labels) -> dict:
     """``{label: count}``; per direction ``{"up": {...}, "down": {...}}`` for a follow sweep."""
+    import numpy as np
+
     if "direction" in ds.dims:
         return {
             str(d): _regime_counts(ds.sel(direction=d), regime_labels)

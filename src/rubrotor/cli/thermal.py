@@ -13,8 +13,6 @@ import math
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from rubrotor.cli.common import (
     add_scenario,
     load_scenario,
@@ -58,6 +56,8 @@ def _finite(x: float):
 
 
 def thermal_run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     scenario = load_scenario(args.scenario)
     if args.steps < 16:
         raise InputError("--steps", args.steps, "an integer >= 16")

@@ -16,21 +16,29 @@ contact step needs it) as one kernel, its states where it has some, and its outp
 - ``rubrotor.forces.magnetic``: magnetic bearings with their controller (physics and checks;
   not yet a support type of a scenario).
 
-Importing this package compiles nothing.
+Importing this package compiles nothing and imports no numba: ``Terms`` and
+:func:`build_terms` (with the contact kernels behind them) load on first use, so that a linear
+verb reading ``rubrotor.forces.loads`` does not pay numba's import.
 
 ``rubrotor.forces`` was the module of the force parameters (``Contact``, ``Unbalance``,
 ``RadialLoad``, ...); those names are still read here, with one :class:`FutureWarning`, and live
 in ``rubrotor.rotors.forces``.
 """
 
-from rubrotor.forces.terms import Terms, build_terms
-
 __all__ = ["Terms", "build_terms"]
 
 _WARNED = set()
 
 
+def __dir__():
+    return sorted(set(globals()) | set(__all__))  # the lazy names too (the API reference)
+
+
 def __getattr__(name):
+    if name in __all__:  # the terms, imported on first use (numba behind them)
+        from rubrotor.forces import terms
+
+        return getattr(terms, name)
     from rubrotor import _moved
     from rubrotor.rotors import forces
 

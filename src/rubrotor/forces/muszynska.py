@@ -54,16 +54,14 @@ from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
-from numba import njit
 
 from rubrotor.errors import InputError
 from rubrotor.rotors.linear import Support
 
-__all__ = ["MuszynskaSeal", "muszynska_force", "jeffcott_eigenvalue", "whirl_threshold"]
+__all__ = ["MuszynskaSeal", "muszynska_force", "jeffcott_eigenvalue", "whirl_threshold"]  # noqa: F822 (module __getattr__)
 
 
-@njit(cache=True)
-def muszynska_force(v, w, vd, wd, omega, params):
+def _muszynska_force(v, w, vd, wd, omega, params):
     """Force on the rotor (N) and its Jacobian.
 
     Parameters
@@ -91,6 +89,19 @@ def muszynska_force(v, w, vd, wd, omega, params):
     jac = np.array([[-kf, -kx, -df, 0.0], [kx, -kf, 0.0, -df]])
     return fy, fz, jac
 
+
+
+def __getattr__(name):
+    """``muszynska_force``: the kernel above, compiled (``numba.njit(cache=True)``) on first use,
+    so that reading a scenario with a fluid ring (the linear verbs) imports no numba."""
+    if name != "muszynska_force":
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    from numba import njit
+
+    kernel = njit(cache=True)(_muszynska_force)
+    kernel.__doc__ = _muszynska_force.__doc__
+    globals()[name] = kernel
+    return kernel
 
 def _num(name: str, value, unit: str, lo: float, lo_open: bool, hi: float = math.inf,
          hi_open: bool = False) -> float:  # fmt: skip

@@ -14,7 +14,7 @@ from collections import namedtuple
 import numpy as np
 import scipy.linalg
 
-from rubrotor.core.banded import BandParts, SparseRows
+from rubrotor.core.bandtypes import BandParts, SparseRows
 from rubrotor.linear.lapack import band_matmul, ritz_vectors
 from rubrotor.linear.roots import OSCILLATING
 from rubrotor.rotors.linear import LinearSystem
@@ -216,9 +216,10 @@ def _reduced(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n: int)
     return Reduced(phi, mr, kr, dr)
 
 
-def _projected_lam(red: Reduced, idx: np.ndarray, n: int) -> np.ndarray:
+def _projected_lam(red: Reduced, idx: np.ndarray, n: int, floor: float = OSCILLATING) -> np.ndarray:
     """The ``n`` lowest oscillating eigenvalues (1/s) of the projected problems at sweep
-    indices ``idx`` (one batched ``numpy.linalg.eigvals``); NaN where there are fewer."""
+    indices ``idx`` (one batched ``numpy.linalg.eigvals``); NaN where there are fewer.
+    Oscillating: ``Im(lam) > floor |lam|`` (the Campbell diagram passes ``OVERDAMPED``)."""
     m = red.mr.shape[0]
     mr_inv = np.linalg.inv(red.mr)
     a = np.zeros((idx.size, 2 * m, 2 * m))
@@ -226,7 +227,7 @@ def _projected_lam(red: Reduced, idx: np.ndarray, n: int) -> np.ndarray:
     a[:, m:, :m] = -mr_inv @ red.kr[idx]
     a[:, m:, m:] = -mr_inv @ red.dr[idx]
     lam = np.linalg.eigvals(a)
-    lam = np.where(lam.imag > OSCILLATING * np.abs(lam), lam, np.nan)
+    lam = np.where(lam.imag > floor * np.abs(lam), lam, np.nan)
     lam = np.take_along_axis(lam, np.argsort(np.where(np.isnan(lam), np.inf, lam.imag)), 1)
     out = np.full((idx.size, n), np.nan + 0j)
     out[:, : min(n, lam.shape[1])] = lam[:, :n]

@@ -13,13 +13,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rubrotor.core.banded import BandParts, Starts
+from rubrotor.core.bandtypes import BandParts, Starts
 from rubrotor.errors import InputError
 from rubrotor.linear.band import _KRYLOV_SIZE, _band_parts, _projected_lam, _reduced, _sparse_rows
 from rubrotor.linear.lapack import refine_eigenpairs, ritz_vectors
 from rubrotor.linear.modes import _modes
 from rubrotor.linear.roots import (
-    OSCILLATING,
+    OVERDAMPED,
     TWO_PI,
     _circularise,
     _clusters,
@@ -79,7 +79,9 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
         Increasing spin speeds (rad/s).
     n : int
         Number of modes (the lowest at each speed; branches are sorted by frequency, so two
-        crossing branches swap rows at their crossing).
+        crossing branches swap rows at their crossing). Overdamped roots (``Im(lam) <=
+        OVERDAMPED |lam|``, log dec >= 628) are not modes and take no row; ``damped_modes``
+        lists them, marked.
 
     Returns
     -------
@@ -90,8 +92,8 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise InputError("n", n, "a number of modes >= 1")
     lam, shapes, ok = _refined_modes(system, s, n)
-    with np.errstate(invalid="ignore"):  # Newton landed on a real root: not a mode, redo densely
-        ok = ok & (lam.imag > OSCILLATING * np.abs(lam))
+    with np.errstate(invalid="ignore"):  # Newton landed on an overdamped root: redo densely
+        ok = ok & (lam.imag > OVERDAMPED * np.abs(lam))
     f = np.full((s.size, n), np.nan)
     ld = np.full((s.size, n), np.nan)
     wh = np.full((s.size, n), "", dtype=object)
@@ -101,9 +103,23 @@ def campbell_data(system: LinearSystem, speeds, n: int = 8) -> CampbellData:
     wh[good] = _whirl_labels(shapes)[good]
     for i in np.flatnonzero(~ok.all(axis=1)):  # Newton failed somewhere: the dense route
         f[i], ld[i], wh[i] = np.nan, np.nan, ""
-        for j, md in enumerate(_modes(system, float(s[i]), n, natural=False).modes):
+        for j, md in enumerate(_dense_modes(system, float(s[i]), n)):
             f[i, j], ld[i, j], wh[i, j] = md.frequency_hz, md.log_dec, md.whirl
     return CampbellData(speeds=s, frequency_hz=f, log_dec=ld, whirl=wh)
+
+
+def _dense_modes(system: LinearSystem, speed: float, n: int) -> list:
+    """The ``n`` lowest modes by frequency at ``speed`` (rad/s), overdamped roots left out
+    (``Im <= OVERDAMPED |lam|``: log dec >= 628, nothing oscillates; heavy element damping
+    makes them, e.g. ROSS's AMB rotor, whose 183 and 335 rad/s modes they pushed out of the
+    rows), by the dense route of :func:`~rubrotor.linear.modes.damped_modes`."""
+    count = n
+    while True:
+        found = _modes(system, speed, count, natural=False).modes
+        kept = [m for m in found if not m.overdamped]
+        if len(kept) >= n or len(found) < count:
+            return kept[:n]
+        count += n
 
 
 def _refined_modes(system: LinearSystem, speeds: np.ndarray, n: int):
@@ -164,7 +180,7 @@ def _refine_chunk(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n:
         shapes[idx], ok[idx] = ref.shapes, (ref.steps > 0) | ~found
 
     key = np.unique(np.r_[0:size:2, size - 1]) if between else np.arange(size)
-    solve(key, _projected_lam(red, key, count))
+    solve(key, _projected_lam(red, key, count, OVERDAMPED))
     odd = np.setdiff1d(np.arange(size), key)
     if odd.size:
         lo, hi = lam[odd - 1], lam[odd + 1]
@@ -178,7 +194,7 @@ def _refine_chunk(system: LinearSystem, parts: BandParts, speeds: np.ndarray, n:
         bad = (~smooth & np.isfinite(lo)) | ~ok[odd] | moved
         redo = odd[bad.any(axis=1) | (same & apart).any(axis=(1, 2))]
         if redo.size:
-            solve(redo, _projected_lam(red, redo, count))
+            solve(redo, _projected_lam(red, redo, count, OVERDAMPED))
     order = np.argsort(np.where(np.isfinite(lam), lam.imag, np.inf), axis=1)[:, :n]
     return (
         np.take_along_axis(lam, order, 1),

@@ -23,7 +23,8 @@ import numpy as np
 import scipy.linalg.lapack as lapack
 import scipy.sparse
 
-from rubrotor.core.banded import OK, SINGULAR, Refined
+from rubrotor.core.bandtypes import Refined
+from rubrotor.core.status import OK, SINGULAR
 
 __all__ = [
     "band_matmul",

@@ -16,7 +16,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse.linalg
 
-from rubrotor.core.banded import SparseRows, Starts
+from rubrotor.core.bandtypes import SparseRows, Starts
 from rubrotor.errors import InputError
 from rubrotor.linear.band import Reduced, _band_parts, _reduced, _ritz_starts
 from rubrotor.linear.lapack import refine_eigenpairs, ritz_vectors

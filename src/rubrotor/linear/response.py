@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rubrotor.core.banded import OK
+from rubrotor.core.status import OK
 from rubrotor.errors import InputError, ScenarioError
 from rubrotor.linear.band import _band_parts
 from rubrotor.linear.lapack import frequency_sweep, unbalance_sweep

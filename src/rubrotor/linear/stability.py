@@ -24,10 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.optimize
 
-from rubrotor.core.contact import pack_contact
-from rubrotor.core.terms import term
 from rubrotor.errors import InputError
-from rubrotor.forces.contact import law_of
 from rubrotor.linear.modes import _modes
 from rubrotor.linear.roots import _check_speed
 from rubrotor.rotors.linear import LinearSystem
@@ -229,7 +226,11 @@ def contact_stability(
     InputError
         No Hertz contact, a non-positive indentation, an unknown formulation.
     """
+    # the compiled contact law (numba): imported by the pressed-contact analyses only
+    from rubrotor.core.contact import pack_contact
+    from rubrotor.core.terms import term
     from rubrotor.engine.simulate import assemble
+    from rubrotor.forces.contact import law_of
     from rubrotor.modelling import model_of
     from rubrotor.scenario.load import as_scenario
 
@@ -289,6 +290,10 @@ def contact_stability(
 def _pressed_jacobian(station, speed: float, indentation: float, friction: bool):
     """``d(F_y, F_z) / d(p_y, p_z, u_y, u_z)`` (2 x 4) of a station's contact law at
     ``p = (g + eps) e_y`` relative to its stator centre, at rest relative to it; and ``F_n0``."""
+    # the compiled contact law (numba): imported by the pressed-contact analyses only
+    from rubrotor.core.contact import pack_contact
+    from rubrotor.core.terms import term
+
     c = station.contact
     cp = pack_contact(1, c.law_code, c.stiffness, c.damping or 0.0, c.clearance,
                       c.friction if friction else 0.0, c.sign_code, c.radius * speed,
@@ -400,9 +405,14 @@ def stability_threshold(
     max_speed : float
         Upper end of the search (rad/s), > 0.
     n : int, optional
-        Modes considered (default all).
+        Modes considered (default all): the ``n`` lowest by frequency, overdamped roots left
+        out (they never set the threshold).
     points : int
-        Scan points; the crossing is refined by ``brentq`` to 1e-10 relative.
+        Scan points; the crossing is refined by ``brentq`` to 1e-10 relative. With ``n`` given
+        the scan is one batched Campbell sweep over the points
+        (:func:`~rubrotor.linear.campbell.campbell_data`: projected starts refined by Newton,
+        each speed's neighbours' mean as the start between them), not a modal analysis per
+        point; ``brentq`` then solves the same modes densely on the bracket.
     min_speed : float, optional
         Lower end of the search (rad/s), >= 0, below ``max_speed``; default 0, or with journal
         bearings (no film at rest) the scan's first step ``max_speed / (points - 1)``.
@@ -424,9 +434,13 @@ def stability_threshold(
         raise InputError("min_speed", min_speed, f"a speed below max_speed = {max_speed:g} rad/s")
     _check_count(n)
 
+    from rubrotor.linear.campbell import _dense_modes, campbell_data
+
     def least(w):
-        # the n lowest by frequency (the Campbell route): overdamped roots never set the least
-        return _least_ratio(system, w, n)
+        # the n lowest by frequency (the Campbell rows): overdamped roots never set the least
+        if n is None:
+            return _least_ratio(system, w, n)
+        return min(m.damping_ratio for m in _dense_modes(system, w, n))
 
     def shifted(w):  # "< 0" where the ratio is below the round-off band
         return least(w) + ZETA_ROUNDOFF
@@ -435,14 +449,18 @@ def stability_threshold(
     if z_prev < -ZETA_ROUNDOFF:
         return min_speed
     grid = np.linspace(min_speed, max_speed, points)
-    prev = grid[0]
-    for w in grid[1:]:
-        z = least(float(w))
-        if z < -ZETA_ROUNDOFF:
+    if n is None:
+        below = (least(float(w)) < -ZETA_ROUNDOFF for w in grid[1:])
+    else:  # one batched sweep; a log dec d is the damping ratio d / sqrt(4 pi^2 + d^2)
+        with np.errstate(invalid="ignore"):
+            d = np.nanmin(campbell_data(system, grid, n).log_dec[1:], axis=1)
+        below = iter(d / np.sqrt(4 * np.pi**2 + d**2) < -ZETA_ROUNDOFF)
+    for k, flag in enumerate(below, start=1):
+        if flag and least(float(grid[k])) < -ZETA_ROUNDOFF:
+            lo, hi = float(grid[k - 1]), float(grid[k])
             # the zero crossing itself where the bracket holds it, else the band's edge
-            f = least if z_prev >= 0 else shifted
-            return float(scipy.optimize.brentq(f, prev, float(w), xtol=1e-12, rtol=1e-10))
-        prev, z_prev = float(w), z
+            f = least if least(lo) >= 0 else shifted
+            return float(scipy.optimize.brentq(f, lo, hi, xtol=1e-12, rtol=1e-10))
     return None
 
 

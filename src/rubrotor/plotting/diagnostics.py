@@ -3,7 +3,7 @@ polar plots of tracked orders, cascade (waterfall) and full-spectrum cascade, sh
 and orbits unfiltered and order-filtered with keyphasor marks and the clearance circle.
 
 The data come from :mod:`rubrotor.analysis.orders` and :mod:`rubrotor.analysis.diagnostics`.
-Speeds are drawn in rad/s (``rpm=True``: rev/min); displacements in um; orbits with z across
+Speeds are drawn in rad/s (``rpm=True``: rev/min); displacements in µm; orbits with z across
 and y up, as ``rubrotor.plotting.rub`` draws them.
 """
 
@@ -23,7 +23,7 @@ __all__ = [
     "mark_orders",
 ]
 
-UM = 1e6  # m -> um
+UM = 1e6  # m -> µm
 RPM = 60.0 / (2.0 * math.pi)  # rad/s -> rev/min
 
 
@@ -69,7 +69,7 @@ def bode_figure(tracks: dict, *, orders=(1.0,), direction: str = "both", rpm: bo
     Returns
     -------
     matplotlib.figure.Figure
-        Top: amplitude (um, zero-to-peak), the first curve's highest peak labelled with its
+        Top: amplitude (µm, zero-to-peak), the first curve's highest peak labelled with its
         half-power amplification factor (API 684); bottom: phase (deg).
     """
     if phase not in ("arg", "lag"):
@@ -98,7 +98,7 @@ def bode_figure(tracks: dict, *, orders=(1.0,), direction: str = "both", rpm: bo
                 if colour == 0 and d == dirs[0]:
                     _label_peaks(ax_a, sp, np.abs(ph[i]) * UM, track.speed_rad_s)
             colour += 1
-    ax_a.set_ylabel("amplitude (um, 0-peak)")
+    ax_a.set_ylabel("amplitude (µm, 0-peak)")
     top = max((float(np.nanmax(ln.get_ydata())) for ln in ax_a.lines), default=1.0)
     ax_a.set_ylim(0, 1.08 * top if top > 0 else 1.0)
     for ax in (ax_a, ax_p):
@@ -151,7 +151,7 @@ def polar_figure(track, *, order: float = 1.0, direction: str = "y", rpm: bool =
     Returns
     -------
     matplotlib.figure.Figure
-        The phasor ``Y`` (um) in the complex plane, phase counted anticlockwise from the
+        The phasor ``Y`` (µm) in the complex plane, phase counted anticlockwise from the
         keyphasor, coloured by speed, with speed labels and a few radial ticks.
     """
     ((label, ph),) = _direction(track, direction)
@@ -172,7 +172,7 @@ def polar_figure(track, *, order: float = 1.0, direction: str = "y", rpm: bool =
     ax.set_rlabel_position(22.5)
     ax.tick_params(labelsize=8)
     fig.colorbar(pts, ax=ax, shrink=0.7, pad=0.1, label=unit)
-    fig.suptitle(title or f"polar plot: {order:g}X {label} (um)")
+    fig.suptitle(title or f"polar plot: {order:g}X {label} (µm)")
     return fig
 
 
@@ -226,11 +226,11 @@ def cascade_figure(casc, *, orders=(0.5, 1.0, 2.0, 3.0), rpm: bool = False, max_
                   + (" (rev/min)" if rpm else " (rad/s)"))  # fmt: skip
     ax.set_ylabel(unit)
     per = unit.split()[-1][1:-1]
-    ax.text(0.01, 0.99, f"each spectrum drawn above its speed:\n1 {per} of height = {1 / gain:.3g} um",
+    ax.text(0.01, 0.99, f"each spectrum drawn above its speed:\n1 {per} of height = {1 / gain:.3g} µm",
             transform=ax.transAxes, va="top", fontsize=8, zorder=10 * sp.size + 2,
             bbox={"facecolor": "white", "edgecolor": "0.7"})  # fmt: skip
     kind = "full-spectrum cascade" if casc.full else "cascade"
-    fig.suptitle(title or f"{kind} (Hann, amplitude um)")
+    fig.suptitle(title or f"{kind} (Hann, amplitude µm)")
     return fig
 
 
@@ -271,8 +271,8 @@ def centreline_figure(cl, *, clearance=None, centre=(0.0, 0.0), rpm: bool = Fals
     ax.plot([centre[1] * UM], [centre[0] * UM], "k+", label="stator centre")
     fig.colorbar(pts, ax=ax, label=unit)
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("z (um)")
-    ax.set_ylabel("y (um)")
+    ax.set_xlabel("z (µm)")
+    ax.set_ylabel("y (µm)")
     ax.legend(fontsize=7, loc="upper right")
     ax.grid(alpha=0.3)
     fig.suptitle(title or "shaft centreline (mean position per revolution)")
@@ -333,8 +333,8 @@ def orbit_figure(spin, y, w, track, *, at_speed: float, revolutions: int = 4, or
         ky, kz = np.interp(tm, spin.time, oy), np.interp(tm, spin.time, oz)
         ax.plot(kz * UM, ky * UM, "o", mfc="white", mec="k", ms=6, label="keyphasor")
         ax.set_aspect("equal", adjustable="datalim")
-        ax.set_xlabel("z (um)")
-        ax.set_ylabel("y (um)")
+        ax.set_xlabel("z (µm)")
+        ax.set_ylabel("y (µm)")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper right")
         ax.set_title(f"{name}, {revolutions} rev from {at_speed:.4g} rad/s")

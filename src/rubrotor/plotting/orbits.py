@@ -18,7 +18,7 @@ __all__ = ["branch_figure", "contact_geometry"]
 
 
 def _with_corners(branch, x, r, st):
-    """Branch points (key values, radii um, stability) with the bifurcations inserted.
+    """Branch points (key values, radii µm, stability) with the bifurcations inserted.
 
     Contact onset (the corner at a grazing value, radius the clearance) goes where the radius
     crosses it; a bifurcation whose value lies between two points of different stability goes
@@ -97,7 +97,7 @@ def contact_geometry(scenario) -> dict | None:
     if model_of(scenario).contact_stations:
         st = spec.stations[0]
         g, off, flexible = st.contact.clearance, math.hypot(st.offset_y, st.offset_z), st.stator
-        why = [f"stator centre offset {off * 1e6:.3g} um"] if off > 0 else []
+        why = [f"stator centre offset {off * 1e6:.3g} µm"] if off > 0 else []
         why += ["gravity sag"] if any(spec.gravity) else []
         why += ["side load"] if spec.loads else []
         why += ["flexible stator"] if flexible is not None else []
@@ -113,7 +113,7 @@ def _draw_clearance(ax, geometry: dict, handles) -> None:
     the bearing axis at which the orbit can first touch."""
     g, off = geometry["clearance"] * 1e6, geometry["offset"] * 1e6
     ax.axhline(g, color="k", lw=0.9, ls=":")
-    handles.append(Line2D([], [], color="k", lw=0.9, ls=":", label=f"clearance {g:.3g} um"))
+    handles.append(Line2D([], [], color="k", lw=0.9, ls=":", label=f"clearance {g:.3g} µm"))
     if off > 0:
         ax.axhspan(g - off, g + off, color="0.85", zorder=0)
         handles.append(Patch(color="0.85", label="first touch possible (clearance ± offset)"))
@@ -164,7 +164,7 @@ def branch_figure(branch, sweep=None, others=(), geometry: dict | None = None) -
     for t in sorted({b.type for b in bifs}):
         handles.append(Line2D([], [], ls="", marker=marks[t], color="k", label=t))
     ax.set_xlabel(_key_label(branch.key) if sweep is None else _axis_label(sweep, branch.key))
-    ax.set_ylabel("largest orbit radius at contact station (um)")
+    ax.set_ylabel("largest orbit radius at contact station (µm)")
     ax.grid(alpha=0.3)
     ax.legend(handles=handles, fontsize=8)
     fig.tight_layout()

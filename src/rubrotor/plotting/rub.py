@@ -14,7 +14,7 @@ from matplotlib.figure import Figure
 
 __all__ = ["engine_figure", "per_revolution"]
 
-UM = 1e6  # m -> um
+UM = 1e6  # m -> µm
 _LINES = ("-", "--", ":")  # bearings that coincide (a symmetric rotor) stay visible
 
 
@@ -35,8 +35,8 @@ def _orbit(ax, ds) -> None:
     phi = np.linspace(0, 2 * math.pi, 361)
     ax.plot(g * UM * np.cos(phi), g * UM * np.sin(phi), "k--", lw=1, label="clearance")
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("z, relative to the stator centre (um)")
-    ax.set_ylabel("y, relative to the stator centre (um)")
+    ax.set_xlabel("z, relative to the stator centre (µm)")
+    ax.set_ylabel("y, relative to the stator centre (µm)")
     x0 = float(ds["station"].values[0])
     ax.set_title(f"orbit at the contact, x = {x0:g} m")
     ax.legend(loc="upper right", fontsize=7)
@@ -70,7 +70,7 @@ def _spectrum(ax, ds) -> None:
     ax.axvline(-spin, color="C2", ls=":", lw=1, label=f"-1X = {-spin:.4g} Hz (backward)")
     ax.legend(loc="upper left", fontsize=7)
     ax.set_xlabel("whirl frequency (Hz; < 0 backward)")
-    ax.set_ylabel("amplitude, y + i z (um)")
+    ax.set_ylabel("amplitude, y + i z (µm)")
     ax.set_title("full spectrum at the contact (second half)")
 
 
@@ -162,7 +162,7 @@ def _runup(ax, ds, rpm: bool = False) -> None:
     g = json.loads(ds.attrs.get("contacts", "[]"))[0]["clearance"]
     ax.axhline(g * UM, color="k", ls=":", lw=1, label="clearance (stator centred, at rest)")
     ax.set_xlabel("spin speed (rev/min)" if rpm else "spin speed (rad/s)")
-    ax.set_ylabel("radial displacement |(v, w)| (um)")
+    ax.set_ylabel("radial displacement |(v, w)| (µm)")
     title = "run-up" if w[-1] > w[0] else "coast-down"
     if np.any(np.diff(w) > 1e-9 * w.max()) and np.any(np.diff(w) < -1e-9 * w.max()):
         title = "speed profile"

@@ -27,7 +27,7 @@ def spiral_figure(ds, axis: str = "y") -> Figure:
     Returns
     -------
     matplotlib.figure.Figure
-        One polar panel per station (contacts, then probes): radius the 1X amplitude (um),
+        One polar panel per station (contacts, then probes): radius the 1X amplitude (µm),
         angle its phase (rad, rotor-fixed frame, from the unbalance reference), colour the
         machine time (h); the start is a circle, the end a square.
     """
@@ -49,7 +49,7 @@ def spiral_figure(ds, axis: str = "y") -> Figure:
         ax.yaxis.set_major_locator(MaxNLocator(4))
         ax.tick_params(labelsize=8)
         kind = "contact" if i < int(ds.attrs.get("n_contacts", 0)) else "probe"
-        ax.set_title(f"{kind} at {stations[i]:.3g} m: 1X {axis} (um)", fontsize=10)
+        ax.set_title(f"{kind} at {stations[i]:.3g} m: 1X {axis} (µm)", fontsize=10)
     fig.colorbar(sc, ax=axes, label="machine time (h)", shrink=0.8)
     status = ds.attrs.get("status", "")
     name = ds.attrs.get("scenario_name", "")

@@ -56,7 +56,7 @@ def touchdown_figure(ds, window: float = 2e-3) -> Figure:
     Returns
     -------
     matplotlib.figure.Figure
-        Orbits (um) in the clearance circles; whirl frequency (rad/s, > 0 forward, < 0 backward)
+        Orbits (µm) in the clearance circles; whirl frequency (rad/s, > 0 forward, < 0 backward)
         against time with the spin speed for scale; normal force (N) against time; rotor and ring
         speeds (rad/s) against time, with the ring speed of rolling without slip
         ``R Omega / r``.
@@ -77,7 +77,7 @@ def touchdown_figure(ds, window: float = 2e-3) -> Figure:
         g = float(ds.clearance.values[i])
         a1.plot(1e6 * w, 1e6 * v, color=c, lw=0.5 * lw, ls=ls, label=lab, zorder=2 + i)
         a1.plot(1e6 * g * np.cos(th), 1e6 * g * np.sin(th), color=c, ls=ls, lw=lw,
-                label=f"clearance {1e6 * g:.4g} um, contact {i + 1}", zorder=2 + i)  # fmt: skip
+                label=f"clearance {1e6 * g:.4g} µm, contact {i + 1}", zorder=2 + i)  # fmt: skip
         a2.plot(t, whirl_frequency(t, v, w, window), color=c, lw=lw, ls=ls, label=lab, zorder=2 + i)
         a3.plot(t, ds.normal_force.values[i], color=c, lw=0.8 * lw, ls=ls, label=lab, zorder=2 + i)
         rr = float(ds.ring_radius.values[i])
@@ -92,7 +92,7 @@ def touchdown_figure(ds, window: float = 2e-3) -> Figure:
     a2.plot(t, -om, color="0.4", lw=0.8, ls=":", label="minus spin speed")
     a2.axhline(0, color="k", lw=0.5)
     a4.plot(t, om, color="k", lw=1.2, label="rotor")
-    a1.set(xlabel="w (um, horizontal)", ylabel="v (um, vertical)", title="orbits in the clearance")
+    a1.set(xlabel="w (µm, horizontal)", ylabel="v (µm, vertical)", title="orbits in the clearance")
     a1.set_aspect("equal", adjustable="datalim")
     a2.set(xlabel="time (s)", ylabel="whirl frequency (rad/s, < 0 backward)",
            title=f"whirl frequency and direction ({window * 1e3:g} ms window)")  # fmt: skip

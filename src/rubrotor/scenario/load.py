@@ -56,7 +56,6 @@ from pathlib import Path
 
 from rubrotor.engine.settings import Integrator
 from rubrotor.errors import InputError, ScenarioError
-from rubrotor.forces.contact import law_named, law_of
 from rubrotor.linear.shaft import first_forward_critical
 from rubrotor.rotors.fe import Rotor
 from rubrotor.rotors.forces import (
@@ -318,6 +317,9 @@ def _build_load(sec: dict, shaft: Shaft) -> RadialLoad:
 
 
 def _build_contact(sec: dict, shaft: Shaft, speed: float) -> Contact:
+    # the contact laws load the compiled contact kernels (numba): imported only for a contact
+    from rubrotor.forces.contact import law_named
+
     law = sec.get("law", _default("contact", "law"))
     nd = Dimensionless(shaft, speed)
     if "clearance" in sec:
@@ -759,6 +761,8 @@ class Scenario:
             out["a_contact"] = nd.length_nd(c.position)
             out["g"] = nd.clearance_nd(c.clearance)
             out["mu"] = c.friction
+            from rubrotor.forces.contact import law_of
+
             out.update(law_of(c).dimensionless(nd, c))
         if self.unbalance is not None:
             out["a_unbalance"] = nd.length_nd(self.unbalance.position)
