@@ -1,0 +1,444 @@
+"""Rub risk under uncertainty: the probability of rub against speed over scattered tolerances.
+
+:func:`risk` draws ``N`` samples of some scenario keys (:mod:`rubrotor.sweeps.risk_inputs`),
+decides for each sample and speed whether it rubs, and returns the probability of rub against
+speed with a Wilson score interval and, on request, the Sobol' indices naming which key drives
+the risk (:mod:`rubrotor.sweeps.sobol`).
+
+Methods
+-------
+* ``"linear"``: the 1X orbit plus the static deflection at each contact reaches the clearance
+  (:mod:`rubrotor.sweeps.risk_linear`); samples are evaluated in batches.
+* ``"time"``: every sample runs as a sweep point does (:func:`rubrotor.sweeps.sweep.simulate_point`:
+  the general rotor's fixed-step map from its steady no-contact orbit, the shaft's adaptive
+  engine) at each speed, locally or on Dask. A sample rubs when its contact fraction is > 0;
+  a run that does not complete (diverged) is kept, counted in ``diverged`` and counted as a rub.
+
+Wilson interval of ``k`` rubs in ``n`` samples at level ``1 - alpha`` (``z`` the normal
+quantile ``1 - alpha / 2``, ``p = k / n``):
+``(p + z^2/2n +- z sqrt(p (1 - p)/n + z^2/4n^2)) / (1 + z^2/n)``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rubrotor.errors import InputError, RubrotorError
+from rubrotor.scenario.keys import resolve_key
+from rubrotor.scenario.load import as_scenario, key_unit, scenario_to_dict
+from rubrotor.sweeps.risk_inputs import SAMPLERS, Distribution, parse_distribution, unit_samples
+from rubrotor.sweeps.risk_linear import CHEAP_KEYS, evaluate, linear_basis
+
+__all__ = ["RiskResult", "risk", "wilson_interval", "METHODS"]
+
+METHODS = ("linear", "time")
+
+
+def wilson_interval(k, n: int, confidence: float = 0.95) -> tuple[np.ndarray, np.ndarray]:
+    """Wilson score interval of a binomial proportion ``k / n`` (module docstring).
+
+    Examples
+    --------
+    >>> lo, hi = wilson_interval(0, 10)
+    >>> float(lo), round(float(hi), 4)
+    (0.0, 0.2775)
+    """
+    from scipy.stats import norm
+
+    z = norm.ppf(0.5 + confidence / 2)
+    p = np.asarray(k, float) / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z / (1 + z * z / n) * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    return np.maximum(centre - half, 0.0), np.minimum(centre + half, 1.0)
+
+
+@dataclass(frozen=True)
+class RiskResult:
+    """The probability of rub against speed, with what drives it.
+
+    Attributes
+    ----------
+    method : str
+        ``"linear"`` or ``"time"``.
+    speeds : ndarray, shape (S,)
+        Spin speeds (rad/s).
+    samples : int
+        ``N``.
+    rubs : ndarray, shape (S,)
+        Samples that rub at each speed.
+    probability, lower, upper : ndarray, shape (S,)
+        ``rubs / N`` and its Wilson interval at ``confidence`` (1).
+    confidence : float
+        Level of the intervals.
+    keys : tuple of str
+        The varied scenario keys.
+    distributions : tuple of str
+        Their distributions as written.
+    seed : int
+        Seed of the samples.
+    sampler : str
+        ``"sobol"``, ``"lhs"`` or ``"random"``.
+    rub_anywhere : float
+        Fraction of samples that rub at some speed.
+    sobol : dict or None
+        Sobol' indices (first, total and intervals per key) of the output "rubs at some speed"
+        (``"rub"``) and of the smallest margin over the speeds (``"margin"``, m).
+    time_stats : dict or None
+        Time method: per speed, diverged runs, and quantiles of the peak normal force (N) and
+        of the contact fraction (1), and the count of each regime label.
+    store : str or None
+        The zarr store with every sample's inputs and outputs.
+    """
+
+    method: str
+    speeds: np.ndarray
+    samples: int
+    rubs: np.ndarray
+    probability: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    confidence: float
+    keys: tuple
+    distributions: tuple
+    seed: int
+    sampler: str
+    rub_anywhere: float
+    sobol: dict | None = None
+    time_stats: dict | None = None
+    store: str | None = None
+    units: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        """The JSON form printed by ``rubrotor risk --json`` (SI units in the key names)."""
+        return {
+            "method": self.method,
+            "samples": self.samples,
+            "seed": self.seed,
+            "sampler": self.sampler,
+            "confidence": self.confidence,
+            "vary": [{"key": k, "distribution": d, "unit": self.units.get(k, "1")}
+                     for k, d in zip(self.keys, self.distributions, strict=True)],  # fmt: skip
+            "speed_rad_s": self.speeds.tolist(),
+            "rubs": self.rubs.astype(int).tolist(),
+            "probability": self.probability.tolist(),
+            "probability_lower": self.lower.tolist(),
+            "probability_upper": self.upper.tolist(),
+            "rub_anywhere": self.rub_anywhere,
+            "sobol": self.sobol,
+            "time": self.time_stats,
+            "store": self.store,
+        }
+
+    def to_dataset(self):
+        """The result as an xarray Dataset (dimension ``speed``; attrs hold the definition)."""
+        import xarray as xr
+
+        sp = ("speed", self.speeds, {"units": "rad/s", "long_name": "spin speed"})
+        data = {
+            "rubs": ("speed", self.rubs, {"units": "1", "long_name": "samples that rub"}),
+            "probability": ("speed", self.probability, {"units": "1", "long_name": "P(rub)"}),
+            "probability_lower": ("speed", self.lower, {"units": "1",
+                                  "long_name": f"Wilson {self.confidence:g} lower bound"}),
+            "probability_upper": ("speed", self.upper, {"units": "1",
+                                  "long_name": f"Wilson {self.confidence:g} upper bound"}),
+        }  # fmt: skip
+        if self.sobol is not None:
+            for out in ("rub", "margin"):
+                s = self.sobol[out]
+                for what in ("first", "total"):
+                    data[f"sobol_{what}_{out}"] = ("key", np.array([s[k][what] for k in self.keys],
+                                                   float), {"units": "1"})  # fmt: skip
+        attrs = {k: json.dumps(v) if isinstance(v, dict | list) or v is None else v
+                 for k, v in self.to_dict().items()
+                 if k not in ("speed_rad_s", "rubs", "probability", "probability_lower",
+                              "probability_upper")}  # fmt: skip
+        return xr.Dataset(data, coords={"speed": sp, "key": ("key", list(self.keys))},
+                          attrs=attrs)  # fmt: skip
+
+
+# ---- inputs ------------------------------------------------------------------------------------
+def _check_vary(scenario, vary) -> tuple[list, list[Distribution]]:
+    if not isinstance(vary, Mapping) or not vary:
+        raise InputError("vary", vary, "a mapping of at least one scenario key to a distribution")
+    spec = scenario_to_dict(scenario)
+    refs, dists = [], []
+    for key, dist in vary.items():
+        ref = resolve_key(spec, str(key), str(dist))
+        if not ref.numeric or not ref.name:
+            raise InputError(key, str(dist), "a numeric scenario key 'section.key'")
+        if not isinstance(dist, Distribution):
+            dist = parse_distribution(str(dist), str(key))
+        refs.append(ref)
+        dists.append(Distribution(dist.kind, dist.params, str(key)))
+    if len({(r.section, r.index, r.name) for r in refs}) != len(refs):
+        raise InputError("vary", list(vary), "each key once")
+    return refs, dists
+
+
+def _check_values(refs, values: np.ndarray, start: int) -> None:
+    """Refuse a sampled value the key does not allow (the distribution reaches outside the
+    key's range), naming the key, the value and the sample."""
+    from rubrotor.scenario.schema import check_value, key_row
+
+    for j, ref in enumerate(refs):
+        col = values[:, j]
+        if not np.all(np.isfinite(col)):
+            raise InputError(ref.text, float(col[~np.isfinite(col)][0]), "finite samples")
+        for i in (int(col.argmin()), int(col.argmax())):
+            try:
+                check_value(ref.text, float(col[i]), key_row(ref.section, ref.name))
+            except RubrotorError as exc:
+                raise InputError(ref.text, float(col[i]),
+                                 f"{exc.allowed} (sample {start + i}; truncate the distribution"
+                                 " with truncnormal(mean,sd,lo,hi))") from None  # fmt: skip
+
+
+def _speeds(scenario, speeds) -> np.ndarray:
+    if speeds is None:
+        return np.array([float(scenario.speed)])
+    s = np.atleast_1d(np.asarray(speeds, float))
+    if s.ndim != 1 or s.size < 1 or not np.all(np.isfinite(s)) or np.any(s <= 0) or (
+            s.size > 1 and np.any(np.diff(s) <= 0)):  # fmt: skip
+        raise InputError("speeds", speeds, "increasing finite spin speeds > 0 (rad/s)")
+    return s
+
+
+# ---- the linear screen of a batch --------------------------------------------------------------
+class _Linear:
+    """Margins of batches of samples; one basis per distinct rotor."""
+
+    def __init__(self, scenario, refs, speeds):
+        self.base, self.refs, self.speeds = scenario, refs, speeds
+        self.cheap = [r.name in CHEAP_KEYS.get(r.section, ()) for r in refs]
+        self.bases: dict = {}
+        if all(self.cheap):
+            self.bases[()] = linear_basis(scenario, speeds)
+
+    def _basis(self, row):
+        key = tuple(float(v) for v, c in zip(row, self.cheap, strict=True) if not c)
+        if key not in self.bases:
+            changes = {r.text: v for r, v, c in zip(self.refs, key_values(row), self.cheap,
+                                                    strict=True) if not c}  # fmt: skip
+            if len(self.bases) > 64:  # continuous structural keys: no reuse worth keeping
+                self.bases.clear()
+            self.bases[key] = linear_basis(self.base.with_changes(**changes), self.speeds)
+        return key, self.bases[key]
+
+    def margins(self, values: np.ndarray) -> np.ndarray:
+        """Margin (m) per sample and speed, shape (n, S)."""
+        out = np.empty((len(values), self.speeds.size))
+        groups: dict = {}
+        for i, row in enumerate(values):
+            groups.setdefault(self._basis(row)[0], []).append(i)
+        for key, rows in groups.items():
+            b = self.bases[key]
+            n = len(rows)
+            mag, ph = np.tile(b.magnitude, (n, 1)), np.tile(b.phase, (n, 1))
+            cl, off = np.tile(b.clearance, (n, 1)), np.tile(b.offset, (n, 1, 1))
+            for j, (r, c) in enumerate(zip(self.refs, self.cheap, strict=True)):
+                if not c:
+                    continue
+                k = r.index or 0
+                col = values[rows, j]
+                if r.name == "magnitude":
+                    mag[:, k] = col
+                elif r.name == "phase":
+                    ph[:, k] = col
+                elif r.name == "clearance":
+                    cl[:, k] = col
+                else:
+                    off[:, k, 0 if r.name == "offset_y" else 1] = col
+            out[rows] = evaluate(b, mag, ph, cl, off)
+        return out
+
+
+def key_values(row) -> list[float]:
+    """Plain floats of one sample's row."""
+    return [float(v) for v in row]
+
+
+def _values(dists, u: np.ndarray) -> np.ndarray:
+    return np.column_stack([dist.ppf(u[:, j]) for j, dist in enumerate(dists)])
+
+
+def _linear_chunk(ev: _Linear, dists, design: tuple, start: int, count: int) -> dict:
+    """Inputs, margins and rub flags of samples ``start .. start + count - 1`` (and, with the
+    Saltelli design, the smallest margin at ``A``, ``B`` and every ``A_B^(i)``)."""
+    sampler, seed, total, with_sobol = design
+    d = len(dists)
+    u = unit_samples(sampler, 2 * d if with_sobol else d, seed, start, count, total)
+    a = _values(dists, u[:, :d])
+    _check_values(ev.refs, a, start)
+    margin = ev.margins(a)
+    out = {"inputs": a, "margin": margin, "rub": (margin <= 0).astype(np.int8)}
+    if with_sobol:
+        b = _values(dists, u[:, d:])
+        _check_values(ev.refs, b, start)
+        y = [margin.min(1), ev.margins(b).min(1)]
+        for i in range(d):
+            ab = a.copy()
+            ab[:, i] = b[:, i]
+            y.append(ev.margins(ab).min(1))
+        out["design_margin"] = np.column_stack(y)
+    return out
+
+
+def _layout(keys, units, with_sobol: bool) -> dict:
+    lay = {
+        "inputs": (("sample", "key"), "f8", np.nan, {"long_name": "sampled key values",
+                   "units_per_key": json.dumps([units[k] for k in keys])}),
+        "margin": (("sample", "speed"), "f8", np.nan, {"units": "m", "long_name":
+                   "clearance minus the orbit's largest distance from the stator centre"}),
+        "rub": (("sample", "speed"), "i1", -1, {"units": "1", "long_name": "1 when the sample rubs"}),
+    }  # fmt: skip
+    if with_sobol:
+        lay["design_margin"] = (("sample", "block"), "f8", np.nan, {"units": "m", "long_name":
+                                "smallest margin over the speeds at A, B, A_B^(1..d)"})  # fmt: skip
+    return lay
+
+
+def _progress(enabled: bool, done: int, total: int, t0: float) -> None:
+    if enabled:
+        print(f"\rrubrotor risk: {done}/{total} chunks, {time.perf_counter() - t0:.0f} s",
+              end="" if done < total else "\n", file=sys.stderr)  # fmt: skip
+
+
+def _sobol_dict(keys, y: np.ndarray, confidence: float, seed: int) -> dict:
+    from rubrotor.sweeps.sobol import sobol_indices
+
+    out = {}
+    for name, f in (("margin", y), ("rub", (y <= 0).astype(float))):
+        s = sobol_indices(f[0], f[1], f[2:], confidence=confidence, seed=seed)
+        out[name] = {k: {"first": _num(s.first[i]), "total": _num(s.total[i]),
+                         "first_interval": [_num(x) for x in s.first_interval[i]],
+                         "total_interval": [_num(x) for x in s.total_interval[i]]}
+                     for i, k in enumerate(keys)}  # fmt: skip
+    return out
+
+
+def _num(x) -> float | None:
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def _int(name: str, value, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
+        raise InputError(name, value, f"an integer >= {minimum}")
+    return int(value)
+
+
+def risk(scenario, vary, *, samples: int, speeds=None, method: str = "linear", seed: int = 0,
+         sampler: str = "sobol", sobol: bool = False, confidence: float = 0.95, store=None,
+         chunk_size: int | None = None, progress: bool = False, scheduler: str | None = None,
+         workers: int | None = None, revolutions: int | None = None,
+         transient_revolutions: int = 20) -> RiskResult:  # fmt: skip
+    """Probability of rub against speed when scenario keys scatter (module docstring).
+
+    Parameters
+    ----------
+    scenario : Scenario or path
+        The nominal scenario, with a contact and an unbalance.
+    vary : mapping of str to str or Distribution
+        Scenario keys (``"contact.clearance"``, ``"unbalance[2].magnitude"``, see
+        :mod:`rubrotor.scenario.keys`) to distributions (``"normal(40e-6,4e-6)"``, see
+        :mod:`rubrotor.sweeps.risk_inputs`), in the keys' SI units.
+    samples : int
+        ``N`` >= 1.
+    speeds : array_like, optional
+        Increasing spin speeds (rad/s); default the scenario's speed.
+    method : {"linear", "time"}
+        The rub criterion (module docstring).
+    seed : int
+        Seed of the samples (>= 0): the same seed gives the same samples and results.
+    sampler : {"sobol", "lhs", "random"}
+        Scrambled Sobol', Latin hypercube or plain pseudo-random samples.
+    sobol : bool
+        Also compute Sobol' indices (linear method; ``N (d + 2)`` evaluations, Saltelli design).
+    confidence : float
+        Level of the Wilson and bootstrap intervals, in (0, 1).
+    store : path-like, optional
+        zarr store of every sample's inputs and outputs (resumed when it exists).
+    chunk_size : int, optional
+        Samples per chunk (default 1024 linear, 2 time).
+    progress : bool
+        Print a progress line to stderr.
+    scheduler : str, optional
+        Time method: a Dask scheduler address, or ``"local"`` for a LocalCluster of ``workers``.
+    workers : int, optional
+        Time method: local worker processes (default 1: in this process).
+    revolutions, transient_revolutions : int
+        Time method: simulated and discarded revolutions per run (default the scenario's
+        ``simulation.revolutions`` and 20).
+
+    Returns
+    -------
+    RiskResult
+    """
+    scenario = as_scenario(scenario)
+    refs, dists = _check_vary(scenario, vary)
+    n = _int("samples", samples, 1)
+    seed = _int("seed", seed, 0)
+    s = _speeds(scenario, speeds)
+    if method not in METHODS:
+        raise InputError("method", method, " or ".join(METHODS))
+    if sampler not in SAMPLERS:
+        raise InputError("sampler", sampler, " or ".join(SAMPLERS))
+    if not (isinstance(confidence, float | int) and 0 < confidence < 1):
+        raise InputError("confidence", confidence, "a level in (0, 1)")
+    if sobol and method == "time":
+        raise InputError("sobol", True, "Sobol' indices with --method linear")
+    chunk = _int("chunk_size", chunk_size or (1024 if method == "linear" else 2), 1)
+    keys = tuple(r.text for r in refs)
+    units = {k: key_unit(k) for k in keys}
+    definition = {"version": 1, "scenario": scenario_to_dict(scenario, resolved=False),
+                  "keys": list(keys), "distributions": [d.text() for d in dists], "samples": n,
+                  "speeds": s.tolist(), "method": method, "seed": seed, "sampler": sampler,
+                  "sobol": bool(sobol), "chunk": chunk}  # fmt: skip
+    if method == "time":
+        from rubrotor.sweeps.risk_time import run_time
+
+        return run_time(scenario, refs, dists, definition, store, progress, scheduler, workers,
+                        (transient_revolutions, revolutions), confidence)  # fmt: skip
+    ev = _Linear(scenario, refs, s)
+    n_chunks = -(-n // chunk)
+    st = None
+    if store is not None:
+        from rubrotor.sweeps.risk_store import RiskStore
+
+        sizes = {"sample": n, "speed": s.size, "key": len(keys), "block": len(keys) + 2}
+        coords = {"speed": (s, {"units": "rad/s", "long_name": "spin speed"})}
+        st = RiskStore(store, definition, _layout(keys, units, sobol), sizes, chunk, coords)
+    done = st.done() if st is not None else np.zeros(n_chunks, bool)
+    rubs, anywhere = np.zeros(s.size, np.int64), 0
+    y = np.empty((len(keys) + 2, n)) if sobol else None
+    t0 = time.perf_counter()
+    for ci in range(n_chunks):
+        a, cnt = ci * chunk, min(chunk, n - ci * chunk)
+        if done[ci]:
+            part = {"rub": st.read("rub", ci, cnt)}
+            if sobol:
+                part["design_margin"] = st.read("design_margin", ci, cnt)
+        else:
+            part = _linear_chunk(ev, dists, (sampler, seed, n, sobol), a, cnt)
+            if st is not None:
+                st.write(ci, part)
+        rubs += part["rub"].sum(0)
+        anywhere += int(part["rub"].any(1).sum())
+        if sobol:
+            y[:, a : a + cnt] = part["design_margin"].T
+        _progress(progress, ci + 1, n_chunks, t0)
+    lo, hi = wilson_interval(rubs, n, confidence)
+    return RiskResult(
+        method=method, speeds=s, samples=n, rubs=rubs, probability=rubs / n, lower=lo, upper=hi,
+        confidence=float(confidence), keys=keys, distributions=tuple(d.text() for d in dists),
+        seed=seed, sampler=sampler, rub_anywhere=anywhere / n,
+        sobol=_sobol_dict(keys, y, confidence, seed) if sobol else None,
+        store=None if store is None else str(store), units=units,
+    )  # fmt: skip
