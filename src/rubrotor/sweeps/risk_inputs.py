@@ -143,7 +143,7 @@ def unit_samples(sampler: str, dims: int, seed: int, start: int, count: int,
     if sampler == "sobol":
         eng = qmc.Sobol(dims, scramble=True, seed=seed)
         if start:
-            eng.fast_forward(start)
+            eng.fast_forward(int(start))
         with warnings.catch_warnings():  # balance holds for powers of 2; any N is allowed here
             warnings.simplefilter("ignore", UserWarning)
             u = eng.random(count)
