@@ -76,7 +76,7 @@ def sobol_indices(fa, fb, fab, confidence: float = 0.95, resamples: int = 300,
     Returns
     -------
     SobolIndices
-        NaN indices when the output does not vary.
+        NaN indices and intervals when the output does not vary.
     """
     fa, fb, fab = (np.asarray(x, float) for x in (fa, fb, fab))
     n = fa.size
@@ -85,6 +85,10 @@ def sobol_indices(fa, fb, fab, confidence: float = 0.95, resamples: int = 300,
     if not 0 < confidence < 1:
         raise InputError("confidence", confidence, "a level in (0, 1)")
     first, total, v = _estimate(fa, fb, fab)
+    if not v > 0:  # a constant output: no index is defined
+        nan = np.full((fab.shape[0], 2), np.nan)
+        return SobolIndices(first * np.nan, total * np.nan, nan, nan.copy(), float(v),
+                            float(confidence))  # fmt: skip
     rng = np.random.default_rng(seed)
     fs, ts = [], []
     for _ in range(max(10, int(resamples))):
