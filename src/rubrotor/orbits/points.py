@@ -19,7 +19,7 @@ __all__ = ["PointScenarios"]
 
 def _point_scenario(base, keys: Sequence[str], values: Sequence[float]):
     from rubrotor.scenario.keys import base_key
-    from rubrotor.scenario.load import SCHEMA, ROTOR_SCHEMA
+    from rubrotor.scenario.schema import ROTOR_SCHEMA, SCHEMA
 
     changes = {}
     for key, value in zip(keys, values, strict=True):

@@ -75,7 +75,6 @@ from rubrotor.scenario.schema import (
     ALTERNATIVES,
     KEY_UNITS,
     REQUIRED,
-    ROTOR_SCHEMA,
     ROTOR_TABLES,
     SCHEMA,
     TABLES,

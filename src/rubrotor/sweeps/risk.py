@@ -123,8 +123,10 @@ class RiskResult:
             "seed": self.seed,
             "sampler": self.sampler,
             "confidence": self.confidence,
-            "vary": [{"key": k, "distribution": d, "unit": self.units.get(k, "1")}
-                     for k, d in zip(self.keys, self.distributions, strict=True)],  # fmt: skip
+            "vary": [
+                {"key": k, "distribution": d, "unit": self.units.get(k, "1")}
+                for k, d in zip(self.keys, self.distributions, strict=True)
+            ],  # fmt: skip
             "speed_rad_s": self.speeds.tolist(),
             "rubs": self.rubs.astype(int).tolist(),
             "probability": self.probability.tolist(),
