@@ -261,3 +261,69 @@ def test_time_and_linear_agree_far_from_the_boundary(tmp_path):
     assert np.array_equal((margin <= 0)[far], (frac > 0)[far])
     assert tim.time_stats["diverged"] == [0]
     assert lin.samples == tim.samples == 4
+
+
+def _arrays(path) -> dict:
+    import zarr
+
+    g = zarr.open_group(str(path), mode="r")
+    return {k: np.asarray(g[k][:]) for k in ("peak_normal_force", "contact_fraction", "status")}
+
+
+TIME_ARGS = dict(samples=12, method="time", chunk_size=2, transient_revolutions=10,
+                 revolutions=30, sampler="lhs", seed=4)  # fmt: skip
+TIME_VARY = {"contact.clearance": "uniform(2e-5,3e-4)", "unbalance.magnitude": "normal(2e-4,2e-5)"}
+
+
+@pytest.mark.slow
+def test_time_method_same_bits_through_a_scheduler_address(tmp_path):
+    from distributed import LocalCluster
+
+    ref = risk(SHAFT, TIME_VARY, store=tmp_path / "here.zarr", **TIME_ARGS)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster:  # fmt: skip
+        via = risk(SHAFT, TIME_VARY, store=tmp_path / "dask.zarr",
+                   scheduler=cluster.scheduler_address, **TIME_ARGS)  # fmt: skip
+    a, b = _arrays(tmp_path / "here.zarr"), _arrays(tmp_path / "dask.zarr")
+    for k in a:
+        assert np.array_equal(a[k], b[k], equal_nan=True), k
+    assert np.all(a["status"] == 1) and np.nanmax(a["peak_normal_force"]) > 0
+    assert via.to_dict() | {"store": None} == ref.to_dict() | {"store": None}
+
+
+@pytest.mark.slow
+def test_time_method_killed_then_resumed_to_the_same_bits(tmp_path):
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    import zarr
+
+    out = tmp_path / "cli"
+    cmd = [sys.executable, "-m", "rubrotor", "risk", SHAFT, "--samples", "12", "--method", "time",
+           "--chunk-size", "2", "--transient", "10", "--revolutions", "30", "--sampler", "lhs",
+           "--seed", "4", "--out", str(out), "--no-figure"]  # fmt: skip
+    for k, v in TIME_VARY.items():
+        cmd += ["--vary", f"{k}={v}"]
+    env = {**os.environ, "PYTHONPATH": os.path.abspath("src")}
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    store = out / "samples.zarr"
+    t0 = time.time()
+    try:
+        while time.time() - t0 < 600:
+            if store.exists() and np.asarray(zarr.open_group(str(store), mode="r")["done"][:]).sum():
+                break
+            time.sleep(0.05)
+    finally:
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+    done = np.asarray(zarr.open_group(str(store), mode="r")["done"][:])
+    assert 0 < done.sum() < done.size  # killed midway
+    resumed = risk(SHAFT, TIME_VARY, store=store, **TIME_ARGS)
+    fresh = risk(SHAFT, TIME_VARY, store=tmp_path / "fresh.zarr", **TIME_ARGS)
+    a, b = _arrays(store), _arrays(tmp_path / "fresh.zarr")
+    for k in a:
+        assert np.array_equal(a[k], b[k], equal_nan=True), k
+    assert resumed.to_dict() | {"store": None} == fresh.to_dict() | {"store": None}
