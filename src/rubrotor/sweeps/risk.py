@@ -23,146 +23,29 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from rubrotor.errors import InputError, RubrotorError
+from rubrotor.errors import InputError
 from rubrotor.scenario.keys import resolve_key
 from rubrotor.scenario.load import as_scenario, key_unit, scenario_to_dict
-from rubrotor.sweeps.risk_inputs import SAMPLERS, Distribution, parse_distribution, unit_samples
+from rubrotor.sweeps.risk_inputs import (
+    SAMPLERS,
+    Distribution,
+    check_values,
+    parse_distribution,
+    sample_values,
+    unit_samples,
+)
 from rubrotor.sweeps.risk_linear import CHEAP_KEYS, evaluate, linear_basis
+from rubrotor.sweeps.risk_result import RiskResult, progress_line, wilson_interval
+from rubrotor.sweeps.risk_time import run_time
 
 __all__ = ["RiskResult", "risk", "wilson_interval", "METHODS"]
 
 METHODS = ("linear", "time")
-
-
-def wilson_interval(k, n: int, confidence: float = 0.95) -> tuple[np.ndarray, np.ndarray]:
-    """Wilson score interval of a binomial proportion ``k / n`` (module docstring).
-
-    Examples
-    --------
-    >>> lo, hi = wilson_interval(0, 10)
-    >>> float(lo), round(float(hi), 4)
-    (0.0, 0.2775)
-    """
-    from scipy.stats import norm
-
-    z = norm.ppf(0.5 + confidence / 2)
-    p = np.asarray(k, float) / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z / (1 + z * z / n) * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
-    return np.maximum(centre - half, 0.0), np.minimum(centre + half, 1.0)
-
-
-@dataclass(frozen=True)
-class RiskResult:
-    """The probability of rub against speed, with what drives it.
-
-    Attributes
-    ----------
-    method : str
-        ``"linear"`` or ``"time"``.
-    speeds : ndarray, shape (S,)
-        Spin speeds (rad/s).
-    samples : int
-        ``N``.
-    rubs : ndarray, shape (S,)
-        Samples that rub at each speed.
-    probability, lower, upper : ndarray, shape (S,)
-        ``rubs / N`` and its Wilson interval at ``confidence`` (1).
-    confidence : float
-        Level of the intervals.
-    keys : tuple of str
-        The varied scenario keys.
-    distributions : tuple of str
-        Their distributions as written.
-    seed : int
-        Seed of the samples.
-    sampler : str
-        ``"sobol"``, ``"lhs"`` or ``"random"``.
-    rub_anywhere : float
-        Fraction of samples that rub at some speed.
-    sobol : dict or None
-        Sobol' indices (first, total and intervals per key) of the output "rubs at some speed"
-        (``"rub"``) and of the smallest margin over the speeds (``"margin"``, m).
-    time_stats : dict or None
-        Time method: per speed, diverged runs, and quantiles of the peak normal force (N) and
-        of the contact fraction (1), and the count of each regime label.
-    store : str or None
-        The zarr store with every sample's inputs and outputs.
-    """
-
-    method: str
-    speeds: np.ndarray
-    samples: int
-    rubs: np.ndarray
-    probability: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-    confidence: float
-    keys: tuple
-    distributions: tuple
-    seed: int
-    sampler: str
-    rub_anywhere: float
-    sobol: dict | None = None
-    time_stats: dict | None = None
-    store: str | None = None
-    units: dict = field(default_factory=dict)
-
-    def to_dict(self) -> dict:
-        """The JSON form printed by ``rubrotor risk --json`` (SI units in the key names)."""
-        return {
-            "method": self.method,
-            "samples": self.samples,
-            "seed": self.seed,
-            "sampler": self.sampler,
-            "confidence": self.confidence,
-            "vary": [
-                {"key": k, "distribution": d, "unit": self.units.get(k, "1")}
-                for k, d in zip(self.keys, self.distributions, strict=True)
-            ],  # fmt: skip
-            "speed_rad_s": self.speeds.tolist(),
-            "rubs": self.rubs.astype(int).tolist(),
-            "probability": self.probability.tolist(),
-            "probability_lower": self.lower.tolist(),
-            "probability_upper": self.upper.tolist(),
-            "rub_anywhere": self.rub_anywhere,
-            "sobol": self.sobol,
-            "time": self.time_stats,
-            "store": self.store,
-        }
-
-    def to_dataset(self):
-        """The result as an xarray Dataset (dimension ``speed``; attrs hold the definition)."""
-        import xarray as xr
-
-        sp = ("speed", self.speeds, {"units": "rad/s", "long_name": "spin speed"})
-        data = {
-            "rubs": ("speed", self.rubs, {"units": "1", "long_name": "samples that rub"}),
-            "probability": ("speed", self.probability, {"units": "1", "long_name": "P(rub)"}),
-            "probability_lower": ("speed", self.lower, {"units": "1",
-                                  "long_name": f"Wilson {self.confidence:g} lower bound"}),
-            "probability_upper": ("speed", self.upper, {"units": "1",
-                                  "long_name": f"Wilson {self.confidence:g} upper bound"}),
-        }  # fmt: skip
-        if self.sobol is not None:
-            for out in ("rub", "margin"):
-                s = self.sobol[out]
-                for what in ("first", "total"):
-                    data[f"sobol_{what}_{out}"] = ("key", np.array([s[k][what] for k in self.keys],
-                                                   float), {"units": "1"})  # fmt: skip
-        attrs = {k: json.dumps(v) if isinstance(v, dict | list) or v is None else v
-                 for k, v in self.to_dict().items()
-                 if k not in ("speed_rad_s", "rubs", "probability", "probability_lower",
-                              "probability_upper")}  # fmt: skip
-        return xr.Dataset(data, coords={"speed": sp, "key": ("key", list(self.keys))},
-                          attrs=attrs)  # fmt: skip
 
 
 # ---- inputs ------------------------------------------------------------------------------------
@@ -182,24 +65,6 @@ def _check_vary(scenario, vary) -> tuple[list, list[Distribution]]:
     if len({(r.section, r.index, r.name) for r in refs}) != len(refs):
         raise InputError("vary", list(vary), "each key once")
     return refs, dists
-
-
-def _check_values(refs, values: np.ndarray, start: int) -> None:
-    """Refuse a sampled value the key does not allow (the distribution reaches outside the
-    key's range), naming the key, the value and the sample."""
-    from rubrotor.scenario.schema import check_value, key_row
-
-    for j, ref in enumerate(refs):
-        col = values[:, j]
-        if not np.all(np.isfinite(col)):
-            raise InputError(ref.text, float(col[~np.isfinite(col)][0]), "finite samples")
-        for i in (int(col.argmin()), int(col.argmax())):
-            try:
-                check_value(ref.text, float(col[i]), key_row(ref.section, ref.name))
-            except RubrotorError as exc:
-                raise InputError(ref.text, float(col[i]),
-                                 f"{exc.allowed} (sample {start + i}; truncate the distribution"
-                                 " with truncnormal(mean,sd,lo,hi))") from None  # fmt: skip
 
 
 def _speeds(scenario, speeds) -> np.ndarray:
@@ -266,23 +131,19 @@ def key_values(row) -> list[float]:
     return [float(v) for v in row]
 
 
-def _values(dists, u: np.ndarray) -> np.ndarray:
-    return np.column_stack([dist.ppf(u[:, j]) for j, dist in enumerate(dists)])
-
-
 def _linear_chunk(ev: _Linear, dists, design: tuple, start: int, count: int) -> dict:
     """Inputs, margins and rub flags of samples ``start .. start + count - 1`` (and, with the
     Saltelli design, the smallest margin at ``A``, ``B`` and every ``A_B^(i)``)."""
     sampler, seed, total, with_sobol = design
     d = len(dists)
     u = unit_samples(sampler, 2 * d if with_sobol else d, seed, start, count, total)
-    a = _values(dists, u[:, :d])
-    _check_values(ev.refs, a, start)
+    a = sample_values(dists, u[:, :d])
+    check_values(ev.refs, a, start)
     margin = ev.margins(a)
     out = {"inputs": a, "margin": margin, "rub": (margin <= 0).astype(np.int8)}
     if with_sobol:
-        b = _values(dists, u[:, d:])
-        _check_values(ev.refs, b, start)
+        b = sample_values(dists, u[:, d:])
+        check_values(ev.refs, b, start)
         y = [margin.min(1), ev.margins(b).min(1)]
         for i in range(d):
             ab = a.copy()
@@ -304,12 +165,6 @@ def _layout(keys, units, with_sobol: bool) -> dict:
         lay["design_margin"] = (("sample", "block"), "f8", np.nan, {"units": "m", "long_name":
                                 "smallest margin over the speeds at A, B, A_B^(1..d)"})  # fmt: skip
     return lay
-
-
-def _progress(enabled: bool, done: int, total: int, t0: float) -> None:
-    if enabled:
-        print(f"\rrubrotor risk: {done}/{total} chunks, {time.perf_counter() - t0:.0f} s",
-              end="" if done < total else "\n", file=sys.stderr)  # fmt: skip
 
 
 def _sobol_dict(keys, y: np.ndarray, confidence: float, seed: int) -> dict:
@@ -404,8 +259,6 @@ def risk(scenario, vary, *, samples: int, speeds=None, method: str = "linear", s
                   "speeds": s.tolist(), "method": method, "seed": seed, "sampler": sampler,
                   "sobol": bool(sobol), "chunk": chunk}  # fmt: skip
     if method == "time":
-        from rubrotor.sweeps.risk_time import run_time
-
         return run_time(scenario, refs, dists, definition, store, progress, scheduler, workers,
                         (transient_revolutions, revolutions), confidence)  # fmt: skip
     ev = _Linear(scenario, refs, s)
@@ -435,7 +288,7 @@ def risk(scenario, vary, *, samples: int, speeds=None, method: str = "linear", s
         anywhere += int(part["rub"].any(1).sum())
         if sobol:
             y[:, a : a + cnt] = part["design_margin"].T
-        _progress(progress, ci + 1, n_chunks, t0)
+        progress_line(progress, ci + 1, n_chunks, t0)
     lo, hi = wilson_interval(rubs, n, confidence)
     return RiskResult(
         method=method, speeds=s, samples=n, rubs=rubs, probability=rubs / n, lower=lo, upper=hi,

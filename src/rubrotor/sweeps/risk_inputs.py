@@ -29,7 +29,15 @@ import numpy as np
 
 from rubrotor.errors import InputError
 
-__all__ = ["Distribution", "parse_distribution", "parse_risk_vary", "SAMPLERS", "unit_samples"]
+__all__ = [
+    "Distribution",
+    "parse_distribution",
+    "parse_risk_vary",
+    "SAMPLERS",
+    "unit_samples",
+    "sample_values",
+    "check_values",
+]
 
 SAMPLERS = ("sobol", "lhs", "random")
 """Sample designs: scrambled Sobol' (default), Latin hypercube, plain pseudo-random."""
@@ -155,3 +163,27 @@ def unit_samples(sampler: str, dims: int, seed: int, start: int, count: int,
         raise InputError("sampler", sampler, " or ".join(SAMPLERS))
     # ppf(0) is -inf for unbounded families: keep strictly inside (0, 1)
     return np.clip(u, 0.5 / 2**53, 1 - 2.0**-53)
+
+
+def sample_values(dists, u: np.ndarray) -> np.ndarray:
+    """Key values (their units) of unit-cube points ``u`` (n, d) through each ``ppf``."""
+    return np.column_stack([dist.ppf(u[:, j]) for j, dist in enumerate(dists)])
+
+
+def check_values(refs, values: np.ndarray, start: int) -> None:
+    """Refuse a sampled value the key does not allow (the distribution reaches outside the
+    key's range), naming the key, the value and the sample."""
+    from rubrotor.errors import RubrotorError
+    from rubrotor.scenario.schema import check_value, key_row
+
+    for j, ref in enumerate(refs):
+        col = values[:, j]
+        if not np.all(np.isfinite(col)):
+            raise InputError(ref.text, float(col[~np.isfinite(col)][0]), "finite samples")
+        for i in (int(col.argmin()), int(col.argmax())):
+            try:
+                check_value(ref.text, float(col[i]), key_row(ref.section, ref.name))
+            except RubrotorError as exc:
+                raise InputError(ref.text, float(col[i]),
+                                 f"{exc.allowed} (sample {start + i}; truncate the distribution"
+                                 " with truncnormal(mean,sd,lo,hi))") from None  # fmt: skip

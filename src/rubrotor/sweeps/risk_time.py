@@ -61,16 +61,15 @@ def _stats(rub, status, peak, frac, regime) -> dict:
 
 
 def _tasks(scenario, refs, dists, definition, todo, lengths):
-    from rubrotor.sweeps.risk import _check_values, _values
-    from rubrotor.sweeps.risk_inputs import unit_samples
+    from rubrotor.sweeps.risk_inputs import check_values, sample_values, unit_samples
 
     n, chunk = definition["samples"], definition["chunk"]
     tasks = []
     for ci in todo:
         a, cnt = ci * chunk, min(chunk, n - ci * chunk)
         u = unit_samples(definition["sampler"], len(dists), definition["seed"], a, cnt, n)
-        vals = _values(dists, u)
-        _check_values(refs, vals, a)
+        vals = sample_values(dists, u)
+        check_values(refs, vals, a)
         tasks.append({"chunk": ci, "scenario": definition["scenario"], "keys": definition["keys"],
                       "values": vals.tolist(), "speeds": definition["speeds"],
                       "transient": lengths[0], "revolutions": lengths[1]})  # fmt: skip
@@ -100,7 +99,7 @@ def _backend(scheduler, workers):
 def run_time(scenario, refs, dists, definition, store, progress, scheduler, workers, lengths,
              confidence):  # fmt: skip
     """The time method of :func:`rubrotor.sweeps.risk.risk` (same arguments, checked there)."""
-    from rubrotor.sweeps.risk import RiskResult, _progress, wilson_interval
+    from rubrotor.sweeps.risk_result import RiskResult, progress_line, wilson_interval
     from rubrotor.sweeps.sweep import map_tasks
 
     n, chunk, s = definition["samples"], definition["chunk"], np.asarray(definition["speeds"])
@@ -135,7 +134,7 @@ def run_time(scenario, refs, dists, definition, store, progress, scheduler, work
             if st is not None:
                 st.write(ci, {k: r[k] for k in _OUT})
             count += 1
-            _progress(progress, count, n_chunks, t0)
+            progress_line(progress, count, n_chunks, t0)
     finally:
         if cluster is not None:
             cluster.close()
