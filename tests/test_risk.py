@@ -327,3 +327,19 @@ def test_time_method_killed_then_resumed_to_the_same_bits(tmp_path):
     for k in a:
         assert np.array_equal(a[k], b[k], equal_nan=True), k
     assert resumed.to_dict() | {"store": None} == fresh.to_dict() | {"store": None}
+
+
+def test_indexed_keys_one_resolution():
+    from rubrotor.sweeps.sweep import _check_keys
+
+    sc = load_scenario(SEAL)
+    two = sc.with_changes(**{"unbalance[2].magnitude": 2e-4})
+    assert [u.magnitude for u in two.unbalances] == [5e-4, 2e-4]
+    assert sc.with_changes(**{"contact.clearance": 3e-5}).engine.stations[0].contact.clearance == 3e-5
+    with pytest.raises(ScenarioError, match=r"unbalance\[i\]\.magnitude with i in 1\.\.2"):
+        sc.with_changes(**{"unbalance.magnitude": 1e-4})
+    with pytest.raises(ScenarioError, match="1 \\[\\[contact\\]\\] tables"):
+        sc.with_changes(**{"contact[2].clearance": 1e-4})
+    keys, _ = _check_keys(sc, {"unbalance[2].magnitude": [1e-4, 2e-4]})
+    assert keys == ["unbalance[2].magnitude"]
+    assert rubrotor.sweeps.sweep.key_unit("unbalance[2].magnitude") == "kg m"
