@@ -343,3 +343,25 @@ def test_indexed_keys_one_resolution():
     keys, _ = _check_keys(sc, {"unbalance[2].magnitude": [1e-4, 2e-4]})
     assert keys == ["unbalance[2].magnitude"]
     assert rubrotor.sweeps.sweep.key_unit("unbalance[2].magnitude") == "kg m"
+
+
+def test_time_method_near_the_boundary_only(tmp_path):
+    # pairs farther than 0.2 c_min from the boundary keep the linear verdict, unsimulated
+    import zarr
+
+    sc = load_scenario(SHAFT)
+    vary = {"contact.clearance": "uniform(2e-5,3e-4)"}
+    risk(sc, vary, samples=8, sampler="lhs", seed=2, store=tmp_path / "l.zarr")
+    tim = risk(sc, vary, samples=8, sampler="lhs", seed=2, method="time", near=0.2,
+               transient_revolutions=10, revolutions=30, store=tmp_path / "t.zarr")  # fmt: skip
+    lin = zarr.open_group(str(tmp_path / "l.zarr"), mode="r")
+    t = zarr.open_group(str(tmp_path / "t.zarr"), mode="r")
+    margin, status = np.asarray(lin["margin"][:, 0]), np.asarray(t["status"][:, 0])
+    far = np.abs(margin) > 0.2 * sc.contact.clearance
+    assert 0 < far.sum() < 8
+    assert np.array_equal(status == -1, far)
+    assert np.array_equal(np.asarray(t["rub"][:, 0])[far], (margin <= 0)[far].astype(float))
+    assert np.all(status[~far] == 1)
+    assert tim.time_stats["simulated"] == [int((~far).sum())]
+    with pytest.raises(InputError, match="near"):
+        risk(sc, vary, samples=8, near=0.2)

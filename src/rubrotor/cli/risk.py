@@ -41,6 +41,9 @@ def risk_args(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--chunk-size", type=int, help="samples per chunk")
     parser.add_argument("--revolutions", type=int, help="time method: revolutions per run")
     parser.add_argument("--transient", type=int, default=20, help="time method: discarded (20)")
+    parser.add_argument("--near", type=float, metavar="FRACTION",
+                        help="time method: simulate only samples whose linear margin is within "
+                        "FRACTION x the nominal clearance of the boundary")  # fmt: skip
     parser.add_argument("--no-figure", action="store_true", help="skip the figures")
     parser.add_argument("--json", action="store_true", help="print the result as JSON")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
@@ -76,10 +79,10 @@ def risk_run(args: argparse.Namespace) -> int:
                    confidence=args.confidence, store=out / "samples.zarr",
                    chunk_size=args.chunk_size, progress=progress, scheduler=args.scheduler,
                    workers=args.workers, revolutions=args.revolutions,
-                   transient_revolutions=args.transient)  # fmt: skip
+                   transient_revolutions=args.transient, near=args.near)  # fmt: skip
     except InputError as exc:  # the library's argument names: the options that set them
         if exc.field in ("samples", "seed", "speeds", "chunk_size", "scheduler", "workers",
-                         "confidence", "sobol", "revolutions"):  # fmt: skip
+                         "confidence", "sobol", "revolutions", "near"):  # fmt: skip
             raise InputError(f"--{exc.field.replace('_', '-')}", exc.value, exc.allowed) from None
         raise
     except KeyboardInterrupt:

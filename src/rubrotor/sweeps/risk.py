@@ -39,7 +39,7 @@ from rubrotor.sweeps.risk_inputs import (
     sample_values,
     unit_samples,
 )
-from rubrotor.sweeps.risk_linear import CHEAP_KEYS, evaluate, linear_basis
+from rubrotor.sweeps.risk_linear import Screen
 from rubrotor.sweeps.risk_result import RiskResult, progress_line, wilson_interval
 from rubrotor.sweeps.risk_time import run_time
 
@@ -78,60 +78,7 @@ def _speeds(scenario, speeds) -> np.ndarray:
 
 
 # ---- the linear screen of a batch --------------------------------------------------------------
-class _Linear:
-    """Margins of batches of samples; one basis per distinct rotor."""
-
-    def __init__(self, scenario, refs, speeds):
-        self.base, self.refs, self.speeds = scenario, refs, speeds
-        self.cheap = [r.name in CHEAP_KEYS.get(r.section, ()) for r in refs]
-        self.bases: dict = {}
-        if all(self.cheap):
-            self.bases[()] = linear_basis(scenario, speeds)
-
-    def _basis(self, row):
-        key = tuple(float(v) for v, c in zip(row, self.cheap, strict=True) if not c)
-        if key not in self.bases:
-            changes = {r.text: v for r, v, c in zip(self.refs, key_values(row), self.cheap,
-                                                    strict=True) if not c}  # fmt: skip
-            if len(self.bases) > 64:  # continuous structural keys: no reuse worth keeping
-                self.bases.clear()
-            self.bases[key] = linear_basis(self.base.with_changes(**changes), self.speeds)
-        return key, self.bases[key]
-
-    def margins(self, values: np.ndarray) -> np.ndarray:
-        """Margin (m) per sample and speed, shape (n, S)."""
-        out = np.empty((len(values), self.speeds.size))
-        groups: dict = {}
-        for i, row in enumerate(values):
-            groups.setdefault(self._basis(row)[0], []).append(i)
-        for key, rows in groups.items():
-            b = self.bases[key]
-            n = len(rows)
-            mag, ph = np.tile(b.magnitude, (n, 1)), np.tile(b.phase, (n, 1))
-            cl, off = np.tile(b.clearance, (n, 1)), np.tile(b.offset, (n, 1, 1))
-            for j, (r, c) in enumerate(zip(self.refs, self.cheap, strict=True)):
-                if not c:
-                    continue
-                k = r.index or 0
-                col = values[rows, j]
-                if r.name == "magnitude":
-                    mag[:, k] = col
-                elif r.name == "phase":
-                    ph[:, k] = col
-                elif r.name == "clearance":
-                    cl[:, k] = col
-                else:
-                    off[:, k, 0 if r.name == "offset_y" else 1] = col
-            out[rows] = evaluate(b, mag, ph, cl, off)
-        return out
-
-
-def key_values(row) -> list[float]:
-    """Plain floats of one sample's row."""
-    return [float(v) for v in row]
-
-
-def _linear_chunk(ev: _Linear, dists, design: tuple, start: int, count: int) -> dict:
+def _linear_chunk(ev: Screen, dists, design: tuple, start: int, count: int) -> dict:
     """Inputs, margins and rub flags of samples ``start .. start + count - 1`` (and, with the
     Saltelli design, the smallest margin at ``A``, ``B`` and every ``A_B^(i)``)."""
     sampler, seed, total, with_sobol = design
@@ -195,7 +142,7 @@ def risk(scenario, vary, *, samples: int, speeds=None, method: str = "linear", s
          sampler: str = "sobol", sobol: bool = False, confidence: float = 0.95, store=None,
          chunk_size: int | None = None, progress: bool = False, scheduler: str | None = None,
          workers: int | None = None, revolutions: int | None = None,
-         transient_revolutions: int = 20) -> RiskResult:  # fmt: skip
+         transient_revolutions: int = 20, near: float | None = None) -> RiskResult:  # fmt: skip
     """Probability of rub against speed when scenario keys scatter (module docstring).
 
     Parameters
@@ -233,6 +180,10 @@ def risk(scenario, vary, *, samples: int, speeds=None, method: str = "linear", s
     revolutions, transient_revolutions : int
         Time method: simulated and discarded revolutions per run (default the scenario's
         ``simulation.revolutions`` and 20).
+    near : float, optional
+        Time method: simulate only the (sample, speed) pairs whose linear margin lies within
+        ``near`` times the nominal smallest clearance of the boundary (> 0); the others keep
+        the linear verdict. Default: simulate every pair.
 
     Returns
     -------
@@ -251,6 +202,8 @@ def risk(scenario, vary, *, samples: int, speeds=None, method: str = "linear", s
         raise InputError("confidence", confidence, "a level in (0, 1)")
     if sobol and method == "time":
         raise InputError("sobol", True, "Sobol' indices with --method linear")
+    if near is not None and not (isinstance(near, float | int) and near > 0 and method == "time"):
+        raise InputError("near", near, "a fraction > 0 of the clearance, with the time method")
     chunk = _int("chunk_size", chunk_size or (1024 if method == "linear" else 2), 1)
     keys = tuple(r.text for r in refs)
     units = {k: key_unit(k) for k in keys}
@@ -258,10 +211,12 @@ def risk(scenario, vary, *, samples: int, speeds=None, method: str = "linear", s
                   "keys": list(keys), "distributions": [d.text() for d in dists], "samples": n,
                   "speeds": s.tolist(), "method": method, "seed": seed, "sampler": sampler,
                   "sobol": bool(sobol), "chunk": chunk}  # fmt: skip
+    if near is not None:
+        definition["near"] = float(near)
     if method == "time":
         return run_time(scenario, refs, dists, definition, store, progress, scheduler, workers,
                         (transient_revolutions, revolutions), confidence)  # fmt: skip
-    ev = _Linear(scenario, refs, s)
+    ev = Screen(scenario, refs, s)
     n_chunks = -(-n // chunk)
     st = None
     if store is not None:

@@ -35,7 +35,15 @@ import numpy as np
 from rubrotor.errors import InputError
 from rubrotor.modelling import model_of
 
-__all__ = ["LinearBasis", "linear_basis", "orbit_reach", "CHEAP_KEYS", "evaluate"]
+__all__ = [
+    "LinearBasis",
+    "linear_basis",
+    "orbit_reach",
+    "CHEAP_KEYS",
+    "evaluate",
+    "Screen",
+    "nominal_clearance",
+]
 
 CHEAP_KEYS = {
     "unbalance": ("magnitude", "phase"),
@@ -89,6 +97,11 @@ def _contacts(scenario):
         raise InputError("contact", None, "a [contact] or [[contact]] table with its position (m)")
     a = np.array(rows, float)
     return a[:, 0], a[:, 1], a[:, 2:4]
+
+
+def nominal_clearance(scenario) -> float:
+    """The smallest radial clearance (m) of the scenario's contacts."""
+    return float(_contacts(scenario)[1].min())
 
 
 def _static(scenario, system, speeds: np.ndarray, positions: np.ndarray) -> np.ndarray:
@@ -207,3 +220,62 @@ def evaluate(basis: LinearBasis, magnitude, phase, clearance, offset) -> np.ndar
     d = basis.static[None] - offset[:, None]  # (n, S, C, 2)
     reach = orbit_reach(d, u)  # (n, S, C)
     return (clearance[:, None, :] - reach).min(-1)
+
+
+class Screen:
+    """Margins of batches of samples; one basis per distinct rotor.
+
+    Parameters
+    ----------
+    scenario : rubrotor.scenario.Scenario
+        The nominal scenario.
+    refs : sequence of rubrotor.scenario.keys.KeyRef
+        The varied keys; those of :data:`CHEAP_KEYS` need no new solve, any other gives each
+        distinct value its own basis (the last 64 kept).
+    speeds : ndarray
+        Spin speeds (rad/s).
+    """
+
+    def __init__(self, scenario, refs, speeds):
+        self.base, self.refs, self.speeds = scenario, refs, speeds
+        self.cheap = [r.name in CHEAP_KEYS.get(r.section, ()) for r in refs]
+        self.bases: dict = {}
+        if all(self.cheap):
+            self.bases[()] = linear_basis(scenario, speeds)
+
+    def _basis(self, row):
+        key = tuple(float(v) for v, c in zip(row, self.cheap, strict=True) if not c)
+        if key not in self.bases:
+            changes = {r.text: v for r, v, c in zip(self.refs, [float(v) for v in row], self.cheap,
+                                                    strict=True) if not c}  # fmt: skip
+            if len(self.bases) > 64:  # continuous structural keys: no reuse worth keeping
+                self.bases.clear()
+            self.bases[key] = linear_basis(self.base.with_changes(**changes), self.speeds)
+        return key, self.bases[key]
+
+    def margins(self, values: np.ndarray) -> np.ndarray:
+        """Margin (m) per sample and speed, shape (n, S)."""
+        out = np.empty((len(values), self.speeds.size))
+        groups: dict = {}
+        for i, row in enumerate(values):
+            groups.setdefault(self._basis(row)[0], []).append(i)
+        for key, rows in groups.items():
+            b = self.bases[key]
+            n = len(rows)
+            mag, ph = np.tile(b.magnitude, (n, 1)), np.tile(b.phase, (n, 1))
+            cl, off = np.tile(b.clearance, (n, 1)), np.tile(b.offset, (n, 1, 1))
+            for j, (r, c) in enumerate(zip(self.refs, self.cheap, strict=True)):
+                if not c:
+                    continue
+                k = r.index or 0
+                col = values[rows, j]
+                if r.name == "magnitude":
+                    mag[:, k] = col
+                elif r.name == "phase":
+                    ph[:, k] = col
+                elif r.name == "clearance":
+                    cl[:, k] = col
+                else:
+                    off[:, k, 0 if r.name == "offset_y" else 1] = col
+            out[rows] = evaluate(b, mag, ph, cl, off)
+        return out

@@ -62,8 +62,9 @@ class RiskResult:
         Sobol' indices (first, total and intervals per key) of the output "rubs at some speed"
         (``"rub"``) and of the smallest margin over the speeds (``"margin"``, m).
     time_stats : dict or None
-        Time method: per speed, diverged runs, and quantiles of the peak normal force (N) and
-        of the contact fraction (1), and the count of each regime label.
+        Time method: per speed, the runs simulated and those that diverged, quantiles of the
+        peak normal force (N) and of the contact fraction (1) over the simulated runs, and the
+        count of each regime label.
     store : str or None
         The zarr store with every sample's inputs and outputs.
     """

@@ -6,6 +6,10 @@ the scenario with the sample's keys and ``speed.rad_per_s`` set. A chunk of samp
 runs); chunks are written to the store as they complete and a rerun computes only the missing
 ones. A run that does not complete (``status`` 0: diverged, or refused by the engine) is kept:
 its metrics are NaN, it is counted in ``diverged`` and as a rub.
+
+With ``near`` (a fraction), only the (sample, speed) pairs the linear screen puts near the
+boundary, ``|margin| <= near c_min`` (``c_min`` the nominal scenario's smallest clearance, m),
+are simulated; the others keep the linear verdict (``status`` -1, metrics NaN).
 """
 
 from __future__ import annotations
@@ -19,7 +23,9 @@ from rubrotor.scenario.load import key_unit
 
 __all__ = ["run_time", "run_time_chunk"]
 
-_OUT = ("peak_normal_force", "contact_fraction", "regime", "status")
+_OUT = ("peak_normal_force", "contact_fraction", "regime", "status", "rub")
+SCREENED = -1
+"""``status`` of a pair left to the linear verdict (not simulated)."""
 
 
 def run_time_chunk(task: dict) -> dict:
@@ -31,16 +37,22 @@ def run_time_chunk(task: dict) -> dict:
     base = scenario_from_dict(task["scenario"])
     t_rev, revs = task["transient"], task["revolutions"]
     out = {k: np.full((len(task["values"]), len(task["speeds"])), np.nan) for k in _OUT}
+    simulate = task.get("simulate")
     for i, row in enumerate(task["values"]):
         for j, w in enumerate(task["speeds"]):
+            if simulate is not None and not simulate[i][j]:
+                out["status"][i, j] = SCREENED
+                out["rub"][i, j] = float(task["linear_rub"][i][j])
+                continue
             changes = dict(zip(task["keys"], row, strict=True))
             changes["speed.rad_per_s"] = float(w)
             try:
                 m = simulate_point(base.with_changes(**changes), t_rev, revs, 64)[0]
             except (RubrotorError, FloatingPointError, ValueError):
                 m = _empty_metrics(revs - t_rev)
-            for k in _OUT:
+            for k in _OUT[:-1]:
                 out[k][i, j] = float(m[k])
+            out["rub"][i, j] = float(m["status"] != 1 or m["contact_fraction"] > 0)
     return {"chunk": task["chunk"], **out}
 
 
@@ -48,7 +60,8 @@ def _stats(rub, status, peak, frac, regime) -> dict:
     from rubrotor.sweeps.regimes import REGIMES
 
     q = [0.05, 0.5, 0.95]
-    out = {"diverged": (status != 1).sum(0).astype(int).tolist(), "quantiles": q,
+    out = {"diverged": (status == 0).sum(0).astype(int).tolist(),
+           "simulated": (status != SCREENED).sum(0).astype(int).tolist(), "quantiles": q,
            "peak_normal_force_N": [], "contact_fraction": [], "regimes": []}  # fmt: skip
     for j in range(rub.shape[1]):
         for name, v in (("peak_normal_force_N", peak[:, j]), ("contact_fraction", frac[:, j])):
@@ -63,16 +76,27 @@ def _stats(rub, status, peak, frac, regime) -> dict:
 def _tasks(scenario, refs, dists, definition, todo, lengths):
     from rubrotor.sweeps.risk_inputs import check_values, sample_values, unit_samples
 
-    n, chunk = definition["samples"], definition["chunk"]
+    n, chunk, near = definition["samples"], definition["chunk"], definition.get("near")
+    screen = band = None
+    if near is not None and todo:
+        from rubrotor.sweeps.risk_linear import Screen, nominal_clearance
+
+        screen = Screen(scenario, refs, np.asarray(definition["speeds"], float))
+        band = near * nominal_clearance(scenario)
     tasks = []
     for ci in todo:
         a, cnt = ci * chunk, min(chunk, n - ci * chunk)
         u = unit_samples(definition["sampler"], len(dists), definition["seed"], a, cnt, n)
         vals = sample_values(dists, u)
         check_values(refs, vals, a)
-        tasks.append({"chunk": ci, "scenario": definition["scenario"], "keys": definition["keys"],
-                      "values": vals.tolist(), "speeds": definition["speeds"],
-                      "transient": lengths[0], "revolutions": lengths[1]})  # fmt: skip
+        task = {"chunk": ci, "scenario": definition["scenario"], "keys": definition["keys"],
+                "values": vals.tolist(), "speeds": definition["speeds"],
+                "transient": lengths[0], "revolutions": lengths[1]}  # fmt: skip
+        if screen is not None:
+            margin = screen.margins(vals)
+            task["simulate"] = (np.abs(margin) <= band).tolist()
+            task["linear_rub"] = (margin <= 0).tolist()
+        tasks.append(task)
     return tasks
 
 
@@ -110,7 +134,8 @@ def run_time(scenario, refs, dists, definition, store, progress, scheduler, work
     if store is not None:
         from rubrotor.sweeps.risk_store import RiskStore
 
-        units = {"peak_normal_force": "N", "contact_fraction": "1", "regime": "1", "status": "1"}
+        units = {"peak_normal_force": "N", "contact_fraction": "1", "regime": "1", "status": "1",
+                 "rub": "1"}  # fmt: skip
         layout = {k: (("sample", "speed"), "f8", np.nan, {"units": u}) for k, u in units.items()}
         coords = {"speed": (s, {"units": "rad/s", "long_name": "spin speed"})}
         st = RiskStore(store, definition, layout, {"sample": n, "speed": s.size}, chunk, coords)
@@ -138,7 +163,7 @@ def run_time(scenario, refs, dists, definition, store, progress, scheduler, work
     finally:
         if cluster is not None:
             cluster.close()
-    rub = (res["status"] != 1) | (res["contact_fraction"] > 0)
+    rub = res["rub"] == 1
     rubs = rub.sum(0)
     lo, hi = wilson_interval(rubs, n, confidence)
     stats = _stats(rub, res["status"], res["peak_normal_force"], res["contact_fraction"],
