@@ -83,7 +83,7 @@ def main() -> None:
         ours.append(t)
         ours_cpu.append(c)
         with tempfile.TemporaryDirectory() as tmp:
-            _, t2, _ = _timed(lambda tmp=tmp: rubrotor.risk(
+            _, t2, _ = _timed(lambda tmp=tmp, rep=rep: rubrotor.risk(
                 sc, VARY, samples=a.samples, speeds=speeds, store=Path(tmp) / f"s{rep}.zarr"))  # fmt: skip
         store_w.append(t2)
     flags, t_loop, c_loop = _timed(lambda: _loop(sc, speeds, a.loop, a.samples))
@@ -100,9 +100,15 @@ def main() -> None:
           f"({a.samples / med:.0f} samples/s); with the zarr store {statistics.median(store_w):.2f} s")  # fmt: skip
     print(f"loop: {a.loop} samples in {t_loop:.2f} s wall ({c_loop:.2f} s CPU), "
           f"scaled to {a.samples}: {t_loop * scale:.0f} s wall, {c_loop * scale:.0f} s CPU")  # fmt: skip
-    print(f"ratio loop / ours: {t_loop * scale / med:.0f}x wall, {c_loop * scale / med_cpu:.0f}x CPU")
-    print(f"same rub flags on the {a.loop} looped samples: {bool(np.array_equal(flags, ours_flags))}")
-    print(f"P(rub) range over the speeds: {res.probability.min():.3f} .. {res.probability.max():.3f}")
+    print(
+        f"ratio loop / ours: {t_loop * scale / med:.0f}x wall, {c_loop * scale / med_cpu:.0f}x CPU"
+    )
+    print(
+        f"same rub flags on the {a.loop} looped samples: {bool(np.array_equal(flags, ours_flags))}"
+    )
+    print(
+        f"P(rub) range over the speeds: {res.probability.min():.3f} .. {res.probability.max():.3f}"
+    )
 
 
 if __name__ == "__main__":

@@ -114,7 +114,9 @@ def _coverage(sampler: str, seeds: int) -> float:
     from rubrotor.sweeps.risk_linear import evaluate, linear_basis
 
     b = linear_basis(sc, np.array([sc.speed]))
-    a = float(-evaluate(b, b.magnitude[None], b.phase[None], np.zeros((1, 1)), b.offset[None])[0, 0])
+    a = float(
+        -evaluate(b, b.magnitude[None], b.phase[None], np.zeros((1, 1)), b.offset[None])[0, 0]
+    )
     sd = 0.1 * a
     p = scipy.stats.norm.cdf(-0.3)
     hits = 0
@@ -313,7 +315,10 @@ def test_time_method_killed_then_resumed_to_the_same_bits(tmp_path):
     t0 = time.time()
     try:
         while time.time() - t0 < 600:
-            if store.exists() and np.asarray(zarr.open_group(str(store), mode="r")["done"][:]).sum():
+            if (
+                store.exists()
+                and np.asarray(zarr.open_group(str(store), mode="r")["done"][:]).sum()
+            ):
                 break
             time.sleep(0.05)
     finally:
@@ -335,7 +340,9 @@ def test_indexed_keys_one_resolution():
     sc = load_scenario(SEAL)
     two = sc.with_changes(**{"unbalance[2].magnitude": 2e-4})
     assert [u.magnitude for u in two.unbalances] == [5e-4, 2e-4]
-    assert sc.with_changes(**{"contact.clearance": 3e-5}).engine.stations[0].contact.clearance == 3e-5
+    assert (
+        sc.with_changes(**{"contact.clearance": 3e-5}).engine.stations[0].contact.clearance == 3e-5
+    )
     with pytest.raises(ScenarioError, match=r"unbalance\[i\]\.magnitude with i in 1\.\.2"):
         sc.with_changes(**{"unbalance.magnitude": 1e-4})
     with pytest.raises(ScenarioError, match="1 \\[\\[contact\\]\\] tables"):
