@@ -27,6 +27,8 @@ The public surface, each name defined once in its own module:
 * parameter maps: ``rubrotor.sweeps.sweep.sweep`` (its module imports zarr/dask lazily),
   state-carrying up/down sweeps ``rubrotor.sweeps.follow.follow_sweep``; Lyapunov exponents:
   :func:`lyapunov_exponents`; a start state: :class:`RotorState`;
+* rub risk under scattered tolerances: :func:`risk` (the probability of rub against speed,
+  Sobol' indices; ``rubrotor risk``);
 * results files: :func:`save_dataset`, :func:`load_dataset`;
 * figures: :func:`~rubrotor.plotting.geometry.draw_rotor` (the rotor's geometry; ``rubrotor.plotting`` has the others).
 """
@@ -58,6 +60,7 @@ _PUBLIC = {
     "rubrotor.rotors.ross": ("from_ross",),
     "rubrotor.rotors.shaft": ("Dimensionless", "Shaft"),
     "rubrotor.scenario.load": ("Scenario", "load_scenario"),
+    "rubrotor.sweeps.risk": ("RiskResult", "risk"),
 }
 _HOME = {name: module for module, names in _PUBLIC.items() for name in names}
 
@@ -123,5 +126,7 @@ __all__ = [
     "lyapunov_exponents",
     "from_ross",
     "draw_rotor",
+    "risk",
+    "RiskResult",
 ]
 

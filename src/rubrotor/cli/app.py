@@ -28,6 +28,7 @@ from rubrotor.cli import (
     linear,
     orbits,
     response,
+    risk,
     ross_import,
     simulate,
     studies,
@@ -165,6 +166,13 @@ COMMANDS: list[Command] = [
         sweeps.sweep_args,
         sweeps.sweep_run,
         outputs=("out", "figure"),
+    ),
+    Command(
+        "risk",
+        "probability of rub against speed when scenario keys scatter, with Sobol' indices",
+        risk.risk_args,
+        risk.risk_run,
+        outputs=("out/",),
     ),
     Command(
         "continue",

@@ -18,12 +18,13 @@ __all__ = ["PointScenarios"]
 
 
 def _point_scenario(base, keys: Sequence[str], values: Sequence[float]):
-    from rubrotor.scenario.load import SCHEMA
+    from rubrotor.scenario.keys import base_key
+    from rubrotor.scenario.schema import ROTOR_SCHEMA, SCHEMA
 
     changes = {}
     for key, value in zip(keys, values, strict=True):
-        section, _, name = key.partition(".")
-        kind = SCHEMA.get(section, {}).get(name)
+        section, _, name = base_key(key).partition(".")
+        kind = {**SCHEMA, **ROTOR_SCHEMA}.get(section, {}).get(name)
         changes[key] = int(round(value)) if kind == "int" else float(value)
     return base.with_changes(**changes)
 

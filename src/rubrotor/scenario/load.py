@@ -75,7 +75,6 @@ from rubrotor.scenario.schema import (
     ALTERNATIVES,
     KEY_UNITS,
     REQUIRED,
-    ROTOR_SCHEMA,
     ROTOR_TABLES,
     SCHEMA,
     TABLES,
@@ -562,7 +561,9 @@ class Scenario:
         Parameters
         ----------
         **dotted
-            ``"section.key": value`` pairs (pass them as ``**{"contact.clearance": 1e-3}``).
+            ``"section.key": value`` pairs (pass them as ``**{"contact.clearance": 1e-3}``);
+            ``"section[i].key"`` names the ``i``-th table of a ``[[section]]`` list
+            (:mod:`rubrotor.scenario.keys`), ``"section.key"`` the only one.
             Setting one key of a group of alternatives removes the others
             (``"speed.critical_multiple"`` replaces ``speed.rad_per_s``); a value of ``None``
             removes the key; ``"section": None`` removes a whole optional section.
@@ -581,23 +582,21 @@ class Scenario:
         >>> s.with_changes(**{"speed.hz": 10.0}).speed_spec
         ('hz', 10.0)
         """
+        from rubrotor.scenario.keys import resolve_key
+
         spec = scenario_to_dict(self)
-        schema = {**SCHEMA, "rotor": ROTOR_SCHEMA["rotor"]} if self.rotor is not None else SCHEMA
         removed = {}  # "section.key" dropped as an alternative -> (the key that dropped it, value)
         for dotted_key, value in dotted.items():
-            section, _, key = dotted_key.partition(".")
-            if section not in schema:
-                raise _err(dotted_key, value, "a key 'section.key' of " + ", ".join(schema))
+            ref = resolve_key(spec, dotted_key, value)
+            section, key = ref.section, ref.name
             if not key:
                 if value is not None:
                     raise _err(dotted_key, value, "None (to remove the section) or 'section.key'")
                 spec.pop(section, None)
                 continue
-            if key not in schema[section]:
-                raise _err(dotted_key, value, unknown_key_text(key, schema[section], f"[{section}]"))
             sec = spec.setdefault(section, {})
-            if not isinstance(sec, dict):
-                raise _err(dotted_key, value, f"a key of a single [{section}] table (not [[...]])")
+            if ref.index is not None:
+                sec = sec[ref.index]
             if value is None:
                 sec.pop(key, None)
                 continue

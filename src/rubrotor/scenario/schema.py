@@ -647,7 +647,11 @@ KEY_UNITS: dict[str, str] = {k.dotted: k.unit for k in KEYS if k.kind in _NUMERI
 
 
 def key_unit(key: str) -> str:
-    """Unit of a dotted scenario key (``"shaft.length"`` -> ``"m"``); ``"1"`` if not listed."""
+    """Unit of a dotted scenario key (``"shaft.length"`` -> ``"m"``, an indexed key
+    ``"unbalance[2].magnitude"`` as ``"unbalance.magnitude"``); ``"1"`` if not listed."""
+    import re
+
+    key = re.sub(r"^([A-Za-z_]+)\[\d+\]\.", r"\1.", key)
     return KEY_UNITS.get(key, "1")
 
 

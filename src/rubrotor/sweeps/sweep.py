@@ -442,15 +442,16 @@ def _definition(scenario, keys, grid, transient, revolutions, samples) -> dict:
 
 def _check_keys(scenario, vary: Mapping) -> tuple[list[str], list[np.ndarray]]:
     from rubrotor.errors import RubrotorError
-    from rubrotor.scenario.load import SCHEMA
+    from rubrotor.scenario.keys import resolve_key
+    from rubrotor.scenario.load import scenario_to_dict
 
     if not isinstance(vary, Mapping) or not vary:
         raise InputError("vary", vary, "a mapping of at least one scenario key to its values")
     keys, grid = [], []
+    spec = scenario_to_dict(scenario)
     for key, values in vary.items():
-        section, _, name = str(key).partition(".")
-        kind = SCHEMA.get(section, {}).get(name)
-        if kind not in ("number", "int", "number|list", "number|str"):
+        ref = resolve_key(spec, str(key), "...")
+        if not ref.numeric:
             raise InputError(
                 key, "...", "a numeric scenario key 'section.key' (e.g. unbalance.magnitude)"
             )
