@@ -182,7 +182,7 @@ def _ritz_basis(
         bands = (_stiffness_band(parts, at), parts.m, parts.kl, parts.ku)
         lu = _BandLU(bands[0], parts.kl, parts.ku)
         statics = lu.solve(unit)
-        span = np.hstack([_krylov_modes(lu, bands, n + _EXTRA, statics), statics])
+        span = _independent(np.hstack([_krylov_modes(lu, bands, n + _EXTRA, statics), statics]))
         kr, mr = (span.T @ _band_matmul(band, parts.kl, parts.ku, span) for band in bands[:2])
         _, z = scipy.linalg.eigh((kr + kr.T) / 2, (mr + mr.T) / 2, check_finite=False)
         return span @ z
@@ -192,9 +192,18 @@ def _ritz_basis(
         _, phi = scipy.linalg.eigh(ks, mx.M, check_finite=False)
         return phi
     _, modes = scipy.linalg.eigh(ks, mx.M, subset_by_index=[0, n + _EXTRA - 1], check_finite=False)
-    span = np.hstack([modes, np.linalg.solve(ks, unit)])
+    span = _independent(np.hstack([modes, np.linalg.solve(ks, unit)]))
     _, z = scipy.linalg.eigh(span.T @ ks @ span, span.T @ mx.M @ span, check_finite=False)
     return span @ z
+
+
+def _independent(span: np.ndarray) -> np.ndarray:
+    """An orthonormal basis of the columns of ``span`` without the ones that depend on the
+    others (pivoted QR; |R_ii| below 1e-10 of the largest): a static correction that a kept mode
+    already holds (a rotor stiff against its supports) would make the projected mass singular."""
+    q, r, _ = scipy.linalg.qr(span, mode="economic", pivoting=True)
+    d = np.abs(np.diag(r))
+    return q[:, d > 1e-10 * d[0]]
 
 
 Reduced = namedtuple("Reduced", "phi mr kr dr")
