@@ -24,7 +24,6 @@ import numpy as np
 from numba import njit
 
 from rubrotor.core.contact import solve_contact
-from rubrotor.core.terms import term_force
 from rubrotor.core.flags import SAFE_FASTMATH
 from rubrotor.core.status import (
     CONTACT_FAILED,
@@ -36,6 +35,7 @@ from rubrotor.core.status import (
     MESSAGES,
     OK,
 )
+from rubrotor.core.terms import term_force
 
 __all__ = [
     "expo_fixed",
