@@ -72,7 +72,7 @@ def _full_model(system, rows, speed, unbalances=()):
 
     def film(q, v):
         f = np.zeros(n)
-        for b, r in zip(B, rows):
+        for b, r in zip(B, rows, strict=True):
             p, u = b.T @ q, b.T @ v
             K0, C0 = np.asarray(r.stiffness), np.asarray(r.damping)
             # the linear system holds -K0 p - C0 u: add it back, then the whole film force
@@ -210,18 +210,35 @@ def test_oil_whip_rub_scenario_whirls_at_half_speed_and_rubs():
 
 
 def test_film_time_runs_refuse_what_they_cannot_carry():
-    """A free-speed run or a streamed run with a film is refused by key, never run on the
+    """A free-speed run or a run-up with a film is refused by key, never run on the
     linearisation alone."""
     import rubrotor
     from rubrotor.errors import InputError
 
     sc = rubrotor.load_scenario(SCENARIOS / "oil_whip_rub.toml")
     system, rows, _ = film_rotor(600.0)
-    run = Run(speed=600.0, duration=1e-3, step=2e-5, initial="static")
-    with pytest.raises(InputError, match="streamed run"):
-        simulate_general(system, run, (), (), gravity=(-G, 0.0), progress=False, supports=rows,
-                         stream="/tmp/never-written.nc")  # fmt: skip
+    run = Run(speed=600.0, speed_end=700.0, duration=1e-3, step=2e-5, initial="static")
+    with pytest.raises(InputError, match="a run-up does not carry fluid-film"):
+        simulate_general(system, run, (), (), gravity=(-G, 0.0), progress=False, supports=rows)
     from rubrotor.modelling import model_of
 
     with pytest.raises(InputError, match=r"bearing\[1\]\.type"):
         model_of(sc).forces()  # no speed: the free-speed run's case
+
+
+def test_streamed_film_run_equals_the_run_in_memory(tmp_path):
+    """Streamed chunk by chunk to netCDF, a film run writes the same journal motion and film
+    outputs as the run held in memory, bit for bit."""
+    import xarray as xr
+
+    system, rows, _ = film_rotor(600.0)
+    run = Run(speed=600.0, duration=0.02, step=2e-5, save_every=2, initial="static")
+    unb = [Unbalance(2e-4, 0.25)]
+    kw = dict(gravity=(-G, 0.0), progress=False, supports=rows)
+    mem = to_dataset(simulate_general(system, run, (), unb, **kw))
+    path = tmp_path / "film.nc"
+    simulate_general(system, run, (), unb, stream=str(path), chunk_samples=64, **kw)
+    with xr.open_dataset(path) as f:
+        for name in ("v", "w", "film_force_y", "film_force_z", "eccentricity_ratio"):
+            np.testing.assert_array_equal(f[name].values, mem[name].values)
+        assert list(f["bearing_name"].values) == ["journal0", "journal1"]

@@ -30,8 +30,8 @@ by the engine from these three.
 
 from __future__ import annotations
 
-import os
 import dataclasses
+import os
 from dataclasses import dataclass, field
 
 from rubrotor.errors import InputError

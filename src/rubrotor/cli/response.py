@@ -111,7 +111,14 @@ def static_run(args: argparse.Namespace) -> int:
         )
         rows = [[b.name, f"{b.position:.4g}", f"{b.force_y:.6g}", f"{b.force_z:.6g}"]
                 for b in res.bearings]  # fmt: skip
-        print(table(["support", "x (m)", "F_y on rotor (N)", "F_z on rotor (N)"], rows))
+        heads = ["support", "x (m)", "F_y on rotor (N)", "F_z on rotor (N)"]
+        if any(b.eccentricity_ratio is not None for b in res.bearings):  # fluid films
+            heads += ["eccentricity ratio (1)", "attitude angle (deg)"]
+            for row, b in zip(rows, res.bearings, strict=True):
+                film = b.eccentricity_ratio is not None
+                row += [f"{b.eccentricity_ratio:.6g}" if film else "-",
+                        f"{math.degrees(b.attitude_angle_rad) + 0.0:.4g}" if film else "-"]  # fmt: skip
+        print(table(heads, rows))
     write_figure(static_figure(res, f"static deflection: {scenario.name}"), out, args.json)
     return 0
 

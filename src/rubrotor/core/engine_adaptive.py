@@ -56,7 +56,6 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.terms import FREE_RADIUS, can_be_free, length_scale, term
 from rubrotor.core.engine import (
     DIVERGED,
     EVENT_BUFFER_FULL,
@@ -80,6 +79,7 @@ from rubrotor.core.engine import (
     solve_one,
     workspace,
 )
+from rubrotor.core.terms import FREE_RADIUS, can_be_free, length_scale, term
 
 __all__ = [
     "expo_adaptive",

@@ -40,7 +40,6 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.terms import FREE_RADIUS, term_jac_exact
 from rubrotor.core.engine import (
     SAFE_FASTMATH,
     _rdot,
@@ -52,6 +51,7 @@ from rubrotor.core.engine import (
 from rubrotor.core.linalg import invert
 from rubrotor.core.status import CONTACT_FAILED as NEWTON_FAILED
 from rubrotor.core.status import DIVERGED, OK
+from rubrotor.core.terms import FREE_RADIUS, term_jac_exact
 
 __all__ = ["OK", "DIVERGED", "NEWTON_FAILED", "map_tangent"]
 

@@ -31,9 +31,9 @@ re-orthonormalisation only matters over the thousands of revolutions of a Lyapun
 import numpy as np
 from numba import njit
 
-from rubrotor.core.terms import term_force
 from rubrotor.core.integrate import SAFE_FASTMATH
 from rubrotor.core.tangent import expo_tangent
+from rubrotor.core.terms import term_force
 
 __all__ = ["expo_strobe", "phi12"]
 

@@ -24,9 +24,9 @@ import math
 import numpy as np
 from numba import njit
 
-from rubrotor.core.terms import term_jac_exact
 from rubrotor.core.integrate import SAFE_FASTMATH, fixed_coefficients, fixed_step, phasor
 from rubrotor.core.status import CONTACT_FAILED, DIVERGED, OK, TANGENTS_DEGENERATE
+from rubrotor.core.terms import term_jac_exact
 
 __all__ = ["expo_tangent", "orthonormalise", "force_tangents", "advance_tangents"]
 

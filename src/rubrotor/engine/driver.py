@@ -901,13 +901,13 @@ def simulate_general(
     method = _check_call(method, stations, run, chunk_samples)
     problem = Problem(system, tuple(stations), tuple(unbalances), tuple(loads), tuple(gravity),
                       tuple(supports))  # fmt: skip
-    if supports and (stream is not None or resume is not None or run.speed_end is not None):
-        what = ("a streamed run (shorten it: simulation.revolutions, save_every)" if stream
-                else "a restarted run" if resume is not None else "a run-up")  # fmt: skip
+    if supports and (resume is not None or run.speed_end is not None):
+        what = "a restarted run" if resume is not None else "a run-up"
+
         raise InputError(f"bearing[{supports[0].name}]", "fluid film",
                          f"a support type this run takes: {what} does not carry fluid-film "
-                         "bearings yet; constant-speed runs held in memory, continuation and "
-                         "shooting do")  # fmt: skip
+                         "bearings yet; constant-speed runs, streamed or in memory, "
+                         "continuation and shooting do")  # fmt: skip
     if run.speed_end is not None:
         method = "runup"
         if not isinstance(run.initial, str) or run.initial not in ("rest", "static"):
@@ -950,7 +950,6 @@ def _run(chunk, final, stats, state, plant, run, method, opts) -> EngineResult:
     """Run the chunk loop (into the sink when streaming) and gather the result."""
     progress, stream, attrs, t0, n_samples, sample_dt = opts
     show = sys.stderr.isatty() if progress is None else progress
-    nc = len(plant.outputs.flex)
     wall = [0.0]
 
     def status_attrs() -> dict:
@@ -962,10 +961,10 @@ def _run(chunk, final, stats, state, plant, run, method, opts) -> EngineResult:
         lay = None
         if state.kernel is not None:
             lay = restart.layout(restart.snapshot(plant, state.kernel, 1.0, 0.0))
-        sink = NetcdfSink(stream, plant.stations, nc, sample_dt, plant.speed, t0=t0,
-                          tau=lambda t: spin_angle(run, t) + run.speed * t0,
+        sink = NetcdfSink(stream, plant.stations, plant.n_contacts, sample_dt, plant.speed,
+                          t0=t0, tau=lambda t: spin_angle(run, t) + run.speed * t0,
                           attrs={**(attrs or {}), **status_attrs()},
-                          restart_layout=lay)  # fmt: skip
+                          restart_layout=lay, supports=plant.supports)  # fmt: skip
     keep = _Keeper(plant, state, final, sink, t0, sample_dt, status_attrs)
     if sink is not None:
         keep(0)  # the initial state: a run killed in its first chunk can restart from it

@@ -157,11 +157,14 @@ class NetcdfSink:
         :meth:`close`.
     restart_layout : dict, optional
         :func:`rubrotor.engine.restart.layout` of the restart states (none kept without it).
+    supports : tuple, optional
+        Nonlinear supports' rows (``rubrotor.forces.film_row.FilmRow``), whose stations are the
+        last ones: their output variables are written on ``(bearing, time)``.
     """
 
     def __init__(self, path, stations, n_contacts: int, sample_dt: float, speed: float, *,
                  t0: float = 0.0, tau=None, attrs: dict | None = None,
-                 restart_layout: dict | None = None):  # fmt: skip
+                 restart_layout: dict | None = None, supports: tuple = ()):  # fmt: skip
         import netCDF4
 
         self.path = Path(path)
@@ -171,6 +174,7 @@ class NetcdfSink:
         except OSError as exc:
             raise InputError("--out", str(path), f"a writable file, not in use ({exc})") from None
         self.S, self.nct, self.dt, self.t0 = len(stations), n_contacts, sample_dt, t0
+        self.supports, self.speed = tuple(supports), speed
         self.tau = tau or (lambda t: speed * t)
         self.n = self.n_events = 0
         self._tail = (np.empty((2 * self.S, 0)), np.empty(0))  # last 2 velocities, times
@@ -215,7 +219,25 @@ class NetcdfSink:
             v = nc.createVariable(name, "f8", ("contact", "time"), chunksizes=chunks)
             v.units = unit
         nc.createVariable("in_contact", "i1", ("contact", "time"), chunksizes=chunks)
+        if self.supports:
+            self._define_supports()
         self._bound_caches()
+
+    def _define_supports(self) -> None:
+        """The ``bearing`` dimension: names, positions and clearances, and each support
+        term's output variables (``OUTPUT_UNITS``)."""
+        nc, sup = self.nc, self.supports
+        nc.createDimension("bearing", len(sup))
+        nc.createVariable("bearing_name", str, ("bearing",))[:] = np.array(
+            [b.name for b in sup], dtype=object)  # fmt: skip
+        for name, values in (("bearing_position", [b.position for b in sup]),
+                             ("bearing_clearance", [b.scale for b in sup])):  # fmt: skip
+            v = nc.createVariable(name, "f8", ("bearing",))
+            v.units = "m"
+            v[:] = values
+        for name, unit in type(sup[0]).OUTPUT_UNITS.items():
+            v = nc.createVariable(name, "f8", ("bearing", "time"), chunksizes=(1, TIME_CHUNK))
+            v.units = unit
 
     def _bound_caches(self) -> None:
         """A small HDF5 chunk cache per variable: samples are appended in time order, so a
@@ -249,9 +271,15 @@ class NetcdfSink:
             nc[name][:, a:b] = block[i : 4 * self.S : 4]
         self._accelerations(block, times)
         if self.nct:
+            end = 4 * self.S + 8 * self.nct  # the supports' rows follow the contacts'
             for i, (name, _) in enumerate(CONTACT_VARS):
-                nc[name][:, a:b] = block[4 * self.S + i :: 8]
-            nc["in_contact"][:, a:b] = (block[4 * self.S + 6 :: 8] > 0).astype(np.int8)
+                nc[name][:, a:b] = block[4 * self.S + i : end : 8]
+            nc["in_contact"][:, a:b] = (block[4 * self.S + 6 : end : 8] > 0).astype(np.int8)
+        for j, sup in enumerate(self.supports):
+            s = self.S - len(self.supports) + j
+            out = sup.outputs(block[4 * s : 4 * s + 2], block[4 * s + 2 : 4 * s + 4], self.speed)
+            for name, values in out.items():
+                nc[name][j, a:b] = values
         self.n = b
 
     def _accelerations(self, block: np.ndarray, times: np.ndarray) -> None:

@@ -16,7 +16,8 @@ the step halved until the residual decreases and every film stays below the ecce
 :data:`rubrotor.forces.fluid_film.MAX_ECCENTRICITY`. The start: each film at its own equilibrium
 under the load it carries when the films are replaced by equal isotropic springs (for a
 statically determinate rotor, two bearings, that load is exact and Newton converges in a step or
-two). The residual ends below ``1e-12`` of the applied load.
+two); at a speed near one already solved, Newton starts from that solution instead. The
+residual ends below ``1e-12`` of the applied load.
 
 At that position each support is linearised (:class:`SupportLinearisation`): ``K0``, ``C0`` (2x2)
 enter the linear system at that speed, so every linear analysis uses the coefficients at the
@@ -172,9 +173,11 @@ def _check_loaded(system, sups, f_full, speed):
                              "carries, and it carries none")  # fmt: skip
 
 
-def solve_equilibrium(system, speed: float, f_full: np.ndarray) -> np.ndarray:
+def solve_equilibrium(system, speed: float, f_full: np.ndarray, start=None) -> np.ndarray:
     """The static displacement (all DOFs, m and rad) of ``system`` under ``f_full`` (N, all
     DOFs) at ``speed`` (rad/s), its nonlinear supports carrying their part (module docstring).
+    ``start`` (all DOFs): a first iterate, e.g. the solution at a nearby speed; if Newton fails
+    from it, the start of the module docstring is used.
 
     Raises
     ------
@@ -188,8 +191,19 @@ def solve_equilibrium(system, speed: float, f_full: np.ndarray) -> np.ndarray:
     if not sups:
         return system.expand(np.linalg.solve(k_lin[np.ix_(free, free)], f_full[free]))
     _check_loaded(system, sups, f_full, speed)
-    scale = max(float(np.linalg.norm(f_full)), 1e-300)
+    if start is not None and _admissible(sups, start):
+        try:
+            return _newton_system(system, sups, k_lin, f_full, speed, np.array(start, float))
+        except InputError:
+            pass
     q = _start(system, sups, k_lin, f_full, speed)
+    return _newton_system(system, sups, k_lin, f_full, speed, q)
+
+
+def _newton_system(system, sups, k_lin, f_full, speed, q):
+    """Damped Newton on the static problem from ``q`` (module docstring)."""
+    free = system.free
+    scale = max(float(np.linalg.norm(f_full)), 1e-300)
 
     def residual(qf):
         fb, kb = _film_sum(system, sups, qf, speed)
@@ -200,7 +214,10 @@ def solve_equilibrium(system, speed: float, f_full: np.ndarray) -> np.ndarray:
         if np.linalg.norm(r) <= 1e-12 * scale:
             return q
         jac = (k_lin + kb)[np.ix_(free, free)]
-        dq = system.expand(np.linalg.solve(jac, -r))
+        try:
+            dq = system.expand(np.linalg.solve(jac, -r))
+        except np.linalg.LinAlgError:  # a film without stiffness there: refused below
+            break
         step, norm = 1.0, np.linalg.norm(r)
         while step > 1e-10:
             trial = q + step * dq
@@ -280,7 +297,9 @@ class Linearisation:
         """``(q_full, states)`` at ``speed`` (rad/s)."""
         key = float(speed)
         if key not in self._cache:
-            q = solve_equilibrium(self.system, key, self.f_full)
+            near = min(self._cache, key=lambda w: abs(w - key), default=None)
+            start = self._cache[near][0] if near is not None else None
+            q = solve_equilibrium(self.system, key, self.f_full, start)
             states = tuple(linearise(s, q, key) for s in nonlinear_supports(self.system))
             if len(self._cache) > 4096:
                 self._cache.clear()

@@ -99,27 +99,27 @@ def _journals(ax, ds) -> None:
     ax.legend(loc="upper right", fontsize=7)
 
 
-def _eccentricity(ax, ds) -> None:
+def _per_bearing(ax, ds, values, ylabel: str, title: str) -> None:
+    """One line per bearing of ``values`` (bearing, time) against time."""
     t = ds["time"].values
     for j in range(ds.sizes["bearing"]):
-        ax.plot(t, ds["eccentricity_ratio"].values[j], lw=0.7, color=f"C{j}", ls=_LINES[j % 3],
+        ax.plot(t, values[j], lw=0.7, color=f"C{j}", ls=_LINES[j % 3],
                 label=str(ds["bearing_name"].values[j]))  # fmt: skip
-    ax.axhline(1.0, color="k", ls=":", lw=1, label="metal contact")
     ax.set_xlabel("time (s)")
-    ax.set_ylabel("eccentricity ratio (1)")
-    ax.set_title("journal eccentricity")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+
+
+def _eccentricity(ax, ds) -> None:
+    _per_bearing(ax, ds, ds["eccentricity_ratio"].values, "eccentricity ratio (1)",
+                 "journal eccentricity")  # fmt: skip
+    ax.axhline(1.0, color="k", ls=":", lw=1, label="metal contact")
     ax.legend(loc="lower right", fontsize=7)
 
 
 def _film_forces(ax, ds) -> None:
-    t = ds["time"].values
-    for j in range(ds.sizes["bearing"]):
-        f = np.hypot(ds["film_force_y"].values[j], ds["film_force_z"].values[j])
-        ax.plot(t, f, lw=0.7, color=f"C{j}", ls=_LINES[j % 3],
-                label=str(ds["bearing_name"].values[j]))  # fmt: skip
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("film force magnitude (N)")
-    ax.set_title("fluid-film force on each journal")
+    f = np.hypot(ds["film_force_y"].values, ds["film_force_z"].values)
+    _per_bearing(ax, ds, f, "film force magnitude (N)", "fluid-film force on each journal")
     ax.legend(loc="upper right", fontsize=7)
 
 
