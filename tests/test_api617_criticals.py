@@ -108,3 +108,19 @@ def test_cli_json_has_the_criticals(capsys):
                           "required_separation_margin", "actual_separation_margin",
                           "clearance_margins_m"}  # fmt: skip
     assert main(["clearance", "mixed_whirl", "--trip-speed", "100"]) == 2
+
+
+def test_half_power_of_a_resonance_and_of_a_shoulder():
+    """A single-mode resonance |H| = 1 / sqrt((1 - r^2)^2 + (2 zeta r)^2) has AF = 1 / (2 zeta)
+    to O(zeta^2); a bump on the flank of a larger peak is no resonance of its own (None)."""
+    from rubrotor.linear.api617_criticals import half_power
+
+    zeta = 0.02
+    r = np.linspace(0.5, 1.5, 20001)
+    h = 1 / np.sqrt((1 - r**2) ** 2 + (2 * zeta * r) ** 2)
+    i = int(np.argmax(h))
+    n1, n2 = half_power(r, h, i)
+    assert r[i] / (n2 - n1) == pytest.approx(1 / (2 * zeta), rel=2 * zeta**2 + 1e-3)
+    shoulder = h + 0.05 * h.max() * np.exp(-(((r - 0.97) / 0.002) ** 2))
+    j = int(np.flatnonzero(r >= 0.97)[0])
+    assert half_power(r, shoulder, j) is None
