@@ -217,8 +217,8 @@ def _one(system, c, ctx) -> ResponseCritical | None:
         return None
     p, j = np.unravel_index(np.argmax(pp[:, window]), (pp.shape[0], window.size))
     i = int(window[j])
-    if i in (0, s.size - 1) or pp[p, i] < max(pp[p, i - 1], pp[p, i + 1]):
-        return None  # the window's largest value is not a peak
+    if i in (0, s.size - 1) or pp[p, i] <= (1 + 1e-9) * max(pp[p, i - 1], pp[p, i + 1]):
+        return None  # not a peak: an edge, or a plateau flat to round-off (it flips with it)
     hp = half_power(s, pp[p], i)
     if hp is None:
         return None
