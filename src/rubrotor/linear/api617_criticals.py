@@ -87,7 +87,9 @@ def half_power(speeds: np.ndarray, amplitude: np.ndarray, i: int):
     -------
     tuple of float or None
         ``(N_1, N_2)`` (rad/s), linearly interpolated where the amplitude falls to
-        ``amplitude[i] / sqrt(2)`` on either side; None when it does not on one side.
+        ``amplitude[i] / sqrt(2)`` on either side; None when it does not on one side, or when
+        the amplitude exceeds the peak between them (``i`` is a shoulder of a larger peak,
+        not a resonance of its own).
     """
     level = amplitude[i] / math.sqrt(2.0)
     below = np.flatnonzero(amplitude[:i] < level)
@@ -95,6 +97,8 @@ def half_power(speeds: np.ndarray, amplitude: np.ndarray, i: int):
     if not below.size or not above.size:
         return None
     a, b = below[-1], i + 1 + above[0]
+    if amplitude[a : b + 1].max() > amplitude[i]:
+        return None
 
     def cross(j0, j1):
         y0, y1 = amplitude[j0] - level, amplitude[j1] - level
@@ -213,8 +217,8 @@ def _one(system, c, ctx) -> ResponseCritical | None:
         return None
     p, j = np.unravel_index(np.argmax(pp[:, window]), (pp.shape[0], window.size))
     i = int(window[j])
-    if i in (0, s.size - 1) or pp[p, i] < max(pp[p, i - 1], pp[p, i + 1]):
-        return None  # the window's largest value is not a peak
+    if i in (0, s.size - 1) or pp[p, i] <= (1 + 1e-9) * max(pp[p, i - 1], pp[p, i + 1]):
+        return None  # not a peak: an edge, or a plateau flat to round-off (it flips with it)
     hp = half_power(s, pp[p], i)
     if hp is None:
         return None
