@@ -114,7 +114,7 @@ def _rdot(row, y):
     return acc
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _eval(lin, F, cp, fn, ft, work):
     """Contact positions for forces ``F``, the laws' forces and their Jacobian blocks.
 
