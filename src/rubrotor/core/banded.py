@@ -40,7 +40,6 @@ __all__ = [
 _Work = namedtuple("_Work", "ab ipiv u")
 
 
-
 @njit(cache=True, inline="always")
 def _abs1(z):
     """``|Re z| + |Im z|``: LAPACK's cheap pivot magnitude (no square root)."""

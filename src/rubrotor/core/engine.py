@@ -84,7 +84,7 @@ def _rdot(row, y):
     return acc
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _eval(lin, F, cp, fn, ft, work):
     """Contact positions for forces ``F``, the laws' forces and their Jacobian blocks.
 
@@ -128,7 +128,7 @@ def workspace(m):
             np.zeros((m, m)), np.zeros((2, 4)))  # fmt: skip
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def solve_contacts(lin, F0, cp, res_out, work):
     """Solve ``F = law(pd + Sd F, pv + Sv F)`` for all contacts together.
 
@@ -217,7 +217,7 @@ def _consistent(F, fn, ft):
         fn[i], ft[i] = forces_of(F[2 * i], F[2 * i + 1], fn[i], ft[i])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def solve_one(lin, F0, cp, res_out):
     """:func:`solve_contacts` for a single contact, on scalars (the common case, ~2x faster)."""
     pd, pv, Sd, Sv = lin

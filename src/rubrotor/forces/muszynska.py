@@ -90,7 +90,6 @@ def _muszynska_force(v, w, vd, wd, omega, params):
     return fy, fz, jac
 
 
-
 def __getattr__(name):
     """``muszynska_force``: the kernel above, compiled (``numba.njit(cache=True)``) on first use,
     so that reading a scenario with a fluid ring (the linear verbs) imports no numba."""
@@ -102,6 +101,7 @@ def __getattr__(name):
     kernel.__doc__ = _muszynska_force.__doc__
     globals()[name] = kernel
     return kernel
+
 
 def _num(name: str, value, unit: str, lo: float, lo_open: bool, hi: float = math.inf,
          hi_open: bool = False) -> float:  # fmt: skip

@@ -258,7 +258,9 @@ def _draw_spectrum(ax, spectrum, two_channel, modes, spin_hz, unit):
         fwd = f > 0
         bwd = f < 0
         # forward over backward: the forward whirl (1X, rub's harmonics) is what is read first
-        ax.loglog(f[fwd], a[fwd], color="tab:blue", linewidth=0.9, label="forward (f > 0)", zorder=3)
+        ax.loglog(
+            f[fwd], a[fwd], color="tab:blue", linewidth=0.9, label="forward (f > 0)", zorder=3
+        )
         ax.loglog(-f[bwd], a[bwd], color="tab:red", linewidth=0.8, alpha=0.7,
                   label="backward (f < 0)", zorder=2)  # fmt: skip
         ax.set_xlabel("|Whirl frequency| (Hz)")
