@@ -138,9 +138,9 @@ def test_unbalance_response_in_film_bearings_matches_scipy_second_order():
             span = np.max(np.abs(ref - ref[:, :1]))
             assert span > 1e-6  # the orbit moves by microns: the comparison is not trivial
         errors.append(np.max(np.abs(p - ref)) / span)
-    order = np.log2(errors[0] / errors[1])
-    assert errors[1] < 2e-3, errors
-    assert 1.7 < order < 2.5, (errors, order)
+    order = np.log2(errors[0] / errors[1])  # measured 1.98 (errors 1.4e-5, 3.6e-6 of the span)
+    assert errors[1] < 2e-5, errors
+    assert 1.8 < order < 2.2, (errors, order)
 
 
 @pytest.mark.slow
@@ -172,8 +172,9 @@ def test_oil_whirl_grows_at_the_linear_models_rate_and_frequency():
     assert np.max(amp) < 0.05 * 50e-6  # still small: the linear model applies
     phase = np.unwrap(np.angle(d[late]))
     freq = np.polyfit(t[late], phase, 1)[0]
-    assert abs(rate - s.real) < 0.05 * s.real, (rate, s)
-    assert abs(abs(freq) - abs(s.imag)) < 0.01 * abs(s.imag), (freq, s)
+    # measured: rate 1.3e-4, frequency 1.2e-6 relative (the fit of a 0.1 s window)
+    assert abs(rate - s.real) < 2e-3 * s.real, (rate, s)
+    assert abs(abs(freq) - abs(s.imag)) < 2e-5 * abs(s.imag), (freq, s)
 
 
 SCENARIOS = __import__("pathlib").Path(__import__("rubrotor").__file__).parent / "scenarios"
@@ -227,8 +228,9 @@ def test_film_time_runs_refuse_what_they_cannot_carry():
 
 
 def test_streamed_film_run_equals_the_run_in_memory(tmp_path):
-    """Streamed chunk by chunk to netCDF, a film run writes the same journal motion and film
-    outputs as the run held in memory, bit for bit."""
+    """Streamed chunk by chunk to netCDF, a film run writes the same journal motion as the run
+    held in memory, bit for bit, and the same film outputs (to rounding: the in-memory ones are
+    evaluated on strided views, another compiled specialisation)."""
     import xarray as xr
 
     system, rows, _ = film_rotor(600.0)
@@ -239,6 +241,8 @@ def test_streamed_film_run_equals_the_run_in_memory(tmp_path):
     path = tmp_path / "film.nc"
     simulate_general(system, run, (), unb, stream=str(path), chunk_samples=64, **kw)
     with xr.open_dataset(path) as f:
-        for name in ("v", "w", "film_force_y", "film_force_z", "eccentricity_ratio"):
+        for name in ("v", "w"):
             np.testing.assert_array_equal(f[name].values, mem[name].values)
+        for name in ("film_force_y", "film_force_z", "eccentricity_ratio"):
+            np.testing.assert_allclose(f[name].values, mem[name].values, rtol=1e-13, atol=0)
         assert list(f["bearing_name"].values) == ["journal0", "journal1"]
