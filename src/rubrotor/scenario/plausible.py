@@ -51,9 +51,10 @@ CHECKS: dict[str, str] = {
 """The checks by name (the names ``[checks] skip`` accepts) and what each compares."""
 
 # Limits. Refuse: no machine has it (a unit slip); warn: possible, but rare enough to say so.
-CLEARANCE_RATIO = (0.05, 0.2)
+CLEARANCE_RATIO = (0.05, 0.5)
 """Radial clearance / radius (1): warn above the first, refuse above the second (seals and
-bearings run at 1e-3, touchdown bearings at about 1e-2)."""
+bearings run at 1e-3, touchdown bearings at about 1e-2; a casing or a contact parked out of
+reach in a study may stand well off, but a gap wider than half the radius is a unit slip)."""
 DIAMETER_RATIO = 2.0
 """A section or disk diameter above this many rotor lengths (1) is refused."""
 ROTOR_LENGTH = 100.0
