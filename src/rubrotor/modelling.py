@@ -366,6 +366,14 @@ class Model:
         return Geometry(((0.0, sh.length, sh.diameter / 2, sh.bore_diameter / 2),),
                         float(sh.length), (), ends, None, ())  # fmt: skip
 
+    def carrying_bearings(self) -> tuple:
+        """Stations (m) of the supports that carry the rotor to the ground: bearings, not seals
+        nor supports on a housing (the continuous shaft: its pinned ends)."""
+        if self.rotor == "fe":
+            return tuple(b.position for b in self._fe().bearings
+                         if b.kind != "seal" and b.on is None)  # fmt: skip
+        return tuple(s.position for s in self.linear_system().supports if s.kind != "seal")
+
     def _fe(self):
         return self.scenario.rotor if self.scenario is not None else self.source
 

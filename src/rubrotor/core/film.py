@@ -29,24 +29,16 @@ Parameters come as one :class:`Film` (a namedtuple numba compiles as a record): 
 from __future__ import annotations
 
 import math
-from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
+from rubrotor.core.filmtypes import FULL_FILM, PI_FILM, Film
+
 __all__ = ["Film", "FULL_FILM", "PI_FILM", "NODES", "film_force", "film_force_jac", "film_sums"]
-
-FULL_FILM = 0
-"""Cavitation code: the film carries negative pressures (the whole circle, Sommerfeld)."""
-
-PI_FILM = 1
-"""Cavitation code: negative pressures set to zero (Gumbel, half-Sommerfeld, pi-film)."""
 
 NODES = 24
 """Gauss-Legendre points per film integral (exact to round-off: see the module docstring)."""
-
-Film = namedtuple("Film", "radius length clearance viscosity cavitation")
-"""Short-film parameters in SI (see the module docstring)."""
 
 _X, _W = np.polynomial.legendre.leggauss(NODES)
 

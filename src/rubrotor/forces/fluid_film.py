@@ -25,9 +25,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from rubrotor.core.film import FULL_FILM, PI_FILM, Film, film_force_jac
+from rubrotor.core.filmtypes import FULL_FILM, PI_FILM, Film
 from rubrotor.errors import InputError
-from rubrotor.forces.film_row import FilmRow
 from rubrotor.rotors.linear import Support
 
 __all__ = [
@@ -168,11 +167,13 @@ class _ShortFilm:
     def _keys(self) -> tuple:
         return ("name", "diameter", "length", "radial_clearance", "viscosity", "cavitation")
 
-    def engine_row(self, lin) -> FilmRow:
+    def engine_row(self, lin):
         """The film's row of the engine's implicit step, about its linearisation ``lin``
         (:class:`rubrotor.forces.equilibrium.SupportLinearisation` at the run's speed): the
         row carries the film's force less the film's part of ``K0``, ``C0`` (a damper's centring
         spring is linear, all in the linear system)."""
+        from rubrotor.forces.film_row import FilmRow  # numba: time runs only
+
         spring = float(getattr(self, "centering_stiffness", 0.0)) * np.eye(2)
         return FilmRow(lin.name, float(lin.position), self.film, self.spins,
                        tuple(np.asarray(lin.p0, float)), np.asarray(lin.K0) - spring,
@@ -202,6 +203,8 @@ class _ShortFilm:
     def _force_jac(self, position, velocity, spin):
         y, z = (float(v) for v in position)
         vy, vz = (float(v) for v in velocity)
+        from rubrotor.core.film import film_force_jac  # compiled: loaded on first use
+
         return film_force_jac(y, z, vy, vz, float(spin), self.film)
 
     def coefficients(self, position, spin: float = 0.0) -> FilmCoefficients:
@@ -359,6 +362,8 @@ class SqueezeFilm(_ShortFilm):
     def linearise(self, position, spin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """``(K, C)`` (N/m, N s/m) about the journal at rest at ``position`` (m): the spring and
         the film's damping (class notes); ``spin`` is ignored."""
+        from rubrotor.core.film import film_force_jac  # compiled: loaded on first use
+
         y, z = (float(v) for v in position)
         full = self.film._replace(cavitation=FULL_FILM)
         _, jac = film_force_jac(y, z, 0.0, 0.0, 0.0, full)

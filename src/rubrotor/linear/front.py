@@ -292,14 +292,9 @@ def level1_station(model) -> tuple[float, str]:
     bearings, or the heaviest overhung disk (:func:`rubrotor.linear.api684.default_station`)."""
     from rubrotor.linear.api684 import default_station
 
-    system = model.linear_system()
-    if model.rotor == "fe":
-        fe = model._fe()
-        bearings = [b.position for b in fe.bearings if b.kind != "seal" and b.on is None]
-        disks = [(d.position, d.mass) for d in fe.disks]
-        return default_station(bearings, disks, fe.length)
-    bearings = [s.position for s in system.supports if s.kind != "seal"]
-    return default_station(bearings, [], system.basis.length)
+    geo = model.geometry()
+    disks = [(d.position, d.mass) for d in geo.disks]
+    return default_station(list(model.carrying_bearings()), disks, geo.length)
 
 
 def ucs(obj, stiffness=None, n: int = 4):
