@@ -211,7 +211,7 @@ def api617_unbalance(
 
 def shape_unbalance(system: LinearSystem, shapes, k: int, max_speed: float):
     """API 617's unbalance planes for mode ``k`` of ``shapes`` (steps 1 and 2 of the module
-    docstring): ``(planes, loads)`` as :func:`api617_unbalance` returns them.
+    docstring): ``(planes, loads)`` as ``api617_unbalance`` returns them.
 
     Parameters
     ----------
@@ -405,13 +405,13 @@ def clearance_check(
     clearances : sequence of (str, float, float)
         Close clearances: ``(name, position m, radial clearance m)``.
     mode : int
-        Forward mode placing the unbalance (:func:`api617_unbalance`).
+        Forward mode placing the unbalance (``api617_unbalance``).
     planes : sequence of (float, float, float), optional
         Explicit unbalance ``(position m, kg m, rad)`` instead of API 617's placement.
     scale_factor_cap : float or None
         Upper limit of ``S_cc`` (API 617: 6); None for none (ROSS's default).
     max_damping_ratio : float or None
-        See :func:`api617_unbalance`.
+        See ``api617_unbalance``.
 
     Returns
     -------

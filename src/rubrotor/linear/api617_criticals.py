@@ -5,7 +5,7 @@ Critical speeds from the unbalance response (API 617, 9th edition, 6.8.2)
 1. Candidates: every speed up to the top of the analysis range (API 617: 125 % of the maximum
    continuous speed ``N_mc``, and at least the trip speed) where a mode's damped frequency equals
    the spin (:func:`rubrotor.linear.critical.linear_critical_speeds`), of any whirl label:
-   forward, backward or mixed (modes damped beyond :data:`CANDIDATE_DAMPING` left out).
+   forward, backward or mixed (modes damped beyond ``CANDIDATE_DAMPING`` left out).
 2. For each, the unbalance that excites that mode's shape at that speed
    (:func:`rubrotor.linear.api617.shape_unbalance`: ``U_a = 2 U_r`` at the antinodes) drives
    the rotor from 0 to the top speed; the peak-to-peak response at the probes (along each

@@ -1,6 +1,6 @@
 """Dotted scenario keys: the one resolution of ``"section.key"`` and ``"section[i].key"``.
 
-A key names one value of a scenario's dict form (:func:`rubrotor.scenario.load.scenario_to_dict`):
+A key names one value of a scenario's dict form (``rubrotor.scenario.load.scenario_to_dict``):
 
 * ``"section.key"``: a key of a single ``[section]`` table (``"speed.rpm"``), or of the only
   table of a ``[[section]]`` list (``"contact.clearance"`` on a scenario with one
@@ -8,7 +8,7 @@ A key names one value of a scenario's dict form (:func:`rubrotor.scenario.load.s
 * ``"section[i].key"``: a key of the ``i``-th table of a ``[[section]]`` list, counted from 1
   as in every error message (``"unbalance[2].magnitude"``, ``"bearing[1].kyy"``).
 
-:meth:`rubrotor.scenario.Scenario.with_changes`, the sweeps and the risk analysis resolve keys
+``rubrotor.scenario.Scenario.with_changes``, the sweeps and the risk analysis resolve keys
 here; an unknown key is refused by name with the nearest valid keys.
 """
 

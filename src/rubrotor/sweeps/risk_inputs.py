@@ -140,7 +140,7 @@ def parse_risk_vary(text: str) -> tuple[str, Distribution]:
 
 def unit_samples(sampler: str, dims: int, seed: int, start: int, count: int,
                  total: int) -> np.ndarray:  # fmt: skip
-    """Points ``start .. start + count - 1`` of the design of ``total`` points in ``[0, 1)^dims``.
+    """Points ``start`` to ``start + count - 1`` of the design of ``total`` points in ``[0, 1)^dims``.
 
     Sobol' points are computed for the chunk alone (fast-forwarded); Latin hypercube and
     pseudo-random points are drawn for the whole design and sliced (they hold ``total x dims``

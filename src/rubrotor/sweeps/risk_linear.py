@@ -18,7 +18,7 @@ and the sample *rubs* at ``Omega`` when ``max_theta r >= c`` (``c`` the radial c
 any contact; its *margin* is ``min_c (c - max_theta r)`` (m, negative when it rubs).
 ``r^2`` is a trigonometric polynomial of degree 2 in ``theta`` (at most two maxima): it is
 sampled at 32 angles and refined by Newton's method from the two best sampled local maxima
-(:mod:`rubrotor.core.reach`).
+(``rubrotor.core.reach``).
 
 Unbalance magnitudes and phases, clearances and stator offsets therefore need no new solve:
 one set of unit responses ``R_p`` and static deflections per rotor serves every sample
@@ -178,7 +178,7 @@ def orbit_reach(d: np.ndarray, u: np.ndarray) -> np.ndarray:
     -------
     ndarray, shape (...)
         ``max_theta |d + Re(u) cos theta - Im(u) sin theta|`` (m), by the compiled kernel
-        :func:`rubrotor.core.reach.reach_kernel`.
+        ``rubrotor.core.reach.reach_kernel``.
 
     Examples
     --------
