@@ -18,6 +18,7 @@ import io
 import json
 import os
 import sys
+import tomllib
 import warnings
 from pathlib import Path
 
@@ -127,7 +128,8 @@ def test_cli_static_equals_run_static(rotor, tmp_path, capsys):
     _quiet(r.save, saved)
     out = tmp_path / "scenario.toml"
     assert main(["import-ross", str(saved), "--out", str(out)]) == 0
-    out.write_text(out.read_text() + "\n[gravity]\nz = -9.8065\n")
+    # import-ross writes ROSS's gravity itself (issue 38): 9.8065 m/s^2 along our -z
+    assert tomllib.loads(out.read_text())["gravity"]["z"] == -9.8065
     capsys.readouterr()
     if name == "compressor_example":
         pytest.skip("the 12 seals share the static load in rubrotor's static verb")
